@@ -1,0 +1,85 @@
+#include "test_support.h"
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <sys/wait.h>
+
+#include <gtest/gtest.h>
+
+namespace gyrocomp::testing {
+
+std::string GoldenPath(const std::string& relative) {
+  return std::string(GYROCOMP_GOLDEN_DIR) + "/" + relative;
+}
+
+std::string RealdataPath(const std::string& relative) {
+  const std::string p = std::string(GYROCOMP_REALDATA_DIR) + "/" + relative;
+  return std::filesystem::exists(p) ? p : std::string();
+}
+
+std::string CliPath() { return GYROCOMP_CLI_PATH; }
+
+nlohmann::json ReadJsonFile(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) {
+    ADD_FAILURE() << "cannot open " << path;
+    return {};
+  }
+  return nlohmann::json::parse(in);
+}
+
+std::map<std::string, std::vector<double>> ReadGoldenCsv(const std::string& path) {
+  std::map<std::string, std::vector<double>> out;
+  std::ifstream in(path);
+  if (!in) {
+    ADD_FAILURE() << "cannot open " << path;
+    return out;
+  }
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::string> names;
+  {
+    std::stringstream ss(line);
+    std::string name;
+    while (std::getline(ss, name, ',')) names.push_back(name);
+  }
+  while (std::getline(in, line)) {
+    if (line.empty()) continue;
+    std::stringstream ss(line);
+    std::string cell;
+    std::size_t j = 0;
+    while (std::getline(ss, cell, ',') && j < names.size()) {
+      out[names[j++]].push_back(std::strtod(cell.c_str(), nullptr));
+    }
+  }
+  return out;
+}
+
+std::string MakeTempDir(const std::string& prefix) {
+  std::random_device rd;
+  const auto base = std::filesystem::temp_directory_path();
+  for (int attempt = 0; attempt < 100; ++attempt) {
+    auto p = base / (prefix + "_" + std::to_string(rd()));
+    if (std::filesystem::create_directory(p)) return p.string();
+  }
+  ADD_FAILURE() << "cannot create a temp dir";
+  return base.string();
+}
+
+int RunCommand(const std::string& command, std::string* output) {
+  std::string full = command + " 2>&1";
+  FILE* pipe = popen(full.c_str(), "r");
+  if (!pipe) return -1;
+  char buf[4096];
+  std::string text;
+  while (std::size_t n = fread(buf, 1, sizeof buf, pipe)) text.append(buf, n);
+  const int status = pclose(pipe);
+  if (output) *output = text;
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+}  // namespace gyrocomp::testing

@@ -1,0 +1,77 @@
+#include "cli_common.h"
+
+#include <iostream>
+
+#include "gyrocomp/io.h"
+#include "gyrocomp/units.h"
+
+namespace gyrocomp::cli {
+
+void AddLogOptions(CLI::App* app, LogOptions* o, bool input_required) {
+  auto* in = app->add_option("-i,--input", o->input, "Input CSV (header row; .gz read directly; '-' = stdin)");
+  if (input_required) in->required();
+  app->add_option("--time-col", o->time_col, "Time column, seconds")->capture_default_str();
+  app->add_option("--rate-col", o->rate_col, "Rate column(s), comma-separated for several axes")
+      ->capture_default_str();
+  app->add_option("--temp-col", o->temp_col, "Temperature column, deg C")->capture_default_str();
+  app->add_option("--fs", o->fs_hz, "Sample rate in Hz when the file has no time column")
+      ->check(CLI::PositiveNumber);
+  app->add_option("--rate-unit", o->rate_unit, "Unit of the rate column(s)")
+      ->check(CLI::IsMember({"dps", "rads", "dph"}))
+      ->capture_default_str();
+  app->add_option("--resample", o->resample_hz,
+                  "Resample an irregularly sampled log onto this uniform rate (Hz, linear interpolation)")
+      ->check(CLI::PositiveNumber);
+}
+
+std::vector<std::string> SplitList(const std::string& text) {
+  std::vector<std::string> out;
+  std::string item;
+  auto flush = [&] {
+    const auto b = item.find_first_not_of(" \t");
+    const auto e = item.find_last_not_of(" \t");
+    if (b != std::string::npos) out.push_back(item.substr(b, e - b + 1));
+    item.clear();
+  };
+  for (char c : text) {
+    if (c == ',') flush(); else item.push_back(c);
+  }
+  flush();
+  return out;
+}
+
+Result<LogSpec> ToLogSpec(const LogOptions& o) {
+  LogSpec spec;
+  spec.time_col = o.time_col;
+  spec.rate_cols = SplitList(o.rate_col);
+  if (spec.rate_cols.empty()) return InvalidArgument("--rate-col: no column named");
+  spec.temp_col = o.temp_col;
+  spec.fs_hz = o.fs_hz;
+  spec.resample_hz = o.resample_hz;
+  const auto unit = ParseRateUnit(o.rate_unit);
+  if (!unit) return InvalidArgument("--rate-unit " + o.rate_unit + ": must be dps, rads or dph");
+  spec.rate_unit = *unit;
+  return spec;
+}
+
+int ReportError(const std::string& command, const Error& error) {
+  std::cerr << "gyrocomp " << command << ": error: " << error.message << "\n";
+  switch (error.kind) {
+    case ErrorKind::kInvalidInput:
+    case ErrorKind::kInvalidArgument:
+    case ErrorKind::kUnsupported:
+      return kExitBadInput;
+    default:
+      return kExitFailure;
+  }
+}
+
+void Note(const std::string& command, const std::string& message) {
+  std::cerr << "gyrocomp " << command << ": " << message << "\n";
+}
+
+Status WriteJson(const std::string& path, const nlohmann::json& j) {
+  return WriteTextAtomic(path, j.dump(1) + "\n");
+}
+
+}  // namespace gyrocomp::cli

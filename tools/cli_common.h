@@ -1,0 +1,59 @@
+// Pieces every gyrocomp subcommand shares: the log-reading options of cli.md ("Reading a log"),
+// error reporting with the exit-status contract, and atomic JSON output.
+#pragma once
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include "gyrocomp/gyro_log.h"
+#include "gyrocomp/status.h"
+
+namespace gyrocomp::cli {
+
+// Exit statuses (cli.md): 0 success, 2 bad usage or bad input, 1 internal failure.
+inline constexpr int kExitOk = 0;
+inline constexpr int kExitFailure = 1;
+inline constexpr int kExitBadInput = 2;
+
+// A registered subcommand: its CLI11 app and what runs it when it was parsed.
+struct Command {
+  CLI::App* app = nullptr;
+  std::function<int()> run;
+};
+
+// The log-reading options shared by every subcommand that takes -i.
+struct LogOptions {
+  std::string input;
+  std::string time_col = "time_s";
+  std::string rate_col = "rate_dps";  // comma-separated for several axes
+  std::string temp_col = "temp_c";
+  std::optional<double> fs_hz;
+  std::string rate_unit = "dps";
+  std::optional<double> resample_hz;
+};
+
+// Adds -i/--input, --time-col, --rate-col, --temp-col, --fs, --rate-unit, --resample to `app`.
+void AddLogOptions(CLI::App* app, LogOptions* options, bool input_required = true);
+
+// Converts the CLI options to a LogSpec (rate columns split on ','), or an kInvalidArgument error.
+Result<LogSpec> ToLogSpec(const LogOptions& options);
+
+// Prints "gyrocomp <command>: error: <message>" (one line) to stderr and returns the exit status
+// for the error's kind.
+int ReportError(const std::string& command, const Error& error);
+
+// Prints a one-line note to stderr (warnings, what resampling did), prefixed with the command.
+void Note(const std::string& command, const std::string& message);
+
+// Writes `j` (pretty-printed) to `path` atomically; "-" writes to stdout.
+Status WriteJson(const std::string& path, const nlohmann::json& j);
+
+// Splits "a,b,c" on commas, trimming spaces; empty items are dropped.
+std::vector<std::string> SplitList(const std::string& text);
+
+}  // namespace gyrocomp::cli

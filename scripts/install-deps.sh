@@ -1,0 +1,44 @@
+#!/usr/bin/env bash
+# Installs what gyrocomp needs to build, test and write its report, from Debian 12 packages and
+# the npm registry. Idempotent: safe to run again. Run as root (or with sudo).
+#   --browser   also install Debian's chromium (used by the report's headless-browser test)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+want_browser=0
+for arg in "$@"; do
+  case "$arg" in
+    --browser) want_browser=1 ;;
+    *) echo "install-deps.sh: unknown option $arg" >&2; exit 2 ;;
+  esac
+done
+
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+
+packages=(
+  build-essential cmake pkg-config
+  libfftw3-dev libeigen3-dev libsvm-dev zlib1g-dev
+  libcli11-dev nlohmann-json3-dev
+  libgtest-dev libgmock-dev libbenchmark-dev
+)
+command -v npm >/dev/null 2>&1 || packages+=(nodejs npm)
+if [ "$want_browser" = 1 ]; then packages+=(chromium); fi
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ "${#missing[@]}" -gt 0 ]; then
+  echo "install-deps: installing ${missing[*]}"
+  $SUDO apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+else
+  echo "install-deps: Debian packages already installed"
+fi
+
+# The charting library bundled into the HTML report (fetched here, at build time; never a CDN).
+if [ ! -f report/node_modules/uplot/dist/uPlot.iife.min.js ]; then
+  echo "install-deps: fetching report assets (npm ci in report/)"
+  (cd report && npm ci --no-audit --no-fund --loglevel=error)
+fi

@@ -1,0 +1,17 @@
+#!/usr/bin/env bash
+# Quick start, command 2: install dependencies, build, and run the whole test suite.
+#   --sanitize   build and test under AddressSanitizer + UndefinedBehaviorSanitizer instead
+set -euo pipefail
+cd "$(dirname "$0")/.."
+if [ "${1:-}" = "--sanitize" ]; then
+  scripts/install-deps.sh --browser
+  CMAKE_BUILD_TYPE=RelWithDebInfo scripts/build.sh build-asan -DGYROCOMP_SANITIZE=ON \
+    -DGYROCOMP_BUILD_BENCHMARKS=OFF
+  export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1
+  export GYROCOMP_SANITIZED=1
+  ctest --test-dir build-asan --output-on-failure -j"$(nproc)"
+else
+  scripts/install-deps.sh --browser
+  scripts/build.sh build -DGYROCOMP_BUILD_TESTS=ON -DGYROCOMP_BUILD_BENCHMARKS=ON
+  ctest --test-dir build --output-on-failure -j"$(nproc)"
+fi

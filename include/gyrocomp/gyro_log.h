@@ -48,6 +48,9 @@ struct LogSpec {
   double jitter_tolerance = 0.1;
   double max_irregular_fraction = 0.001;
   double gap_factor = 1.5;
+
+  // "LogSpec::fs_hz = -1: must be > 0 (Hz)" style message on failure.
+  bool IsValid(std::string* error) const;
 };
 
 // What the sampling check found, and what (if anything) was done about it.
@@ -64,6 +67,8 @@ struct SamplingReport {
   bool resampled = false;
   std::size_t rows_in = 0;       // rows read
   std::size_t rows_out = 0;      // rows after resampling
+  std::size_t rows_in_gaps = 0;  // resampled rows that lie inside a gap (interpolated across it)
+  bool time_from_fs = false;     // no time column: time = i / LogSpec::fs_hz
   std::string BriefReport() const;
 };
 
@@ -85,5 +90,16 @@ Result<GyroLog> LoadGyroLog(const Table& table, const LogSpec& spec);
 
 // ReadCsv + LoadGyroLog.
 Result<GyroLog> ReadGyroLog(const std::string& path, const LogSpec& spec);
+
+// Sampling statistics of a time vector (seconds, strictly increasing, at least 2 entries; not
+// checked here). `spec` supplies the jitter/gap tolerances; rows_in = time_s.size().
+SamplingReport MeasureSampling(const std::vector<double>& time_s, const LogSpec& spec);
+
+// Linearly interpolates every column of `table` onto the uniform grid t0 + k / fs_hz
+// (k = 0 .. floor((t_end - t0) * fs_hz)), t0 / t_end = first / last time. The time column must
+// be strictly increasing (errors as in LoadGyroLog). For commands whose output is "the input
+// columns plus ...": they resample the table the same way LoadGyroLog resampled the log, so rows
+// line up (same grid, bit for bit).
+Result<Table> ResampleTable(const Table& table, const std::string& time_col, double fs_hz);
 
 }  // namespace gyrocomp

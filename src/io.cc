@@ -310,10 +310,17 @@ std::optional<Error> CsvParser::Row(std::string_view line) {
   const char delim = opt_.delimiter;
   for (std::size_t j = 0; j < ncols; ++j) {
     while (p != end && IsBlank(*p)) ++p;
-    if (p != end && *p == '+') ++p;
+    if (p != end && *p == '+' && p + 1 != end && p[1] != '-') ++p;
     double v;
     const auto r = std::from_chars(p, end, v);
-    if (r.ec != std::errc()) return RowError(line);
+    if (r.ec == std::errc::result_out_of_range) {
+      // Underflow (1e-400) reads as 0 / subnormal like strtod; overflow is reported.
+      const std::string copy(p, r.ptr);
+      v = std::strtod(copy.c_str(), nullptr);
+      if (std::isinf(v)) return RowError(line);
+    } else if (r.ec != std::errc()) {
+      return RowError(line);
+    }
     p = r.ptr;
     while (p != end && IsBlank(*p)) ++p;
     if (j + 1 < ncols) {

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <optional>
@@ -22,6 +23,13 @@ std::string Num(double v, int digits = 6) {
   char buf[64];
   std::snprintf(buf, sizeof buf, "%.*g", digits, v);
   return buf;
+}
+
+// Shortest round-trip text of a value: what the file most likely says.
+std::string Shortest(double v) {
+  char buf[64];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, r.ptr);
 }
 
 std::string Lower(std::string s) {
@@ -59,8 +67,8 @@ std::optional<Error> CheckMonotonic(const Table& table, int time_index) {
   for (std::size_t i = 1; i < t.size(); ++i) {
     if (t[i] > t[i - 1]) continue;
     const std::string at = Where(SourceOf(table), LineOf(i), static_cast<std::size_t>(time_index) + 1);
-    const std::string here = col + " = " + Num(t[i], 17) + " at line " + std::to_string(LineOf(i));
-    const std::string prev = Num(t[i - 1], 17) + " at line " + std::to_string(LineOf(i - 1));
+    const std::string here = col + " = " + Shortest(t[i]) + " at line " + std::to_string(LineOf(i));
+    const std::string prev = Shortest(t[i - 1]) + " at line " + std::to_string(LineOf(i - 1));
     if (t[i] == t[i - 1]) {
       return InvalidInput(at + "time repeats: " + here + " equals the previous row's " + prev +
                           " (column " + std::to_string(time_index + 1) + "); timestamps must be "

@@ -265,30 +265,33 @@ AllanNoiseTerms ExtractNoiseTerms(const AllanCurve& c, const AllanOptions& optio
   }
 
   // Second ARW: fit of the -1/2 line over the white-rate region before the minimum.
-  double sum = 0.0;
-  int count = 0;
+  // Weighted by 2 EDF, the inverse variance of ln(sigma) (unweighted when there are no EDFs): the
+  // long-tau points carry few degrees of freedom and, near the minimum, a downward bias.
+  const bool weighted = c.edf.size() == c.size();
+  auto weight = [&](std::size_t j) { return weighted ? 2.0 * c.edf[j] : 1.0; };
+  double sum = 0.0, wsum = 0.0;
   for (std::size_t j = 0; j <= jmin; ++j) {
     if (std::abs(c.slope[j] + 0.5) <= tol) {
-      sum += std::log(c.adev_dps[j]) + 0.5 * std::log(c.tau_s[j]);  // ln N
-      ++count;
+      sum += weight(j) * (std::log(c.adev_dps[j]) + 0.5 * std::log(c.tau_s[j]));  // ln N
+      wsum += weight(j);
     }
   }
-  if (count > 0) t.arw_fit_deg_per_sqrt_h = units::DegPerSqrtSecToDegPerSqrtHour(std::exp(sum / count));
+  if (wsum > 0.0) t.arw_fit_deg_per_sqrt_h = units::DegPerSqrtSecToDegPerSqrtHour(std::exp(sum / wsum));
 
   // RRW: fit of the +1/2 line sigma = K sqrt(tau / rrw_tau) after the minimum; K = sigma(rrw_tau).
   sum = 0.0;
-  count = 0;
+  wsum = 0.0;
   for (std::size_t j = jmin + 1; j < c.size(); ++j) {
     if (std::abs(c.slope[j] - 0.5) <= tol) {
-      sum += std::log(c.adev_dps[j]) - 0.5 * std::log(c.tau_s[j] / options.rrw_tau_s);  // ln K
-      ++count;
+      sum += weight(j) * (std::log(c.adev_dps[j]) - 0.5 * std::log(c.tau_s[j] / options.rrw_tau_s));  // ln K
+      wsum += weight(j);
       if (!t.rrw_fit_tau_min_s) t.rrw_fit_tau_min_s = c.tau_s[j];
       t.rrw_fit_tau_max_s = c.tau_s[j];
     }
   }
-  if (count > 0) {
+  if (wsum > 0.0) {
     // K in deg/s/sqrt(s) (numerically sigma(3 s) in deg/s for rrw_tau = 3 s) -> deg/h/sqrt(h).
-    const double k_dps_per_sqrt_s = std::exp(sum / count) / std::sqrt(options.rrw_tau_s / 3.0);
+    const double k_dps_per_sqrt_s = std::exp(sum / wsum) / std::sqrt(options.rrw_tau_s / 3.0);
     t.rrw_deg_per_h_per_sqrt_h = units::DpsPerSqrtSecToDphPerSqrtHour(k_dps_per_sqrt_s);
   }
   return t;

@@ -91,9 +91,9 @@ struct AllanNoiseTerms {
   // beyond the largest tau.
   std::optional<double> arw_deg_per_sqrt_h;
   std::string arw_method;  // "on grid" | "log-log interpolation" | "extrapolated along -1/2" | ""
-  // Second ARW estimate: least-squares fit of sigma = N / sqrt(tau) over the taus whose local
-  // slope is within tol of -1/2 (IEEE 952 -1/2 line), evaluated at tau = 1 s. nullopt if no such
-  // region.
+  // Second ARW estimate: least-squares fit of ln sigma = ln N - ln(tau)/2 (weights 2 EDF, the
+  // inverse variance of ln sigma) over the taus up to the minimum whose local slope is within tol
+  // of -1/2 (IEEE 952 -1/2 line), evaluated at tau = 1 s. nullopt if no such region.
   std::optional<double> arw_fit_deg_per_sqrt_h;
   // Minimum of the ADEV curve over the grid, deg/h ("bias stability" in the paper) and its tau.
   double adev_min_deg_per_h = 0.0;
@@ -103,7 +103,8 @@ struct AllanNoiseTerms {
   // Bias instability B = adev_min / 0.664 (IEEE 952 flicker floor sigma = 0.664 B), deg/h.
   double bias_instability_deg_per_h = 0.0;
   // Rate random walk K from the +1/2 region: least-squares fit of sigma = K sqrt(tau / 3) (slope
-  // fixed at +1/2) over the taus after the minimum whose local slope is within tol of +1/2,
+  // fixed at +1/2, weights 2 EDF) over the taus after the minimum whose local slope is within tol
+  // of +1/2,
   // K = fitted sigma(3 s), shown in deg/h/sqrt(h). nullopt when the curve has no +1/2 region.
   std::optional<double> rrw_deg_per_h_per_sqrt_h;
   std::optional<double> rrw_fit_tau_min_s, rrw_fit_tau_max_s;  // the region used

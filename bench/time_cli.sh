@@ -1,0 +1,41 @@
+#!/usr/bin/env bash
+# Times the gyrocomp CLI on realistic sizes (simulated chamber runs at 10 Hz and 100 Hz, and the
+# ADIS16405 recordings when ../shared/realdata is present). Timings are wall-clock on whatever
+# machine runs this: report them with the machine (e.g. "2 cores, shared") or as ratios.
+#   bench/time_cli.sh [BUILD_DIR] [--long]     (--long adds the 100 Hz, ~5 M sample cases)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+build="${1:-build}"
+long=0
+[ "${2:-}" = "--long" ] && long=1
+bin="$build/gyrocomp"
+[ -x "$bin" ] || { echo "time_cli.sh: $bin not built (scripts/build.sh $build)" >&2; exit 2; }
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+
+t() {  # t LABEL CMD...: prints seconds and peak RSS of one run
+  local label="$1"; shift
+  local out
+  out=$( { /usr/bin/time -f "%e %M" "$@" >/dev/null 2>"$work/err"; } 2>&1 ) || {
+    echo "FAILED: $label"; cat "$work/err"; return 1; }
+  tail -n 1 "$work/err" | awk -v l="$label" '{printf "%-48s %8.2f s  %8.0f MB\n", l, $1, $2/1024}'
+}
+
+echo "machine: $(nproc) cores, $(awk '/MemTotal/{printf "%.0f GiB", $2/1048576}' /proc/meminfo); $(date -u +%FT%TZ)"
+t "simulate paper profile 10 Hz"        "$bin" simulate --profile paper --fs 10 --seed 1 -o "$work/p10.csv"
+t "allan octave, paper 10 Hz"           "$bin" allan -i "$work/p10.csv" --json "$work/a.json"
+if "$bin" process --help >/dev/null 2>&1; then
+  t "process paper 10 Hz"               "$bin" process -i "$work/p10.csv" -o "$work/o10.csv" --json "$work/o10.json"
+fi
+if [ "$long" = 1 ]; then
+  t "simulate paper profile 100 Hz"     "$bin" simulate --profile paper --fs 100 --seed 1 -o "$work/p100.csv"
+  t "allan octave, paper 100 Hz"        "$bin" allan -i "$work/p100.csv" --json "$work/a.json"
+  if "$bin" process --help >/dev/null 2>&1; then
+    t "process paper 100 Hz"            "$bin" process -i "$work/p100.csv" -o "$work/o100.csv" --json "$work/o100.json"
+  fi
+fi
+real=../shared/realdata/adis16405_run1.csv.gz
+if [ -f "$real" ]; then
+  t "allan ADIS16405 run1 (3 axes, 1M rows)" "$bin" allan -i "$real" --time-col t_s \
+      --rate-col gx_dps,gy_dps,gz_dps --json "$work/adis.json"
+fi

@@ -140,7 +140,9 @@ class CsvParser {
   CsvParser(std::string source, const CsvReadOptions& options)
       : source_(std::move(source)), opt_(options) {}
 
-  Result<Table> Run(gzFile in);
+  // `plain_size` is the file size when known (0 for stdin/pipes): used, for plain text only, to
+  // reserve the columns once the first chunk shows the bytes per row.
+  Result<Table> Run(gzFile in, std::size_t plain_size);
 
  private:
   // Handles one line (without its '\n').
@@ -160,7 +162,9 @@ class CsvParser {
   std::size_t first_blank_line_ = 0; // a blank line seen after the header (0 = none yet)
 };
 
-Result<Table> CsvParser::Run(gzFile in) {
+Result<Table> CsvParser::Run(gzFile in, std::size_t plain_size) {
+  std::size_t consumed = 0;  // bytes of complete lines handled so far
+  bool reserved = false;
   table_.source = source_;
   std::vector<char> buf(kChunkBytes);
   std::size_t filled = 0;
@@ -204,6 +208,14 @@ Result<Table> CsvParser::Run(gzFile in) {
     if (eof && start < filled) {
       if (auto err = Line(std::string_view(buf.data() + start, filled - start))) return *err;
       start = filled;
+    }
+    consumed += start;
+    if (!reserved && plain_size > 0 && gzdirect(in) && table_.num_rows() >= 1000) {
+      // Avoids regrowing 5M-row columns; over-reserves by at most ~2 %.
+      const double per_row = static_cast<double>(consumed) / static_cast<double>(table_.num_rows());
+      const auto rows = static_cast<std::size_t>(static_cast<double>(plain_size) / per_row * 1.02) + 16;
+      for (auto& c : table_.columns) c.reserve(rows);
+      reserved = true;
     }
     std::memmove(buf.data(), buf.data() + start, filled - start);
     filled -= start;
@@ -421,7 +433,9 @@ class AtomicFile {
     }
     if (gz) {
       const int fd2 = ::dup(fd_);
-      gz_ = fd2 >= 0 ? gzdopen(fd2, "wb6") : nullptr;
+      // Level 1: on gyro CSVs ~6x faster than level 6 for ~25 % more bytes (measured with
+      // gzip -1/-6 on adis16405_run1: 7.0 vs 5.5 MB, 0.24 vs 1.50 s).
+      gz_ = fd2 >= 0 ? gzdopen(fd2, "wb1") : nullptr;
       if (gz_ == nullptr) {
         if (fd2 >= 0) ::close(fd2);
         return IoError(path + ": cannot start gzip output");
@@ -518,8 +532,13 @@ Result<Table> ReadCsv(const std::string& path, const CsvReadOptions& options) {
     return IoError(source + ": cannot open: " + std::string(errno ? std::strerror(errno) : "out of memory"));
   }
   gzbuffer(in, kGzBufferBytes);
+  std::size_t plain_size = 0;
+  if (!is_stdin) {
+    struct stat st {};
+    if (::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode)) plain_size = static_cast<std::size_t>(st.st_size);
+  }
   CsvParser parser(source, options);
-  Result<Table> result = parser.Run(in);
+  Result<Table> result = parser.Run(in, plain_size);
   gzclose(in);
   return result;
 }

@@ -11,7 +11,8 @@
 // over the first coordinate above that), so smooth, narrow-band VMD modes, where nearly every
 // pair matches, cost O(N log^(m) N) rather than O(N^2). It gives the same counts as the
 // brute-force definition, ties included (every comparison is the same floating-point
-// |a - b| < r). A and B are counted in parallel.
+// |a - b| < r). A and B are counted by a small pool of threads
+// (the recursion unrolled into independent tasks).
 #pragma once
 
 #include <cstddef>
@@ -41,6 +42,9 @@ struct SampleEntropyOptions {
   // Absolute tolerance r in the series' unit; overrides r_factor and reference_sd. > 0.
   std::optional<double> r_absolute;
   SampleEntropyAlgorithm algorithm = SampleEntropyAlgorithm::kFast;
+  // Worker threads of the fast algorithm; nullopt = automatic (hardware concurrency, at most 2).
+  // The counts do not depend on it. >= 1 when set.
+  std::optional<int> num_threads;
 
   bool IsValid(std::string* error) const;  // "SampleEntropyOptions::m = 0: must be in 1..10"
 };
@@ -68,8 +72,9 @@ struct TemplateMatchCounts {
   std::uint64_t a = 0;
   std::uint64_t b = 0;
 };
+// num_threads: workers for the fast algorithm (0 = automatic: hardware concurrency, at most 2).
 TemplateMatchCounts CountTemplateMatches(std::span<const double> x, int m, double r,
-                                         SampleEntropyAlgorithm algorithm);
+                                         SampleEntropyAlgorithm algorithm, int num_threads = 0);
 
 // Errors (kInvalidArgument / kInvalidInput): invalid options; a series shorter than m + 2; a
 // non-finite value; r = 0 (a constant series with a relative tolerance).

@@ -76,11 +76,14 @@ double GammaP(double a, double x) {
   return 1.0 - std::exp(log_prefactor) * h;
 }
 
-PowerLawNoise NoiseFromSlope(double slope) {
+PowerLawNoise NoiseFromSlope(double slope, bool leading) {
   // ADEV slopes: white phase -1, white rate -1/2, flicker rate 0, random-walk rate +1/2 (and
   // steeper, e.g. a ramp's +1, is treated as random walk: its EDF is the smallest, conservative).
+  // Phase (angle) noise is accepted only in the leading run of taus (quantization dominates the
+  // shortest taus of a gyro); a steep fall in the noisy tail is not phase noise, and the
+  // white-phase EDF (~N/2 at any m) would be absurd there.
   if (!std::isfinite(slope)) return PowerLawNoise::kWhiteRate;
-  if (slope < -0.75) return PowerLawNoise::kWhitePhase;
+  if (slope < -0.75 && leading) return PowerLawNoise::kWhitePhase;
   if (slope < -0.25) return PowerLawNoise::kWhiteRate;
   if (slope < 0.25) return PowerLawNoise::kFlickerRate;
   return PowerLawNoise::kRandomWalkRate;
@@ -139,6 +142,8 @@ bool AllanOptions::IsValid(std::string* error) const {
     os << "AllanOptions::arw_tau_s = " << arw_tau_s << ": must be > 0";
   } else if (!(rrw_tau_s > 0.0) || !std::isfinite(rrw_tau_s)) {
     os << "AllanOptions::rrw_tau_s = " << rrw_tau_s << ": must be > 0";
+  } else if (!(min_edf_for_terms >= 0.0) || !std::isfinite(min_edf_for_terms)) {
+    os << "AllanOptions::min_edf_for_terms = " << min_edf_for_terms << ": must be >= 0";
   } else if (!(slope_tolerance > 0.0 && slope_tolerance <= 0.25)) {
     os << "AllanOptions::slope_tolerance = " << slope_tolerance << ": must be in (0, 0.25]";
   } else {
@@ -242,11 +247,25 @@ AllanNoiseTerms ExtractNoiseTerms(const AllanCurve& c, const AllanOptions& optio
   const double tol = options.slope_tolerance;
 
   // Minimum ("bias stability") and B = min / 0.664 (IEEE 952 flicker floor).
-  const auto min_it = std::min_element(c.adev_dps.begin(), c.adev_dps.end());
-  const std::size_t jmin = static_cast<std::size_t>(min_it - c.adev_dps.begin());
-  t.adev_min_deg_per_h = units::DpsToDph(*min_it);
+  // Only taus with at least min_edf_for_terms degrees of freedom are used for the minimum and the
+  // fits (all taus when none qualifies, or when the curve carries no EDFs): the last octaves of a
+  // record have a handful of degrees of freedom and their random dips would pass for a minimum.
+  const bool have_edf = c.edf.size() == c.size();
+  std::vector<std::size_t> usable;
+  for (std::size_t j = 0; j < c.size(); ++j) {
+    if (!have_edf || c.edf[j] >= options.min_edf_for_terms) usable.push_back(j);
+  }
+  if (usable.empty()) {
+    for (std::size_t j = 0; j < c.size(); ++j) usable.push_back(j);
+  }
+  std::size_t jmin = usable.front();
+  for (std::size_t j : usable) {
+    if (c.adev_dps[j] < c.adev_dps[jmin]) jmin = j;
+  }
+  t.num_taus_used = usable.size();
+  t.adev_min_deg_per_h = units::DpsToDph(c.adev_dps[jmin]);
   t.tau_at_min_s = c.tau_s[jmin];
-  t.min_at_longest_tau = jmin + 1 == c.size();
+  t.min_at_longest_tau = jmin == usable.back();
   t.bias_instability_deg_per_h = t.adev_min_deg_per_h / 0.664;
 
   // ARW: sigma(arw_tau) read off the curve, N = sigma(tau) sqrt(tau) (method.md 6).
@@ -267,11 +286,10 @@ AllanNoiseTerms ExtractNoiseTerms(const AllanCurve& c, const AllanOptions& optio
   // Second ARW: fit of the -1/2 line over the white-rate region before the minimum.
   // Weighted by 2 EDF, the inverse variance of ln(sigma) (unweighted when there are no EDFs): the
   // long-tau points carry few degrees of freedom and, near the minimum, a downward bias.
-  const bool weighted = c.edf.size() == c.size();
-  auto weight = [&](std::size_t j) { return weighted ? 2.0 * c.edf[j] : 1.0; };
+  auto weight = [&](std::size_t j) { return have_edf ? 2.0 * c.edf[j] : 1.0; };
   double sum = 0.0, wsum = 0.0;
-  for (std::size_t j = 0; j <= jmin; ++j) {
-    if (std::abs(c.slope[j] + 0.5) <= tol) {
+  for (std::size_t j : usable) {
+    if (j <= jmin && std::abs(c.slope[j] + 0.5) <= tol) {
       sum += weight(j) * (std::log(c.adev_dps[j]) + 0.5 * std::log(c.tau_s[j]));  // ln N
       wsum += weight(j);
     }
@@ -281,8 +299,8 @@ AllanNoiseTerms ExtractNoiseTerms(const AllanCurve& c, const AllanOptions& optio
   // RRW: fit of the +1/2 line sigma = K sqrt(tau / rrw_tau) after the minimum; K = sigma(rrw_tau).
   sum = 0.0;
   wsum = 0.0;
-  for (std::size_t j = jmin + 1; j < c.size(); ++j) {
-    if (std::abs(c.slope[j] - 0.5) <= tol) {
+  for (std::size_t j : usable) {
+    if (j > jmin && std::abs(c.slope[j] - 0.5) <= tol) {
       sum += weight(j) * (std::log(c.adev_dps[j]) - 0.5 * std::log(c.tau_s[j] / options.rrw_tau_s));  // ln K
       wsum += weight(j);
       if (!t.rrw_fit_tau_min_s) t.rrw_fit_tau_min_s = c.tau_s[j];
@@ -370,8 +388,10 @@ Result<AllanResult> ComputeAllan(std::span<const double> y, double fs_hz, const 
     }
   }
   const double p_lo = 0.5 * (1.0 - options.confidence);
+  bool leading = true;
   for (std::size_t j = 0; j < k; ++j) {
-    const PowerLawNoise noise = NoiseFromSlope(c.slope[j]);
+    const PowerLawNoise noise = NoiseFromSlope(c.slope[j], leading);
+    leading = leading && noise == PowerLawNoise::kWhitePhase;
     double edf = EdfOverlappingAdevSimple(noise, static_cast<double>(num_phase), static_cast<double>(c.m[j]));
     // The empirical formulas can fall below 1 (or go wrong) at the largest taus; at least one
     // degree of freedom remains with n > 1 second differences.
@@ -413,7 +433,7 @@ std::string AllanResult::BriefReport() const {
     os << "n/a";
   }
   os << "; ADEV min " << terms.adev_min_deg_per_h << " deg/h at tau " << terms.tau_at_min_s << " s"
-     << (terms.min_at_longest_tau ? " (longest tau: floor not reached)" : "")
+     << (terms.min_at_longest_tau ? " (longest usable tau: floor not reached)" : "")
      << "; B = min/0.664 = " << terms.bias_instability_deg_per_h << " deg/h; RRW ";
   if (terms.rrw_deg_per_h_per_sqrt_h) {
     os << *terms.rrw_deg_per_h_per_sqrt_h << " deg/h/sqrt(h) (+1/2 fit, sigma(3 s))";

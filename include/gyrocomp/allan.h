@@ -64,6 +64,9 @@ struct AllanOptions {
   // Slope band (log-log) for classifying a segment as white rate (-1/2 +- tol), flicker (0 +- tol)
   // or random walk (+1/2 +- tol). Must be in (0, 0.25].
   double slope_tolerance = 0.2;
+  // The minimum and the -1/2 / +1/2 fits use only taus with at least this many equivalent degrees
+  // of freedom (10: ~22% one-sigma relative error of sigma). The curve itself keeps every tau.
+  double min_edf_for_terms = 10.0;
   bool IsValid(std::string* error) const;
 };
 
@@ -92,18 +95,22 @@ struct AllanNoiseTerms {
   std::optional<double> arw_deg_per_sqrt_h;
   std::string arw_method;  // "on grid" | "log-log interpolation" | "extrapolated along -1/2" | ""
   // Second ARW estimate: least-squares fit of ln sigma = ln N - ln(tau)/2 (weights 2 EDF, the
-  // inverse variance of ln sigma) over the taus up to the minimum whose local slope is within tol
+  // inverse variance of ln sigma) over the usable taus up to the minimum whose local slope is within tol
   // of -1/2 (IEEE 952 -1/2 line), evaluated at tau = 1 s. nullopt if no such region.
   std::optional<double> arw_fit_deg_per_sqrt_h;
-  // Minimum of the ADEV curve over the grid, deg/h ("bias stability" in the paper) and its tau.
+  // Number of taus with EDF >= AllanOptions::min_edf_for_terms ("usable"), used below.
+  std::size_t num_taus_used = 0;
+  // Minimum of the ADEV curve over the usable taus, deg/h ("bias stability" in the paper), and
+  // its tau.
   double adev_min_deg_per_h = 0.0;
   double tau_at_min_s = 0.0;
-  // True when the minimum is at the largest tau: the floor was not reached, min is an upper bound.
+  // True when the minimum is at the largest usable tau: the floor was not reached, min is an
+  // upper bound.
   bool min_at_longest_tau = false;
   // Bias instability B = adev_min / 0.664 (IEEE 952 flicker floor sigma = 0.664 B), deg/h.
   double bias_instability_deg_per_h = 0.0;
   // Rate random walk K from the +1/2 region: least-squares fit of sigma = K sqrt(tau / 3) (slope
-  // fixed at +1/2, weights 2 EDF) over the taus after the minimum whose local slope is within tol
+  // fixed at +1/2, weights 2 EDF) over the usable taus after the minimum whose local slope is within tol
   // of +1/2,
   // K = fitted sigma(3 s), shown in deg/h/sqrt(h). nullopt when the curve has no +1/2 region.
   std::optional<double> rrw_deg_per_h_per_sqrt_h;

@@ -98,9 +98,9 @@ struct NoiseOptions {
   // Flicker model: a sum of first-order Gauss-Markov processes, equal variances, correlation
   // times log-spaced from flicker_min_corr_s to flicker_max_corr_s with flicker_per_decade per
   // decade; the variance is set so the ADEV of the sum equals 0.664 B at the geometric middle of
-  // the band (ripple about +-1% for 2 per decade). The floor is flat from about 3x the shortest
-  // to 1/3 of the longest correlation time; below, the flicker fades like a rate random walk (so
-  // sigma(1 s) stays the ARW's). See docs/simulator.md.
+  // the band (ripple about +-1% for 2 per decade). The floor is flat within 2% from 20x the
+  // shortest to 1/6 of the longest correlation time; below, the flicker fades like a rate random
+  // walk (so sigma(1 s) stays the ARW's). See docs/simulator.md.
   double flicker_min_corr_s = 10.0;
   double flicker_max_corr_s = 1.0e5;
   int flicker_per_decade = 2;

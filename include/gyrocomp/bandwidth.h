@@ -8,10 +8,11 @@
 // the difference of the two outputs is the response to the sine. Its amplitude and phase at f_k
 // are read by least-squares projection onto sin/cos over a central window holding an integer
 // number of cycles (the ends, where extensions and start-up transients live, are skipped).
-//   gain(f) = |response| / A,  phase(f) unwrapped over increasing f.
+//   gain(f) = |response| / A,  phase(f) unwrapped over increasing f (each tone's phase moved by
+//     whole turns to the branch nearest the delay fitted to the tones below it).
 //   bandwidth_hz: the lowest f where gain falls below 1/sqrt(2) (-3 dB), interpolated linearly in
-//     log f between the two test frequencies around the crossing; nullopt when the gain stays
-//     above -3 dB up to the highest test frequency (then "at least max_frequency_hz").
+//     (log f, dB) between the two test frequencies around the crossing; nullopt when the gain
+//     stays above -3 dB up to the highest test frequency (then "at least max_frequency_hz").
 //   delay_s: group delay -d(phase)/d(omega) by least squares (through the origin) over the test
 //     frequencies below the bandwidth (a pure delay tau gives phase = -omega tau).
 #pragma once
@@ -60,6 +61,8 @@ struct BandwidthResult {
   std::vector<double> gain;         // |H(f)|, dimensionless
   std::vector<double> phase_rad;    // unwrapped
   std::optional<double> bandwidth_hz;
+  bool bandwidth_below_range = false;  // gain < -3 dB already at the lowest test frequency
+                                       // (then bandwidth_hz = that frequency, an upper bound)
   double max_frequency_hz = 0.0;    // highest frequency tested
   double delay_s = 0.0;             // group delay in the passband (s)
   double dc_gain = 0.0;             // gain at the lowest test frequency

@@ -17,6 +17,9 @@
 #include <fftw3.h>
 
 #include <algorithm>
+#include <atomic>
+#include <barrier>
+#include <functional>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -81,6 +84,44 @@ void RunThreads(int threads, Fn&& fn) {
   for (auto& th : pool) th.join();
 }
 
+// Persistent workers for the iteration loop (hundreds of short rounds: starting threads each
+// round would cost a noticeable part of a round at N ~ 10^4).
+class WorkerPool {
+ public:
+  explicit WorkerPool(int threads) : threads_(threads), start_(threads), done_(threads) {
+    for (int t = 1; t < threads; ++t) workers_.emplace_back([this, t] { Loop(t); });
+  }
+  ~WorkerPool() {
+    stop_ = true;
+    if (threads_ > 1) start_.arrive_and_wait();
+    for (auto& w : workers_) w.join();
+  }
+  WorkerPool(const WorkerPool&) = delete;
+  WorkerPool& operator=(const WorkerPool&) = delete;
+  // fn(t) on every thread t, fn(0) on the caller; returns when all are done.
+  void Run(const std::function<void(int)>& fn) {
+    fn_ = &fn;
+    if (threads_ > 1) start_.arrive_and_wait();
+    fn(0);
+    if (threads_ > 1) done_.arrive_and_wait();
+  }
+
+ private:
+  void Loop(int t) {
+    for (;;) {
+      start_.arrive_and_wait();
+      if (stop_) return;
+      (*fn_)(t);
+      done_.arrive_and_wait();
+    }
+  }
+  int threads_;
+  std::barrier<> start_, done_;
+  std::atomic<bool> stop_{false};
+  const std::function<void(int)>* fn_ = nullptr;
+  std::vector<std::thread> workers_;
+};
+
 // numpy's legacy np.random.rand after np.random.seed(seed): 53-bit doubles from MT19937.
 std::vector<double> NumpyRand(std::uint32_t seed, int count) {
   std::mt19937 mt(seed);
@@ -91,6 +132,43 @@ std::vector<double> NumpyRand(std::uint32_t seed, int count) {
     v = (a * 67108864.0 + b) / 9007199254740992.0;
   }
   return out;
+}
+
+// Eq. (4) for one mode on bins [j0, j1): the accumulator update
+//   sum_uk = u_{k-1} + sum_uk - u_k^{old}      (vmdpy's order of operations)
+// and the Wiener filter of the residual around omega_k
+//   u_k = (f - sum_uk - lambda/2) / (1 + alpha (freq - omega_k)^2).
+// Separate restrict-qualified arrays so that the loop vectorises.
+void UpdateMode(std::size_t j0, std::size_t j1, double wk, double alpha, const double* __restrict freq,
+                const double* __restrict f_re, const double* __restrict f_im,
+                const double* __restrict l_re, const double* __restrict l_im,
+                const double* __restrict prev_re, const double* __restrict prev_im,
+                const double* __restrict o_re, const double* __restrict o_im,
+                double* __restrict s_re, double* __restrict s_im, double* __restrict u_re,
+                double* __restrict u_im) {
+  if (l_re == nullptr) {
+    for (std::size_t j = j0; j < j1; ++j) {
+      const double sr = (prev_re[j] + s_re[j]) - o_re[j];
+      const double si = (prev_im[j] + s_im[j]) - o_im[j];
+      s_re[j] = sr;
+      s_im[j] = si;
+      const double d = freq[j] - wk;
+      const double den = 1.0 + alpha * (d * d);
+      u_re[j] = (f_re[j] - sr) / den;
+      u_im[j] = (f_im[j] - si) / den;
+    }
+  } else {
+    for (std::size_t j = j0; j < j1; ++j) {
+      const double sr = (prev_re[j] + s_re[j]) - o_re[j];
+      const double si = (prev_im[j] + s_im[j]) - o_im[j];
+      s_re[j] = sr;
+      s_im[j] = si;
+      const double d = freq[j] - wk;
+      const double den = 1.0 + alpha * (d * d);
+      u_re[j] = ((f_re[j] - sr) - l_re[j] / 2) / den;
+      u_im[j] = ((f_im[j] - si) - l_im[j] / 2) / den;
+    }
+  }
 }
 
 }  // namespace
@@ -221,6 +299,7 @@ Result<VmdResult> DecomposeVmd(std::span<const double> signal, const VmdOptions&
   double* new_im = ub_im.data();
   const double alpha = opt.alpha;
   const double tau = opt.tau;
+  const bool relative = opt.stopping_rule == VmdStoppingRule::kRelative;
 
   // One update of every mode on bins [j0, j1), Gauss-Seidel over k (Eq. 4), then Eq. (6).
   auto update_block = [&](std::size_t block, const std::vector<double>& om) {
@@ -236,35 +315,30 @@ Result<VmdResult> DecomposeVmd(std::span<const double> signal, const VmdOptions&
       const double* o_im = old_im + static_cast<std::size_t>(k) * H;
       double* u_re = new_re + static_cast<std::size_t>(k) * H;
       double* u_im = new_im + static_cast<std::size_t>(k) * H;
-      const double wk = om[k];
-      for (std::size_t j = j0; j < j1; ++j) {
-        // Accumulator: sum_uk = u_{k-1} + sum_uk - u_k^{old} (vmdpy's order of operations).
-        const double sr = (prev_re[j] + s_re[j]) - o_re[j];
-        const double si = (prev_im[j] + s_im[j]) - o_im[j];
-        s_re[j] = sr;
-        s_im[j] = si;
-        const double d = freq[j] - wk;
-        const double den = 1.0 + alpha * (d * d);
-        double nr = f_re[j] - sr;
-        double ni = f_im[j] - si;
-        if (use_lambda) {
-          nr -= l_re[j] / 2;
-          ni -= l_im[j] / 2;
-        }
-        // Eq. (4): Wiener filter of the residual around omega_k.
-        u_re[j] = nr / den;
-        u_im[j] = ni / den;
+      UpdateMode(j0, j1, om[k], alpha, freq.data(), f_re.data(), f_im.data(),
+                 use_lambda ? l_re.data() : nullptr, use_lambda ? l_im.data() : nullptr, prev_re,
+                 prev_im, o_re, o_im, s_re.data(), s_im.data(), u_re, u_im);
+      // Partial sums for Eq. (5) and the stopping rule, in 4 interleaved lanes (fixed order:
+      // deterministic, and free of the loop-carried dependency of a single accumulator).
+      double fp4[4] = {0, 0, 0, 0}, p4[4] = {0, 0, 0, 0}, df4[4] = {0, 0, 0, 0}, op4[4] = {0, 0, 0, 0};
+      auto accumulate = [&](std::size_t q, std::size_t l) {
+          const double pw = u_re[q] * u_re[q] + u_im[q] * u_im[q];
+          fp4[l] += freq[q] * pw;
+          p4[l] += pw;
+          const double dr = u_re[q] - o_re[q];
+          const double di = u_im[q] - o_im[q];
+          df4[l] += dr * dr + di * di;
+        if (relative) op4[l] += o_re[q] * o_re[q] + o_im[q] * o_im[q];
+      };
+      std::size_t j = j0;
+      for (; j + 4 <= j1; j += 4) {
+        for (std::size_t l = 0; l < 4; ++l) accumulate(j + l, l);
       }
-      double fp = 0, p = 0, df = 0, op = 0;
-      for (std::size_t j = j0; j < j1; ++j) {
-        const double pw = u_re[j] * u_re[j] + u_im[j] * u_im[j];
-        fp += freq[j] * pw;
-        p += pw;
-        const double dr = u_re[j] - o_re[j];
-        const double di = u_im[j] - o_im[j];
-        df += dr * dr + di * di;
-        op += o_re[j] * o_re[j] + o_im[j] * o_im[j];
-      }
+      for (std::size_t l = 0; j < j1; ++j, ++l) accumulate(j, l);
+      const double fp = (fp4[0] + fp4[1]) + (fp4[2] + fp4[3]);
+      const double p = (p4[0] + p4[1]) + (p4[2] + p4[3]);
+      const double df = (df4[0] + df4[1]) + (df4[2] + df4[3]);
+      const double op = (op4[0] + op4[1]) + (op4[2] + op4[3]);
       bs.freq_power[k] = fp;
       bs.power[k] = p;
       bs.diff[k] = df;
@@ -289,13 +363,15 @@ Result<VmdResult> DecomposeVmd(std::span<const double> signal, const VmdOptions&
   int n = 0;
   std::vector<double> omega_prev = omega;  // centre frequencies of the iterate before `omega`
   std::vector<double> om_snapshot;
+  WorkerPool pool(threads);
+  const std::function<void(int)> round = [&](int t) {
+    const std::size_t b0 = num_blocks * t / threads;
+    const std::size_t b1 = num_blocks * (t + 1) / threads;
+    for (std::size_t b = b0; b < b1; ++b) update_block(b, om_snapshot);
+  };
   while (u_diff > opt.tol && n < opt.max_iterations - 1) {
     om_snapshot = omega;
-    RunThreads(threads, [&](int t) {
-      const std::size_t b0 = num_blocks * t / threads;
-      const std::size_t b1 = num_blocks * (t + 1) / threads;
-      for (std::size_t b = b0; b < b1; ++b) update_block(b, om_snapshot);
-    });
+    pool.Run(round);
     // Eq. (5): centre frequencies; stopping rule (reference absolute, or Eq. 7 relative).
     omega_prev = omega;
     double total = 0.0;

@@ -1,0 +1,140 @@
+// gyrocomp simulate: the thermal-chamber experiment with ground truth (docs/simulator.md).
+#include <cstdlib>
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "commands.h"
+#include "gyrocomp/io.h"
+#include "gyrocomp/simulator.h"
+
+namespace gyrocomp::cli {
+namespace {
+
+constexpr const char* kName = "simulate";
+
+struct SimulateArgs {
+  SimulatorOptions sim;  // library defaults
+  std::string profile = "paper";
+  std::string drift_poly;  // comma-separated, overrides the default polynomial when given
+  std::optional<double> duration_s;
+  std::string output;
+  std::string json_path;
+};
+
+int Run(SimulateArgs& a) {
+  const auto kind = ParseThermalProfileKind(a.profile);
+  if (!kind) return ReportError(kName, InvalidArgument("--profile " + a.profile + ": must be paper, soak, ramp or cycle"));
+  a.sim.profile.kind = *kind;
+  a.sim.duration_s = a.duration_s;
+  if (!a.drift_poly.empty()) {
+    a.sim.bias.poly_dps.clear();
+    for (const std::string& item : SplitList(a.drift_poly)) {
+      char* end = nullptr;
+      const double v = std::strtod(item.c_str(), &end);
+      if (end == item.c_str() || *end != '\0') {
+        return ReportError(kName, InvalidArgument("--drift-poly: '" + item + "' is not a number"));
+      }
+      a.sim.bias.poly_dps.push_back(v);
+    }
+  }
+  Result<SimulatedRun> run = Simulate(a.sim);
+  if (!run.ok()) return ReportError(kName, run.error());
+  if (Status s = WriteCsvAtomic(a.output, run->ToTable()); !s.ok()) return ReportError(kName, s.error());
+  const SimulationSummary& sum = run->summary;
+  if (!a.json_path.empty()) {
+    nlohmann::json j;
+    j["output"] = a.output;
+    j["profile"] = ThermalProfileKindName(a.sim.profile.kind);
+    j["fs_hz"] = run->fs_hz;
+    j["seed"] = a.sim.seed;
+    j["n_samples"] = sum.num_samples;
+    j["duration_s"] = sum.duration_s;
+    j["sensor_temp_range_c"] = {sum.min_temp_c, sum.max_temp_c};
+    j["true_drift_range_dps"] = {sum.min_drift_dps, sum.max_drift_dps};
+    j["arw_deg_per_sqrt_h"] = a.sim.noise.arw_deg_per_sqrt_h;
+    j["bias_instability_deg_per_h"] = a.sim.noise.bias_instability_deg_per_h;
+    j["rrw_deg_per_h_per_sqrt_h"] = a.sim.noise.rrw_deg_per_h_per_sqrt_h;
+    j["flicker_processes"] = sum.num_flicker_processes;
+    j["flicker_process_sigma_dps"] = sum.flicker_process_sigma_dps;
+    j["seconds"] = sum.seconds;
+    if (Status s = WriteJson(a.json_path, j); !s.ok()) return ReportError(kName, s.error());
+  }
+  Note(kName, sum.BriefReport() + " -> " + a.output);
+  return kExitOk;
+}
+
+Command Make(CLI::App& app) {
+  auto a = std::make_shared<SimulateArgs>();
+  SimulatorOptions& o = a->sim;
+  CLI::App* sub = app.add_subcommand(
+      kName, "Simulate a MEMS gyro in a temperature chamber, with ground truth (default: the paper's run, "
+             "Section 4.1)");
+  sub->footer(
+      "Output columns: time_s, rate_dps, temp_c, chamber_temp_c, sensor_temp_c, true_rate_dps,\n"
+      "true_drift_dps, true_noise_dps (rate = true_rate + true_drift + true_noise).\n"
+      "Profiles: paper = 1 h at room temperature, ramp to 60 C, 1 h, then 10 C steps down to -40 C,\n"
+      "each held 1 h (14.25 h at 1 C/min); soak; ramp (room -> --ramp-end); cycle (room -> hot ->\n"
+      "cold -> room, --cycles times: heating and cooling, for hysteresis).\n"
+      "Noise in datasheet units (IEEE 952); bias instability = flicker floor / 0.664, made of a sum of\n"
+      "Gauss-Markov processes (docs/simulator.md). Same options and --seed: identical output.\n"
+      "Example: gyrocomp simulate --fs 100 --seed 7 -o run.csv.gz");
+  sub->add_option("-o,--output", a->output, "Output CSV (.gz: gzip)")->required();
+  sub->add_option("--json", a->json_path, "Write a summary of the run as JSON ('-' = stdout)");
+  sub->add_option("--profile", a->profile, "paper | soak | ramp | cycle")->capture_default_str();
+  sub->add_option("--fs", o.fs_hz, "Sample rate, Hz")->check(CLI::PositiveNumber)->capture_default_str();
+  sub->add_option("--seed", o.seed, "Random seed")->capture_default_str();
+  sub->add_option("--duration", a->duration_s, "Record length, s (default: the profile's; longer holds the end)")
+      ->check(CLI::PositiveNumber);
+  // Thermal profile.
+  ThermalProfileOptions& p = o.profile;
+  sub->add_option("--room-temp", p.room_temp_c, "Room (start) temperature, deg C")->capture_default_str();
+  sub->add_option("--room-hold", p.room_hold_s, "Hold at room temperature first, s")->capture_default_str();
+  sub->add_option("--hot", p.hot_temp_c, "Hot extreme, deg C")->capture_default_str();
+  sub->add_option("--cold", p.cold_temp_c, "Cold extreme, deg C")->capture_default_str();
+  sub->add_option("--step", p.step_c, "Staircase step of the paper profile, deg C")->capture_default_str();
+  sub->add_option("--hold", p.hold_s, "Hold at each plateau, s")->capture_default_str();
+  sub->add_option("--ramp-rate", p.ramp_rate_c_per_min, "Chamber slew rate, deg C per minute")->capture_default_str();
+  sub->add_option("--soak-temp", p.soak_temp_c, "soak: temperature, deg C")->capture_default_str();
+  sub->add_option("--soak-duration", p.soak_duration_s, "soak: duration, s")->capture_default_str();
+  sub->add_option("--ramp-end", p.ramp_end_c, "ramp: end temperature, deg C")->capture_default_str();
+  sub->add_option("--cycles", p.num_cycles, "cycle: number of hot-cold-room cycles")->capture_default_str();
+  sub->add_option("--thermal-lag", o.thermal_lag_s, "Sensor thermal time constant behind the chamber, s")
+      ->capture_default_str();
+  sub->add_option("--temp-noise", o.temp_noise_c, "Temperature reading noise (1 sigma), deg C")->capture_default_str();
+  // Drift.
+  sub->add_option("--drift-poly", a->drift_poly,
+                  "bias(T) coefficients c0,c1,... in deg/s per C^k of (T - --drift-ref) (default 0.02,1.5e-3,1.2e-5,-2e-7)");
+  sub->add_option("--drift-ref", o.bias.reference_temp_c, "Reference temperature of the polynomial, deg C")
+      ->capture_default_str();
+  sub->add_option("--dtemp-coeff", o.bias.dtemp_coeff_dps_per_c_per_s, "Drift per temperature rate, deg/s per (C/s)")
+      ->capture_default_str();
+  sub->add_option("--hysteresis-width", o.bias.hysteresis_width_c, "Hysteresis (play) width, deg C")
+      ->capture_default_str();
+  sub->add_option("--hysteresis-coeff", o.bias.hysteresis_coeff_dps_per_c, "Hysteresis gain, deg/s per deg C")
+      ->capture_default_str();
+  // Noise.
+  NoiseOptions& n = o.noise;
+  sub->add_option("--arw", n.arw_deg_per_sqrt_h, "Angle random walk, deg/sqrt(h)")->capture_default_str();
+  sub->add_option("--bias-instability", n.bias_instability_deg_per_h, "Bias instability B, deg/h (floor 0.664 B)")
+      ->capture_default_str();
+  sub->add_option("--rrw", n.rrw_deg_per_h_per_sqrt_h, "Rate random walk, deg/h/sqrt(h)")->capture_default_str();
+  sub->add_option("--quantization", n.quantization_deg, "Angle quantization Q, deg (0 = off)")->capture_default_str();
+  sub->add_option("--resolution", n.resolution_dps, "Output LSB, deg/s (0 = off)")->capture_default_str();
+  // True rate.
+  TrueRateOptions& t = o.true_rate;
+  sub->add_option("--true-rate", t.constant_dps, "Constant true rate, deg/s (e.g. Earth rate)")->capture_default_str();
+  sub->add_option("--step-amplitude", t.step_amplitude_dps, "Rate steps 0,+A,0,-A,..., deg/s (0 = off)")
+      ->capture_default_str();
+  sub->add_option("--step-period", t.step_period_s, "Duration of each rate step, s")->capture_default_str();
+  sub->add_option("--sine-amplitude", t.sine_amplitude_dps, "Sinusoidal rate amplitude, deg/s (0 = off)")
+      ->capture_default_str();
+  sub->add_option("--sine-frequency", t.sine_frequency_hz, "Sinusoidal rate frequency, Hz")->capture_default_str();
+  return {sub, [a] { return Run(*a); }};
+}
+
+const CommandRegistrar kReg(kName, 20, &Make);
+
+}  // namespace
+}  // namespace gyrocomp::cli

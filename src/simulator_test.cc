@@ -4,11 +4,14 @@
 #include "gyrocomp/simulator.h"
 
 #include <cmath>
+#include <fstream>
+#include <iterator>
 #include <numeric>
 
 #include <gtest/gtest.h>
 
 #include "gyrocomp/allan.h"
+#include "test_support.h"
 
 namespace gyrocomp {
 namespace {
@@ -389,6 +392,34 @@ TEST(SimulatorRoundTrip, DefaultsReproduceThePapersRawFigures) {
   EXPECT_NEAR(*a->terms.arw_deg_per_sqrt_h, 1.667, 0.03 * 1.667) << a->BriefReport();
   EXPECT_NEAR(a->terms.adev_min_deg_per_h, 30.0, 3.0) << a->BriefReport();
   EXPECT_FALSE(a->terms.min_at_longest_tau);
+}
+
+// ---- the CLI, end to end ----------------------------------------------------------------------
+
+TEST(SimulatorCli, DeterministicCsvWithTruthColumns) {
+  const std::string cli = testing::CliPath();
+  if (cli.empty() || !std::ifstream(cli).good()) GTEST_SKIP() << "the gyrocomp CLI is not built";
+  const std::string dir = testing::MakeTempDir("simulate_cli");
+  std::string out;
+  const std::string args = " simulate --profile cycle --fs 5 --duration 600 --seed 9 --sine-amplitude 0.2";
+  ASSERT_EQ(testing::RunCommand(cli + args + " -o " + dir + "/a.csv --json " + dir + "/a.json", &out), 0) << out;
+  ASSERT_EQ(testing::RunCommand(cli + args + " -o " + dir + "/b.csv", &out), 0) << out;
+  auto read = [](const std::string& p) {
+    std::ifstream f(p);
+    return std::string(std::istreambuf_iterator<char>(f), {});
+  };
+  EXPECT_EQ(read(dir + "/a.csv"), read(dir + "/b.csv"));  // same seed: byte-identical
+  const auto csv = testing::ReadGoldenCsv(dir + "/a.csv");
+  for (const char* col : {"time_s", "rate_dps", "temp_c", "true_rate_dps", "true_drift_dps", "true_noise_dps"}) {
+    ASSERT_TRUE(csv.count(col)) << col;
+    EXPECT_EQ(csv.at(col).size(), 3000u) << col;
+  }
+  EXPECT_NEAR(csv.at("true_rate_dps")[25], 0.2 * std::sin(2 * M_PI * 0.01 * 5.0), 1e-12);
+  EXPECT_EQ(testing::ReadJsonFile(dir + "/a.json")["n_samples"].get<int>(), 3000);
+  // The library's own check of the options: exit 2, the field named, no file.
+  EXPECT_EQ(testing::RunCommand(cli + " simulate --step 0 -o " + dir + "/c.csv", &out), 2) << out;
+  EXPECT_NE(out.find("ThermalProfileOptions::step_c = 0"), std::string::npos) << out;
+  EXPECT_FALSE(std::ifstream(dir + "/c.csv").good());
 }
 
 }  // namespace

@@ -54,6 +54,21 @@ Result<LogSpec> ToLogSpec(const LogOptions& o) {
   return spec;
 }
 
+Result<LoadedLog> LoadLog(const std::string& command, const LogOptions& options, LogSpec spec) {
+  Result<Table> table = ReadCsv(options.input);
+  if (!table) return table.error();
+  Result<GyroLog> log = LoadGyroLog(*table, spec);
+  if (!log) return log.error();
+  LoadedLog out{std::move(*table), std::move(*log)};
+  if (out.log.sampling.resampled) {
+    Result<Table> resampled = ResampleTable(out.table, spec.time_col, out.log.fs_hz);
+    if (!resampled) return resampled.error();
+    out.table = std::move(*resampled);
+    Note(command, out.log.sampling.BriefReport());
+  }
+  return out;
+}
+
 int ReportError(const std::string& command, const Error& error) {
   std::cerr << "gyrocomp " << command << ": error: " << error.message << "\n";
   switch (error.kind) {

@@ -43,6 +43,15 @@ void AddLogOptions(CLI::App* app, LogOptions* options, bool input_required = tru
 // Converts the CLI options to a LogSpec (rate columns split on ','), or an kInvalidArgument error.
 Result<LogSpec> ToLogSpec(const LogOptions& options);
 
+// A log read for a command whose output is "the input columns plus ...": the table (resampled
+// onto the log's grid when --resample was given, so its rows line up with the log) and the log.
+struct LoadedLog {
+  Table table;
+  GyroLog log;
+};
+// ReadCsv + (ResampleTable) + LoadGyroLog. Prints what resampling did, as a note, when it did.
+Result<LoadedLog> LoadLog(const std::string& command, const LogOptions& options, LogSpec spec);
+
 // Prints "gyrocomp <command>: error: <message>" (one line) to stderr and returns the exit status
 // for the error's kind.
 int ReportError(const std::string& command, const Error& error);

@@ -1,0 +1,230 @@
+#include "report_builder.h"
+
+#include <cmath>
+#include <cstdio>
+
+#include <Eigen/Core>
+#include <fftw3.h>
+#include <libsvm/svm.h>
+
+#include "gyrocomp/units.h"
+#include "result_json.h"
+
+namespace gyrocomp::cli {
+namespace {
+
+std::vector<double> Hours(const std::vector<double>& t_s) {
+  std::vector<double> h(t_s.size());
+  for (std::size_t i = 0; i < h.size(); ++i) h[i] = t_s[i] / units::kSecondsPerHour;
+  return h;
+}
+
+// The ADEV curve with its confidence band and the fitted noise-term lines.
+nlohmann::json AllanCurveJson(const AllanResult& a, const std::string& name) {
+  const AllanCurve& c = a.curve;
+  nlohmann::json j = {{"name", name}, {"tau_s", c.tau_s}, {"adev_dps", c.adev_dps},
+                      {"lo_dps", c.adev_lo_dps}, {"hi_dps", c.adev_hi_dps}};
+  nlohmann::json lines = nlohmann::json::array();
+  if (!c.tau_s.empty()) {
+    const double t0 = c.tau_s.front(), t1 = c.tau_s.back();
+    if (a.terms.arw_deg_per_sqrt_h) {  // sigma = N / sqrt(tau), N in deg/sqrt(s)
+      const double n_dps = units::DegPerSqrtHourToDegPerSqrtSec(*a.terms.arw_deg_per_sqrt_h);
+      lines.push_back({{"name", "ARW"}, {"tau_s", {t0, t1}}, {"adev_dps", {n_dps / std::sqrt(t0), n_dps / std::sqrt(t1)}}});
+    }
+    const double floor_dps = units::DphToDps(a.terms.adev_min_deg_per_h);
+    lines.push_back({{"name", "ADEV min"}, {"tau_s", {t0, t1}}, {"adev_dps", {floor_dps, floor_dps}}});
+    if (a.terms.rrw_deg_per_h_per_sqrt_h) {  // sigma = K sqrt(tau / 3), K in deg/s/sqrt(s)
+      const double k = units::DphPerSqrtHourToDpsPerSqrtSec(*a.terms.rrw_deg_per_h_per_sqrt_h);
+      lines.push_back({{"name", "RRW"}, {"tau_s", {t0, t1}}, {"adev_dps", {k * std::sqrt(t0 / 3.0), k * std::sqrt(t1 / 3.0)}}});
+    }
+  }
+  j["lines"] = lines;
+  return j;
+}
+
+nlohmann::json ChangeCell(const std::optional<double>& before, const std::optional<double>& after) {
+  if (!before || !after || *before == 0.0) return nullptr;
+  return std::round(1000.0 * (*after - *before) / *before) / 10.0;
+}
+
+// Minimum of the ADEV curve over tau >= tau_min_s, deg/h (nullopt when no such tau).
+std::optional<double> AdevMinAbove(const AllanCurve& c, double tau_min_s) {
+  std::optional<double> best;
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    if (c.tau_s[i] >= tau_min_s && (!best || c.adev_dps[i] < *best)) best = c.adev_dps[i];
+  }
+  if (best) *best = units::DpsToDph(*best);
+  return best;
+}
+
+}  // namespace
+
+std::optional<double> SlopeNear(const AllanCurve& c, double tau_s) {
+  std::optional<double> slope;
+  double best = 1e300;
+  for (std::size_t i = 0; i < c.size() && i < c.slope.size(); ++i) {
+    const double d = std::abs(std::log(c.tau_s[i] / tau_s));
+    if (d < best) { best = d; slope = c.slope[i]; }
+  }
+  return slope;
+}
+
+std::vector<std::string> HonestyNotes(const PipelineResult& r) {
+  std::vector<std::string> notes;
+  const auto slope = SlopeNear(r.allan_after.curve, 1.0);
+  if (slope && std::abs(*slope + 0.5) > 0.2) {
+    char buf[400];
+    std::snprintf(buf, sizeof buf,
+                  "After processing the ADEV slope at tau = 1 s is %+.2f, not -1/2: the output is no longer "
+                  "white at 1 s, so 'ARW after' is sigma(1 s) of a low-passed signal (bandwidth %s Hz), "
+                  "not an angle random walk coefficient.",
+                  *slope, r.bandwidth && r.bandwidth->bandwidth_hz ? std::to_string(*r.bandwidth->bandwidth_hz).c_str() : "n/a");
+    notes.emplace_back(buf);
+  }
+  if (!r.allan_after.curve.tau_s.empty() &&
+      r.allan_after.terms.tau_at_min_s <= r.allan_after.curve.tau_s.front() * 1.0001) {
+    notes.emplace_back("After processing the ADEV minimum is at the shortest tau, where the filter removed the "
+                       "signal; the 'ADEV minimum over tau >= 10 s' row is the bias-stability figure to compare.");
+  }
+  return notes;
+}
+
+std::vector<SummaryRow> BeforeAfterRows(const PipelineResult& r) {
+  const AllanNoiseTerms& b = r.allan_before.terms;
+  const AllanNoiseTerms& a = r.allan_after.terms;
+  std::vector<SummaryRow> rows = {
+      {"ARW", b.arw_deg_per_sqrt_h, a.arw_deg_per_sqrt_h, "deg/sqrt(h)"},
+      {"ADEV minimum (bias stability)", b.adev_min_deg_per_h, a.adev_min_deg_per_h, "deg/h"},
+      {"bias instability (min / 0.664)", b.bias_instability_deg_per_h, a.bias_instability_deg_per_h, "deg/h"},
+      {"ADEV minimum over tau >= 10 s", AdevMinAbove(r.allan_before.curve, 10.0),
+       AdevMinAbove(r.allan_after.curve, 10.0), "deg/h"},
+      {"RRW", b.rrw_deg_per_h_per_sqrt_h, a.rrw_deg_per_h_per_sqrt_h, "deg/h/sqrt(h)"},
+  };
+  std::optional<double> bw;
+  if (r.bandwidth) bw = r.bandwidth->bandwidth_hz;
+  rows.push_back({"bandwidth (-3 dB)", r.fs_hz / 2.0, bw, "Hz"});
+  return rows;
+}
+
+nlohmann::json SoftwareVersions() {
+  return {{"gyrocomp", GYROCOMP_VERSION},
+          {"FFTW", std::string(fftw_version)},
+          {"LIBSVM", std::to_string(libsvm_version)},
+          {"Eigen", std::to_string(EIGEN_WORLD_VERSION) + "." + std::to_string(EIGEN_MAJOR_VERSION) + "." +
+                        std::to_string(EIGEN_MINOR_VERSION)},
+          {"nlohmann_json", std::to_string(NLOHMANN_JSON_VERSION_MAJOR) + "." +
+                                std::to_string(NLOHMANN_JSON_VERSION_MINOR) + "." +
+                                std::to_string(NLOHMANN_JSON_VERSION_PATCH)},
+          {"uPlot", "1.6.32 (MIT), bundled"}};
+}
+
+ReportData BuildPipelineReport(const PipelineResult& r, const ReportContext& ctx) {
+  ReportData data;
+  nlohmann::json& c = data.content;
+  c["title"] = ctx.title;
+  c["subtitle"] = ctx.source + (ctx.axis.empty() ? "" : ", axis " + ctx.axis) + ": " +
+                  std::to_string(r.num_samples) + " samples at " + std::to_string(r.fs_hz) +
+                  " Hz. Parallel VMD-SE-WFLP-" + (r.drift_model ? DriftModelKindName(r.drift_model->kind) : "none") +
+                  " model (Chang, Cao & Shen 2020).";
+  nlohmann::json rows = nlohmann::json::array();
+  for (const SummaryRow& row : BeforeAfterRows(r)) {
+    rows.push_back({row.metric + " (" + row.unit + ")", Num(row.before), Num(row.after), ChangeCell(row.before, row.after)});
+  }
+  c["summary"] = {{"columns", {"metric", "before", "after", "change (%)"}},
+                  {"rows", rows},
+                  {"note", [&] {
+                     std::string note = "Bandwidth 'before' is the Nyquist frequency of the raw record. A lower ARW "
+                                        "obtained by narrowing the bandwidth is low-pass filtering: read the two together.";
+                     for (const std::string& s : HonestyNotes(r)) note += " " + s;
+                     return note;
+                   }()}};
+
+  const std::vector<double> hours = Hours(ctx.time_s);
+  const auto env = MinMaxEnvelopes(hours, {ctx.rate_dps, r.compensated_dps, ctx.temp_c}, 1500);
+  c["timeseries"] = {{"x_label", "time (h)"},
+                     {"x", env[0].x},
+                     {"series", {{{"name", "raw rate (deg/s)"}, {"y", env[0].y}, {"axis", "rate"}},
+                                 {{"name", "compensated (deg/s)"}, {"y", env[1].y}, {"axis", "rate"}},
+                                 {{"name", "temperature (deg C)"}, {"y", env[2].y}, {"axis", "temp"}}}}};
+  nlohmann::json modes = nlohmann::json::array();
+  for (std::size_t k = 0; k < r.mode_reports.size() && k < r.modes.size(); ++k) {
+    const ModeReport& m = r.mode_reports[k];
+    const DisplaySeries d = MinMaxEnvelope(hours, r.modes[k], 400);
+    modes.push_back({{"index", m.index}, {"sample_entropy", Num(m.sample_entropy)},
+                     {"center_frequency_hz", Num(m.center_frequency_hz)},
+                     {"class", FeatureClassName(m.feature)}, {"x", d.x}, {"y", d.y}});
+  }
+  c["modes"] = modes;
+  c["allan"] = {AllanCurveJson(r.allan_before, "raw"), AllanCurveJson(r.allan_after, "compensated")};
+
+  // Drift against temperature: block means (about 1500 points) of the drift feature and of the
+  // model's prediction along the record.
+  const std::size_t n = r.num_samples, points = std::min<std::size_t>(n, 1500);
+  std::vector<double> t_mean, d_mean, p_mean;
+  for (std::size_t b = 0; b < points; ++b) {
+    const std::size_t lo = b * n / points, hi = (b + 1) * n / points;
+    double st = 0, sd = 0, sp = 0;
+    for (std::size_t i = lo; i < hi; ++i) {
+      st += ctx.temp_c[i];
+      sd += r.features.drift[i];
+      sp += r.predicted_drift_dps[i];
+    }
+    const double w = static_cast<double>(hi - lo);
+    t_mean.push_back(st / w);
+    d_mean.push_back(sd / w);
+    p_mean.push_back(sp / w);
+  }
+  c["drift"] = {{"temp_c", t_mean}, {"drift_dps", d_mean}};
+  if (r.drift_model) {
+    c["drift"]["model_temp_c"] = t_mean;
+    c["drift"]["model_dps"] = p_mean;
+  }
+
+  nlohmann::json tables = nlohmann::json::array();
+  tables.push_back({{"title", "Classification rule"},
+                    {"columns", {"rule"}},
+                    {"rows", {{r.classification_rule + (r.drift_mode_forced ? " (drift mode forced: see warnings)" : "")}}}});
+  if (r.drift_model) {
+    const DriftFitSummary& s = r.drift_model->summary;
+    tables.push_back({{"title", "Drift model"},
+                      {"columns", {"model", "inputs", "C", "sigma", "epsilon", "support vectors", "CV RMSE (deg/s)",
+                                   "train RMSE (deg/s)", "T range (deg C)", "fit time (s)"}},
+                      {"rows", {{DriftModelKindName(s.model), DriftInputSetName(s.inputs), Num(s.C), Num(s.sigma),
+                                 Num(s.epsilon), s.num_support, Num(s.cv_rmse), Num(s.train_rmse),
+                                 std::to_string(s.temp_min_c).substr(0, 6) + " .. " + std::to_string(s.temp_max_c).substr(0, 6),
+                                 Num(s.fit_time_s)}}},
+                      {"note", "C and sigma in the SVR's scaled units (standardised inputs by default). "
+                               "CV: blocked cross-validation on contiguous blocks."}});
+  }
+  if (ctx.comparison) {
+    for (const char* group : {"denoising", "drift", "scheme"}) {
+      nlohmann::json rows2 = nlohmann::json::array();
+      for (const MethodRow& m : ctx.comparison->rows) {
+        if (m.group != group) continue;
+        rows2.push_back({m.method, Num(m.arw_deg_per_sqrt_h), Num(m.adev_min_deg_per_h), Num(m.bandwidth_hz),
+                         Num(m.rmse_vs_true_rate_dps), Num(m.drift_rmse_vs_truth_dps), Num(m.seconds), m.note});
+      }
+      const std::string title = std::string(group) == "denoising" ? "Comparison: denoising of the mixed feature"
+                              : std::string(group) == "drift"     ? "Comparison: drift models"
+                                                                  : "Comparison: serial vs parallel";
+      tables.push_back({{"title", title},
+                        {"columns", {"method", "ARW (deg/sqrt(h))", "ADEV min (deg/h)", "bandwidth (Hz)",
+                                     "RMSE vs true rate (deg/s)", "drift RMSE vs truth (deg/s)", "time (s)", "note"}},
+                        {"rows", rows2}});
+    }
+  }
+  nlohmann::json timing_rows = nlohmann::json::array();
+  for (const auto& [stage, seconds] : r.timings_s) timing_rows.push_back({stage, seconds});
+  tables.push_back({{"title", "Timings"}, {"columns", {"stage", "seconds"}}, {"rows", timing_rows}});
+  if (!r.warnings.empty()) {
+    nlohmann::json w = nlohmann::json::array();
+    for (const std::string& s : r.warnings) w.push_back({s});
+    tables.push_back({{"title", "Warnings"}, {"columns", {"warning"}}, {"rows", w}});
+  }
+  c["tables"] = tables;
+  c["parameters"] = ctx.parameters;
+  c["versions"] = SoftwareVersions();
+  return data;
+}
+
+}  // namespace gyrocomp::cli

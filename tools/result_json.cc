@@ -1,0 +1,98 @@
+#include "result_json.h"
+
+#include <cmath>
+
+namespace gyrocomp::cli {
+
+nlohmann::json Num(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); }
+nlohmann::json Num(const std::optional<double>& v) { return v ? Num(*v) : nlohmann::json(); }
+
+nlohmann::json AllanTermsJson(const AllanResult& r) {
+  const AllanNoiseTerms& t = r.terms;
+  nlohmann::json j;
+  j["arw_deg_per_sqrt_h"] = Num(t.arw_deg_per_sqrt_h);
+  j["arw_method"] = t.arw_method;
+  j["arw_fit_deg_per_sqrt_h"] = Num(t.arw_fit_deg_per_sqrt_h);
+  j["adev_min_deg_per_h"] = Num(t.adev_min_deg_per_h);
+  j["tau_at_min_s"] = Num(t.tau_at_min_s);
+  j["adev_min_at_longest_tau"] = t.min_at_longest_tau;
+  j["bias_instability_deg_per_h"] = Num(t.bias_instability_deg_per_h);
+  j["rrw_deg_per_h_per_sqrt_h"] = Num(t.rrw_deg_per_h_per_sqrt_h);
+  j["conventions"] = {
+      {"arw", "N = sigma(tau = 1 s) x sqrt(1 s), deg/sqrt(h) (IEEE 952; x 60 from deg/s*sqrt(s))"},
+      {"adev_min", "minimum of the overlapping ADEV over the tau grid, deg/h (the paper's 'bias stability')"},
+      {"bias_instability", "B = adev_min / 0.664 (IEEE 952 flicker floor), deg/h"},
+      {"rrw", "K = sigma(tau = 3 s) on the fitted +1/2 line, deg/h/sqrt(h) (IEEE 952)"}};
+  return j;
+}
+
+nlohmann::json AllanJson(const AllanResult& r, bool with_curve) {
+  nlohmann::json j = AllanTermsJson(r);
+  j["fs_hz"] = r.fs_hz;
+  j["n_samples"] = r.n_samples;
+  if (with_curve) {
+    const AllanCurve& c = r.curve;
+    j["tau_s"] = c.tau_s;
+    j["adev_dps"] = c.adev_dps;
+    j["adev_error_dps"] = c.adev_error_dps;
+    j["n_clusters"] = c.n_clusters;
+    j["adev_lo_dps"] = c.adev_lo_dps;
+    j["adev_hi_dps"] = c.adev_hi_dps;
+    j["edf"] = c.edf;
+    j["confidence"] = r.confidence;
+  }
+  j["deviation_method"] = r.deviation_method;
+  j["edf_method"] = r.edf_method;
+  return j;
+}
+
+nlohmann::json ModesJson(const std::vector<ModeReport>& modes) {
+  nlohmann::json a = nlohmann::json::array();
+  for (const ModeReport& m : modes) {
+    a.push_back({{"index", m.index},
+                 {"center_frequency_hz", Num(m.center_frequency_hz)},
+                 {"center_frequency_cycles_per_sample", Num(m.center_frequency_cycles_per_sample)},
+                 {"sample_entropy", Num(m.sample_entropy)},
+                 {"class", FeatureClassName(m.feature)}});
+  }
+  return a;
+}
+
+nlohmann::json BandwidthJson(const BandwidthResult& b) {
+  return {{"bandwidth_hz", Num(b.bandwidth_hz)},
+          {"max_frequency_tested_hz", Num(b.max_frequency_hz)},
+          {"delay_s", Num(b.delay_s)},
+          {"dc_gain", Num(b.dc_gain)},
+          {"frequency_hz", b.frequency_hz},
+          {"gain", b.gain},
+          {"method", "sine injection: gain of (process(b + A sin) - process(b)) at each test "
+                     "frequency; bandwidth = lowest f with gain < 1/sqrt(2)"}};
+}
+
+nlohmann::json DriftSummaryJson(const DriftFitSummary& s) {
+  nlohmann::json j;
+  j["model"] = DriftModelKindName(s.model);
+  j["inputs"] = DriftInputSetName(s.inputs);
+  j["target"] = s.target_name;
+  j["C"] = Num(s.C);
+  j["gamma"] = Num(s.gamma);
+  j["sigma"] = Num(s.sigma);
+  j["epsilon"] = Num(s.epsilon);
+  j["num_support"] = s.num_support;
+  if (s.model == DriftModelKind::kPolynomial) {
+    j["degree"] = s.degree;
+    j["dtemp_degree"] = s.dtemp_degree;
+  }
+  j["cv_folds"] = s.cv_folds;
+  j["cv_rmse_dps"] = Num(s.cv_rmse);
+  j["train_rmse_dps"] = Num(s.train_rmse);
+  j["num_train"] = s.num_train;
+  j["train_period_s"] = Num(s.train_period_s);
+  j["temp_range_c"] = {Num(s.temp_min_c), Num(s.temp_max_c)};
+  j["evaluations"] = s.evaluations;
+  j["generations"] = s.generations;
+  j["fit_time_s"] = Num(s.fit_time_s);
+  return j;
+}
+
+}  // namespace gyrocomp::cli

@@ -8,6 +8,7 @@
 #include <limits>
 #include <numbers>
 #include <sstream>
+#include <utility>
 
 #include "gyrocomp/units.h"
 
@@ -245,13 +246,29 @@ std::string SimulationSummary::BriefReport() const {
   return os.str();
 }
 
-Table SimulatedRun::ToTable() const {
+namespace {
+Table EmptySimulationTable() {
   Table t;
   t.source = "simulate";
   t.names = {"time_s",        "rate_dps",      "temp_c",         "chamber_temp_c",
              "sensor_temp_c", "true_rate_dps", "true_drift_dps", "true_noise_dps"};
+  return t;
+}
+}  // namespace
+
+Table SimulatedRun::ToTable() const& {
+  Table t = EmptySimulationTable();
   t.columns = {time_s,        rate_dps,      temp_c,         chamber_temp_c,
                sensor_temp_c, true_rate_dps, true_drift_dps, true_noise_dps};
+  return t;
+}
+
+Table SimulatedRun::ToTable() && {
+  Table t = EmptySimulationTable();
+  for (auto* v : {&time_s, &rate_dps, &temp_c, &chamber_temp_c, &sensor_temp_c, &true_rate_dps, &true_drift_dps,
+                  &true_noise_dps}) {
+    t.columns.push_back(std::move(*v));
+  }
   return t;
 }
 

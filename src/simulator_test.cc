@@ -253,6 +253,9 @@ TEST(SimulatorOutput, TableColumnsAndErrors) {
   for (std::size_t i = 0; i < 1000; ++i) {
     EXPECT_NEAR(run->rate_dps[i], run->true_rate_dps[i] + run->true_drift_dps[i] + run->true_noise_dps[i], 1e-15);
   }
+  const Table moved = std::move(*run).ToTable();  // the moving overload gives the same table
+  EXPECT_EQ(moved.names, t.names);
+  EXPECT_EQ(moved.columns, t.columns);
 
   o.profile.step_c = 0.0;
   auto bad = Simulate(o);

@@ -4,6 +4,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include "commands.h"
 #include "gyrocomp/io.h"
@@ -41,13 +42,14 @@ int Run(SimulateArgs& a) {
   }
   Result<SimulatedRun> run = Simulate(a.sim);
   if (!run.ok()) return ReportError(kName, run.error());
-  if (Status s = WriteCsvAtomic(a.output, run->ToTable()); !s.ok()) return ReportError(kName, s.error());
-  const SimulationSummary& sum = run->summary;
+  const SimulationSummary sum = run->summary;
+  const double fs_hz = run->fs_hz;
+  if (Status s = WriteCsvAtomic(a.output, std::move(*run).ToTable()); !s.ok()) return ReportError(kName, s.error());
   if (!a.json_path.empty()) {
     nlohmann::json j;
     j["output"] = a.output;
     j["profile"] = ThermalProfileKindName(a.sim.profile.kind);
-    j["fs_hz"] = run->fs_hz;
+    j["fs_hz"] = fs_hz;
     j["seed"] = a.sim.seed;
     j["n_samples"] = sum.num_samples;
     j["duration_s"] = sum.duration_s;

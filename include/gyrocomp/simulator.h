@@ -169,8 +169,10 @@ struct SimulatedRun {
   SimulationSummary summary;
   std::size_t num_samples() const { return time_s.size(); }
   // Columns in this order: time_s, rate_dps, temp_c, chamber_temp_c, sensor_temp_c,
-  // true_rate_dps, true_drift_dps, true_noise_dps.
-  Table ToTable() const;
+  // true_rate_dps, true_drift_dps, true_noise_dps. The && overload moves the columns out (no
+  // copy of 8 x N doubles: 330 MB for the paper run at 100 Hz).
+  Table ToTable() const&;
+  Table ToTable() &&;
 };
 
 Result<SimulatedRun> Simulate(const SimulatorOptions& options = {});

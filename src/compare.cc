@@ -1,5 +1,6 @@
 #include "gyrocomp/compare.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <functional>
@@ -80,8 +81,16 @@ Result<ComparisonResult> CompareMethods(const PipelineInput& input, const Pipeli
   const PipelineOptions& po = options.pipeline;
   ComparisonResult result;
   const std::vector<double>& drift = parallel.features.drift;
-  const std::vector<double>& mixed = parallel.features.mixed;
   const std::vector<double>& predicted = parallel.predicted_drift_dps;
+  // The denoisers are compared on the mixed feature C2 (the paper). When no mode was classified
+  // mixed, C2 is empty and the comparison would be void: they get C2 + C3 (everything but the
+  // drift feature) instead, and every row says so.
+  const bool mixed_empty = std::all_of(parallel.features.mixed.begin(), parallel.features.mixed.end(),
+                                       [](double v) { return v == 0.0; });
+  std::vector<double> mixed = parallel.features.mixed;
+  if (mixed_empty) {
+    for (std::size_t i = 0; i < n; ++i) mixed[i] += parallel.features.noise[i];
+  }
 
   if (options.denoising) {
     WaveletDenoiseOptions wavelet;
@@ -138,7 +147,9 @@ Result<ComparisonResult> CompareMethods(const PipelineInput& input, const Pipeli
         row.note = "denoiser bandwidth: the full band";
       }
       row.note += row.note.empty() ? "" : "; ";
-      row.note += "output = denoised mixed feature + compensated drift feature";
+      row.note += mixed_empty ? "no mixed mode: denoiser applied to mixed + noise features; output = that + "
+                                "compensated drift feature"
+                              : "output = denoised mixed feature + compensated drift feature";
       result.rows.push_back(std::move(row));
     }
   }
@@ -224,6 +235,16 @@ Result<ComparisonResult> CompareMethods(const PipelineInput& input, const Pipeli
     Result<SerialResult> s = RunSerialModel(input, po);
     if (!s) return s.error();
     serial.seconds = s->seconds;
+    {  // The serial scheme's bandwidth is WFLP's on the raw record.
+      BandwidthOptions bw;
+      bw.fs_hz = input.fs_hz;
+      bw.num_frequencies = po.bandwidth_frequencies;
+      const std::size_t seg = std::min(n, options.bandwidth_segment_samples);
+      Result<BandwidthResult> b = MeasureBandwidth(
+          [wflp = po.wflp](std::span<const double> x) { return WflpDenoise(x, wflp); },
+          input.rate_dps.subspan((n - seg) / 2, seg), bw);
+      if (b) serial.bandwidth_hz = b->bandwidth_hz;
+    }
     if (!truth.true_drift_dps.empty()) serial.drift_rmse_vs_truth_dps = Rms(s->predicted_drift_dps, truth.true_drift_dps);
     if (Status st = AddOutputMetrics(s->compensated_dps, input, truth, po.allan, &serial); !st) return st.error();
     result.rows.push_back(std::move(serial));

@@ -309,6 +309,14 @@ Result<GyroLog> LoadGyroLog(const Table& table, const LogSpec& spec) {
         worst = i + 1;
       }
     }
+    // Burst signature (FIFO read times: many reads ~1/median apart, then a long wait): the mean
+    // rate is far below 1/median dt. The samples themselves may well be uniform then.
+    std::string burst_hint;
+    if (rep.fs_hz < 0.5 / rep.median_dt_s) {
+      burst_hint = " (the times look like bursts of reads: mean rate " + Num(rep.fs_hz, 4) + " Hz vs " +
+                   Num(1.0 / rep.median_dt_s, 4) + " Hz within bursts; if the sensor sampled uniformly, "
+                   "use --time-col none --fs " + Num(rep.fs_hz, 4) + " to take time = i / fs instead)";
+    }
     const double pct = 100.0 * static_cast<double>(rep.num_irregular) / static_cast<double>(rep.num_intervals);
     return InvalidInput(
         Where(src, LineOf(worst), tcol) + "irregular timestamps in '" + spec.time_col + "': " +
@@ -318,7 +326,7 @@ Result<GyroLog> LoadGyroLog(const Table& table, const LogSpec& spec) {
         Num(pct, 3) + "%) outside +-" + Num(100 * spec.jitter_tolerance) + "% of the median; " +
         std::to_string(rep.num_gaps) + " gaps > " + Num(spec.gap_factor) + " x median, longest " +
         Num(rep.longest_gap_s, 4) + " s; worst interval ends at line " + std::to_string(LineOf(worst)) +
-        ". Pass --resample HZ to interpolate linearly onto a uniform grid");
+        ". Pass --resample HZ to interpolate linearly onto a uniform grid" + burst_hint);
   }
 
   std::vector<const std::vector<double>*> which;

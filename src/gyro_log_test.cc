@@ -210,6 +210,25 @@ TEST(GyroLogTest, LargeJitterAndGapsAreIrregularWithStatistics) {
   EXPECT_EQ(r2.num_irregular, 1u);
 }
 
+TEST(GyroLogTest, BurstyReadTimesGetAHint) {
+  // FIFO-style: 10 reads 2 ms apart, then an 82 ms wait: mean 100 Hz, median dt 2 ms.
+  std::vector<double> t = {0.0};
+  for (int b = 0; b < 50; ++b) {
+    for (int k = 0; k < 9; ++k) t.push_back(t.back() + 0.002);
+    t.push_back(t.back() + 0.082);
+  }
+  ExpectBad(LoadGyroLog(MakeTable(t, std::vector<double>(t.size(), 0.0)), LogSpec{}), "mem.csv:",
+            {"irregular timestamps", "bursts of reads", "--fs 100"});
+  // Plain jitter is not called bursty.
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> jitter(-0.3, 0.3);
+  std::vector<double> j(500);
+  for (std::size_t i = 1; i < j.size(); ++i) j[i] = j[i - 1] + 0.01 * (1.0 + jitter(rng));
+  const auto r = LoadGyroLog(MakeTable(j, std::vector<double>(j.size(), 0.0)), LogSpec{});
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error().message.find("bursts"), std::string::npos) << r.error().message;
+}
+
 TEST(GyroLogTest, ResamplesALinearSignalExactly) {
   // Irregular times (bursts and gaps); rate and temperature linear in t. Linear interpolation
   // reproduces a linear function, so every resampled value must equal a + b t_k up to rounding.
@@ -296,7 +315,7 @@ TEST(GyroLogTest, RealMpu6050LogsAreDetectedAsIrregular) {
     spec.rate_cols = {"gx", "gy", "gz"};
     spec.temp_col = "temp_C";
     const auto bad = ReadGyroLog(path, spec);
-    ExpectBad(bad, path + ":", {"irregular timestamps", "median dt", "--resample"});
+    ExpectBad(bad, path + ":", {"irregular timestamps", "median dt", "--resample", "bursts of reads"});
     const auto table = ReadCsv(path);
     ASSERT_TRUE(table.ok()) << table.error().message;
     const SamplingReport rep = MeasureSampling(table->columns[0], spec);

@@ -325,6 +325,11 @@ Result<AllanResult> ComputeAllan(std::span<const double> y, double fs_hz, const 
     return InvalidInput("Allan deviation: " + std::to_string(y.size()) +
                         " samples: at least 3 are needed for one tau");
   }
+  if (options.grid == TauGrid::kAll && y.size() > kMaxSamplesForAllTaus) {
+    return InvalidArgument("AllanOptions::grid = all with " + std::to_string(y.size()) +
+                           " samples: every tau costs O(N), all taus O(N^2); at most " +
+                           std::to_string(kMaxSamplesForAllTaus) + " samples (use N taus per decade instead)");
+  }
   const auto t0 = std::chrono::steady_clock::now();
   const std::size_t n = y.size();
   double mean = 0.0;

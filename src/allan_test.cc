@@ -338,6 +338,14 @@ TEST(AllanErrors, BadInputAndOptions) {
   EXPECT_FALSE(o.IsValid(&why));
   EXPECT_EQ(why, "AllanOptions::confidence = 1.5: must be in (0, 1)");
   EXPECT_EQ(ComputeAllan(y, 1.0, o).error().kind, ErrorKind::kInvalidArgument);
+  // The all-taus grid is O(N^2): refused above kMaxSamplesForAllTaus samples.
+  o = AllanOptions{};
+  o.grid = TauGrid::kAll;
+  const std::vector<double> big(kMaxSamplesForAllTaus + 1, 0.5);
+  Result<AllanResult> all = ComputeAllan(big, 1.0, o);
+  ASSERT_FALSE(all.ok());
+  EXPECT_EQ(all.error().kind, ErrorKind::kInvalidArgument);
+  EXPECT_NE(all.error().message.find("AllanOptions::grid = all"), std::string::npos) << all.error().message;
   // Three samples are the minimum: one tau (m = 1) with n = 2 second differences.
   Result<AllanResult> r = ComputeAllan(std::vector<double>{1, 2, 4}, 1.0);
   ASSERT_TRUE(r.ok());

@@ -71,6 +71,7 @@ int Run(const AllanArgs& a) {
 
   Result<std::vector<AllanResult>> results = ComputeAllan(*log, options);
   if (!results.ok()) return ReportError(kName, results.error());
+  if (results->empty()) return ReportError(kName, InvalidInput(log->source + ": no rate column to analyse"));
 
   nlohmann::json j;
   if (results->size() == 1) {
@@ -106,7 +107,8 @@ Command Make(CLI::App& app) {
       "Conventions:\n"
       "  ADEV: overlapping, phase from the mean-removed rate (as allantools oadev, data_type='freq').\n"
       "  --taus octave: m = 1, 2, 4, ... (allantools 'octave'); decade: 1, 2, 4, 10, 20, 40, ...;\n"
-      "    all: every m; N: N log-spaced taus per decade. Taus with fewer than 2 terms are dropped.\n"
+      "    all: every m (O(N^2), at most 100000 samples); N: N log-spaced taus per decade.\n"
+      "    Taus with fewer than 2 terms are dropped.\n"
       "  arw_deg_per_sqrt_h: sigma(1 s) (log-log interpolated between grid points) x 60.\n"
       "  adev_min_deg_per_h: minimum over the taus with EDF >= --min-edf; bias instability = min / 0.664.\n"
       "  rrw_deg_per_h_per_sqrt_h: sigma(3 s) on the +1/2 line fitted after the minimum (null if none).\n"

@@ -30,9 +30,13 @@ namespace gyrocomp {
 enum class TauGrid {
   kOctave,     // m = 1, 2, 4, ..., 2^k for k <= floor(log2(N + 1)) (allantools "octave")
   kDecade,     // m = 1, 2, 4, 10, 20, 40, 100, ... up to 10^floor(log10(N + 1)) (allantools "decade")
-  kAll,        // m = 1, 2, 3, ..., N (allantools "all"; O(N^2) in total: small records only)
+  kAll,        // m = 1, 2, 3, ..., N (allantools "all"; O(N^2) in total: at most
+               // kMaxSamplesForAllTaus samples)
   kPerDecade,  // m = unique(round(10^(j / points_per_decade))), j = 0, 1, ... (log-spaced)
 };
+
+// TauGrid::kAll costs O(N^2): ComputeAllan refuses it (kInvalidArgument) above this many samples.
+inline constexpr std::size_t kMaxSamplesForAllTaus = 100000;
 
 // "octave" | "decade" | "all" | a positive integer N (N per decade). nullopt otherwise;
 // *points_per_decade is set for the integer form.

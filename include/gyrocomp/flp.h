@@ -40,8 +40,11 @@ std::optional<FlpInitialWeights> ParseFlpInitialWeights(std::string_view name);
 const char* FlpInitialWeightsName(FlpInitialWeights w);
 
 struct FlpOptions {
-  // Prediction order N (number of taps, Eq. 14). Dimensionless, >= 1. Chosen by experiment (see
-  // docs/notes/issue-4.md): larger N averages more but adapts more slowly.
+  // Defaults of order, beta and alpha: chosen by a sweep on simulated records with known truth,
+  // for WFLP (FLP on the level-4 approximation); docs/denoising.md has the sweep table. For FLP
+  // alone on raw samples, order 16-32 with beta 0.003 did better on every record tried.
+  // Prediction order N (number of taps, Eq. 14). Dimensionless, >= 1 (at most 4096). Larger N
+  // averages more past samples (narrower bandwidth, longer lag).
   int order = 8;
   // Maximum step beta of Eq. (16) (normalised LMS step, dimensionless), 0 < beta < 2.
   double beta = 0.01;

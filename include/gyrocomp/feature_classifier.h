@@ -15,6 +15,7 @@
 //   - Standard() (the default): thresholds calibrated on the standard SE scale.
 #pragma once
 
+#include <cstddef>
 #include <optional>
 #include <span>
 #include <string>
@@ -34,10 +35,10 @@ const char* FeatureClassName(FeatureClass feature);
 struct ClassifierOptions {
   // Name reported with the results ("standard", "paper", or "custom" when edited).
   std::string rule_name = "standard";
-  // SE strictly below this: drift (dimensionless SE units). Paper: 2.0.
-  double drift_max_se = 0.1;
-  // SE strictly above this: noise. Paper: 4.2. >= drift_max_se.
-  double noise_min_se = 1.0;
+  // SE strictly below this: drift (dimensionless SE units). Paper: 2.0. Standard: 0.3.
+  double drift_max_se = 0.3;
+  // SE strictly above this: noise. Paper: 4.2. Standard: 0.5. >= drift_max_se.
+  double noise_min_se = 0.5;
   // When set, a mode classed drift by SE whose centre frequency is at or above this (Hz) is
   // classed mixed instead (drift is slow by nature). nullopt: SE alone decides.
   std::optional<double> drift_max_frequency_hz;
@@ -49,7 +50,7 @@ struct ClassifierOptions {
 
   // "drift_max_se = 5 > noise_min_se = 4.2" etc.
   bool IsValid(std::string* error) const;
-  // "standard: SE < 0.1 drift, 0.1..1 mixed, SE > 1 noise"
+  // "standard: SE < 0.3 drift, 0.3...0.5 mixed, SE > 0.5 noise"
   std::string Describe() const;
 };
 
@@ -80,11 +81,14 @@ struct ClassificationResult {
 Result<ClassificationResult> ClassifyModes(std::span<const ModeFeature> modes,
                                            const ClassifierOptions& options = ClassifierOptions::Standard());
 
-// Convenience for the pipeline: SE of every mode of `vmd` (modes measured in parallel), then
-// ClassifyModes. A mode whose SE is undefined (B = 0, e.g. an all-zero mode) is an error.
+// Convenience: SE of every mode of `vmd` (modes measured in parallel), then ClassifyModes.
+// entropy_max_samples: measure SE on at most this many samples of each mode (its middle
+// window; nullopt = all). A mode whose SE is undefined (B = 0, e.g. an all-zero mode) is an
+// error.
 Result<ClassificationResult> ClassifyVmdModes(const VmdResult& vmd,
                                               const SampleEntropyOptions& se_options = {},
-                                              const ClassifierOptions& options = ClassifierOptions::Standard());
+                                              const ClassifierOptions& options = ClassifierOptions::Standard(),
+                                              std::optional<std::size_t> entropy_max_samples = std::nullopt);
 
 // The three features of Section 3.5: the sums of the modes of each class (same length as the
 // modes; all-zero when a class is empty).

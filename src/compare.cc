@@ -232,7 +232,19 @@ Result<ComparisonResult> CompareMethods(const PipelineInput& input, const Pipeli
     MethodRow serial;
     serial.group = "scheme";
     serial.method = "serial: WFLP on the record, then " + std::string(DriftModelKindName(po.drift.model));
-    Result<SerialResult> s = RunSerialModel(input, po);
+    PipelineOptions serial_options = po;
+    const bool reuse = options.serial_reuses_parallel_parameters && parallel.drift_model &&
+                       parallel.drift_model->summary.C && parallel.drift_model->summary.gamma;
+    if (reuse) {
+      const DriftFitSummary& ps = parallel.drift_model->summary;
+      serial_options.drift.model = DriftModelKind::kSvr;
+      serial_options.drift.svr.C = *ps.C;
+      serial_options.drift.svr.gamma = *ps.gamma;
+      serial_options.drift.svr.sigma.reset();
+      if (ps.epsilon) serial_options.drift.svr.epsilon = *ps.epsilon;
+      serial.note = "SVR with the parameters the parallel run's search chose (no second search)";
+    }
+    Result<SerialResult> s = RunSerialModel(input, serial_options);
     if (!s) return s.error();
     serial.seconds = s->seconds;
     {  // The serial scheme's bandwidth is WFLP's on the raw record.

@@ -84,7 +84,9 @@ std::vector<std::string> HonestyNotes(const PipelineResult& r) {
   if (!r.allan_after.curve.tau_s.empty() &&
       r.allan_after.terms.tau_at_min_s <= r.allan_after.curve.tau_s.front() * 1.0001) {
     notes.emplace_back("After processing the ADEV minimum is at the shortest tau, where the filter removed the "
-                       "signal; the 'ADEV minimum over tau >= 10 s' row is the bias-stability figure to compare.");
+                       "signal; the 'ADEV minimum over tau >= 10 s' row is the bias-stability figure to compare, "
+                       "and the +1/2 region that 'RRW after' is fitted on is made by the filter, not by a rate "
+                       "random walk.");
   }
   return notes;
 }

@@ -29,6 +29,10 @@ struct ComparisonOptions {
   bool drift_models = true;
   bool grid_search = true;
   bool schemes = true;
+  // The serial scheme fits its own drift model by default (a second search). When set, it reuses
+  // the SVR parameters (C, gamma, epsilon) the parallel run's search chose, fitting once: half the
+  // cost, for `demo`'s one-minute budget. Rows say which.
+  bool serial_reuses_parallel_parameters = false;
   // Bandwidth of each denoiser, measured on a segment of C2 (samples).
   std::size_t bandwidth_segment_samples = 1u << 14;
   bool IsValid(std::string* error) const;

@@ -38,12 +38,13 @@ SvrOptions PointOptions(const SvrOptions& base, std::span<const double> x) {
 }  // namespace
 
 Result<double> BlockedCvRmse(const Columns& x, std::span<const double> y, int folds,
-                             const FitPredict& fit_predict) {
+                             bool in_range_only, const FitPredict& fit_predict) {
   const std::size_t n = y.size();
   if (folds < 2 || n < 2 * static_cast<std::size_t>(folds))
     return InvalidInput("blocked cross-validation: " + std::to_string(folds) + " folds need at least " +
                         std::to_string(2 * folds) + " training samples, got " + std::to_string(n));
   double ss = 0.0;
+  std::size_t scored = 0;
   for (int k = 0; k < folds; ++k) {
     const std::size_t a = n * k / folds;
     const std::size_t b = n * (k + 1) / folds;
@@ -57,9 +58,17 @@ Result<double> BlockedCvRmse(const Columns& x, std::span<const double> y, int fo
     ty.insert(ty.end(), y.begin() + b, y.end());
     auto pred = fit_predict(tx, ty, Rows(x, a, b));
     if (!pred.ok()) return pred.error();
-    for (std::size_t i = a; i < b; ++i) ss += ((*pred)[i - a] - y[i]) * ((*pred)[i - a] - y[i]);
+    const auto [lo, hi] = std::minmax_element(tx[0].begin(), tx[0].end());
+    for (std::size_t i = a; i < b; ++i) {
+      if (in_range_only && (x[0][i] < *lo || x[0][i] > *hi)) continue;
+      ss += ((*pred)[i - a] - y[i]) * ((*pred)[i - a] - y[i]);
+      ++scored;
+    }
   }
-  return std::sqrt(ss / static_cast<double>(n));
+  if (scored == 0)
+    return InvalidInput("blocked cross-validation: no held-out sample lies inside the temperature range of the "
+                        "other blocks (a monotonic sweep?); set cv_in_range_only = false (--cv-all)");
+  return std::sqrt(ss / static_cast<double>(scored));
 }
 
 long CuckooBudget(const CuckooSearchOptions& o) {
@@ -74,7 +83,7 @@ Result<SvrChoice> SearchSvrCuckoo(const Columns& x, std::span<const double> y,
   if (s.epsilon) dims.push_back(*s.epsilon);
   // Fitness: blocked CV RMSE (method.md section 4); a failed fit counts as +infinity.
   auto objective = [&](std::span<const double> p) {
-    auto r = BlockedCvRmse(x, y, options.cv_folds, SvrFitPredict(PointOptions(options.svr, p)));
+    auto r = BlockedCvRmse(x, y, options.cv_folds, options.cv_in_range_only, SvrFitPredict(PointOptions(options.svr, p)));
     return r.ok() ? *r : std::numeric_limits<double>::infinity();
   };
   auto found = CuckooSearch(objective, dims, s.cuckoo);
@@ -108,7 +117,7 @@ Result<SvrChoice> SearchSvrGrid(const Columns& x, std::span<const double> y,
       points.push_back(p);
     }
   auto objective = [&](std::span<const double> p) {
-    auto r = BlockedCvRmse(x, y, options.cv_folds, SvrFitPredict(PointOptions(options.svr, p)));
+    auto r = BlockedCvRmse(x, y, options.cv_folds, options.cv_in_range_only, SvrFitPredict(PointOptions(options.svr, p)));
     return r.ok() ? *r : std::numeric_limits<double>::infinity();
   };
   const int threads = s.cuckoo.num_threads.value_or(static_cast<int>(std::thread::hardware_concurrency()));

@@ -198,6 +198,7 @@ Result<DriftModel> FitDriftModel(const DriftInputs& inputs, std::span<const doub
   s.fs_hz = inputs.fs_hz;
   s.duration_s = static_cast<double>(n) / inputs.fs_hz;
   s.cv_folds = options.cv_folds;
+  s.cv_in_range_only = options.cv_in_range_only;
   const auto [tmin, tmax] = std::minmax_element(x[0].begin(), x[0].end());
   s.temp_min_c = *tmin;
   s.temp_max_c = *tmax;
@@ -227,7 +228,7 @@ Result<DriftModel> FitDriftModel(const DriftInputs& inputs, std::span<const doub
     auto poly = drift_internal::FitPolynomial(x, target, options.polynomial);
     if (!poly.ok()) return poly.error();
     auto cv = drift_internal::BlockedCvRmse(
-        xd, yd, options.cv_folds,
+        xd, yd, options.cv_folds, options.cv_in_range_only,
         [&](const Columns& tx, std::span<const double> ty, const Columns& vx) -> Result<std::vector<double>> {
           auto m = drift_internal::FitPolynomial(tx, ty, options.polynomial);
           if (!m.ok()) return m.error();
@@ -243,7 +244,7 @@ Result<DriftModel> FitDriftModel(const DriftInputs& inputs, std::span<const doub
     SvrOptions chosen = options.svr;
     if (options.model == DriftModelKind::kSvr) {
       auto cv = drift_internal::BlockedCvRmse(
-          xd, yd, options.cv_folds,
+          xd, yd, options.cv_folds, options.cv_in_range_only,
           [&](const Columns& tx, std::span<const double> ty, const Columns& vx) -> Result<std::vector<double>> {
             auto m = FitSvr(tx, ty, chosen);
             if (!m.ok()) return m.error();

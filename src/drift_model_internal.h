@@ -26,9 +26,10 @@ using FitPredict = std::function<Result<std::vector<double>>(
     const Columns& train_x, std::span<const double> train_y, const Columns& test_x)>;
 
 // Blocked cross-validation: `folds` contiguous blocks; each is predicted by a model fitted on the
-// others. Returns the RMSE over all held-out predictions.
+// others. Returns the RMSE over the held-out predictions (only those whose temperature, column 0,
+// lies within the training blocks' range when in_range_only; an error if none does).
 Result<double> BlockedCvRmse(const Columns& x, std::span<const double> y, int folds,
-                             const FitPredict& fit_predict);
+                             bool in_range_only, const FitPredict& fit_predict);
 
 // Least squares polynomial (Eigen) on the standardised inputs.
 Result<PolynomialModel> FitPolynomial(const Columns& x, std::span<const double> y,

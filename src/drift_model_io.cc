@@ -29,6 +29,7 @@ json SummaryJson(const DriftFitSummary& s) {
             {"dtemp_max_c_per_s", s.dtemp_max_c_per_s},
             {"cv_folds", s.cv_folds},
             {"cv_rmse", s.cv_rmse},
+            {"cv_in_range_only", s.cv_in_range_only},
             {"train_rmse", s.train_rmse},
             {"evaluations", s.evaluations},
             {"generations", s.generations},
@@ -276,6 +277,10 @@ Result<DriftModel> DriftModelFromJson(std::string_view text, const std::string& 
   s.cv_folds = static_cast<int>(r.Integer(*training, "cv_folds", "training.cv_folds"));
   s.cv_rmse = r.Number(*training, "cv_rmse", "training.cv_rmse");
   s.train_rmse = r.Number(*training, "train_rmse", "training.train_rmse");
+  if (const json* v = r.Get(*training, "cv_in_range_only", "training.cv_in_range_only")) {
+    if (v->is_boolean()) s.cv_in_range_only = v->get<bool>();
+    else r.Fail("field 'training.cv_in_range_only' must be true or false");
+  }
   s.evaluations = r.Integer(*training, "evaluations", "training.evaluations");
   s.generations = static_cast<int>(r.Integer(*training, "generations", "training.generations"));
   s.best_cv_history = r.Numbers(*training, "best_cv_history", "training.best_cv_history");

@@ -98,6 +98,12 @@ struct DriftFitOptions {
   std::size_t max_train_samples = 600;
   // Contiguous blocks for the blocked cross-validation (>= 2).
   int cv_folds = 5;
+  // Score a held-out block only where its temperature lies inside the range of the blocks it
+  // was predicted from. A calibration run sweeps each temperature only once or twice, so the
+  // first and last blocks often lie outside the others' range: scoring them measures
+  // extrapolation, and the search then prefers over-smoothed models (measured in
+  // docs/notes/issue-5.md). `apply` warns whenever a model is used outside its range.
+  bool cv_in_range_only = true;
   PolynomialOptions polynomial;
   // SVR settings: the parameters for kSvr; scaling, tolerance (and epsilon unless searched) for
   // the searched models, whose C and gamma come from the search.
@@ -140,6 +146,7 @@ struct DriftFitSummary {
   int degree = 0, dtemp_degree = 0;
   int cv_folds = 0;
   double cv_rmse = 0.0;             // blocked CV RMSE on the training copy, target units
+  bool cv_in_range_only = true;     // see DriftFitOptions::cv_in_range_only
   double train_rmse = 0.0;          // in-sample RMSE at the full rate, target units
   long evaluations = 0;             // parameter sets tried (each = cv_folds + ... SVR fits)
   int generations = 0;              // cuckoo search

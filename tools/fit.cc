@@ -1,0 +1,217 @@
+// gyrocomp fit: fit a temperature-drift model (poly | svr | grid-svr | cs-svr) on a calibration
+// run and save it as a JSON model file for `gyrocomp apply` (method.md section 4; cli.md).
+#include <cmath>
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "commands.h"
+#include "gyrocomp/drift_model.h"
+#include "gyrocomp/feature_classifier.h"
+#include "gyrocomp/pipeline.h"
+#include "gyrocomp/vmd.h"
+#include "result_json.h"
+
+namespace gyrocomp::cli {
+namespace {
+
+constexpr const char* kName = "fit";
+
+struct FitArgs {
+  LogOptions log;
+  DriftFitOptions fit;  // library defaults
+  std::string model = "cs-svr";
+  std::string inputs = "temp";
+  std::string target = "rate";
+  std::string scale = "standard";
+  std::optional<double> C, gamma, sigma;
+  bool search_epsilon = false;
+  std::optional<double> known_rate_dps;
+  std::string known_rate_col;
+  int modes = VmdOptions{}.num_modes;
+  std::string model_path;
+  std::string json_path;
+};
+
+// The drift feature (sum of the modes classified drift) of `rate`, with the pipeline's defaults.
+Result<std::vector<double>> DriftFeature(const std::vector<double>& rate, double fs_hz, int modes,
+                                         std::string* report) {
+  PipelineOptions p;
+  p.vmd.num_modes = modes;
+  p.vmd.fs_hz = fs_hz;
+  Result<VmdResult> vmd = DecomposeVmd(rate, p.vmd);
+  if (!vmd.ok()) return vmd.error();
+  Result<ClassificationResult> classes =
+      ClassifyVmdModes(*vmd, p.entropy, p.classifier, p.entropy_max_samples);
+  if (!classes.ok()) return classes.error();
+  *report = classes->BriefReport();
+  bool any = false;
+  for (const ModeClassification& m : classes->modes) any = any || m.feature == FeatureClass::kDrift;
+  if (!any) return InvalidInput("--target drift-mode: no VMD mode was classified drift (" + *report + ")");
+  return SumFeatures(*vmd, *classes).drift;
+}
+
+int Run(FitArgs a) {
+  const auto kind = ParseDriftModelKind(a.model);
+  const auto inputs = ParseDriftInputSet(a.inputs);
+  const auto scale = ParseSvrScaling(a.scale);
+  if (!kind || !inputs || !scale) return ReportError(kName, InvalidArgument("bad --model/--inputs/--scale"));
+  DriftFitOptions& o = a.fit;
+  o.model = *kind;
+  o.inputs = *inputs;
+  o.svr.scaling = *scale;
+  if ((a.C || a.gamma || a.sigma) && *kind != DriftModelKind::kSvr)
+    return ReportError(kName, InvalidArgument("--C/--gamma/--sigma fix the SVR's parameters: use them with "
+                                              "--model svr (grid-svr and cs-svr search C and sigma)"));
+  if (a.C) o.svr.C = *a.C;
+  o.svr.gamma = a.gamma;
+  o.svr.sigma = a.sigma;
+  if (a.search_epsilon) o.search.epsilon = SearchDimension{"epsilon", 1e-3, 0.5, true};
+  std::string why;
+  if (!o.IsValid(&why)) return ReportError(kName, InvalidArgument(why));
+
+  // Which columns are needed: temperature always; the rate unless --target names another column.
+  Result<LogSpec> spec = ToLogSpec(a.log);
+  if (!spec.ok()) return ReportError(kName, spec.error());
+  const bool target_is_column = a.target != "rate" && a.target != "drift-mode";
+  spec->temp_required = true;
+  spec->rates_required = !target_is_column;
+  if (!target_is_column && spec->rate_cols.size() != 1)
+    return ReportError(kName, InvalidArgument("--rate-col: fit models one axis; give one column (run fit once per axis)"));
+  Result<LoadedLog> loaded = LoadLog(kName, a.log, *spec);
+  if (!loaded.ok()) return ReportError(kName, loaded.error());
+  const GyroLog& log = loaded->log;
+  const Table& table = loaded->table;
+  const std::size_t n = log.num_samples();
+
+  std::vector<double> target;
+  std::string feature_report;
+  if (a.target == "rate") {
+    target = log.rate_dps[0];
+    o.target_name = log.axis_names[0];
+  } else if (a.target == "drift-mode") {
+    Result<std::vector<double>> drift = DriftFeature(log.rate_dps[0], log.fs_hz, a.modes, &feature_report);
+    if (!drift.ok()) return ReportError(kName, drift.error());
+    target = std::move(*drift);
+    o.target_name = "drift-mode";
+  } else {
+    const int j = table.Find(a.target);
+    if (j < 0) return ReportError(kName, InvalidInput(table.source + ":1: no column '" + a.target + "' for --target"));
+    target = table.columns[j];
+    o.target_name = a.target;
+  }
+  // A known true rate during calibration (Earth rate, turntable) is removed so the model learns
+  // the bias only.
+  if (a.known_rate_dps)
+    for (double& v : target) v -= *a.known_rate_dps;
+  if (!a.known_rate_col.empty()) {
+    const int j = table.Find(a.known_rate_col);
+    if (j < 0)
+      return ReportError(kName, InvalidInput(table.source + ":1: no column '" + a.known_rate_col + "' for --known-rate-col"));
+    for (std::size_t i = 0; i < n; ++i) target[i] -= table.columns[j][i];
+  }
+
+  const DriftInputs drift_inputs{log.temp_c, log.fs_hz};
+  Result<DriftModel> model = FitDriftModel(drift_inputs, target, o);
+  if (!model.ok()) return ReportError(kName, model.error());
+  if (Status s = SaveDriftModel(*model, a.model_path); !s.ok()) return ReportError(kName, s.error());
+
+  const DriftFitSummary& s = model->summary;
+  if (!a.json_path.empty()) {
+    nlohmann::json j = DriftSummaryJson(s);
+    j["model_file"] = a.model_path;
+    j["input"] = table.source;
+    j["n_samples"] = n;
+    j["fs_hz"] = log.fs_hz;
+    j["dtemp_range_c_per_s"] = {s.dtemp_min_c_per_s, s.dtemp_max_c_per_s};
+    j["best_cv_history_dps"] = s.best_cv_history;
+    j["dtemp_window_s"] = o.rate.window_s;
+    j["known_rate_dps"] = a.known_rate_dps ? nlohmann::json(*a.known_rate_dps) : nlohmann::json();
+    j["known_rate_col"] = a.known_rate_col.empty() ? nlohmann::json() : nlohmann::json(a.known_rate_col);
+    if (!feature_report.empty()) j["drift_feature"] = feature_report;
+    if (Status st = WriteJson(a.json_path, j); !st.ok()) return ReportError(kName, st.error());
+  }
+  if (a.json_path != "-") {
+    if (!feature_report.empty()) std::cout << "VMD modes: " << feature_report << "\n";
+    std::cout << s.BriefReport() << "\nmodel written to " << a.model_path << "\n";
+  }
+  return kExitOk;
+}
+
+Command Make(CLI::App& app) {
+  auto a = std::make_shared<FitArgs>();
+  CLI::App* sub = app.add_subcommand(kName, "Fit a temperature-drift model (poly, SVR, grid-searched or cuckoo-searched SVR) and save it");
+  sub->footer(
+      "The model maps temperature [and dT/dt] to drift. The SVR family trains on block means of\n"
+      "--train-period seconds (automatic: max(30 s, duration / 600)) and predicts at the full rate;\n"
+      "grid-svr and cs-svr choose C and sigma by blocked cross-validation (--cv-folds contiguous\n"
+      "blocks: random folds leak, the drift is autocorrelated); grid-svr uses the same number of\n"
+      "parameter sets as cs-svr. The polynomial is fitted on every sample. With --scale standard\n"
+      "(default) inputs and target are standardised: sigma in input SDs, epsilon in target SDs.\n"
+      "dT/dt: least-squares slope over a centred --dtemp-window (robust to quantized temperature).\n"
+      "JSON: model, inputs, target, C, gamma, sigma, epsilon, num_support, degree, cv_rmse_dps,\n"
+      "  train_rmse_dps, num_train, train_period_s, temp_range_c, evaluations, fit_time_s, ...\n"
+      "Examples:\n"
+      "  gyrocomp fit -i chamber.csv --model cs-svr -o model.json --json fit.json\n"
+      "  gyrocomp fit -i chamber.csv --model poly --degree 3 --inputs temp,dtemp -o poly.json\n"
+      "  gyrocomp fit -i train.csv --target drift_dps --model svr --scale none --C 1 --gamma 0.001 \\\n"
+      "      --epsilon 0.005 --svr-tol 1e-6 -o svr.json");
+  AddLogOptions(sub, &a->log);
+  sub->add_option("--model", a->model, "Model: cs-svr | svr | grid-svr | poly")
+      ->check(CLI::IsMember({"cs-svr", "svr", "grid-svr", "poly"}))->capture_default_str();
+  sub->add_option("--inputs", a->inputs, "Model inputs: temp | temp,dtemp")
+      ->check(CLI::IsMember({"temp", "temp,dtemp"}))->capture_default_str();
+  sub->add_option("--target", a->target,
+                  "What to model: rate (the rate column), drift-mode (sum of the VMD modes classified drift), or a column name")
+      ->capture_default_str();
+  sub->add_option("--modes", a->modes, "VMD modes K for --target drift-mode")->capture_default_str();
+  sub->add_option("--known-rate", a->known_rate_dps, "Known true rate during calibration (deg/s), subtracted from the target");
+  sub->add_option("--known-rate-col", a->known_rate_col, "Column of the known true rate (deg/s), subtracted from the target");
+  const std::string g = "SVR";
+  auto* c = sub->add_option("--C", a->C, "SVR regularisation C (--model svr; default 1)")->group(g);
+  auto* gamma = sub->add_option("--gamma", a->gamma, "RBF gamma = 1/(2 sigma^2) (--model svr; default 1/inputs)")->group(g);
+  auto* sigma = sub->add_option("--sigma", a->sigma, "RBF width sigma (--model svr)")->group(g);
+  gamma->excludes(sigma);
+  (void)c;
+  sub->add_option("--epsilon", a->fit.svr.epsilon, "epsilon of the insensitive tube (target SDs when scaled, else deg/s)")
+      ->group(g)->capture_default_str();
+  sub->add_option("--svr-tol", a->fit.svr.tolerance, "LIBSVM stopping tolerance (its -e)")->group(g)->capture_default_str();
+  sub->add_option("--scale", a->scale, "standard: standardise inputs and target; none: raw (gamma in 1/degC^2)")
+      ->check(CLI::IsMember({"standard", "none"}))->group(g)->capture_default_str();
+  const std::string s = "Search (grid-svr, cs-svr)";
+  sub->add_option("--nests", a->fit.search.cuckoo.num_nests, "Cuckoo-search nests")->group(s)->capture_default_str();
+  sub->add_option("--generations", a->fit.search.cuckoo.max_generations, "Cuckoo-search generations (2 x nests fits each)")
+      ->group(s)->capture_default_str();
+  sub->add_option("--pa", a->fit.search.cuckoo.discovery_probability, "Discovery probability pa")->group(s)->capture_default_str();
+  sub->add_option("--seed", a->fit.search.cuckoo.seed, "Seed (the result depends on it only, not on threads)")
+      ->group(s)->capture_default_str();
+  sub->add_option("--threads", a->fit.search.cuckoo.num_threads, "Threads evaluating parameter sets (default: all cores)")->group(s);
+  sub->add_option("--C-min", a->fit.search.C.lower, "Lower bound of C")->group(s)->capture_default_str();
+  sub->add_option("--C-max", a->fit.search.C.upper, "Upper bound of C")->group(s)->capture_default_str();
+  sub->add_option("--sigma-min", a->fit.search.sigma.lower, "Lower bound of sigma")->group(s)->capture_default_str();
+  sub->add_option("--sigma-max", a->fit.search.sigma.upper, "Upper bound of sigma")->group(s)->capture_default_str();
+  sub->add_flag("--search-epsilon", a->search_epsilon, "cs-svr: also search epsilon in [0.001, 0.5]")->group(s);
+  sub->add_option("--grid-budget", a->fit.search.grid_budget, "grid-svr: parameter sets (default: cs-svr's budget)")->group(s);
+  sub->add_flag("--cv-all{false}", a->fit.cv_in_range_only,
+                "Score every held-out sample in the blocked CV, also those outside the other blocks' temperature range "
+                "(default: in-range only)")->group(s);
+  sub->add_option("--cv-folds", a->fit.cv_folds, "Contiguous blocks of the blocked cross-validation")->group(s)->capture_default_str();
+  const std::string d = "Data";
+  sub->add_option("--train-period", a->fit.train_period_s, "Block-mean period of the SVR training copy, s (default automatic)")->group(d);
+  sub->add_option("--max-train", a->fit.max_train_samples, "Automatic period: at most this many training samples")
+      ->group(d)->capture_default_str();
+  sub->add_option("--dtemp-window", a->fit.rate.window_s, "Window of the dT/dt slope, s")->group(d)->capture_default_str();
+  sub->add_option("--degree", a->fit.polynomial.degree, "poly: degree in temperature (1..5)")->group(d)->capture_default_str();
+  sub->add_option("--dtemp-degree", a->fit.polynomial.dtemp_degree, "poly: degree in dT/dt (1..3) with --inputs temp,dtemp")
+      ->group(d)->capture_default_str();
+  sub->add_option("-o,--output", a->model_path, "Model file to write (JSON)")->required();
+  sub->add_option("--json", a->json_path, "Write the fit summary as JSON to FILE ('-' = stdout)");
+  return {sub, [a] { return Run(*a); }};
+}
+
+const CommandRegistrar kReg(kName, 60, &Make);
+
+}  // namespace
+}  // namespace gyrocomp::cli

@@ -43,6 +43,14 @@
     return new uPlot(opts, data, div);
   }
   const logScale = { time: false, distr: 3, log: 10 };
+  // Tick labels of a log axis: powers of ten only, in exponent form below 0.01 (uPlot's default
+  // formatter rounds small values to "0").
+  const logTicks = (u, splits) => splits.map(v => {
+    if (v == null || v <= 0) return "";
+    const e = Math.log10(v);
+    if (Math.abs(e - Math.round(e)) > 1e-9) return "";
+    return v >= 0.01 && v < 1e5 ? String(+v.toPrecision(1)) : "1e" + Math.round(e);
+  });
 
   function drawTimeseries(ts) {
     section("Rate and temperature", "Display only: each curve is a min/max envelope of the full-rate record.");
@@ -104,7 +112,7 @@
     const data = uPlot.join(tables);
     chart({ width: width(), height: 420, bands,
             scales: { x: logScale, y: logScale },
-            series, axes: [{ label: "tau (s)" }, { label: "ADEV (deg/s)", size: 70 }] }, data);
+            series, axes: [{ label: "tau (s)", values: logTicks }, { label: "ADEV (deg/s)", size: 70, values: logTicks }] }, data);
   }
 
   function drawDrift(d) {

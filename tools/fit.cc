@@ -28,6 +28,7 @@ struct FitArgs {
   std::string scale = "standard";
   std::optional<double> C, gamma, sigma;
   bool search_epsilon = false;
+  bool cv_all = false;
   std::optional<double> known_rate_dps;
   std::string known_rate_col;
   int modes = VmdOptions{}.num_modes;
@@ -68,6 +69,7 @@ int Run(FitArgs a) {
   if (a.C) o.svr.C = *a.C;
   o.svr.gamma = a.gamma;
   o.svr.sigma = a.sigma;
+  if (a.cv_all) o.cv_in_range_only = false;
   if (a.search_epsilon) o.search.epsilon = SearchDimension{"epsilon", 1e-3, 0.5, true};
   std::string why;
   if (!o.IsValid(&why)) return ReportError(kName, InvalidArgument(why));
@@ -194,7 +196,7 @@ Command Make(CLI::App& app) {
   sub->add_option("--sigma-max", a->fit.search.sigma.upper, "Upper bound of sigma")->group(s)->capture_default_str();
   sub->add_flag("--search-epsilon", a->search_epsilon, "cs-svr: also search epsilon in [0.001, 0.5]")->group(s);
   sub->add_option("--grid-budget", a->fit.search.grid_budget, "grid-svr: parameter sets (default: cs-svr's budget)")->group(s);
-  sub->add_flag("--cv-all{false}", a->fit.cv_in_range_only,
+  sub->add_flag("--cv-all", a->cv_all,
                 "Score every held-out sample in the blocked CV, also those outside the other blocks' temperature range "
                 "(default: in-range only)")->group(s);
   sub->add_option("--cv-folds", a->fit.cv_folds, "Contiguous blocks of the blocked cross-validation")->group(s)->capture_default_str();

@@ -41,6 +41,7 @@ ClassifierOptions ClassifierOptions::Paper() {
   o.drift_max_se = 2.0;  // paper Section 4.2: "lower than 2 ... drift feature"
   o.noise_min_se = 4.2;  // "bigger than 4.2 ... nearly completely noise"
   o.drift_max_frequency_hz.reset();
+  o.keep_lowest_mode = false;
   return o;
 }
 
@@ -52,6 +53,7 @@ ClassifierOptions ClassifierOptions::Standard() {
   o.drift_max_se = 0.3;
   o.noise_min_se = 0.5;
   o.drift_max_frequency_hz.reset();
+  o.keep_lowest_mode = true;
   return o;
 }
 
@@ -78,6 +80,7 @@ std::string ClassifierOptions::Describe() const {
   os << rule_name << ": SE < " << drift_max_se << " drift";
   if (drift_max_frequency_hz) os << " (if centre frequency < " << *drift_max_frequency_hz << " Hz)";
   os << ", " << drift_max_se << "..." << noise_min_se << " mixed, SE > " << noise_min_se << " noise";
+  if (keep_lowest_mode) os << "; the lowest-frequency mode is never noise";
   return os.str();
 }
 
@@ -105,6 +108,10 @@ Result<ClassificationResult> ClassifyModes(std::span<const ModeFeature> modes, c
   ClassificationResult out;
   out.rule = options;
   out.rule_text = options.Describe();
+  std::size_t lowest = 0;
+  for (std::size_t k = 1; k < modes.size(); ++k) {
+    if (modes[k].center_frequency_cycles_per_sample < modes[lowest].center_frequency_cycles_per_sample) lowest = k;
+  }
   for (std::size_t k = 0; k < modes.size(); ++k) {
     const ModeFeature& f = modes[k];
     if (std::isnan(f.sample_entropy)) {
@@ -118,7 +125,7 @@ Result<ClassificationResult> ClassifyModes(std::span<const ModeFeature> modes, c
     // Section 4.2 of the paper: SE above the noise threshold -> noise-only, below the drift
     // threshold -> drift, in between -> mixed (thresholds: `options`).
     if (f.sample_entropy > options.noise_min_se) {
-      c.feature = FeatureClass::kNoise;
+      c.feature = (options.keep_lowest_mode && k == lowest) ? FeatureClass::kMixed : FeatureClass::kNoise;
     } else if (f.sample_entropy < options.drift_max_se) {
       const bool slow = !options.drift_max_frequency_hz || f.center_frequency_hz < *options.drift_max_frequency_hz;
       c.feature = slow ? FeatureClass::kDrift : FeatureClass::kMixed;

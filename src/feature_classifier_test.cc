@@ -55,8 +55,24 @@ TEST(FeatureClassifier, StandardThresholdsAndStrictBoundaries) {
                                    std::numeric_limits<double>::infinity()}), s);
   ASSERT_TRUE(r.ok());
   EXPECT_EQ(Classes(*r), (std::vector<FeatureClass>{D, M, M, M, N, N}));
+  EXPECT_EQ(r->rule_text,
+            "standard: SE < 0.3 drift, 0.3...0.5 mixed, SE > 0.5 noise; the lowest-frequency mode is never noise");
   EXPECT_EQ(r->modes[2].index, 3);
   EXPECT_DOUBLE_EQ(r->modes[2].center_frequency_hz, 4.0);
+}
+
+TEST(FeatureClassifier, LowestFrequencyModeIsNeverNoiseUnderTheStandardRule) {
+  // Features() gives increasing centre frequencies; make mode 3 the lowest.
+  auto f = Features({0.7, 0.9, 0.8});
+  f[2].center_frequency_cycles_per_sample = 1e-4;
+  auto r = ClassifyModes(f, ClassifierOptions::Standard());
+  ASSERT_TRUE(r.ok());
+  EXPECT_EQ(Classes(*r), (std::vector<FeatureClass>{N, N, M}));
+  auto o = ClassifierOptions::Standard();
+  o.keep_lowest_mode = false;
+  r = ClassifyModes(f, o);
+  ASSERT_TRUE(r.ok());
+  EXPECT_EQ(Classes(*r), (std::vector<FeatureClass>{N, N, N}));
 }
 
 TEST(FeatureClassifier, FrequencyGuardMovesFastLowEntropyModesToMixed) {
@@ -106,7 +122,7 @@ double Corr2(const std::vector<double>& a, const std::vector<double>& b) {
   return ab * ab / (aa * bb);
 }
 
-TEST(FeatureClassifier, WhiteNoiseModesAreAllNoise) {
+TEST(FeatureClassifier, WhiteNoiseModesAreNoise) {
   // VMD modes of white noise score 0.55-0.75 (K = 6, alpha = 2000; narrow bands are smoother
   // than white noise's 2.18): all above the standard noise threshold 0.5.
   std::mt19937 rng(4);
@@ -118,7 +134,9 @@ TEST(FeatureClassifier, WhiteNoiseModesAreAllNoise) {
   auto r = ClassifyVmdModes(*v);
   ASSERT_TRUE(r.ok()) << r.error().message;
   for (const auto& m : r->modes) {
-    EXPECT_EQ(m.feature, FeatureClass::kNoise) << "mode " << m.index << " SE " << m.sample_entropy;
+    // ...except the lowest-frequency mode, kept as mixed by the standard rule.
+    EXPECT_EQ(m.feature, m.index == 1 ? FeatureClass::kMixed : FeatureClass::kNoise)
+        << "mode " << m.index << " SE " << m.sample_entropy;
     EXPECT_GT(m.sample_entropy, 0.5);
     EXPECT_LT(m.sample_entropy, 0.8);
   }

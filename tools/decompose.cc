@@ -72,7 +72,8 @@ nlohmann::json AxisJson(const AxisResult& r, const GyroLog& log, const SampleEnt
                          {"noise_min_se", r.classes.rule.noise_min_se},
                          {"drift_max_frequency_hz", r.classes.rule.drift_max_frequency_hz
                                                         ? nlohmann::json(*r.classes.rule.drift_max_frequency_hz)
-                                                        : nlohmann::json()}};
+                                                        : nlohmann::json()},
+                         {"keep_lowest_mode", r.classes.rule.keep_lowest_mode}};
   j["sample_entropy"] = {{"m", se.m},
                          {"r_factor", se.r_factor},
                          {"r_of", "each mode's own SD (population)"},
@@ -173,7 +174,8 @@ Command Make(CLI::App& app) {
       "updates. Modes are in the algorithm's order (mode k started from init centre frequency k).\n"
       "Sample entropy: Richman-Moorman, m = --m, r = --r x each mode's SD, strict '<', computed on the\n"
       "middle --entropy-max-samples samples of each mode (as `process`), exact fast counting.\n"
-      "Classes (--rule standard, docs/classification.md): SE < 0.3 drift, 0.3..0.5 mixed, > 0.5 noise.\n"
+      "Classes (--rule standard, docs/classification.md): SE < 0.3 drift, 0.3..0.5 mixed, > 0.5 noise,\n"
+      "  and the lowest-frequency mode (mean, bias, slowest drift) is never noise.\n"
       "  --rule paper: SE < 2 drift, 2..4.2 mixed, > 4.2 noise (the paper's scale; on the standard\n"
       "  scale white noise is ~2.18 and its VMD modes ~0.6, so 'noise' never fires).\n"
       "Outputs: -o CSV with columns mode_1..mode_K (<axis>_mode_k for several axes);\n"

@@ -6,7 +6,8 @@
 //   drift_max_se <= SE <= noise_min_se    -> mixed   (C2: to WFLP)
 //   SE > noise_min_se                     -> noise   (discarded)
 // optionally with a centre-frequency guard (a drift mode must also lie below
-// drift_max_frequency_hz; otherwise it is mixed).
+// drift_max_frequency_hz; otherwise it is mixed), and (keep_lowest_mode, default) the mode of
+// lowest centre frequency is never noise.
 //
 // Two presets (docs/classification.md gives the design and the evidence):
 //   - Paper(): the paper's thresholds 2 / 4.2. On the standard SE scale (m = 2, r = 0.2 SD of
@@ -42,6 +43,11 @@ struct ClassifierOptions {
   // When set, a mode classed drift by SE whose centre frequency is at or above this (Hz) is
   // classed mixed instead (drift is slow by nature). nullopt: SE alone decides.
   std::optional<double> drift_max_frequency_hz;
+  // The mode with the lowest centre frequency holds the mean of the signal (the bias, any
+  // constant true rate) and the slowest drift: when true it is never classed noise (an SE above
+  // noise_min_se makes it mixed), so that the classification cannot discard them. Standard: true;
+  // paper: false (SE alone, as published).
+  bool keep_lowest_mode = true;
 
   // The paper's preset: SE < 2 drift, 2..4.2 mixed, > 4.2 noise; no frequency guard.
   static ClassifierOptions Paper();

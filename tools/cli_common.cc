@@ -72,9 +72,12 @@ Result<LoadedLog> LoadLog(const std::string& command, const LogOptions& options,
 int ReportError(const std::string& command, const Error& error) {
   std::cerr << "gyrocomp " << command << ": error: " << error.message << "\n";
   switch (error.kind) {
+    // A file that cannot be opened, read or created is a bad input or a bad -o path: the
+    // user's to fix (cli.md: exit 2), not an internal failure.
     case ErrorKind::kInvalidInput:
     case ErrorKind::kInvalidArgument:
     case ErrorKind::kUnsupported:
+    case ErrorKind::kIo:
       return kExitBadInput;
     default:
       return kExitFailure;

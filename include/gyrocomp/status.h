@@ -10,8 +10,8 @@
 
 namespace gyrocomp {
 
-// The short list of error kinds. The CLI maps kInvalidInput / kInvalidArgument to exit status 2
-// and the rest to 1.
+// The short list of error kinds. The CLI maps kInvalidInput, kInvalidArgument, kUnsupported and
+// kIo (a file the user named cannot be opened or created) to exit status 2, the rest to 1.
 enum class ErrorKind {
   kInvalidInput,     // malformed data: a file, a cell, a timestamp (message: file:line:col: what)
   kInvalidArgument,  // an option out of range ("VmdOptions::alpha = -1: must be > 0")

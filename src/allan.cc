@@ -15,11 +15,50 @@
 namespace gyrocomp {
 namespace {
 
+// Fewest m-averages for the lag-1 autocorrelation noise identification (Riley & Greenhall ask
+// for about 30).
+constexpr std::int64_t kMinBlocksForLag1 = 32;
+
 constexpr const char* kDeviationMethod =
     "overlapping Allan deviation (IEEE Std 1554 / NIST SP 1065 Eq. 11), as allantools oadev";
 constexpr const char* kEdfMethod =
     "equivalent degrees of freedom from the simple formulas of Howe, Allan & Barnes (1981) "
-    "(NIST SP 1065 Table 5) for the noise type given by the local ADEV slope; chi-square interval";
+    "(NIST SP 1065 Table 5), noise type per tau by lag-1 autocorrelation (Riley & Greenhall 2004; "
+    "carried over from the previous tau when fewer than 32 averages remain); chi-square interval";
+
+// Lag-1 autocorrelation of v (mean removed); NaN when v is constant.
+double Lag1Autocorrelation(const std::vector<double>& v) {
+  double mean = 0.0;
+  for (double x : v) mean += x;
+  mean /= static_cast<double>(v.size());
+  double num = 0.0, den = 0.0;
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    const double a = v[i] - mean;
+    den += a * a;
+    if (i + 1 < v.size()) num += a * (v[i + 1] - mean);
+  }
+  return den > 0.0 ? num / den : std::numeric_limits<double>::quiet_NaN();
+}
+
+// Riley & Greenhall (2004) on m-averages of rate ("frequency") data given as the phase record x
+// (the m-average k is proportional to x[(k+1)m] - x[km]). dmax = 2 differences (Allan variance).
+std::optional<PowerLawNoise> Lag1NoiseFromPhase(const std::vector<double>& x, std::int64_t m) {
+  const auto num_blocks = static_cast<std::int64_t>(x.size() - 1) / m;
+  if (num_blocks < kMinBlocksForLag1) return std::nullopt;
+  std::vector<double> z(static_cast<std::size_t>(num_blocks));
+  for (std::int64_t k = 0; k < num_blocks; ++k) z[k] = x[(k + 1) * m] - x[k * m];
+  for (int d = 0;; ++d) {
+    const double r1 = Lag1Autocorrelation(z);
+    if (!std::isfinite(r1)) return std::nullopt;
+    const double rho = r1 <= -1.0 ? -1.0 : r1 / (1.0 + r1);
+    if (rho < 0.25 || d == 2) {
+      const double alpha = std::clamp(std::round(-2.0 * (rho + d)), -2.0, 2.0);  // frequency data: alpha = p
+      return static_cast<PowerLawNoise>(static_cast<int>(alpha));
+    }
+    for (std::size_t i = 0; i + 1 < z.size(); ++i) z[i] = z[i + 1] - z[i];
+    z.pop_back();
+  }
+}
 
 // Sum of a long series of squares with bounded rounding error: block partial sums (the error
 // grows with the block count, not with N), close to numpy's pairwise summation.
@@ -194,6 +233,13 @@ Result<std::vector<std::int64_t>> AllanAveragingFactors(std::size_t n_samples,
   std::sort(out.begin(), out.end());
   out.erase(std::unique(out.begin(), out.end()), out.end());
   return out;
+}
+
+std::optional<PowerLawNoise> IdentifyNoiseLag1(std::span<const double> rate, std::int64_t m) {
+  if (m < 1 || rate.empty()) return std::nullopt;
+  std::vector<double> x(rate.size() + 1, 0.0);
+  for (std::size_t i = 0; i < rate.size(); ++i) x[i + 1] = x[i] + rate[i];
+  return Lag1NoiseFromPhase(x, m);
 }
 
 double EdfOverlappingAdevSimple(PowerLawNoise noise, double N, double m) {
@@ -394,9 +440,15 @@ Result<AllanResult> ComputeAllan(std::span<const double> y, double fs_hz, const 
   }
   const double p_lo = 0.5 * (1.0 - options.confidence);
   bool leading = true;
+  std::optional<PowerLawNoise> previous;
   for (std::size_t j = 0; j < k; ++j) {
-    const PowerLawNoise noise = NoiseFromSlope(c.slope[j], leading);
+    // Noise type: lag-1 autocorrelation while enough averages remain; then the last identified
+    // type (Stable32 practice); the local slope only when nothing could be identified.
+    std::optional<PowerLawNoise> identified = Lag1NoiseFromPhase(x, c.m[j]);
+    if (!identified) identified = previous;
+    const PowerLawNoise noise = identified ? *identified : NoiseFromSlope(c.slope[j], leading);
     leading = leading && noise == PowerLawNoise::kWhitePhase;
+    previous = identified;
     double edf = EdfOverlappingAdevSimple(noise, static_cast<double>(num_phase), static_cast<double>(c.m[j]));
     // The empirical formulas can fall below 1 (or go wrong) at the largest taus; at least one
     // degree of freedom remains with n > 1 second differences.

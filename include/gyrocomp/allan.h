@@ -82,7 +82,7 @@ struct AllanCurve {
   std::vector<double> adev_error_dps;     // allantools' error: adev / sqrt(n_clusters)
   std::vector<std::int64_t> n_clusters;   // n = N + 1 - 2m (overlapping second differences)
   std::vector<double> slope;              // local log-log slope d ln(adev) / d ln(tau)
-  std::vector<PowerLawNoise> noise;       // dominant noise assumed for the EDF (from slope)
+  std::vector<PowerLawNoise> noise;       // dominant noise assumed for the EDF (IdentifyNoiseLag1)
   std::vector<double> edf;                // equivalent degrees of freedom (chi-square)
   std::vector<double> adev_lo_dps;        // chi-square confidence interval at `confidence`
   std::vector<double> adev_hi_dps;
@@ -151,6 +151,12 @@ Result<std::vector<AllanResult>> ComputeAllan(const GyroLog& log, const AllanOpt
 
 // Noise terms from an already computed curve (used by ComputeAllan; exposed for reuse/tests).
 AllanNoiseTerms ExtractNoiseTerms(const AllanCurve& curve, const AllanOptions& options = {});
+
+// Dominant power-law noise of rate data at averaging factor m by the lag-1 autocorrelation
+// method of Riley & Greenhall (2004): the m-averages are differenced d = 0, 1, 2 times until
+// rho = r1 / (1 + r1) < 0.25; alpha = round(-2 (rho + d)). nullopt when fewer than 32 averages
+// remain (ComputeAllan then carries the previous tau's type over, or uses the local slope).
+std::optional<PowerLawNoise> IdentifyNoiseLag1(std::span<const double> rate_dps, std::int64_t m);
 
 // Equivalent degrees of freedom of the overlapping Allan variance, "simple" empirical formulas
 // of Howe, Allan & Barnes (1981) as tabulated in NIST SP 1065 Table 5 (this is NOT Greenhall &

@@ -68,6 +68,14 @@ std::string Quote(std::string_view cell) {
   return out + "'";
 }
 
+// zlib's gzerror text without the "<path>: " it prepends (the path is already in the message).
+std::string ZlibMessage(const char* msg) {
+  if (msg == nullptr) return "?";
+  const std::string m = msg;
+  const std::size_t colon = m.rfind(": ");
+  return colon == std::string::npos ? m : m.substr(colon + 2);
+}
+
 bool IsBlank(char c) { return c == ' ' || c == '\t'; }
 
 std::string_view Trim(std::string_view s) {
@@ -176,14 +184,14 @@ Result<Table> CsvParser::Run(gzFile in, std::size_t plain_size) {
         return IoError(source_ + ": cannot read: " + std::strerror(errno));
       }
       return InvalidInput(Where(source_, line_no_ + 1, 1) + "corrupt gzip data (" +
-                          std::string(msg ? msg : "?") + ")");
+                          ZlibMessage(msg) + ")");
     }
     if (got == 0) {
       int errnum = 0;
       const char* msg = gzerror(in, &errnum);
       if (errnum != Z_OK) {  // e.g. Z_BUF_ERROR: truncated gzip stream
         return InvalidInput(Where(source_, line_no_ + 1, 1) + "truncated or corrupt gzip data (" +
-                            std::string(msg ? msg : "?") + ")");
+                            ZlibMessage(msg) + ")");
       }
       eof = true;
     }

@@ -113,7 +113,8 @@ Command Make(CLI::App& app) {
       "  adev_min_deg_per_h: minimum over the taus with EDF >= --min-edf; bias instability = min / 0.664.\n"
       "  rrw_deg_per_h_per_sqrt_h: sigma(3 s) on the +1/2 line fitted after the minimum (null if none).\n"
       "  Error bars: adev/sqrt(n) (allantools) and a chi-square interval from the EDF of\n"
-      "    NIST SP 1065 Table 5 (Howe, Allan & Barnes), noise type from the local slope.\n"
+      "    NIST SP 1065 Table 5 (Howe, Allan & Barnes), noise type per tau by lag-1\n"
+      "    autocorrelation (Riley & Greenhall 2004).\n"
       "Several axes: --rate-col gx_dps,gy_dps,gz_dps gives JSON {axes: {name: {...}}}.\n"
       "Example: gyrocomp allan -i log.csv.gz --rate-col gx_dps --time-col t_s --json - -o adev.csv");
   AddLogOptions(sub, &args->log);

@@ -249,6 +249,8 @@ Result<VmdResult> DecomposeVmd(std::span<const double> signal, const VmdOptions&
   }
   if (!forward || !inverse) return InternalError("VMD: FFTW planning failed");
   fftw_execute(forward.get());
+  f.clear();
+  f.shrink_to_fit();  // the working copy is no longer needed (the spectrum is)
 
   // f_hat_plus on the one-sided grid; the frequency grid exactly as vmdpy computes it:
   // freqs = arange(1, T+1)/T - 0.5 - 1/T, positive half = indices T/2 .. T-1.
@@ -412,7 +414,10 @@ Result<VmdResult> DecomposeVmd(std::span<const double> signal, const VmdOptions&
   const int ifft_threads = std::min(threads, K);
   std::vector<RealBuffer> t_bufs;
   std::vector<ComplexBuffer> s_bufs;
-  for (int t = 0; t < ifft_threads; ++t) {
+  // Thread 0 reuses the forward transform's buffers (same size and alignment as the plan's).
+  t_bufs.push_back(std::move(time_buf));
+  s_bufs.push_back(std::move(spec_buf));
+  for (int t = 1; t < ifft_threads; ++t) {
     t_bufs.push_back(AllocReal(T));
     s_bufs.push_back(AllocComplex(H + 1));
     if (!t_bufs.back() || !s_bufs.back()) return InternalError("VMD: out of memory for FFT buffers");

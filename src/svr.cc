@@ -3,6 +3,7 @@
 
 #include <libsvm/svm.h>
 
+#include <algorithm>
 #include <cassert>
 #include <chrono>
 #include <cmath>
@@ -10,6 +11,7 @@
 #include <memory>
 #include <mutex>
 #include <sstream>
+#include <thread>
 
 namespace gyrocomp {
 namespace {
@@ -128,11 +130,26 @@ std::vector<double> SvrModel::Predict(const std::vector<std::vector<double>>& in
   assert(inputs.size() == num_inputs);
   const std::size_t n = inputs.empty() ? 0 : inputs[0].size();
   std::vector<double> out(n);
-  std::vector<double> row(num_inputs);
-  for (std::size_t i = 0; i < n; ++i) {
-    for (std::size_t j = 0; j < num_inputs; ++j) row[j] = inputs[j][i];
-    out[i] = PredictOne(row);
+  auto range = [&](std::size_t a, std::size_t b) {
+    std::vector<double> row(num_inputs);
+    for (std::size_t i = a; i < b; ++i) {
+      for (std::size_t j = 0; j < num_inputs; ++j) row[j] = inputs[j][i];
+      out[i] = PredictOne(row);
+    }
+  };
+  // Long records (full-rate prediction) are split over the cores; each sample is computed the
+  // same way whatever the split, so the result does not depend on the thread count.
+  const std::size_t work = n * (coefficients.size() + 1);
+  const std::size_t threads =
+      work < (1u << 22) ? 1 : std::max<std::size_t>(1, std::thread::hardware_concurrency());
+  if (threads == 1) {
+    range(0, n);
+    return out;
   }
+  std::vector<std::thread> pool;
+  for (std::size_t t = 1; t < threads; ++t) pool.emplace_back(range, n * t / threads, n * (t + 1) / threads);
+  range(0, n / threads);
+  for (auto& th : pool) th.join();
   return out;
 }
 

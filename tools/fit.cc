@@ -130,6 +130,7 @@ int Run(FitArgs a) {
     j["dtemp_range_c_per_s"] = {s.dtemp_min_c_per_s, s.dtemp_max_c_per_s};
     j["best_cv_history_dps"] = s.best_cv_history;
     j["dtemp_window_s"] = o.rate.window_s;
+    j["cv_in_range_only"] = s.cv_in_range_only;
     j["known_rate_dps"] = a.known_rate_dps ? nlohmann::json(*a.known_rate_dps) : nlohmann::json();
     j["known_rate_col"] = a.known_rate_col.empty() ? nlohmann::json() : nlohmann::json(a.known_rate_col);
     if (!feature_report.empty()) j["drift_feature"] = feature_report;

@@ -42,13 +42,6 @@ Status CheckInput(const PipelineInput& in, std::size_t min_samples) {
   return Status::Ok();
 }
 
-// A contiguous window of at most `max_samples` from the middle of x.
-std::span<const double> MiddleWindow(std::span<const double> x, std::optional<std::size_t> max_samples) {
-  if (!max_samples || x.size() <= *max_samples) return x;
-  const std::size_t start = (x.size() - *max_samples) / 2;
-  return x.subspan(start, *max_samples);
-}
-
 }  // namespace
 
 bool PipelineOptions::IsValid(std::string* error) const {
@@ -122,22 +115,14 @@ Result<PipelineResult> RunParallelModel(const PipelineInput& input, const Pipeli
   }
   report("vmd", 1.0);
 
-  // Step 2: sample entropy of each mode (Section 3.2, Eqs. 8-13) and the three features.
+  // Step 2: sample entropy of each mode (Section 3.2, Eqs. 8-13, modes measured in parallel)
+  // and the drift / mixed / noise classes.
+  report("entropy", 0.0);
   t = Clock::now();
-  std::vector<ModeFeature> features(vmd->modes.size());
-  for (std::size_t k = 0; k < vmd->modes.size(); ++k) {
-    report("entropy", static_cast<double>(k) / static_cast<double>(vmd->modes.size()));
-    Result<SampleEntropyResult> se =
-        SampleEntropy(MiddleWindow(vmd->modes[k], options.entropy_max_samples), options.entropy);
-    if (!se) return se.error();
-    features[k].sample_entropy =
-        se->defined ? se->sample_entropy : std::numeric_limits<double>::infinity();
-    features[k].center_frequency_cycles_per_sample = vmd->summary.center_frequency_cycles_per_sample[k];
-    features[k].center_frequency_hz = vmd->summary.center_frequency_hz[k];
-  }
-  out.timings_s["entropy"] = SecondsSince(t);
-  Result<ClassificationResult> classes = ClassifyModes(features, options.classifier);
+  Result<ClassificationResult> classes =
+      ClassifyVmdModes(*vmd, options.entropy, options.classifier, options.entropy_max_samples);
   if (!classes) return classes.error();
+  out.timings_s["entropy"] = SecondsSince(t);
   const bool has_drift = std::any_of(classes->modes.begin(), classes->modes.end(),
       [](const ModeClassification& m) { return m.feature == FeatureClass::kDrift; });
   if (!has_drift && options.force_drift_mode && !classes->modes.empty()) {

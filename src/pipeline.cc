@@ -105,6 +105,13 @@ Result<PipelineResult> RunParallelModel(const PipelineInput& input, const Pipeli
   auto t = Clock::now();
   VmdOptions vmd_options = options.vmd;
   vmd_options.fs_hz = input.fs_hz;
+  if (progress) {
+    vmd_options.on_iteration = [&](int iteration, double) {
+      if (iteration % 10 == 0) {
+        progress("vmd", static_cast<double>(iteration) / static_cast<double>(options.vmd.max_iterations));
+      }
+    };
+  }
   Result<VmdResult> vmd = DecomposeVmd(input.rate_dps, vmd_options);
   if (!vmd) return vmd.error();
   out.timings_s["vmd"] = SecondsSince(t);
@@ -232,6 +239,7 @@ Result<PipelineResult> RunParallelModel(const PipelineInput& input, const Pipeli
     std::vector<FeatureClass> class_of_mode;
     for (const ModeReport& m : out.mode_reports) class_of_mode.push_back(m.feature);
     VmdOptions seg_vmd = vmd_options;
+    seg_vmd.on_iteration = nullptr;
     const WflpOptions wflp_options = options.wflp;
     SignalProcessing processing =
         [&, seg_vmd, wflp_options](std::span<const double> x) -> Result<std::vector<double>> {

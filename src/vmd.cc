@@ -398,6 +398,7 @@ Result<VmdResult> DecomposeVmd(std::span<const double> signal, const VmdOptions&
     ++n;
     std::swap(old_re, new_re);
     std::swap(old_im, new_im);
+    if (opt.on_iteration) opt.on_iteration(n, u_diff);
   }
   // Now `old_*` hold update n and `new_*` update n-1 (or zeros when n = 1... the reference then
   // returns its all-zero initial iterate too).

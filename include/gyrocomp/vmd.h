@@ -19,6 +19,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <span>
 #include <string>
@@ -78,6 +79,9 @@ struct VmdOptions {
   // (hardware concurrency, at most 2 here, and 1 for small problems where threads cost more
   // than they save). Results are bit-identical for any value.
   std::optional<int> num_threads;
+  // Called after every update with the update count and the stopping quantity (for progress
+  // displays). Empty: not called. Does not change the result.
+  std::function<void(int iteration, double update)> on_iteration;
 
   // Returns false and a message naming the field ("VmdOptions::alpha = -1: must be > 0").
   bool IsValid(std::string* error) const;

@@ -1,4 +1,5 @@
 #include "gyrocomp/cuckoo_search.h"
+#include "optimization_test_functions.h"
 
 #include <atomic>
 #include <cmath>
@@ -10,34 +11,10 @@
 namespace gyrocomp {
 namespace {
 
-double Sphere(std::span<const double> x) {
-  double s = 0.0;
-  for (double v : x) s += v * v;
-  return s;
-}
-
-double Rosenbrock(std::span<const double> x) {
-  double s = 0.0;
-  for (std::size_t i = 0; i + 1 < x.size(); ++i)
-    s += 100.0 * std::pow(x[i + 1] - x[i] * x[i], 2) + std::pow(1.0 - x[i], 2);
-  return s;
-}
-
-double Rastrigin(std::span<const double> x) {
-  double s = 10.0 * static_cast<double>(x.size());
-  for (double v : x) s += v * v - 10.0 * std::cos(2.0 * std::numbers::pi * v);
-  return s;
-}
-
-double Ackley(std::span<const double> x) {
-  const double n = static_cast<double>(x.size());
-  double s1 = 0.0, s2 = 0.0;
-  for (double v : x) {
-    s1 += v * v;
-    s2 += std::cos(2.0 * std::numbers::pi * v);
-  }
-  return -20.0 * std::exp(-0.2 * std::sqrt(s1 / n)) - std::exp(s2 / n) + 20.0 + std::numbers::e;
-}
+using test_functions::Ackley;
+using test_functions::Rastrigin;
+using test_functions::Rosenbrock;
+using test_functions::Sphere;
 
 std::vector<SearchDimension> Box(int d, double lo, double hi) {
   return std::vector<SearchDimension>(d, SearchDimension{"x", lo, hi, false});

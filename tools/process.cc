@@ -32,12 +32,7 @@ std::string Column(const std::string& base, const std::string& axis, std::size_t
 int Run(const ProcessCli& c) {
   const std::string cmd = "process";
   PipelineCliOptions pipe = c.pipeline;
-  if (Status s = ResolvePipelineOptions(&pipe); !s) return ReportError(cmd, s.error());
-  Result<LogSpec> spec = ToLogSpec(c.log);
-  if (!spec) return ReportError(cmd, spec.error());
-  spec->temp_required = true;
-  spec->min_samples = 256;
-  Result<LoadedLog> loaded = LoadLog(cmd, c.log, *spec);
+  Result<LoadedLog> loaded = LoadPipelineLog(cmd, c.log, &pipe);
   if (!loaded) return ReportError(cmd, loaded.error());
   const GyroLog& log = loaded->log;
   Table out = loaded->table;

@@ -99,6 +99,15 @@ Status ResolvePipelineOptions(PipelineCliOptions* c) {
   return Status::Ok();
 }
 
+Result<LoadedLog> LoadPipelineLog(const std::string& command, const LogOptions& log, PipelineCliOptions* pipe) {
+  if (Status s = ResolvePipelineOptions(pipe); !s) return s.error();
+  Result<LogSpec> spec = ToLogSpec(log);
+  if (!spec) return spec.error();
+  spec->temp_required = true;
+  spec->min_samples = 256;  // the parallel model's floor (VMD + blocked CV)
+  return LoadLog(command, log, *spec);
+}
+
 nlohmann::json PipelineOptionsJson(const PipelineOptions& o) {
   nlohmann::json j;
   j["vmd"] = {{"K", o.vmd.num_modes}, {"alpha", o.vmd.alpha}, {"tau", o.vmd.tau}, {"tol", o.vmd.tol},

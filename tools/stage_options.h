@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "gyrocomp/pipeline.h"
+#include "cli_common.h"
 #include "gyrocomp/status.h"
 
 namespace gyrocomp::cli {
@@ -37,6 +38,10 @@ void AddPipelineOptions(CLI::App* app, PipelineCliOptions* o);
 
 // Parses the text options into o->options and validates; kInvalidArgument naming the option.
 Status ResolvePipelineOptions(PipelineCliOptions* o);
+
+// What `process` and `compare` do first: resolve the stage options (into *pipe), then read the
+// log with its temperature required (`LoadLog`). Errors name the option or the file.
+Result<LoadedLog> LoadPipelineLog(const std::string& command, const LogOptions& log, PipelineCliOptions* pipe);
 
 // Every parameter, for the JSON output and the report (so a run can be repeated).
 nlohmann::json PipelineOptionsJson(const PipelineOptions& o);

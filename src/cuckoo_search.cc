@@ -207,6 +207,7 @@ Result<CuckooSearchSummary> CuckooSearch(const SearchObjective& objective,
     if (done()) {
       summary.generations = gen + 1;
       summary.best_value_history.push_back(best_value);
+      if (options.on_generation) options.on_generation(gen + 1, best_value);
       break;
     }
     // 2. Discovery with probability pa: x'' = x + r * (x_p - x_q) on the discovered components.
@@ -227,6 +228,7 @@ Result<CuckooSearchSummary> CuckooSearch(const SearchObjective& objective,
     accept(cand, evaluate(cand));
     summary.generations = gen + 1;
     summary.best_value_history.push_back(best_value);
+    if (options.on_generation) options.on_generation(gen + 1, best_value);
   }
   if (summary.termination == CuckooTermination::kMaxGenerations) done();  // record the reason
 

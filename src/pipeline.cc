@@ -181,6 +181,12 @@ Result<PipelineResult> RunParallelModel(const PipelineInput& input, const Pipeli
       for (std::size_t i = 0; i < n; ++i) target[i] -= input.known_rate_dps[i];
     }
     DriftFitOptions drift_options = options.drift;
+    if (progress) {
+      const int generations = drift_options.search.cuckoo.max_generations;
+      drift_options.search.cuckoo.on_generation = [&progress, generations](int generation, double) {
+        progress("drift-fit (cuckoo search)", static_cast<double>(generation) / generations);
+      };
+    }
     if (drift_options.target_name.empty() || drift_options.target_name == "rate_dps") {
       drift_options.target_name = "drift-mode";
     }

@@ -53,6 +53,9 @@ struct CuckooSearchOptions {
   std::uint64_t seed = 1;
   // Threads evaluating nests in parallel; automatic = std::thread::hardware_concurrency().
   std::optional<int> num_threads;
+  // Called after every generation with its number (1-based) and the best value so far, from the
+  // calling thread (progress displays). Empty: not called. Does not change the result.
+  std::function<void(int generation, double best_value)> on_generation;
 
   bool IsValid(std::string* error) const;
 };

@@ -24,15 +24,22 @@ double Rms(std::span<const double> a, std::span<const double> b) {
   return std::sqrt(s / static_cast<double>(a.size()));
 }
 
-// Allan figures of a full output record, and its error against the true rate when known.
+// Allan figures of a full output record (already analysed: `a`), and its error against the true
+// rate when known.
+void SetOutputMetrics(const AllanResult& a, std::span<const double> out, const ComparisonTruth& truth,
+                      MethodRow* row) {
+  row->arw_deg_per_sqrt_h = a.terms.arw_deg_per_sqrt_h;
+  row->adev_min_deg_per_h = a.terms.adev_min_deg_per_h;
+  row->bias_instability_deg_per_h = a.terms.bias_instability_deg_per_h;
+  if (!truth.true_rate_dps.empty()) row->rmse_vs_true_rate_dps = Rms(out, truth.true_rate_dps);
+}
+
+// The same for an output not analysed yet.
 Status AddOutputMetrics(std::span<const double> out, const PipelineInput& input,
                         const ComparisonTruth& truth, const AllanOptions& allan, MethodRow* row) {
   Result<AllanResult> a = ComputeAllan(out, input.fs_hz, allan);
   if (!a) return a.error();
-  row->arw_deg_per_sqrt_h = a->terms.arw_deg_per_sqrt_h;
-  row->adev_min_deg_per_h = a->terms.adev_min_deg_per_h;
-  row->bias_instability_deg_per_h = a->terms.bias_instability_deg_per_h;
-  if (!truth.true_rate_dps.empty()) row->rmse_vs_true_rate_dps = Rms(out, truth.true_rate_dps);
+  SetOutputMetrics(*a, out, truth, row);
   return Status::Ok();
 }
 
@@ -187,8 +194,10 @@ Result<ComparisonResult> CompareMethods(const PipelineInput& input, const Pipeli
       for (std::size_t i = 0; i < n; ++i) target[i] -= input.known_rate_dps[i];
     }
     const DriftInputs drift_inputs{input.temp_c, input.fs_hz};
+    // `parallel_run`: the row of the parallel run's own model, whose output and Allan analysis
+    // the run already has.
     auto add_model_row = [&](const std::string& name, const DriftModel& model,
-                             const std::vector<double>& pred, double seconds) -> Status {
+                             const std::vector<double>& pred, double seconds, bool parallel_run) -> Status {
       MethodRow row;
       row.group = "drift";
       row.method = name;
@@ -196,7 +205,11 @@ Result<ComparisonResult> CompareMethods(const PipelineInput& input, const Pipeli
       row.drift_cv_rmse_dps = model.summary.cv_rmse;
       if (!truth.true_drift_dps.empty()) row.drift_rmse_vs_truth_dps = Rms(pred, truth.true_drift_dps);
       row.note = "in-sample (fitted on this record)";
-      if (Status s = AddOutputMetrics(Combine(parallel.mixed_denoised, drift, pred), input, truth, po.allan, &row); !s) {
+      if (parallel_run) {
+        SetOutputMetrics(parallel.allan_after, parallel.compensated_dps, truth, &row);
+      } else if (Status s = AddOutputMetrics(Combine(parallel.mixed_denoised, drift, pred), input, truth,
+                                             po.allan, &row);
+                 !s) {
         return s;
       }
       result.rows.push_back(std::move(row));
@@ -208,13 +221,14 @@ Result<ComparisonResult> CompareMethods(const PipelineInput& input, const Pipeli
       if (!model) return model.error();
       Result<std::vector<double>> pred = model->Predict(drift_inputs);
       if (!pred) return pred.error();
-      if (Status s = add_model_row(c.name, *model, *pred, SecondsSince(start)); !s) return s.error();
+      if (Status s = add_model_row(c.name, *model, *pred, SecondsSince(start), false); !s) return s.error();
     }
     if (parallel.drift_model) {
       if (Status s = add_model_row(std::string(DriftModelKindName(parallel.drift_model->kind)) +
                                        " (the parallel run's model)",
                                    *parallel.drift_model, predicted,
-                                   parallel.timings_s.count("drift_fit") ? parallel.timings_s.at("drift_fit") : 0.0);
+                                   parallel.timings_s.count("drift_fit") ? parallel.timings_s.at("drift_fit") : 0.0,
+                                   true);
           !s) {
         return s.error();
       }
@@ -225,7 +239,7 @@ Result<ComparisonResult> CompareMethods(const PipelineInput& input, const Pipeli
     MethodRow raw;
     raw.group = "scheme";
     raw.method = "raw (no processing)";
-    if (Status s = AddOutputMetrics(input.rate_dps, input, truth, po.allan, &raw); !s) return s.error();
+    SetOutputMetrics(parallel.allan_before, input.rate_dps, truth, &raw);
     raw.note = "full band";
     result.rows.push_back(std::move(raw));
 
@@ -267,7 +281,7 @@ Result<ComparisonResult> CompareMethods(const PipelineInput& input, const Pipeli
     par.seconds = parallel.timings_s.count("total") ? parallel.timings_s.at("total") : 0.0;
     if (parallel.bandwidth) par.bandwidth_hz = parallel.bandwidth->bandwidth_hz;
     if (!truth.true_drift_dps.empty()) par.drift_rmse_vs_truth_dps = Rms(predicted, truth.true_drift_dps);
-    if (Status st = AddOutputMetrics(parallel.compensated_dps, input, truth, po.allan, &par); !st) return st.error();
+    SetOutputMetrics(parallel.allan_after, parallel.compensated_dps, truth, &par);
     result.rows.push_back(std::move(par));
   }
   return result;

@@ -4,7 +4,6 @@
 #include <chrono>
 #include <cmath>
 #include <future>
-#include <limits>
 #include <sstream>
 
 namespace gyrocomp {

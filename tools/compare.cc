@@ -22,20 +22,6 @@ struct CompareCli {
   bool quiet = false;
 };
 
-nlohmann::json RowJson(const MethodRow& m) {
-  return {{"group", m.group},
-          {"method", m.method},
-          {"arw_deg_per_sqrt_h", Num(m.arw_deg_per_sqrt_h)},
-          {"adev_min_deg_per_h", Num(m.adev_min_deg_per_h)},
-          {"bias_instability_deg_per_h", Num(m.bias_instability_deg_per_h)},
-          {"bandwidth_hz", Num(m.bandwidth_hz)},
-          {"rmse_vs_true_rate_dps", Num(m.rmse_vs_true_rate_dps)},
-          {"drift_rmse_vs_truth_dps", Num(m.drift_rmse_vs_truth_dps)},
-          {"drift_cv_rmse_dps", Num(m.drift_cv_rmse_dps)},
-          {"seconds", m.seconds},
-          {"note", m.note}};
-}
-
 std::string RowsTable(const ComparisonResult& r, bool with_truth) {
   std::vector<std::string> header = {"group", "method", "ARW deg/rt(h)", "ADEV min deg/h", "BW Hz"};
   if (with_truth) {
@@ -94,7 +80,7 @@ int Run(const CompareCli& c) {
               << "Drift rows are in-sample (fitted and scored on this record). ARW and ADEV min are read "
                  "off each full output; compare them with the bandwidth beside them.\n\n";
     nlohmann::json rows = nlohmann::json::array();
-    for (const MethodRow& m : r->rows) rows.push_back(RowJson(m));
+    for (const MethodRow& m : r->rows) rows.push_back(MethodRowJson(m));
     axes[log.axis_names[a]] = {{"rows", rows}};
   }
   if (log.axis_names.size() == 1) {

@@ -93,6 +93,11 @@ int Run(const ProcessCli& c) {
     j["bandwidth_hz"] = r->bandwidth ? Num(r->bandwidth->bandwidth_hz) : nlohmann::json();
     if (r->bandwidth) j["bandwidth"] = BandwidthJson(*r->bandwidth);
     j["timings_s"] = r->timings_s;
+    if (comparison) {
+      nlohmann::json rows = nlohmann::json::array();
+      for (const MethodRow& m : comparison->rows) rows.push_back(MethodRowJson(m));
+      j["comparison"] = rows;
+    }
     j["warnings"] = r->warnings;
     j["notes"] = HonestyNotes(*r);
     axes[axis] = j;
@@ -139,7 +144,7 @@ Command Make(CLI::App& app) {
   sub->add_option("--report", c->report, "Self-contained HTML report");
   sub->add_option("--known-rate-col", c->known_rate_col,
                   "Column of a rate known to be applied (Earth rate, turntable): the drift model learns bias only");
-  sub->add_flag("--compare", c->compare, "Also run the baseline comparisons (tables in the report)");
+  sub->add_flag("--compare", c->compare, "Also run the baseline comparisons (in the JSON per axis, and tables in the report)");
   sub->add_flag("-q,--quiet", c->quiet, "No progress or summary on stderr");
   AddPipelineOptions(sub, &c->pipeline);
   return {sub, [c] { return Run(*c); }};

@@ -57,8 +57,7 @@ std::optional<double> AdevMinAbove(const AllanCurve& c, double tau_min_s) {
   return best;
 }
 
-}  // namespace
-
+// Local log-log slope of the curve at the tau nearest tau_s.
 std::optional<double> SlopeNear(const AllanCurve& c, double tau_s) {
   std::optional<double> slope;
   double best = 1e300;
@@ -68,6 +67,8 @@ std::optional<double> SlopeNear(const AllanCurve& c, double tau_s) {
   }
   return slope;
 }
+
+}  // namespace
 
 std::vector<std::string> HonestyNotes(const PipelineResult& r) {
   std::vector<std::string> notes;

@@ -97,4 +97,18 @@ nlohmann::json DriftSummaryJson(const DriftFitSummary& s) {
   return j;
 }
 
+nlohmann::json MethodRowJson(const MethodRow& m) {
+  return {{"group", m.group},
+          {"method", m.method},
+          {"arw_deg_per_sqrt_h", Num(m.arw_deg_per_sqrt_h)},
+          {"adev_min_deg_per_h", Num(m.adev_min_deg_per_h)},
+          {"bias_instability_deg_per_h", Num(m.bias_instability_deg_per_h)},
+          {"bandwidth_hz", Num(m.bandwidth_hz)},
+          {"rmse_vs_true_rate_dps", Num(m.rmse_vs_true_rate_dps)},
+          {"drift_rmse_vs_truth_dps", Num(m.drift_rmse_vs_truth_dps)},
+          {"drift_cv_rmse_dps", Num(m.drift_cv_rmse_dps)},
+          {"seconds", m.seconds},
+          {"note", m.note}};
+}
+
 }  // namespace gyrocomp::cli

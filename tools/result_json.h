@@ -6,6 +6,7 @@
 
 #include "gyrocomp/allan.h"
 #include "gyrocomp/bandwidth.h"
+#include "gyrocomp/compare.h"
 #include "gyrocomp/drift_model.h"
 #include "gyrocomp/pipeline.h"
 
@@ -26,6 +27,9 @@ nlohmann::json ModesJson(const std::vector<ModeReport>& modes);
 nlohmann::json BandwidthJson(const BandwidthResult& b);
 
 nlohmann::json DriftSummaryJson(const DriftFitSummary& s);
+
+// One row of `compare` (gyrocomp/compare.h).
+nlohmann::json MethodRowJson(const MethodRow& m);
 
 // A JSON number, or null for NaN / Inf / absent.
 nlohmann::json Num(double v);

@@ -40,9 +40,9 @@ struct PipelineOptions {
   VmdOptions vmd;
   // Sample entropy of each mode (m = 2, r = 0.2 x the mode's SD by default).
   SampleEntropyOptions entropy;
-  // Sample entropy is computed on at most this many samples of each mode (an evenly spaced
-  // contiguous window from the middle of the record); nullopt = all samples. Exact SampEn is
-  // O(N log^2 N) here, so this only trims time on very long records.
+  // Sample entropy is computed on at most this many samples of each mode (a contiguous window
+  // from the middle of the record); nullopt = all samples. Exact SampEn is O(N log^2 N) here,
+  // so this only trims time on very long records.
   std::optional<std::size_t> entropy_max_samples = 200000;
   // drift / mixed / noise thresholds: the standard-scale rule by default (docs/classification.md).
   ClassifierOptions classifier = ClassifierOptions::Standard();

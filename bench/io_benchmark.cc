@@ -16,8 +16,8 @@
 #include <random>
 #include <string>
 
-#include "gyrocomp/gyro_log.h"
-#include "gyrocomp/io.h"
+#include "gyrocomp/io/gyro_log.h"
+#include "gyrocomp/io/io.h"
 
 namespace {
 

@@ -38,7 +38,7 @@ else
 fi
 
 # The charting library bundled into the HTML report (fetched here, at build time; never a CDN).
-if [ ! -f report/node_modules/uplot/dist/uPlot.iife.min.js ]; then
-  echo "install-deps: fetching report assets (npm ci in report/)"
-  (cd report && npm ci --no-audit --no-fund --loglevel=error)
+if [ ! -f src/report/web/node_modules/uplot/dist/uPlot.iife.min.js ]; then
+  echo "install-deps: fetching report assets (npm ci in src/report/web/)"
+  (cd src/report/web && npm ci --no-audit --no-fund --loglevel=error)
 fi

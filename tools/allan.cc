@@ -5,8 +5,8 @@
 #include <vector>
 
 #include "commands.h"
-#include "gyrocomp/allan.h"
-#include "gyrocomp/io.h"
+#include "gyrocomp/allan/allan.h"
+#include "gyrocomp/io/io.h"
 #include "result_json.h"
 
 namespace gyrocomp::cli {

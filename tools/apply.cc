@@ -7,8 +7,8 @@
 #include <vector>
 
 #include "commands.h"
-#include "gyrocomp/drift_model.h"
-#include "gyrocomp/io.h"
+#include "gyrocomp/drift/drift_model.h"
+#include "gyrocomp/io/io.h"
 #include "result_json.h"
 
 namespace gyrocomp::cli {

@@ -2,8 +2,8 @@
 
 #include <iostream>
 
-#include "gyrocomp/io.h"
-#include "gyrocomp/units.h"
+#include "gyrocomp/io/io.h"
+#include "gyrocomp/core/units.h"
 
 namespace gyrocomp::cli {
 

@@ -10,8 +10,8 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
-#include "gyrocomp/gyro_log.h"
-#include "gyrocomp/status.h"
+#include "gyrocomp/io/gyro_log.h"
+#include "gyrocomp/core/status.h"
 
 namespace gyrocomp::cli {
 

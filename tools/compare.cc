@@ -3,7 +3,7 @@
 #include <iostream>
 
 #include "commands.h"
-#include "gyrocomp/compare.h"
+#include "gyrocomp/pipeline/compare.h"
 #include "progress.h"
 #include "result_json.h"
 #include "stage_options.h"

@@ -9,11 +9,11 @@
 #include <vector>
 
 #include "commands.h"
-#include "gyrocomp/feature_classifier.h"
-#include "gyrocomp/io.h"
-#include "gyrocomp/pipeline.h"
-#include "gyrocomp/sample_entropy.h"
-#include "gyrocomp/vmd.h"
+#include "gyrocomp/decompose/feature_classifier.h"
+#include "gyrocomp/io/io.h"
+#include "gyrocomp/pipeline/pipeline.h"
+#include "gyrocomp/decompose/sample_entropy.h"
+#include "gyrocomp/decompose/vmd.h"
 
 namespace gyrocomp::cli {
 namespace {

@@ -8,9 +8,9 @@
 #include <string>
 
 #include "commands.h"
-#include "gyrocomp/compare.h"
-#include "gyrocomp/io.h"
-#include "gyrocomp/simulator.h"
+#include "gyrocomp/pipeline/compare.h"
+#include "gyrocomp/io/io.h"
+#include "gyrocomp/sim/simulator.h"
 #include "progress.h"
 #include "report_builder.h"
 #include "result_json.h"

@@ -9,12 +9,12 @@
 #include <vector>
 
 #include "commands.h"
-#include "gyrocomp/allan.h"
-#include "gyrocomp/bandwidth.h"
-#include "gyrocomp/flp.h"
-#include "gyrocomp/io.h"
-#include "gyrocomp/wavelet_denoise.h"
-#include "gyrocomp/wflp.h"
+#include "gyrocomp/allan/allan.h"
+#include "gyrocomp/denoise/bandwidth.h"
+#include "gyrocomp/denoise/flp.h"
+#include "gyrocomp/io/io.h"
+#include "gyrocomp/denoise/wavelet_denoise.h"
+#include "gyrocomp/denoise/wflp.h"
 
 namespace gyrocomp::cli {
 namespace {

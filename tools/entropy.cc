@@ -6,8 +6,8 @@
 #include <string>
 
 #include "commands.h"
-#include "gyrocomp/io.h"
-#include "gyrocomp/sample_entropy.h"
+#include "gyrocomp/io/io.h"
+#include "gyrocomp/decompose/sample_entropy.h"
 
 namespace gyrocomp::cli {
 namespace {

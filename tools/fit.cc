@@ -8,10 +8,10 @@
 #include <vector>
 
 #include "commands.h"
-#include "gyrocomp/drift_model.h"
-#include "gyrocomp/feature_classifier.h"
-#include "gyrocomp/pipeline.h"
-#include "gyrocomp/vmd.h"
+#include "gyrocomp/drift/drift_model.h"
+#include "gyrocomp/decompose/feature_classifier.h"
+#include "gyrocomp/pipeline/pipeline.h"
+#include "gyrocomp/decompose/vmd.h"
 #include "result_json.h"
 
 namespace gyrocomp::cli {

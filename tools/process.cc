@@ -3,8 +3,8 @@
 #include <iostream>
 
 #include "commands.h"
-#include "gyrocomp/io.h"
-#include "gyrocomp/report.h"
+#include "gyrocomp/io/io.h"
+#include "gyrocomp/report/report.h"
 #include "progress.h"
 #include "report_builder.h"
 #include "result_json.h"

@@ -3,7 +3,7 @@
 
 #include <string>
 
-#include "gyrocomp/pipeline.h"
+#include "gyrocomp/pipeline/pipeline.h"
 
 namespace gyrocomp::cli {
 

@@ -7,7 +7,7 @@
 #include <fftw3.h>
 #include <libsvm/svm.h>
 
-#include "gyrocomp/units.h"
+#include "gyrocomp/core/units.h"
 #include "result_json.h"
 
 namespace gyrocomp::cli {

@@ -6,9 +6,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "gyrocomp/compare.h"
-#include "gyrocomp/pipeline.h"
-#include "gyrocomp/report.h"
+#include "gyrocomp/pipeline/compare.h"
+#include "gyrocomp/pipeline/pipeline.h"
+#include "gyrocomp/report/report.h"
 
 namespace gyrocomp::cli {
 

@@ -4,11 +4,11 @@
 
 #include <nlohmann/json.hpp>
 
-#include "gyrocomp/allan.h"
-#include "gyrocomp/bandwidth.h"
-#include "gyrocomp/compare.h"
-#include "gyrocomp/drift_model.h"
-#include "gyrocomp/pipeline.h"
+#include "gyrocomp/allan/allan.h"
+#include "gyrocomp/denoise/bandwidth.h"
+#include "gyrocomp/pipeline/compare.h"
+#include "gyrocomp/drift/drift_model.h"
+#include "gyrocomp/pipeline/pipeline.h"
 
 namespace gyrocomp::cli {
 

@@ -7,8 +7,8 @@
 #include <utility>
 
 #include "commands.h"
-#include "gyrocomp/io.h"
-#include "gyrocomp/simulator.h"
+#include "gyrocomp/io/io.h"
+#include "gyrocomp/sim/simulator.h"
 
 namespace gyrocomp::cli {
 namespace {

@@ -1,7 +1,7 @@
 #include "stage_options.h"
 
-#include "gyrocomp/wavelet.h"
-#include "gyrocomp/wavelet_denoise.h"
+#include "gyrocomp/denoise/wavelet.h"
+#include "gyrocomp/denoise/wavelet_denoise.h"
 #include "result_json.h"
 
 namespace gyrocomp::cli {

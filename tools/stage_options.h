@@ -8,9 +8,9 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
-#include "gyrocomp/pipeline.h"
+#include "gyrocomp/pipeline/pipeline.h"
 #include "cli_common.h"
-#include "gyrocomp/status.h"
+#include "gyrocomp/core/status.h"
 
 namespace gyrocomp::cli {
 

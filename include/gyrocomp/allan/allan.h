@@ -1,0 +1,170 @@
+// Allan variance analysis of gyro rate data: the measurement stage (paper Section 4.3.1; method.md
+// section 6).
+//
+// The overlapping Allan deviation (IEEE Std 952 / 1554; NIST SP 1065 Eq. (11)) of a rate series
+// y_i (deg/s) sampled at fs_hz, computed exactly as allantools' oadev(data_type='freq'):
+//   - phase x_0 = 0, x_{i+1} = x_i + (y_i - mean(y)) / fs        (angle in deg, mean removed);
+//   - for each averaging factor m (tau = m / fs):
+//       n(m)        = (N + 1) - 2m                  second differences ("n_clusters")
+//       sigma^2(m)  = sum_{i<n} (x_{i+2m} - 2 x_{i+m} + x_i)^2 / (2 n tau^2)
+//     so each tau costs O(N) whatever m is (cumulative sums, no re-averaging);
+//   - taus with n <= 1 are dropped (allantools' remove_small_ns).
+// Error bars: allantools' adev / sqrt(n), plus chi-square confidence intervals from equivalent
+// degrees of freedom (see AllanOptions::confidence and EdfOverlappingAdevSimple below).
+// Noise terms (method.md 6), each with its convention stated in AllanNoiseTerms.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "gyrocomp/io/gyro_log.h"
+#include "gyrocomp/core/status.h"
+
+namespace gyrocomp {
+
+// How the averaging times are chosen (m = tau * fs, integer >= 1).
+enum class TauGrid {
+  kOctave,     // m = 1, 2, 4, ..., 2^k for k <= floor(log2(N + 1)) (allantools "octave")
+  kDecade,     // m = 1, 2, 4, 10, 20, 40, 100, ... up to 10^floor(log10(N + 1)) (allantools "decade")
+  kAll,        // m = 1, 2, 3, ..., N (allantools "all"; O(N^2) in total: at most
+               // kMaxSamplesForAllTaus samples)
+  kPerDecade,  // m = unique(round(10^(j / points_per_decade))), j = 0, 1, ... (log-spaced)
+};
+
+// TauGrid::kAll costs O(N^2): ComputeAllan refuses it (kInvalidArgument) above this many samples.
+inline constexpr std::size_t kMaxSamplesForAllTaus = 100000;
+
+// "octave" | "decade" | "all" | a positive integer N (N per decade). nullopt otherwise;
+// *points_per_decade is set for the integer form.
+std::optional<TauGrid> ParseTauGrid(const std::string& text, int* points_per_decade);
+
+// The dominant power-law noise at one tau, named by the exponent alpha of the *rate* ("frequency")
+// PSD S(f) ~ f^alpha, as in NIST SP 1065. ADEV slope in log-log: alpha = 2 -> -1, 0 -> -1/2,
+// -1 -> 0, -2 -> +1/2 (alpha = 1 also gives about -1; ADEV cannot tell it from alpha = 2).
+enum class PowerLawNoise {
+  kWhitePhase = 2,         // angle (quantization-like) noise
+  kFlickerPhase = 1,
+  kWhiteRate = 0,          // angle random walk
+  kFlickerRate = -1,       // bias instability (flicker floor)
+  kRandomWalkRate = -2,    // rate random walk
+};
+const char* PowerLawNoiseName(PowerLawNoise noise);
+
+struct AllanOptions {
+  // Tau grid (cli.md: --taus octave (default) | decade | all | N).
+  TauGrid grid = TauGrid::kOctave;
+  // Points per decade for TauGrid::kPerDecade. Must be >= 1.
+  int points_per_decade = 10;
+  // Two-sided confidence level of the chi-square intervals (0 < c < 1). 0.683 = "1 sigma".
+  double confidence = 0.683;
+  // Noise terms. ARW is read at this tau (s): sigma(1 s) (method.md 6; IEEE 952 N = sigma(1 s)).
+  double arw_tau_s = 1.0;
+  // RRW is read at this tau (s) on the fitted +1/2 line: K = sigma(3 s) (IEEE 952).
+  double rrw_tau_s = 3.0;
+  // Slope band (log-log) for classifying a segment as white rate (-1/2 +- tol), flicker (0 +- tol)
+  // or random walk (+1/2 +- tol). Must be in (0, 0.25].
+  double slope_tolerance = 0.2;
+  // The minimum and the -1/2 / +1/2 fits use only taus with at least this many equivalent degrees
+  // of freedom (10: ~22% one-sigma relative error of sigma). The curve itself keeps every tau.
+  double min_edf_for_terms = 10.0;
+  bool IsValid(std::string* error) const;
+};
+
+// The curve: one entry per tau, all vectors the same length.
+struct AllanCurve {
+  std::vector<std::int64_t> m;            // averaging factor, tau = m / fs
+  std::vector<double> tau_s;
+  std::vector<double> adev_dps;           // overlapping Allan deviation, deg/s
+  std::vector<double> adev_error_dps;     // allantools' error: adev / sqrt(n_clusters)
+  std::vector<std::int64_t> n_clusters;   // n = N + 1 - 2m (overlapping second differences)
+  std::vector<double> slope;              // local log-log slope d ln(adev) / d ln(tau)
+  std::vector<PowerLawNoise> noise;       // dominant noise assumed for the EDF (IdentifyNoiseLag1)
+  std::vector<double> edf;                // equivalent degrees of freedom (chi-square)
+  std::vector<double> adev_lo_dps;        // chi-square confidence interval at `confidence`
+  std::vector<double> adev_hi_dps;
+  std::size_t size() const { return tau_s.size(); }
+};
+
+// Noise terms read off the curve, each with its convention (method.md section 6).
+struct AllanNoiseTerms {
+  // Angle random walk N = sigma(tau = arw_tau_s) * sqrt(arw_tau_s) in deg/s*sqrt(s), shown in
+  // deg/sqrt(h) (x 60). sigma(1 s) is taken from the curve: exact when 1 s is on the grid,
+  // otherwise interpolated linearly in log-log between the two bracketing taus; if 1 s is below
+  // the smallest tau, extrapolated from the first point along slope -1/2. nullopt when 1 s is
+  // beyond the largest tau.
+  std::optional<double> arw_deg_per_sqrt_h;
+  std::string arw_method;  // "on grid" | "log-log interpolation" | "extrapolated along -1/2" | ""
+  // Second ARW estimate: least-squares fit of ln sigma = ln N - ln(tau)/2 (weights 2 EDF, the
+  // inverse variance of ln sigma) over the usable taus up to the minimum whose local slope is within tol
+  // of -1/2 (IEEE 952 -1/2 line), evaluated at tau = 1 s. nullopt if no such region.
+  std::optional<double> arw_fit_deg_per_sqrt_h;
+  // Number of taus with EDF >= AllanOptions::min_edf_for_terms ("usable"), used below.
+  std::size_t num_taus_used = 0;
+  // Minimum of the ADEV curve over the usable taus, deg/h ("bias stability" in the paper), and
+  // its tau.
+  double adev_min_deg_per_h = 0.0;
+  double tau_at_min_s = 0.0;
+  // True when the minimum is at the largest usable tau: the floor was not reached, min is an
+  // upper bound.
+  bool min_at_longest_tau = false;
+  // Bias instability B = adev_min / 0.664 (IEEE 952 flicker floor sigma = 0.664 B), deg/h.
+  double bias_instability_deg_per_h = 0.0;
+  // Rate random walk K from the +1/2 region: least-squares fit of sigma = K sqrt(tau / 3) (slope
+  // fixed at +1/2, weights 2 EDF) over the usable taus after the minimum whose local slope is within tol
+  // of +1/2,
+  // K = fitted sigma(3 s), shown in deg/h/sqrt(h). nullopt when the curve has no +1/2 region.
+  std::optional<double> rrw_deg_per_h_per_sqrt_h;
+  std::optional<double> rrw_fit_tau_min_s, rrw_fit_tau_max_s;  // the region used
+};
+
+struct AllanResult {
+  std::string axis;             // rate column name ("" when unnamed)
+  double fs_hz = 0.0;
+  std::size_t n_samples = 0;
+  AllanCurve curve;
+  AllanNoiseTerms terms;
+  double confidence = 0.0;
+  // Names of the methods used, for reports and JSON.
+  std::string deviation_method;  // "overlapping ADEV (IEEE 1554 / NIST SP 1065 Eq. 11), allantools oadev"
+  std::string edf_method;        // see EdfOverlappingAdevSimple
+  double seconds = 0.0;          // wall time of the computation
+  std::string BriefReport() const;
+};
+
+// Averaging factors for `n_samples` rate samples, sorted, unique, those with n = N + 1 - 2m <= 1
+// already dropped (as allantools does after computing). Empty when n_samples < 3.
+Result<std::vector<std::int64_t>> AllanAveragingFactors(std::size_t n_samples,
+                                                        const AllanOptions& options);
+
+// Overlapping ADEV of one rate series (deg/s) at fs_hz, with confidence intervals and noise
+// terms. Errors: fs_hz <= 0 or non-finite, fewer than 3 samples, non-finite values
+// (kInvalidInput), invalid options (kInvalidArgument).
+Result<AllanResult> ComputeAllan(std::span<const double> rate_dps, double fs_hz,
+                                 const AllanOptions& options = {});
+
+// One AllanResult per axis of a log, in axis order, each named after its rate column.
+Result<std::vector<AllanResult>> ComputeAllan(const GyroLog& log, const AllanOptions& options = {});
+
+// Noise terms from an already computed curve (used by ComputeAllan; exposed for reuse/tests).
+AllanNoiseTerms ExtractNoiseTerms(const AllanCurve& curve, const AllanOptions& options = {});
+
+// Dominant power-law noise of rate data at averaging factor m by the lag-1 autocorrelation
+// method of Riley & Greenhall (2004): the m-averages are differenced d = 0, 1, 2 times until
+// rho = r1 / (1 + r1) < 0.25; alpha = round(-2 (rho + d)). nullopt when fewer than 32 averages
+// remain (ComputeAllan then carries the previous tau's type over, or uses the local slope).
+std::optional<PowerLawNoise> IdentifyNoiseLag1(std::span<const double> rate_dps, std::int64_t m);
+
+// Equivalent degrees of freedom of the overlapping Allan variance, "simple" empirical formulas
+// of Howe, Allan & Barnes (1981) as tabulated in NIST SP 1065 Table 5 (this is NOT Greenhall &
+// Riley's exact algorithm). num_phase = N + 1 phase points, m = averaging factor.
+double EdfOverlappingAdevSimple(PowerLawNoise noise, double num_phase, double m);
+
+// Quantile of the chi-square distribution with `dof` > 0 degrees of freedom: x with
+// P(X <= x) = p, 0 < p < 1 (regularized incomplete gamma, inverted by safeguarded Newton).
+double ChiSquareQuantile(double p, double dof);
+
+}  // namespace gyrocomp

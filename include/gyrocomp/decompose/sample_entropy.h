@@ -1,0 +1,84 @@
+// Sample entropy (paper Section 3.2, Eqs. 8-13): step 2 of the pipeline.
+//
+// Richman & Moorman (2000), as in antropy (tests/golden/sample_entropy/):
+//   - templates of length m and m+1 start at the same N - m points i = 0 .. N-m-1;
+//   - Chebyshev distance; a match when |x_{i+l} - x_{j+l}| < r for every l (strict: real gyro
+//     data is quantized, so distances equal to r do occur and count as non-matches);
+//   - no self-matches; B = matching pairs of length m, A = of length m+1;
+//   - SampEn = -ln(A / B) (Eq. 13).
+// The fast algorithm counts matching pairs without walking them (orthogonal range counting:
+// a sorted sweep for 1-D templates, a sweep with a Fenwick tree for 2-D ones, divide and conquer
+// over the first coordinate above that), so smooth, narrow-band VMD modes, where nearly every
+// pair matches, cost O(N log^(m) N) rather than O(N^2). It gives the same counts as the
+// brute-force definition, ties included (every comparison is the same floating-point
+// |a - b| < r). A and B are counted by a small pool of threads
+// (the recursion unrolled into independent tasks).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+
+#include "gyrocomp/core/status.h"
+
+namespace gyrocomp {
+
+enum class SampleEntropyAlgorithm {
+  kFast,        // range counting, O(N log^m N)
+  kBruteForce,  // the O(N^2) definition; for tests and tiny inputs
+};
+
+struct SampleEntropyOptions {
+  // Embedding dimension m (template length). 1 .. 10.
+  int m = 2;
+  // Tolerance r as a factor of a standard deviation: r = r_factor * SD, where SD is the
+  // population SD (ddof = 0) of the series measured, or reference_sd when set. > 0.
+  double r_factor = 0.2;
+  // SD to scale r_factor with instead of the measured series' own SD, e.g. the SD of the
+  // original signal when measuring its VMD modes (in the series' unit). > 0 when set.
+  std::optional<double> reference_sd;
+  // Absolute tolerance r in the series' unit; overrides r_factor and reference_sd. > 0.
+  std::optional<double> r_absolute;
+  SampleEntropyAlgorithm algorithm = SampleEntropyAlgorithm::kFast;
+  // Worker threads of the fast algorithm; nullopt = automatic (hardware concurrency, at most 2).
+  // The counts do not depend on it. >= 1 when set.
+  std::optional<int> num_threads;
+
+  bool IsValid(std::string* error) const;  // "SampleEntropyOptions::m = 0: must be in 1..10"
+};
+
+struct SampleEntropyResult {
+  // -ln(A/B). +infinity when A = 0 < B (no match of length m+1); NaN when B = 0 (undefined:
+  // no match of length m at all). `defined` is false only in the latter case.
+  double sample_entropy = 0.0;
+  bool defined = false;
+  int m = 0;
+  double r = 0.0;            // the absolute tolerance used (series unit)
+  std::size_t n = 0;         // series length N
+  std::uint64_t a_matches = 0;  // unordered matching pairs of length m+1
+  std::uint64_t b_matches = 0;  // unordered matching pairs of length m
+  double elapsed_s = 0.0;
+  // "SampEn(m=2, r=0.2021) = 2.1863 (A=1234, B=10987, N=2000) in 0.001 s"
+  std::string BriefReport() const;
+};
+
+// Population standard deviation (ddof = 0), two-pass.
+double PopulationSd(std::span<const double> x);
+
+// Matching-pair counts (A for length m+1, B for length m) for an absolute tolerance r > 0.
+struct TemplateMatchCounts {
+  std::uint64_t a = 0;
+  std::uint64_t b = 0;
+};
+// num_threads: workers for the fast algorithm (0 = automatic: hardware concurrency, at most 2).
+TemplateMatchCounts CountTemplateMatches(std::span<const double> x, int m, double r,
+                                         SampleEntropyAlgorithm algorithm, int num_threads = 0);
+
+// Errors (kInvalidArgument / kInvalidInput): invalid options; a series shorter than m + 2; a
+// non-finite value; r = 0 (a constant series with a relative tolerance).
+Result<SampleEntropyResult> SampleEntropy(std::span<const double> x,
+                                          const SampleEntropyOptions& options = {});
+
+}  // namespace gyrocomp

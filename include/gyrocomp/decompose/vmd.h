@@ -1,0 +1,126 @@
+// Variational mode decomposition (paper Section 3.1, Eqs. 1-7): step 1 of the pipeline.
+//
+// The algorithm is Dragomiretskiy & Zosso (IEEE TSP 62(3), 2014) exactly as in their reference
+// code and its Python port vmdpy (vrcarva/vmdpy), which made tests/golden/vmd/:
+//   - the signal (even length) is mirror-extended by half its length on each side (T = 2N);
+//   - the modes live on the one-sided spectrum (bins 0 .. T/2-1 of the extended signal; the
+//     Nyquist bin and the negative half stay zero);
+//   - Eq. (4) mode update (Wiener filter of the residual), Gauss-Seidel over modes;
+//   - Eq. (5) centre frequency = power-weighted mean frequency of the mode's positive half;
+//   - Eq. (6) dual ascent with step tau (tau = 0: no Lagrangian update);
+//   - stop when sum_k ||u_k^{n} - u_k^{n-1}||^2 / T (+ machine epsilon) <= tol, or after
+//     max_iterations - 1 updates (the reference's Niter convention);
+//   - like the reference, the modes and centre frequencies returned are those of update n-1
+//     (the iterate *before* the one that met the criterion); VmdOptions::return_last_iterate
+//     returns update n instead.
+// Unlike vmdpy, memory is O(K x N) (no per-iteration history), FFTs are FFTW real transforms,
+// and the per-bin work is split over threads (bit-identical results for any thread count).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "gyrocomp/core/status.h"
+
+namespace gyrocomp {
+
+// Initial centre frequencies (vmdpy's `init`).
+enum class VmdInit {
+  kZero,     // 0: all omega_k = 0
+  kUniform,  // 1: omega_k = k * 0.5 / K, k = 0..K-1 (cycles per sample)
+  kRandom,   // 2: sorted exp(log(1/N) + (log 0.5 - log(1/N)) * U(0,1)), U from MT19937(seed)
+             //    drawn as numpy's legacy np.random.rand (53-bit doubles from two 32-bit words)
+};
+
+// Stopping rule.
+enum class VmdStoppingRule {
+  // The reference code: eps + sum_k ||u_k^{n} - u_k^{n-1}||^2 / T <= tol, with the spectra
+  // unnormalised (numpy FFT convention) and T the extended length.
+  kAbsolute,
+  // The paper's Eq. (7): sum_k ||u_k^{n} - u_k^{n-1}||^2 / ||u_k^{n-1}||^2 < tol (modes whose
+  // previous norm is zero contribute 0).
+  kRelative,
+};
+
+struct VmdOptions {
+  // Number of modes K (paper Section 3.1; K = 6 in its experiment). >= 1.
+  int num_modes = 6;
+  // Bandwidth penalty alpha of the reference code (Eq. 4 read with the correct denominator
+  // 1 + alpha (w - w_k)^2, w in cycles per sample). Larger alpha: narrower modes. > 0.
+  // (MATLAB's own `vmd` scales its penalty differently.)
+  double alpha = 2000.0;
+  // Dual-ascent time step tau of Eq. (6). 0 = no Lagrangian update (noise-slack). >= 0.
+  double tau = 0.0;
+  // Convergence tolerance of the stopping rule (dimensionless for kRelative; squared signal
+  // units for kAbsolute). > 0.
+  double tol = 1e-7;
+  // Keep mode 1 at 0 frequency (DC mode).
+  bool dc = false;
+  // Initial centre frequencies.
+  VmdInit init = VmdInit::kUniform;
+  // Seed of the MT19937 stream for VmdInit::kRandom (numpy np.random.seed semantics, 32 bits).
+  std::uint32_t seed = 0;
+  // The reference's Niter: at most max_iterations - 1 updates are run. >= 2.
+  int max_iterations = 500;
+  VmdStoppingRule stopping_rule = VmdStoppingRule::kAbsolute;
+  // Mirror-extend the signal by N/2 samples on each side (reference behaviour). Off: the
+  // signal is decomposed as is (T = N), which wraps its ends around.
+  bool mirror_extension = true;
+  // Return update n (the last) instead of update n-1 (reference behaviour).
+  bool return_last_iterate = false;
+  // Sample rate in Hz, used only to express the centre frequencies in Hz. > 0.
+  double fs_hz = 1.0;
+  // Worker threads for the per-bin updates and the final inverse FFTs. nullopt = automatic
+  // (hardware concurrency, at most 2 here, and 1 for small problems where threads cost more
+  // than they save). Results are bit-identical for any value.
+  std::optional<int> num_threads;
+  // Called after every update with the update count and the stopping quantity (for progress
+  // displays). Empty: not called. Does not change the result.
+  std::function<void(int iteration, double update)> on_iteration;
+
+  // Returns false and a message naming the field ("VmdOptions::alpha = -1: must be > 0").
+  bool IsValid(std::string* error) const;
+};
+
+// What happened.
+struct VmdSummary {
+  int num_modes = 0;
+  std::size_t num_samples = 0;     // N of the input
+  std::size_t extended_length = 0; // T: length of the (mirror-extended, even) working signal
+  // Number of updates run (vmdpy's final loop counter n; the golden `iterations`).
+  int iterations = 0;
+  // True when the stopping rule was met before max_iterations.
+  bool converged = false;
+  // The last value of the stopping quantity (the one compared with tol).
+  double final_update = 0.0;
+  // Centre frequency of each returned mode, in the algorithm's order (mode k started from the
+  // k-th initial frequency): cycles per sample (0 .. 0.5) and Hz (= cycles per sample * fs_hz).
+  std::vector<double> center_frequency_cycles_per_sample;
+  std::vector<double> center_frequency_hz;
+  double fs_hz = 1.0;
+  int threads_used = 1;
+  double elapsed_s = 0.0;  // wall-clock time of DecomposeVmd
+  // "VMD K=6 N=4000: converged after 193 iterations (update 8.1e-08 <= tol 1e-07) in 0.021 s;
+  //  centre frequencies [Hz]: 0.0003 0.0736 ..."
+  std::string BriefReport() const;
+};
+
+struct VmdResult {
+  // modes[k][i]: mode k (algorithm order), sample i; K vectors of N samples.
+  std::vector<std::vector<double>> modes;
+  VmdSummary summary;
+};
+
+// Decomposes `signal` (deg/s or any unit; the modes carry the same unit) into K modes.
+// Errors (kInvalidArgument / kInvalidInput): invalid options, fewer than 4 samples, a
+// non-finite sample. An odd-length input is decomposed with its last sample repeated once (the
+// reference drops it instead) and the modes are cut back to N samples. Not converging within
+// max_iterations is not an error: see summary.converged.
+Result<VmdResult> DecomposeVmd(std::span<const double> signal, const VmdOptions& options = {});
+
+}  // namespace gyrocomp

@@ -1,0 +1,105 @@
+// A gyro log: time, one or more rate axes in deg/s, and (optionally) temperature, taken from a
+// Table by column name, with its sampling checked.
+//
+// Sampling rules (nothing is ever resampled silently):
+//   - a time column must be strictly increasing: a repeat or a step backwards is an error naming
+//     the line;
+//   - irregular sampling (gaps, bursts, jitter beyond SamplingCheck tolerances) is an error whose
+//     message gives the statistics (median dt, min/max dt, number of gaps, longest gap) and says
+//     to pass --resample HZ, unless LogSpec::resample_hz is set; then the log is linearly
+//     interpolated onto a uniform grid and SamplingReport says what was done;
+//   - without a time column, LogSpec::fs_hz gives the rate and time is i / fs.
+#pragma once
+
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "gyrocomp/io/io.h"
+#include "gyrocomp/core/status.h"
+#include "gyrocomp/core/units.h"
+
+namespace gyrocomp {
+
+struct LogSpec {
+  // Name of the time column (seconds). If absent from the file and fs_hz is set, time is i/fs.
+  std::string time_col = "time_s";
+  // Rate column(s): one per axis.
+  std::vector<std::string> rate_cols = {"rate_dps"};
+  // Unit of the rate columns; converted to deg/s on load.
+  RateUnit rate_unit = RateUnit::kDegPerSec;
+  // Temperature column (deg C). Required only when temp_required.
+  std::string temp_col = "temp_c";
+  bool temp_required = false;
+  // Rate columns are required unless the caller only needs other columns.
+  bool rates_required = true;
+  // Sample rate when the file has no time column (Hz). If both are given, the time column wins
+  // and a mismatch beyond 1% is an error.
+  std::optional<double> fs_hz;
+  // Resample irregular logs onto this uniform rate (Hz), by linear interpolation.
+  std::optional<double> resample_hz;
+  // Minimum number of samples the analysis needs; fewer is an error naming the file.
+  std::size_t min_samples = 2;
+  // Tolerances for calling a log irregular: any interval outside
+  // [ (1 - jitter_tolerance) * median_dt, (1 + jitter_tolerance) * median_dt ] counts; the log
+  // is irregular if more than max_irregular_fraction of the intervals do, or any interval is a
+  // gap (> gap_factor * median_dt).
+  double jitter_tolerance = 0.1;
+  double max_irregular_fraction = 0.001;
+  double gap_factor = 1.5;
+
+  // "LogSpec::fs_hz = -1: must be > 0 (Hz)" style message on failure.
+  bool IsValid(std::string* error) const;
+};
+
+// What the sampling check found, and what (if anything) was done about it.
+struct SamplingReport {
+  double fs_hz = 0.0;            // rate of the returned (uniform) log
+  double median_dt_s = 0.0;
+  double min_dt_s = 0.0;
+  double max_dt_s = 0.0;
+  std::size_t num_intervals = 0;
+  std::size_t num_irregular = 0; // intervals outside the jitter tolerance
+  std::size_t num_gaps = 0;      // intervals > gap_factor * median_dt
+  double longest_gap_s = 0.0;
+  bool irregular = false;
+  bool resampled = false;
+  std::size_t rows_in = 0;       // rows read
+  std::size_t rows_out = 0;      // rows after resampling
+  std::size_t rows_in_gaps = 0;  // resampled rows that lie inside a gap (interpolated across it)
+  bool time_from_fs = false;     // no time column: time = i / LogSpec::fs_hz
+  std::string BriefReport() const;
+};
+
+struct GyroLog {
+  std::string source;
+  double fs_hz = 0.0;
+  std::vector<double> time_s;
+  std::vector<std::string> axis_names;          // the rate column names, in order
+  std::vector<std::vector<double>> rate_dps;    // one vector per axis
+  std::vector<double> temp_c;                   // empty when the file has no temperature
+  SamplingReport sampling;
+  std::size_t num_samples() const { return time_s.size(); }
+  bool has_temperature() const { return !temp_c.empty(); }
+};
+
+// Extracts and validates a GyroLog from a table already read by ReadCsv. Errors name the file
+// and, for timestamps, the line (header is line 1, first data row is line 2).
+Result<GyroLog> LoadGyroLog(const Table& table, const LogSpec& spec);
+
+// ReadCsv + LoadGyroLog.
+Result<GyroLog> ReadGyroLog(const std::string& path, const LogSpec& spec);
+
+// Sampling statistics of a time vector (seconds, strictly increasing, at least 2 entries; not
+// checked here). `spec` supplies the jitter/gap tolerances; rows_in = time_s.size().
+SamplingReport MeasureSampling(const std::vector<double>& time_s, const LogSpec& spec);
+
+// Linearly interpolates every column of `table` onto the uniform grid t0 + k / fs_hz
+// (k = 0 .. floor((t_end - t0) * fs_hz)), t0 / t_end = first / last time. The time column must
+// be strictly increasing (errors as in LoadGyroLog). For commands whose output is "the input
+// columns plus ...": they resample the table the same way LoadGyroLog resampled the log, so rows
+// line up (same grid, bit for bit).
+Result<Table> ResampleTable(const Table& table, const std::string& time_col, double fs_hz);
+
+}  // namespace gyrocomp

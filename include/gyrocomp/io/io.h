@@ -1,0 +1,53 @@
+// Reading and writing numeric CSV tables: the first stage of the pipeline.
+//
+// A log is a CSV file with one header row and numeric cells only. Plain text, gzip (".gz",
+// detected by content, not by name) and stdin ("-") are read the same way. Every malformed input
+// is a returned Error of kind kInvalidInput whose message is one line:
+//     "<file>:<line>:<column>: <what is wrong>"
+// (line and column are 1-based; column is the field index, named in the message when known).
+// Writing is atomic: a temporary file in the target's directory, renamed over the target only
+// when complete, so a failure never leaves a partial output file.
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "gyrocomp/core/status.h"
+
+namespace gyrocomp {
+
+// A column-major table of doubles with named columns.
+struct Table {
+  std::string source;                       // file name for messages ("<stdin>" for "-")
+  std::vector<std::string> names;           // header, in file order
+  std::vector<std::vector<double>> columns; // columns[j][i] = row i of column j
+  std::size_t num_rows() const { return columns.empty() ? 0 : columns.front().size(); }
+  // Index of the named column, or -1.
+  int Find(const std::string& name) const;
+  // Appends a column (must have num_rows() entries unless the table is empty).
+  void Add(std::string name, std::vector<double> values);
+};
+
+struct CsvReadOptions {
+  // Field separator. Comma by default; a header that only parses with ';' or '\t' is an error
+  // that says so.
+  char delimiter = ',';
+  // Reject NaN / Inf cells (the gyro pipeline cannot use them). A cell reading "nan" is reported
+  // as "NaN in column 'x'" rather than as non-numeric.
+  bool reject_non_finite = true;
+};
+
+// Reads `path` ("-" = stdin, plain or gzip). Errors: cannot open (kIo); empty file, header only,
+// duplicate or empty header names, ragged row, non-numeric cell, NaN/Inf, binary garbage
+// (NUL bytes or invalid UTF-8 in the header) (kInvalidInput).
+Result<Table> ReadCsv(const std::string& path, const CsvReadOptions& options = {});
+
+// Writes `table` as CSV with shortest round-trip formatting of every double (std::to_chars), so
+// reading it back gives bit-identical values. ".gz" suffix -> gzip. Atomic (temp + rename).
+Status WriteCsvAtomic(const std::string& path, const Table& table);
+
+// Writes `text` to `path` atomically ("-" = stdout, not atomic by nature).
+Status WriteTextAtomic(const std::string& path, const std::string& text);
+
+}  // namespace gyrocomp

@@ -1,0 +1,124 @@
+// The parallel VMD-SE-WFLP-CS-SVR model end to end (paper Section 3.5; method.md section 5):
+//
+//   rate --VMD--> K modes --sample entropy--> drift (C1) | mixed (C2) | noise-only (C3)
+//   C3                  -> discarded
+//   C2                  -> WFLP                          (denoising branch)
+//   C1                  -> C1 - drift_model(T [, dT/dt]) (compensation branch, CS-SVR)
+//   compensated         =  WFLP(C2) + (C1 - drift_model(T))
+// The two branches run concurrently. Allan analysis before and after, and the processing's
+// effective bandwidth, measured (not assumed) by passing sines through it.
+//
+// Also the serial scheme the paper argues against (WFLP on the whole record, then one drift model
+// of the denoised record), for `gyrocomp compare`.
+#pragma once
+
+#include <cstddef>
+#include <functional>
+#include <map>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "gyrocomp/allan/allan.h"
+#include "gyrocomp/denoise/bandwidth.h"
+#include "gyrocomp/drift/drift_model.h"
+#include "gyrocomp/decompose/feature_classifier.h"
+#include "gyrocomp/decompose/sample_entropy.h"
+#include "gyrocomp/core/status.h"
+#include "gyrocomp/decompose/vmd.h"
+#include "gyrocomp/denoise/wflp.h"
+
+namespace gyrocomp {
+
+// Progress of the long stages ("vmd", "entropy", "drift-fit", "bandwidth", ...): fraction in
+// [0, 1] of that stage. Called from the pipeline's thread.
+using ProgressCallback = std::function<void(const std::string& stage, double fraction)>;
+
+struct PipelineOptions {
+  // VMD (its fs_hz is set from the record). Defaults: K = 6, alpha = 2000, tau = 0, tol = 1e-7.
+  VmdOptions vmd;
+  // Sample entropy of each mode (m = 2, r = 0.2 x the mode's SD by default).
+  SampleEntropyOptions entropy;
+  // Sample entropy is computed on at most this many samples of each mode (a contiguous window
+  // from the middle of the record); nullopt = all samples. Exact SampEn is O(N log^2 N) here,
+  // so this only trims time on very long records.
+  std::optional<std::size_t> entropy_max_samples = 200000;
+  // drift / mixed / noise thresholds: the standard-scale rule by default (docs/classification.md).
+  ClassifierOptions classifier = ClassifierOptions::Standard();
+  // If no mode is classified drift, the mode with the lowest centre frequency becomes the drift
+  // feature (the compensation branch needs one); recorded in the result. Off: no compensation.
+  bool force_drift_mode = true;
+  // Denoising branch (WFLP, default db4 level 4, FLP order 8).
+  WflpOptions wflp;
+  // Compensation branch: cs-svr on temperature by default.
+  DriftFitOptions drift;
+  // Allan analysis of the raw and compensated records.
+  AllanOptions allan;
+  // Effective bandwidth: measured on a segment of the record (VMD + the same mode classes +
+  // WFLP) by BandwidthOptions' sine-injection method. Off: bandwidth_hz absent.
+  bool measure_bandwidth = true;
+  std::size_t bandwidth_segment_samples = 1u << 14;
+  int bandwidth_frequencies = 12;
+  bool IsValid(std::string* error) const;
+};
+
+// A record to process: uniformly sampled rate (deg/s) and temperature (deg C).
+struct PipelineInput {
+  std::span<const double> rate_dps;
+  std::span<const double> temp_c;
+  double fs_hz = 0.0;
+  // A rate known to be applied during the run (Earth rate, turntable), deg/s, per sample; empty
+  // when none. It is subtracted from the drift feature before the drift model is fitted, so the
+  // model learns bias only, and it is kept in the output.
+  std::span<const double> known_rate_dps;
+};
+
+struct ModeReport {
+  int index = 0;  // 1-based, algorithm order
+  double center_frequency_hz = 0.0;
+  double center_frequency_cycles_per_sample = 0.0;
+  double sample_entropy = 0.0;
+  FeatureClass feature = FeatureClass::kMixed;
+};
+
+struct PipelineResult {
+  double fs_hz = 0.0;
+  std::size_t num_samples = 0;
+  VmdSummary vmd;
+  std::vector<std::vector<double>> modes;  // K x N (kept for reports)
+  std::vector<ModeReport> mode_reports;
+  std::string classification_rule;
+  bool drift_mode_forced = false;          // see PipelineOptions::force_drift_mode
+  FeatureSignals features;                 // C1 drift, C2 mixed, C3 noise
+  std::vector<double> mixed_denoised;      // WFLP(C2)
+  WflpSummary wflp;
+  std::optional<DriftModel> drift_model;   // absent when there was no drift feature
+  std::vector<double> predicted_drift_dps;
+  std::vector<double> compensated_dps;     // the output
+  AllanResult allan_before;
+  AllanResult allan_after;
+  std::optional<BandwidthResult> bandwidth;
+  std::map<std::string, double> timings_s;  // per stage, wall clock
+  std::vector<std::string> warnings;
+  std::string BriefReport() const;
+};
+
+// Runs the parallel model. Errors: lengths differ, fewer samples than the stages need, non-finite
+// values (kInvalidInput); invalid options (kInvalidArgument); a stage's own errors pass through.
+Result<PipelineResult> RunParallelModel(const PipelineInput& input,
+                                        const PipelineOptions& options = {},
+                                        const ProgressCallback& progress = {});
+
+// The serial scheme: WFLP on the whole record, then one drift model of the denoised record
+// against temperature, compensated = denoised - model(T).
+struct SerialResult {
+  std::vector<double> denoised;
+  std::optional<DriftModel> drift_model;
+  std::vector<double> predicted_drift_dps;
+  std::vector<double> compensated_dps;
+  double seconds = 0.0;
+};
+Result<SerialResult> RunSerialModel(const PipelineInput& input, const PipelineOptions& options = {});
+
+}  // namespace gyrocomp

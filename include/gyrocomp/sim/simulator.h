@@ -1,0 +1,207 @@
+// The thermal-chamber experiment with ground truth (issue 2 part 3; paper Section 4.1).
+//
+// A static (or moving, see TrueRateOptions) single-axis MEMS gyro in a temperature chamber:
+//   chamber_temp_c(t)   piecewise-linear set-point schedule (ThermalProfileOptions)
+//   sensor temp T(t)    first-order lag behind the chamber: dT/dt = (T_ch - T) / thermal_lag_s
+//   temp_c              T + white measurement noise (temp_noise_c)
+//   true_drift_dps      bias(T) polynomial + dT/dt coefficient * dT/dt + hysteresis (BiasModelOptions)
+//   true_noise_dps      ARW (white) + bias instability (flicker, a sum of Gauss-Markov processes)
+//                       + rate random walk + angle quantization (NoiseOptions)
+//   rate_dps            true_rate_dps + true_drift_dps + true_noise_dps (then the optional output
+//                       resolution rounding, whose error is part of true_noise_dps)
+// Deterministic for a seed on every platform: std::mt19937_64 (fully specified by the standard)
+// and our own normal generator (Marsaglia polar method), never std::normal_distribution.
+// The model, its units and the flicker construction: docs/simulator.md.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "gyrocomp/io/io.h"
+#include "gyrocomp/core/status.h"
+
+namespace gyrocomp {
+
+enum class ThermalProfileKind {
+  kPaper,  // paper Section 4.1: room hold, heat to hot, hold, 10 C steps down to cold, each held
+  kSoak,   // constant at soak_temp_c for soak_duration_s
+  kRamp,   // room hold, ramp to ramp_end_c at ramp_rate, hold
+  kCycle,  // room hold, heat to hot, hold, cool to cold, hold, heat to room, hold; num_cycles times
+};
+// "paper" | "soak" | "ramp" | "cycle".
+std::optional<ThermalProfileKind> ParseThermalProfileKind(const std::string& name);
+const char* ThermalProfileKindName(ThermalProfileKind kind);
+
+struct ThermalProfileOptions {
+  ThermalProfileKind kind = ThermalProfileKind::kPaper;
+  // Room (start) temperature, deg C. Paper: "room temperature", 1 h powered on.
+  double room_temp_c = 25.0;
+  double room_hold_s = 3600.0;
+  // Hot and cold extremes, deg C (paper: 60 C and -40 C).
+  double hot_temp_c = 60.0;
+  double cold_temp_c = -40.0;
+  // Step size of the staircase down from hot to cold, deg C (paper: 10 C). Must be > 0.
+  double step_c = 10.0;
+  // Hold at each plateau (hot, every step, cold), s (paper: 1 h).
+  double hold_s = 3600.0;
+  // Chamber slew rate between plateaus, deg C per minute (the paper says only "quickly";
+  // 1 C/min gives a 14.3 h paper run). Must be > 0.
+  double ramp_rate_c_per_min = 1.0;
+  // kSoak: temperature and duration.
+  double soak_temp_c = 25.0;
+  double soak_duration_s = 7200.0;
+  // kRamp: end temperature (start is room_temp_c).
+  double ramp_end_c = 60.0;
+  // kCycle: number of hot-cold-room cycles. Must be >= 1.
+  int num_cycles = 1;
+  bool IsValid(std::string* error) const;
+};
+
+// The chamber set point as a piecewise-linear function of time.
+struct ThermalSchedule {
+  std::vector<double> time_s;  // breakpoints, strictly increasing, time_s[0] = 0
+  std::vector<double> temp_c;  // chamber temperature at each breakpoint
+  double duration_s() const { return time_s.empty() ? 0.0 : time_s.back(); }
+  // Linear interpolation; clamps outside [0, duration].
+  double ChamberTempC(double t_s) const;
+};
+Result<ThermalSchedule> MakeThermalSchedule(const ThermalProfileOptions& options);
+
+// Deterministic bias (drift) as a function of the sensor temperature and its history.
+struct BiasModelOptions {
+  // bias(T) = sum_k poly_dps[k] * (T - reference_temp_c)^k, deg/s per C^k. Default: a cubic,
+  // -0.03 .. +0.09 deg/s over the paper run's -40..60 C (all terms together).
+  double reference_temp_c = 25.0;
+  std::vector<double> poly_dps = {0.02, 1.5e-3, 1.2e-5, -2.0e-7};
+  // Term proportional to the sensor's temperature rate: deg/s per (deg C / s).
+  double dtemp_coeff_dps_per_c_per_s = 1.5;
+  // Hysteresis: coeff * (T - P(T)) where P is a play (backlash) operator of total width
+  // hysteresis_width_c: the term is +coeff*width/2 while heating, -coeff*width/2 while cooling
+  // (after a reversal of at least the width) and changes linearly in between. deg/s per deg C.
+  double hysteresis_width_c = 4.0;
+  double hysteresis_coeff_dps_per_c = 2.0e-3;
+  bool IsValid(std::string* error) const;
+};
+
+// Stochastic error terms in datasheet units (IEEE Std 952). Zero switches a term off.
+struct NoiseOptions {
+  // Angle random walk N, deg/sqrt(h): sigma_ADEV(1 s) = N / 60 deg/s. Paper raw: 1.667.
+  double arw_deg_per_sqrt_h = 1.667;
+  // Bias instability B, deg/h: flicker floor of the ADEV = 0.664 B. The default (44 deg/h,
+  // floor 29.2 deg/h) makes the ADEV minimum of the default paper run (drift included) about
+  // 30 deg/h: 29.1 .. 30.6 over seeds 1-6, at tau 80-160 s.
+  double bias_instability_deg_per_h = 44.0;
+  // Flicker model: a sum of first-order Gauss-Markov processes, equal variances, correlation
+  // times log-spaced from flicker_min_corr_s to flicker_max_corr_s with flicker_per_decade per
+  // decade; the variance is set so the ADEV of the sum equals 0.664 B at the geometric middle of
+  // the band (ripple about +-1% for 2 per decade). The floor is flat within 2% from 20x the
+  // shortest to 1/6 of the longest correlation time; below, the flicker fades like a rate random
+  // walk (so sigma(1 s) stays the ARW's). See docs/simulator.md.
+  double flicker_min_corr_s = 10.0;
+  double flicker_max_corr_s = 1.0e5;
+  int flicker_per_decade = 2;
+  // Rate random walk K, deg/h/sqrt(h): sigma_ADEV(tau) = K sqrt(tau / 3).
+  double rrw_deg_per_h_per_sqrt_h = 3.0;
+  // Angle quantization Q, deg (IEEE 952: sigma_ADEV(tau) = sqrt(3) Q / tau): the integrated angle
+  // is rounded to multiples of Q*sqrt(12) before differentiation. 0 = off.
+  double quantization_deg = 0.0;
+  // Output resolution (LSB) of rate_dps, deg/s: the output is rounded to multiples of it. 0 = off.
+  double resolution_dps = 0.0;
+  bool IsValid(std::string* error) const;
+};
+
+// The real angular rate applied to the gyro (truth the later stages must preserve). Terms add.
+struct TrueRateOptions {
+  // Constant rate, deg/s (e.g. the Earth rate component on the axis, 15.04 deg/h * sin(lat)).
+  double constant_dps = 0.0;
+  // Steps: a rate pattern 0, +A, 0, -A, ... each held step_period_s. A = 0: off.
+  double step_amplitude_dps = 0.0;
+  double step_period_s = 600.0;
+  // Sinusoid A sin(2 pi f t). A = 0: off.
+  double sine_amplitude_dps = 0.0;
+  double sine_frequency_hz = 0.01;
+  bool IsValid(std::string* error) const;
+};
+
+struct SimulatorOptions {
+  // Output sample rate, Hz.
+  double fs_hz = 100.0;
+  // Seed of the generator (std::mt19937_64). Same options + seed -> bit-identical output.
+  std::uint64_t seed = 1;
+  // Record length. nullopt: the profile's own duration. Longer: the last temperature is held.
+  std::optional<double> duration_s;
+  ThermalProfileOptions profile;
+  // First-order thermal lag of the sensor behind the chamber, s. 0: no lag.
+  double thermal_lag_s = 600.0;
+  // White noise of the temperature reading, deg C (1 sigma). 0: exact.
+  double temp_noise_c = 0.01;
+  BiasModelOptions bias;
+  NoiseOptions noise;
+  TrueRateOptions true_rate;
+  bool IsValid(std::string* error) const;
+};
+
+struct SimulationSummary {
+  std::size_t num_samples = 0;
+  double duration_s = 0.0;
+  double seconds = 0.0;  // wall time
+  double min_temp_c = 0.0, max_temp_c = 0.0;          // sensor temperature range
+  double min_drift_dps = 0.0, max_drift_dps = 0.0;    // true drift range
+  double flicker_process_sigma_dps = 0.0;             // sigma of each Gauss-Markov process
+  int num_flicker_processes = 0;
+  std::string BriefReport() const;
+};
+
+struct SimulatedRun {
+  double fs_hz = 0.0;
+  std::vector<double> time_s;           // i / fs
+  std::vector<double> rate_dps;         // what the gyro outputs
+  std::vector<double> temp_c;           // what the temperature sensor outputs
+  std::vector<double> chamber_temp_c;   // chamber set point
+  std::vector<double> sensor_temp_c;    // true sensor temperature (noise-free)
+  std::vector<double> true_rate_dps;    // applied rate
+  std::vector<double> true_drift_dps;   // deterministic temperature-dependent bias
+  std::vector<double> true_noise_dps;   // rate - true_rate - true_drift (all stochastic terms)
+  SimulationSummary summary;
+  std::size_t num_samples() const { return time_s.size(); }
+  // Columns in this order: time_s, rate_dps, temp_c, chamber_temp_c, sensor_temp_c,
+  // true_rate_dps, true_drift_dps, true_noise_dps. The && overload moves the columns out (no
+  // copy of 8 x N doubles: 330 MB for the paper run at 100 Hz).
+  Table ToTable() const&;
+  Table ToTable() &&;
+};
+
+Result<SimulatedRun> Simulate(const SimulatorOptions& options = {});
+
+// Theoretical ADEV (deg/s) at tau_s of the stochastic terms of `noise` (no drift, no true rate):
+// white + Gauss-Markov sum (exact continuous-time formula) + RRW + quantization, added in
+// variance. Used by tests and docs to check the simulator against theory.
+double ModelAdevDps(const NoiseOptions& noise, double tau_s);
+
+// Standard deviation (deg/s) of each flicker Gauss-Markov process and their correlation times (s)
+// for `noise` (empty when bias_instability is 0).
+struct FlickerModel {
+  std::vector<double> corr_time_s;
+  double process_sigma_dps = 0.0;
+};
+FlickerModel MakeFlickerModel(const NoiseOptions& noise);
+
+// Deterministic normal generator: Marsaglia polar method on std::mt19937_64 (53-bit uniforms).
+// Portable: same sequence on every standard library.
+class NormalGenerator {
+ public:
+  explicit NormalGenerator(std::uint64_t seed);
+  double Next();  // N(0, 1)
+  double Uniform();  // [0, 1)
+
+ private:
+  std::mt19937_64 engine_;
+  bool has_spare_ = false;
+  double spare_ = 0.0;
+};
+
+}  // namespace gyrocomp

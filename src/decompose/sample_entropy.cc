@@ -1,0 +1,413 @@
+// Sample entropy: see include/gyrocomp/sample_entropy.h.
+//
+// Fast exact counting of matching template pairs. A template is its start index i; its
+// coordinates are x[i], x[i+1], ..., x[i+d-1] (d = m for B, m + 1 for A). Two templates match
+// when fl(|x[i+l] - x[j+l]|) < r for every l, exactly the brute-force predicate. Because rounding
+// is monotone, for a fixed value v the values w that match it form one contiguous run of the
+// sorted order, so every "window" below is found with the same predicate as the brute force,
+// never with v +- r (which would round differently and break ties on quantized data).
+//
+// Recursion on the coordinate c (templates sorted by coordinate c):
+//   Self(S, c)    pairs within S that match in coordinates c..d-1;
+//   Cross(L, R, c) pairs q in L, p in R (every L value <= every R value in coordinate c);
+//   - if coordinate c spans less than r over S (resp. L u R), every pair matches in it: go to
+//     coordinate c+1 (re-sorted) — for Cross, as a bipartite count (labels);
+//   - two coordinates left: a sweep along c with a window, and a Fenwick tree over the ranks of
+//     coordinate c+1 (per label for bipartite counts);
+//   - one coordinate left: a sweep with a window;
+//   - otherwise split S in halves: Self(left) + Self(right) + Cross(left, right), and Cross by
+//     halving the larger side after trimming both to the values within r of the other.
+// Bipartite counts (pairs with different labels) reuse Self with a label bit on each item.
+#include "gyrocomp/decompose/sample_entropy.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <atomic>
+#include <functional>
+#include <thread>
+#include <limits>
+#include <sstream>
+#include <vector>
+
+namespace gyrocomp {
+namespace {
+
+using Item = std::uint32_t;  // template start index, bit 31 = label
+constexpr Item kLabel = 0x80000000u;
+constexpr Item kIndex = 0x7fffffffu;
+constexpr std::size_t kBruteSelf = 24;    // pairs checked directly below this many items
+constexpr std::size_t kBruteCross = 512;  // |L| * |R| checked directly below this
+
+class PairCounter {
+ public:
+  PairCounter(const double* x, int d, double r) : x_(x), d_(d), r_(r) {}
+
+  // All templates sorted by coordinate 0, as a list of independent counting tasks whose sum
+  // is the pair count: the recursion of Self unrolled `depth` levels (Self of 2^depth pieces
+  // and the Cross between siblings), so that several threads can share the work.
+  static std::vector<std::function<std::uint64_t(PairCounter&)>> Tasks(std::vector<Item>& sorted, int depth) {
+    std::vector<std::function<std::uint64_t(PairCounter&)>> tasks;
+    std::function<void(std::span<Item>, int)> split = [&](std::span<Item> s, int level) {
+      if (level == 0 || s.size() < 4096) {
+        tasks.push_back([s](PairCounter& pc) { return pc.Self(s, 0, false); });
+        return;
+      }
+      const std::size_t mid = s.size() / 2;
+      tasks.push_back([s, mid](PairCounter& pc) { return pc.Cross(s.subspan(0, mid), s.subspan(mid), 0, false); });
+      split(s.subspan(0, mid), level - 1);
+      split(s.subspan(mid), level - 1);
+    };
+    split(sorted, depth);
+    return tasks;
+  }
+
+  std::uint64_t CountSorted(std::span<Item> sorted) { return Self(sorted, 0, false); }
+
+  std::vector<Item> SortedTemplates(std::size_t num_templates) {
+    std::vector<Item> s(num_templates);
+    for (std::size_t i = 0; i < num_templates; ++i) s[i] = static_cast<Item>(i);
+    SortBy(s, 0);
+    return s;
+  }
+
+ private:
+  double V(Item it, int c) const { return x_[(it & kIndex) + c]; }
+  bool Close(double a, double b) const { return std::abs(a - b) < r_; }  // the brute predicate
+  // fl(hi - lo) < r for hi >= lo.
+  bool Within(double lo, double hi) const { return hi - lo < r_; }
+  static bool Label(Item it) { return (it & kLabel) != 0; }
+
+  // Sorts items by coordinate c (keys gathered first: direct comparisons, no indirection).
+  void SortBy(std::vector<Item>& s, int c) {
+    keyed_.resize(s.size());
+    for (std::size_t i = 0; i < s.size(); ++i) keyed_[i] = {V(s[i], c), s[i]};
+    std::sort(keyed_.begin(), keyed_.end(), [](const Keyed& a, const Keyed& b) { return a.key < b.key; });
+    for (std::size_t i = 0; i < s.size(); ++i) s[i] = keyed_[i].item;
+  }
+
+  bool MatchFrom(Item a, Item b, int c) const {
+    const double* xa = x_ + (a & kIndex);
+    const double* xb = x_ + (b & kIndex);
+    for (int l = c; l < d_; ++l) {
+      if (!Close(xa[l], xb[l])) return false;
+    }
+    return true;
+  }
+
+  std::uint64_t AllPairs(std::span<const Item> s, bool bi) const {
+    const std::uint64_t n = s.size();
+    if (!bi) return n * (n - 1) / 2;
+    std::uint64_t ones = 0;
+    for (Item it : s) ones += Label(it);
+    return ones * (n - ones);
+  }
+
+  std::uint64_t Self(std::span<Item> s, int c, bool bi) {
+    const std::size_t n = s.size();
+    if (n < 2) return 0;
+    if (c == d_) return AllPairs(s, bi);
+    if (Within(V(s.front(), c), V(s.back(), c))) {
+      if (c + 1 == d_) return AllPairs(s, bi);
+      std::vector<Item> t(s.begin(), s.end());
+      SortBy(t, c + 1);
+      return Self(t, c + 1, bi);
+    }
+    if (n <= kBruteSelf) {
+      std::uint64_t count = 0;
+      for (std::size_t a = 0; a < n; ++a) {
+        for (std::size_t b = a + 1; b < n; ++b) {
+          if (bi && Label(s[a]) == Label(s[b])) continue;
+          count += MatchFrom(s[a], s[b], c);
+        }
+      }
+      return count;
+    }
+    if (d_ - c == 1) return Sweep1(s, c, bi);
+    if (d_ - c == 2) return Sweep2(s, c, bi);
+    const std::size_t mid = n / 2;
+    return Self(s.subspan(0, mid), c, bi) + Self(s.subspan(mid), c, bi) +
+           Cross(s.subspan(0, mid), s.subspan(mid), c, bi);
+  }
+
+  // One coordinate left: for each p, the earlier items within r form a window [lo, p).
+  std::uint64_t Sweep1(std::span<const Item> s, int c, bool bi) const {
+    std::uint64_t count = 0;
+    std::size_t lo = 0;
+    std::uint64_t ones = 0;  // label-1 items in the window
+    for (std::size_t p = 0; p < s.size(); ++p) {
+      const double vp = V(s[p], c);
+      while (!Within(V(s[lo], c), vp)) ones -= Label(s[lo++]);
+      const std::uint64_t w = p - lo;
+      count += !bi ? w : (Label(s[p]) ? w - ones : ones);
+      ones += Label(s[p]);
+    }
+    return count;
+  }
+
+  // Two coordinates left: window along c, Fenwick tree over the ranks of coordinate c+1.
+  std::uint64_t Sweep2(std::span<const Item> s, int c, bool bi) {
+    const std::size_t n = s.size();
+    // Sorted values of coordinate c+1 with their owners; each item's rank is its position, and
+    // the values matching it form the run [lo, hi) of positions, found by two pointers with
+    // the brute-force predicate (monotone in the value).
+    keyed_.resize(n);
+    for (std::size_t i = 0; i < n; ++i) keyed_[i] = {V(s[i], c + 1), static_cast<Item>(i)};
+    std::sort(keyed_.begin(), keyed_.end(), [](const Keyed& a, const Keyed& b) { return a.key < b.key; });
+    rank_.resize(n);
+    lo_rank_.resize(n);
+    hi_rank_.resize(n);
+    std::size_t lo = 0, hi = 0;
+    for (std::size_t k = 0; k < n; ++k) {
+      const double y = keyed_[k].key;
+      while (!Within(keyed_[lo].key, y)) ++lo;
+      if (hi < k) hi = k;
+      while (hi < n && Within(y, keyed_[hi].key)) ++hi;
+      const Item i = keyed_[k].item;
+      rank_[i] = static_cast<std::uint32_t>(k);
+      lo_rank_[i] = static_cast<std::uint32_t>(lo);
+      hi_rank_[i] = static_cast<std::uint32_t>(hi);
+    }
+    tree_.assign(bi ? 2 * (n + 1) : n + 1, 0);
+    auto add = [&](int label, std::size_t pos, std::uint32_t delta) {
+      std::uint32_t* t = tree_.data() + label * (n + 1);
+      for (std::size_t i = pos + 1; i <= n; i += i & (~i + 1)) t[i] += delta;
+    };
+    auto prefix = [&](int label, std::size_t pos) {  // items with rank < pos
+      const std::uint32_t* t = tree_.data() + label * (n + 1);
+      std::uint32_t sum = 0;
+      for (std::size_t i = pos; i > 0; i -= i & (~i + 1)) sum += t[i];
+      return sum;
+    };
+    std::uint64_t count = 0;
+    std::size_t w = 0;
+    for (std::size_t p = 0; p < n; ++p) {
+      const double vp = V(s[p], c);
+      while (!Within(V(s[w], c), vp)) {
+        add(bi ? Label(s[w]) : 0, rank_[w], ~0u);  // -1
+        ++w;
+      }
+      const int query = bi ? !Label(s[p]) : 0;
+      count += prefix(query, hi_rank_[p]) - prefix(query, lo_rank_[p]);
+      add(bi ? Label(s[p]) : 0, rank_[p], 1u);
+    }
+    return count;
+  }
+
+  // Pairs (q in l, p in r) that match in coordinates c..d-1 (and differ in label when bi), no
+  // order relation between l and r.
+  std::uint64_t Bipartite(std::span<const Item> l, std::span<const Item> r, int c, bool bi) {
+    if (l.empty() || r.empty()) return 0;
+    if (!bi) {
+      std::vector<Item> t;
+      t.reserve(l.size() + r.size());
+      for (Item it : l) t.push_back(it & kIndex);
+      for (Item it : r) t.push_back((it & kIndex) | kLabel);
+      if (c == d_) return AllPairs(t, true);
+      SortBy(t, c);
+      return Self(t, c, true);
+    }
+    // Labels must differ and sides must differ: (l0, r1) and (l1, r0), relabelled by side.
+    std::uint64_t count = 0;
+    for (int side_l_label = 0; side_l_label < 2; ++side_l_label) {
+      std::vector<Item> t;
+      for (Item it : l) {
+        if (Label(it) == static_cast<bool>(side_l_label)) t.push_back(it & kIndex);
+      }
+      const std::size_t nl = t.size();
+      for (Item it : r) {
+        if (Label(it) != static_cast<bool>(side_l_label)) t.push_back((it & kIndex) | kLabel);
+      }
+      if (nl == 0 || nl == t.size()) continue;
+      if (c == d_) {
+        count += static_cast<std::uint64_t>(nl) * (t.size() - nl);
+        continue;
+      }
+      SortBy(t, c);
+      count += Self(t, c, true);
+    }
+    return count;
+  }
+
+  std::uint64_t Cross(std::span<Item> l, std::span<Item> r, int c, bool bi) {
+    if (l.empty() || r.empty()) return 0;
+    // Trim: q in l can match only if it is within r of the smallest p; p only if within r of
+    // the largest q.
+    const double r0 = V(r.front(), c);
+    const auto lcut = std::partition_point(l.begin(), l.end(), [&](Item q) { return !Within(V(q, c), r0); });
+    l = l.subspan(lcut - l.begin());
+    if (l.empty()) return 0;
+    const double lmax = V(l.back(), c);
+    const auto rcut = std::partition_point(r.begin(), r.end(), [&](Item p) { return Within(lmax, V(p, c)); });
+    r = r.subspan(0, rcut - r.begin());
+    if (r.empty()) return 0;
+    if (Within(V(l.front(), c), V(r.back(), c))) return Bipartite(l, r, c + 1, bi);
+    if (l.size() * r.size() <= kBruteCross) {
+      std::uint64_t count = 0;
+      for (Item q : l) {
+        for (Item p : r) {
+          if (bi && Label(q) == Label(p)) continue;
+          count += MatchFrom(q, p, c);
+        }
+      }
+      return count;
+    }
+    if (l.size() >= r.size()) {
+      const std::size_t h = l.size() / 2;
+      return Cross(l.subspan(0, h), r, c, bi) + Cross(l.subspan(h), r, c, bi);
+    }
+    const std::size_t h = r.size() / 2;
+    return Cross(l, r.subspan(0, h), c, bi) + Cross(l, r.subspan(h), c, bi);
+  }
+
+  struct Keyed {
+    double key;
+    Item item;
+  };
+  const double* x_;
+  int d_;
+  double r_;
+  // Scratch reused across calls (Sweep2 runs only at the leaves of the recursion).
+  std::vector<Keyed> keyed_;
+  std::vector<std::uint32_t> rank_, lo_rank_, hi_rank_, tree_;
+};
+
+std::uint64_t CountBrute(std::span<const double> x, int d, double r, std::size_t templates) {
+  std::uint64_t count = 0;
+  for (std::size_t i = 0; i < templates; ++i) {
+    for (std::size_t j = i + 1; j < templates; ++j) {
+      int l = 0;
+      while (l < d && std::abs(x[i + l] - x[j + l]) < r) ++l;
+      count += (l == d);
+    }
+  }
+  return count;
+}
+
+double PairwiseSum(const double* x, std::size_t n) {
+  if (n <= 128) {
+    double s = 0;
+    for (std::size_t i = 0; i < n; ++i) s += x[i];
+    return s;
+  }
+  const std::size_t h = n / 2;
+  return PairwiseSum(x, h) + PairwiseSum(x + h, n - h);
+}
+
+}  // namespace
+
+bool SampleEntropyOptions::IsValid(std::string* error) const {
+  auto fail = [&](const std::string& what) {
+    if (error) *error = "SampleEntropyOptions::" + what;
+    return false;
+  };
+  auto str = [](double v) {
+    std::ostringstream os;
+    os << v;
+    return os.str();
+  };
+  if (m < 1 || m > 10) return fail("m = " + std::to_string(m) + ": must be in 1..10");
+  if (!(r_factor > 0) || !std::isfinite(r_factor)) return fail("r_factor = " + str(r_factor) + ": must be > 0");
+  if (reference_sd && (!(*reference_sd > 0) || !std::isfinite(*reference_sd))) {
+    return fail("reference_sd = " + str(*reference_sd) + ": must be > 0 when set");
+  }
+  if (r_absolute && (!(*r_absolute > 0) || !std::isfinite(*r_absolute))) {
+    return fail("r_absolute = " + str(*r_absolute) + ": must be > 0 when set");
+  }
+  if (num_threads && *num_threads < 1) return fail("num_threads = " + std::to_string(*num_threads) + ": must be >= 1 when set");
+  return true;
+}
+
+std::string SampleEntropyResult::BriefReport() const {
+  std::ostringstream os;
+  os.precision(5);
+  os << "SampEn(m=" << m << ", r=" << r << ") = " << sample_entropy << " (A=" << a_matches
+     << ", B=" << b_matches << ", N=" << n << ") in " << elapsed_s << " s";
+  if (!defined) os << " [undefined: no template match of length m]";
+  return os.str();
+}
+
+double PopulationSd(std::span<const double> x) {
+  if (x.empty()) return 0.0;
+  const double mean = PairwiseSum(x.data(), x.size()) / x.size();
+  std::vector<double> sq(x.size());
+  for (std::size_t i = 0; i < x.size(); ++i) sq[i] = (x[i] - mean) * (x[i] - mean);
+  return std::sqrt(PairwiseSum(sq.data(), sq.size()) / x.size());
+}
+
+TemplateMatchCounts CountTemplateMatches(std::span<const double> x, int m, double r,
+                                         SampleEntropyAlgorithm algorithm, int num_threads) {
+  TemplateMatchCounts out;
+  if (m < 1 || x.size() < static_cast<std::size_t>(m) + 2) return out;
+  const std::size_t templates = x.size() - m;  // the same N - m start points for m and m + 1
+  if (algorithm == SampleEntropyAlgorithm::kBruteForce) {
+    out.b = CountBrute(x, m, r, templates);
+    out.a = CountBrute(x, m + 1, r, templates);
+    return out;
+  }
+  // A (m + 1 coordinates, the long count) split into tasks, B (m coordinates) one more task;
+  // `threads` workers take tasks in order (largest first). Each worker has its own scratch.
+  const int threads = num_threads > 0 ? num_threads
+                                      : std::max(1, std::min(2, static_cast<int>(std::thread::hardware_concurrency())));
+  PairCounter a_sorter(x.data(), m + 1, r);
+  std::vector<Item> sorted = a_sorter.SortedTemplates(templates);
+  auto tasks = PairCounter::Tasks(sorted, threads > 1 ? 3 : 0);
+  std::vector<int> is_b(tasks.size(), 0);
+  tasks.push_back([&](PairCounter&) { return PairCounter(x.data(), m, r).CountSorted(sorted); });
+  is_b.push_back(1);
+  std::vector<std::uint64_t> results(tasks.size(), 0);
+  std::atomic<std::size_t> next{0};
+  auto worker = [&] {
+    PairCounter pc(x.data(), m + 1, r);
+    for (std::size_t t; (t = next.fetch_add(1)) < tasks.size();) results[t] = tasks[t](pc);
+  };
+  std::vector<std::thread> pool;
+  for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
+  worker();
+  for (auto& th : pool) th.join();
+  for (std::size_t t = 0; t < tasks.size(); ++t) (is_b[t] ? out.b : out.a) += results[t];
+  return out;
+}
+
+Result<SampleEntropyResult> SampleEntropy(std::span<const double> x, const SampleEntropyOptions& opt) {
+  const auto start = std::chrono::steady_clock::now();
+  std::string why;
+  if (!opt.IsValid(&why)) return InvalidArgument(why);
+  if (x.size() < static_cast<std::size_t>(opt.m) + 2) {
+    return InvalidInput("sample entropy needs at least m + 2 = " + std::to_string(opt.m + 2) +
+                        " samples, got " + std::to_string(x.size()));
+  }
+  if (x.size() > kIndex) return InvalidInput("sample entropy: series longer than 2^31 - 1 samples");
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    if (!std::isfinite(x[i])) return InvalidInput("sample entropy: value " + std::to_string(i) + " is not finite");
+  }
+  double r = 0.0;
+  if (opt.r_absolute) {
+    r = *opt.r_absolute;
+  } else {
+    r = opt.r_factor * (opt.reference_sd ? *opt.reference_sd : PopulationSd(x));
+  }
+  if (!(r > 0)) {
+    return InvalidInput("sample entropy: tolerance r = 0 (the series is constant), SampEn is undefined");
+  }
+  SampleEntropyResult res;
+  res.m = opt.m;
+  res.r = r;
+  res.n = x.size();
+  const TemplateMatchCounts counts = CountTemplateMatches(x, opt.m, r, opt.algorithm, opt.num_threads.value_or(0));
+  res.a_matches = counts.a;
+  res.b_matches = counts.b;
+  res.defined = counts.b > 0;
+  if (counts.b == 0) {
+    res.sample_entropy = std::numeric_limits<double>::quiet_NaN();
+  } else if (counts.a == 0) {
+    res.sample_entropy = std::numeric_limits<double>::infinity();
+  } else {
+    // Eq. (13): SampEn = -ln(A / B).
+    res.sample_entropy = -std::log(static_cast<double>(counts.a) / static_cast<double>(counts.b));
+  }
+  res.elapsed_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return res;
+}
+
+}  // namespace gyrocomp

@@ -1,0 +1,258 @@
+#include "gyrocomp/decompose/sample_entropy.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "test_support.h"
+
+namespace gyrocomp {
+namespace {
+
+using testing::GoldenPath;
+using testing::ReadGoldenCsv;
+using testing::ReadJsonFile;
+
+// ---- golden vectors (antropy) ----------------------------------------------------------------
+
+TEST(SampleEntropy, MatchesAntropyGoldenValues) {
+  const auto meta = ReadJsonFile(GoldenPath("sample_entropy/sample_entropy.json"));
+  const auto signals = ReadGoldenCsv(GoldenPath("sample_entropy/signals.csv"));
+  int checked = 0;
+  for (const auto& c : meta.at("cases")) {
+    const std::string name = c.at("signal").get<std::string>();
+    SCOPED_TRACE(name + " m=" + std::to_string(c.at("m").get<int>()) + " r_factor=" +
+                 std::to_string(c.at("r_factor").get<double>()));
+    const auto& x = signals.at(name);
+    SampleEntropyOptions opt;
+    opt.m = c.at("m").get<int>();
+    opt.r_factor = c.at("r_factor").get<double>();
+    for (auto algo : {SampleEntropyAlgorithm::kFast, SampleEntropyAlgorithm::kBruteForce}) {
+      opt.algorithm = algo;
+      auto r = SampleEntropy(x, opt);
+      ASSERT_TRUE(r.ok()) << r.error().message;
+      // r: the population SD times the factor; only summation order differs from numpy.
+      EXPECT_NEAR(r->r, c.at("r").get<double>(), 1e-14 * c.at("r").get<double>());
+      // 1e-12 (issue 3): SampEn is -ln of a ratio of integer counts, so equal counts give the
+      // same value up to the last bit of log(); any miscounted pair moves it by > 1e-7 here.
+      EXPECT_NEAR(r->sample_entropy, c.at("sample_entropy").get<double>(), 1e-12);
+    }
+    ++checked;
+  }
+  EXPECT_EQ(checked, 45);
+}
+
+// ---- closed-form cases -----------------------------------------------------------------------
+
+TEST(SampleEntropy, HandCountedAlternatingSeries) {
+  // x = 1 2 1 2 1 2, m = 1, r = 0.5: 5 templates (N - m) of each length.
+  // Length 1: values 1 2 1 2 1 -> pairs of equal values: C(3,2) + C(2,2) = 4 = B.
+  // Length 2: (1,2) (2,1) (1,2) (2,1) (1,2) -> C(3,2) + C(2,2) = 4 = A. SampEn = 0.
+  const std::vector<double> x = {1, 2, 1, 2, 1, 2};
+  SampleEntropyOptions opt;
+  opt.m = 1;
+  opt.r_absolute = 0.5;
+  auto r = SampleEntropy(x, opt);
+  ASSERT_TRUE(r.ok());
+  EXPECT_EQ(r->b_matches, 4u);
+  EXPECT_EQ(r->a_matches, 4u);
+  EXPECT_EQ(r->sample_entropy, 0.0);
+}
+
+TEST(SampleEntropy, DistanceEqualToRIsNotAMatch) {
+  // Steps of exactly 1 (exact in binary): |1 - 0| = 1 is not < r = 1 (strict).
+  const std::vector<double> x = {0, 1, 0, 1, 0, 1, 0};
+  SampleEntropyOptions opt;
+  opt.m = 1;
+  opt.r_absolute = 1.0;
+  auto r = SampleEntropy(x, opt);
+  ASSERT_TRUE(r.ok());
+  // Length 1 over 6 templates 0 1 0 1 0 1: only equal values match: 3 + 3 = 6 pairs.
+  EXPECT_EQ(r->b_matches, 6u);
+  EXPECT_EQ(r->a_matches, 6u);
+  opt.r_absolute = std::nextafter(1.0, 2.0);  // now every pair matches
+  auto r2 = SampleEntropy(x, opt);
+  ASSERT_TRUE(r2.ok());
+  EXPECT_EQ(r2->b_matches, 15u);  // C(6, 2)
+  EXPECT_EQ(r2->a_matches, 15u);
+}
+
+TEST(SampleEntropy, NoLongerMatchGivesInfinityAndNoMatchIsUndefined) {
+  const std::vector<double> x = {0, 10, 0, 20, 0, 30, 0, 40};
+  SampleEntropyOptions opt;
+  opt.m = 1;
+  opt.r_absolute = 0.5;
+  auto r = SampleEntropy(x, opt);  // the zeros match at length 1, never at length 2
+  ASSERT_TRUE(r.ok());
+  EXPECT_GT(r->b_matches, 0u);
+  EXPECT_EQ(r->a_matches, 0u);
+  EXPECT_TRUE(std::isinf(r->sample_entropy));
+  EXPECT_TRUE(r->defined);
+  const std::vector<double> y = {0, 1, 2, 3, 4, 5};
+  auto u = SampleEntropy(y, opt);
+  ASSERT_TRUE(u.ok());
+  EXPECT_FALSE(u->defined);
+  EXPECT_TRUE(std::isnan(u->sample_entropy));
+}
+
+TEST(SampleEntropy, WhiteNoiseScoresAboutTwoPointTwo) {
+  // Gaussian white noise, m = 2, r = 0.2 SD: SampEn -> -ln P(|d| < r) with d ~ N(0, 2 sigma^2),
+  // P = erf(0.2 / 2) = 0.1125 -> 2.185. With N = 20000 the estimate's spread is ~0.02.
+  std::mt19937 rng(1);
+  std::normal_distribution<double> g(0, 1);
+  std::vector<double> x(20000);
+  for (double& v : x) v = g(rng);
+  auto r = SampleEntropy(x);
+  ASSERT_TRUE(r.ok());
+  EXPECT_NEAR(r->sample_entropy, -std::log(std::erf(0.1)), 0.06);
+}
+
+TEST(SampleEntropy, ReferenceSdAndAbsoluteTolerance) {
+  std::vector<double> x(500);
+  for (std::size_t i = 0; i < x.size(); ++i) x[i] = std::sin(0.1 * i);
+  SampleEntropyOptions opt;
+  opt.reference_sd = 2.0;
+  auto a = SampleEntropy(x, opt);
+  ASSERT_TRUE(a.ok());
+  EXPECT_DOUBLE_EQ(a->r, 0.4);
+  opt.r_absolute = 0.4;
+  opt.reference_sd.reset();
+  auto b = SampleEntropy(x, opt);
+  ASSERT_TRUE(b.ok());
+  EXPECT_EQ(a->sample_entropy, b->sample_entropy);
+}
+
+TEST(SampleEntropy, RejectsBadInput) {
+  SampleEntropyOptions opt;
+  opt.m = 0;
+  std::string why;
+  EXPECT_FALSE(opt.IsValid(&why));
+  EXPECT_EQ(why, "SampleEntropyOptions::m = 0: must be in 1..10");
+  EXPECT_EQ(SampleEntropy(std::vector<double>(100, 1.0), opt).error().kind, ErrorKind::kInvalidArgument);
+  auto constant = SampleEntropy(std::vector<double>(100, 3.0));
+  ASSERT_FALSE(constant.ok());
+  EXPECT_EQ(constant.error().kind, ErrorKind::kInvalidInput);
+  EXPECT_FALSE(SampleEntropy(std::vector<double>{1, 2, 3}).ok());  // N < m + 2
+  std::vector<double> bad(50, 1.0);
+  bad[3] = INFINITY;
+  EXPECT_FALSE(SampleEntropy(bad).ok());
+}
+
+// ---- fast == brute force ---------------------------------------------------------------------
+
+struct Case {
+  const char* name;
+  std::vector<double> x;
+};
+
+std::vector<Case> Inputs(std::size_t n, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> g(0, 1);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::vector<Case> cases;
+  Case white{"white", {}}, quant{"quantized", {}}, smooth{"smooth", {}}, walk{"walk_quantized", {}},
+      few{"few_levels", {}}, uni{"uniform", {}};
+  double w = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double v = g(rng);
+    white.x.push_back(v);
+    // ADIS16405-like: 0.05 deg/s steps, so distances equal to r (multiples of 0.05) occur.
+    quant.x.push_back(std::round(v * 0.1 / 0.05) * 0.05);
+    smooth.x.push_back(std::sin(2 * std::numbers::pi * 0.004 * i) + 0.01 * v);
+    w += v;
+    walk.x.push_back(std::round(w / 2) * 0.05);
+    few.x.push_back(static_cast<double>(static_cast<int>(rng() % 3)));
+    uni.x.push_back(u(rng));
+  }
+  cases = {white, quant, smooth, walk, few, uni};
+  return cases;
+}
+
+TEST(SampleEntropy, FastCountsEqualBruteForce) {
+  for (unsigned seed : {1u, 2u}) {
+    for (std::size_t n : {30u, 257u, 1000u}) {
+      for (const Case& c : Inputs(n, seed)) {
+        const double sd = PopulationSd(c.x);
+        // Relative tolerances, and absolute ones that are exact multiples of the quantization
+        // step (ties at distance == r).
+        std::vector<double> rs = {0.1 * sd, 0.2 * sd, 0.5 * sd, 0.05, 0.1, 1.0};
+        for (int m : {1, 2, 3}) {
+          for (double r : rs) {
+            if (!(r > 0)) continue;
+            const auto fast = CountTemplateMatches(c.x, m, r, SampleEntropyAlgorithm::kFast);
+            const auto brute = CountTemplateMatches(c.x, m, r, SampleEntropyAlgorithm::kBruteForce);
+            EXPECT_EQ(fast.a, brute.a) << c.name << " n=" << n << " m=" << m << " r=" << r;
+            EXPECT_EQ(fast.b, brute.b) << c.name << " n=" << n << " m=" << m << " r=" << r;
+          }
+        }
+      }
+    }
+  }
+}
+
+TEST(SampleEntropy, FastEqualsBruteForceOnLongSmoothAndQuantizedSeries) {
+  // Nearly every pair matches here: the case that makes pair-walking methods O(N^2).
+  const std::size_t n = 6000;
+  std::vector<double> slow(n), steps(n);
+  std::mt19937 rng(5);
+  std::normal_distribution<double> g(0, 0.02);
+  for (std::size_t i = 0; i < n; ++i) {
+    slow[i] = std::sin(2 * std::numbers::pi * i / 3000.0) + 0.3 * std::sin(2 * std::numbers::pi * i / 211.0);
+    steps[i] = std::round((slow[i] + g(rng)) / 0.05) * 0.05;
+  }
+  for (const auto* x : {&slow, &steps}) {
+    for (int m : {2, 3}) {
+      for (double r : {0.2 * PopulationSd(*x), 0.15}) {
+        const auto fast = CountTemplateMatches(*x, m, r, SampleEntropyAlgorithm::kFast);
+        const auto brute = CountTemplateMatches(*x, m, r, SampleEntropyAlgorithm::kBruteForce);
+        EXPECT_EQ(fast.a, brute.a) << "m=" << m << " r=" << r;
+        EXPECT_EQ(fast.b, brute.b) << "m=" << m << " r=" << r;
+      }
+    }
+  }
+}
+
+TEST(SampleEntropy, HigherEmbeddingDimensionsAgreeToo) {
+  // m = 4 and 5 exercise the recursion beyond the Fenwick base case.
+  for (const Case& c : Inputs(400, 9)) {
+    for (int m : {4, 5}) {
+      const double r = 0.5 * PopulationSd(c.x);
+      const auto fast = CountTemplateMatches(c.x, m, r, SampleEntropyAlgorithm::kFast);
+      const auto brute = CountTemplateMatches(c.x, m, r, SampleEntropyAlgorithm::kBruteForce);
+      EXPECT_EQ(fast.a, brute.a) << c.name << " m=" << m;
+      EXPECT_EQ(fast.b, brute.b) << c.name << " m=" << m;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace gyrocomp
+
+namespace gyrocomp {
+namespace {
+
+TEST(SampleEntropy, ThreadCountDoesNotChangeCounts) {
+  std::mt19937 rng(3);
+  std::normal_distribution<double> g(0, 1);
+  std::vector<double> x(30000);
+  double phase = 0;
+  for (double& v : x) {
+    phase += 0.05 + 0.02 * g(rng);
+    v = std::round(std::cos(phase) / 0.05) * 0.05;
+  }
+  for (int m : {1, 2, 3}) {
+    const double r = 0.2 * PopulationSd(x);
+    const auto one = CountTemplateMatches(x, m, r, SampleEntropyAlgorithm::kFast, 1);
+    const auto three = CountTemplateMatches(x, m, r, SampleEntropyAlgorithm::kFast, 3);
+    EXPECT_EQ(one.a, three.a) << m;
+    EXPECT_EQ(one.b, three.b) << m;
+    EXPECT_GT(one.a, 0u);
+  }
+}
+
+}  // namespace
+}  // namespace gyrocomp

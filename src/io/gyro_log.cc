@@ -1,0 +1,370 @@
+// GyroLog extraction and sampling checks (include/gyrocomp/gyro_log.h).
+#include "gyrocomp/io/gyro_log.h"
+
+#include <algorithm>
+#include <cctype>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <optional>
+#include <string>
+#include <utility>
+
+namespace gyrocomp {
+
+namespace {
+
+std::string Where(const std::string& file, std::size_t line, std::size_t column) {
+  return file + ":" + std::to_string(line) + ":" + std::to_string(column) + ": ";
+}
+
+// %.*g formatting for messages.
+std::string Num(double v, int digits = 6) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
+  return buf;
+}
+
+// Shortest round-trip text of a value: what the file most likely says.
+std::string Shortest(double v) {
+  char buf[64];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, r.ptr);
+}
+
+std::string Lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+std::string SourceOf(const Table& table) {
+  return table.source.empty() ? std::string("<table>") : table.source;
+}
+
+// "no column 'x' (what) in the header; columns are: a, b, c; did you mean 'X'?"
+Error MissingColumn(const Table& table, const std::string& name, const std::string& what,
+                    const std::string& hint) {
+  std::string list;
+  std::string guess;
+  for (const std::string& n : table.names) {
+    list += (list.empty() ? "" : ", ") + n;
+    if (guess.empty() && Lower(n) == Lower(name)) guess = n;
+  }
+  std::string msg = Where(SourceOf(table), 1, 1) + "missing column '" + name + "' (" + what +
+                    ") in the header; columns are: " + list;
+  if (!guess.empty()) msg += "; did you mean '" + guess + "'?";
+  if (!hint.empty()) msg += "; " + hint;
+  return InvalidInput(msg);
+}
+
+// Data row i is line i + 2 (the header is line 1; ReadCsv rejects blank lines inside the data).
+std::size_t LineOf(std::size_t row) { return row + 2; }
+
+// Strictly increasing time, or an error naming both lines and values.
+std::optional<Error> CheckMonotonic(const Table& table, int time_index) {
+  const std::vector<double>& t = table.columns[static_cast<std::size_t>(time_index)];
+  const std::string& col = table.names[static_cast<std::size_t>(time_index)];
+  for (std::size_t i = 1; i < t.size(); ++i) {
+    if (t[i] > t[i - 1]) continue;
+    const std::string at = Where(SourceOf(table), LineOf(i), static_cast<std::size_t>(time_index) + 1);
+    const std::string here = col + " = " + Shortest(t[i]) + " at line " + std::to_string(LineOf(i));
+    const std::string prev = Shortest(t[i - 1]) + " at line " + std::to_string(LineOf(i - 1));
+    if (t[i] == t[i - 1]) {
+      return InvalidInput(at + "time repeats: " + here + " equals the previous row's " + prev +
+                          " (column " + std::to_string(time_index + 1) + "); timestamps must be "
+                          "strictly increasing");
+    }
+    return InvalidInput(at + "time goes backwards: " + here + " is before the previous row's " +
+                        prev + " (column " + std::to_string(time_index + 1) + ")");
+  }
+  return std::nullopt;
+}
+
+// Linear interpolation of the columns `which` of `table` (time = column `time_index`, strictly
+// increasing) onto t0 + k / fs_hz. Returns the grid and fills `out` (one vector per entry of
+// `which`); counts grid points that fall strictly inside a gap interval.
+std::vector<double> Interpolate(const std::vector<double>& t, const std::vector<const std::vector<double>*>& which,
+                                double fs_hz, double gap_dt_s, std::vector<std::vector<double>>* out,
+                                std::size_t* in_gaps) {
+  const double t0 = t.front();
+  const double span = t.back() - t0;
+  // floor with a relative guard so that an end time that is an exact multiple of 1/fs in
+  // decimal (e.g. 9.99 at 100 Hz) keeps its last grid point despite rounding.
+  const auto m = static_cast<std::size_t>(std::floor(span * fs_hz * (1.0 + 1e-12) + 1e-9)) + 1;
+  std::vector<double> grid(m);
+  out->assign(which.size(), std::vector<double>(m));
+  *in_gaps = 0;
+  std::size_t i = 0;  // t[i] <= tk < t[i+1]
+  for (std::size_t k = 0; k < m; ++k) {
+    double tk = t0 + static_cast<double>(k) / fs_hz;
+    if (tk > t.back()) tk = t.back();  // the guard above may step past the end by an ulp
+    grid[k] = tk;
+    while (i + 2 < t.size() && t[i + 1] <= tk) ++i;
+    const double dt = t[i + 1] - t[i];
+    double w = (tk - t[i]) / dt;  // Linear interpolation weight in [0, 1].
+    w = std::clamp(w, 0.0, 1.0);
+    if (dt > gap_dt_s && tk > t[i] && tk < t[i + 1]) ++*in_gaps;
+    for (std::size_t c = 0; c < which.size(); ++c) {
+      const std::vector<double>& y = *which[c];
+      (*out)[c][k] = w == 0.0 ? y[i] : (w == 1.0 ? y[i + 1] : y[i] + w * (y[i + 1] - y[i]));
+    }
+  }
+  return grid;
+}
+
+}  // namespace
+
+bool LogSpec::IsValid(std::string* error) const {
+  auto fail = [&](const std::string& m) {
+    if (error) *error = "LogSpec::" + m;
+    return false;
+  };
+  if (rates_required && rate_cols.empty()) return fail("rate_cols is empty: name at least one rate column");
+  for (std::size_t a = 0; a < rate_cols.size(); ++a) {
+    if (rate_cols[a].empty()) return fail("rate_cols[" + std::to_string(a) + "] is empty");
+    for (std::size_t b = 0; b < a; ++b) {
+      if (rate_cols[a] == rate_cols[b]) return fail("rate_cols names '" + rate_cols[a] + "' twice");
+    }
+  }
+  if (fs_hz && !(std::isfinite(*fs_hz) && *fs_hz > 0)) return fail("fs_hz = " + Num(*fs_hz) + ": must be > 0 (Hz)");
+  if (resample_hz && !(std::isfinite(*resample_hz) && *resample_hz > 0)) {
+    return fail("resample_hz = " + Num(*resample_hz) + ": must be > 0 (Hz)");
+  }
+  if (min_samples < 1) return fail("min_samples = 0: must be >= 1");
+  if (!(jitter_tolerance > 0 && jitter_tolerance < 1)) {
+    return fail("jitter_tolerance = " + Num(jitter_tolerance) + ": must be in (0, 1) (fraction of the median dt)");
+  }
+  if (!(max_irregular_fraction >= 0 && max_irregular_fraction <= 1)) {
+    return fail("max_irregular_fraction = " + Num(max_irregular_fraction) + ": must be in [0, 1]");
+  }
+  if (!(gap_factor > 1)) return fail("gap_factor = " + Num(gap_factor) + ": must be > 1 (multiple of the median dt)");
+  return true;
+}
+
+std::string SamplingReport::BriefReport() const {
+  std::string s;
+  if (time_from_fs) {
+    s = "no time column: " + std::to_string(rows_in) + " samples at the given " + Num(fs_hz) + " Hz";
+    return s;
+  }
+  s = std::to_string(rows_in) + " samples, " + std::to_string(num_intervals) + " intervals: median dt " +
+      Num(median_dt_s) + " s, min " + Num(min_dt_s) + " s, max " + Num(max_dt_s) + " s; " +
+      std::to_string(num_irregular) + " outside the jitter tolerance, " + std::to_string(num_gaps) +
+      " gaps (longest " + Num(longest_gap_s) + " s); " + (irregular ? "IRREGULAR" : "regular");
+  if (resampled) {
+    s += "; resampled by linear interpolation to " + Num(fs_hz) + " Hz: " + std::to_string(rows_in) +
+         " -> " + std::to_string(rows_out) + " rows, " + std::to_string(rows_in_gaps) +
+         " of them interpolated across gaps (no anti-alias filter)";
+  } else {
+    s += "; " + Num(fs_hz) + " Hz";
+  }
+  return s;
+}
+
+SamplingReport MeasureSampling(const std::vector<double>& time_s, const LogSpec& spec) {
+  SamplingReport r;
+  r.rows_in = r.rows_out = time_s.size();
+  if (time_s.size() < 2) return r;
+  std::vector<double> dt(time_s.size() - 1);
+  for (std::size_t i = 0; i + 1 < time_s.size(); ++i) dt[i] = time_s[i + 1] - time_s[i];
+  r.num_intervals = dt.size();
+  r.min_dt_s = *std::min_element(dt.begin(), dt.end());
+  r.max_dt_s = *std::max_element(dt.begin(), dt.end());
+  {
+    std::vector<double> sorted = dt;
+    const std::size_t mid = sorted.size() / 2;
+    std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(mid), sorted.end());
+    r.median_dt_s = sorted[mid];
+    if (sorted.size() % 2 == 0) {
+      const double lower = *std::max_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(mid));
+      r.median_dt_s = 0.5 * (r.median_dt_s + lower);
+    }
+  }
+  const double lo = (1.0 - spec.jitter_tolerance) * r.median_dt_s;
+  const double hi = (1.0 + spec.jitter_tolerance) * r.median_dt_s;
+  const double gap = spec.gap_factor * r.median_dt_s;
+  for (double d : dt) {
+    if (d < lo || d > hi) ++r.num_irregular;
+    if (d > gap) {
+      ++r.num_gaps;
+      r.longest_gap_s = std::max(r.longest_gap_s, d);
+    }
+  }
+  r.irregular = r.num_gaps > 0 ||
+                static_cast<double>(r.num_irregular) > spec.max_irregular_fraction * static_cast<double>(r.num_intervals);
+  // Mean rate over the record: the best estimate of fs for a regular log.
+  r.fs_hz = static_cast<double>(r.num_intervals) / (time_s.back() - time_s.front());
+  return r;
+}
+
+Result<Table> ResampleTable(const Table& table, const std::string& time_col, double fs_hz) {
+  if (!(std::isfinite(fs_hz) && fs_hz > 0)) return InvalidArgument("resample rate = " + Num(fs_hz) + " Hz: must be > 0");
+  const int ti = table.Find(time_col);
+  if (ti < 0) return MissingColumn(table, time_col, "time, s", "");
+  if (table.num_rows() < 2) {
+    return InvalidInput(Where(SourceOf(table), table.num_rows() + 1, 1) + "too few samples to resample: " +
+                        std::to_string(table.num_rows()));
+  }
+  if (auto e = CheckMonotonic(table, ti)) return *e;
+  std::vector<const std::vector<double>*> which;
+  for (const auto& c : table.columns) which.push_back(&c);
+  std::vector<std::vector<double>> cols;
+  std::size_t in_gaps = 0;
+  const SamplingReport s = MeasureSampling(table.columns[static_cast<std::size_t>(ti)], LogSpec{});
+  const std::vector<double> grid = Interpolate(table.columns[static_cast<std::size_t>(ti)], which, fs_hz,
+                                               LogSpec{}.gap_factor * s.median_dt_s, &cols, &in_gaps);
+  Table out;
+  out.source = table.source;
+  out.names = table.names;
+  out.columns = std::move(cols);
+  out.columns[static_cast<std::size_t>(ti)] = grid;
+  return out;
+}
+
+Result<GyroLog> LoadGyroLog(const Table& table, const LogSpec& spec) {
+  std::string why;
+  if (!spec.IsValid(&why)) return InvalidArgument(why);
+  const std::string src = SourceOf(table);
+  const std::size_t n = table.num_rows();
+
+  GyroLog log;
+  log.source = src;
+  // Rate axes, converted to deg/s.
+  const double to_dps = units::ToDegPerSec(spec.rate_unit);
+  std::vector<int> rate_index;
+  for (const std::string& name : spec.rate_cols) {
+    const int j = table.Find(name);
+    if (j < 0) {
+      if (!spec.rates_required) continue;
+      return MissingColumn(table, name, std::string("rate, ") + std::string(RateUnitName(spec.rate_unit)),
+                           "choose the rate column(s) with --rate-col");
+    }
+    rate_index.push_back(j);
+    log.axis_names.push_back(name);
+  }
+  const int temp_index = table.Find(spec.temp_col);
+  if (temp_index < 0 && spec.temp_required) {
+    return MissingColumn(table, spec.temp_col, "temperature, deg C", "choose it with --temp-col");
+  }
+  const int time_index = table.Find(spec.time_col);
+  if (time_index < 0 && !spec.fs_hz) {
+    return MissingColumn(table, spec.time_col, "time, s",
+                         "name the time column with --time-col, or give the sample rate with --fs HZ");
+  }
+  if (n < spec.min_samples) {
+    return InvalidInput(Where(src, n + 1, 1) + "too few samples: " + std::to_string(n) +
+                        " data row(s), this analysis needs at least " + std::to_string(spec.min_samples));
+  }
+
+  if (time_index < 0) {
+    // Uniform by construction: time = i / fs.
+    const double fs = *spec.fs_hz;
+    log.time_s.resize(n);
+    for (std::size_t i = 0; i < n; ++i) log.time_s[i] = static_cast<double>(i) / fs;
+    log.sampling.time_from_fs = true;
+    log.sampling.fs_hz = fs;
+    log.sampling.median_dt_s = log.sampling.min_dt_s = log.sampling.max_dt_s = 1.0 / fs;
+    log.sampling.num_intervals = n > 0 ? n - 1 : 0;
+    log.sampling.rows_in = log.sampling.rows_out = n;
+    if (spec.resample_hz) {
+      return InvalidInput(Where(src, 1, 1) + "--resample needs a time column ('" + spec.time_col +
+                          "' is missing); a log without one is uniform at --fs already");
+    }
+    for (int j : rate_index) {
+      std::vector<double> r = table.columns[static_cast<std::size_t>(j)];
+      if (to_dps != 1.0) for (double& v : r) v *= to_dps;
+      log.rate_dps.push_back(std::move(r));
+    }
+    if (temp_index >= 0) log.temp_c = table.columns[static_cast<std::size_t>(temp_index)];
+    log.fs_hz = fs;
+    return log;
+  }
+
+  const std::vector<double>& t = table.columns[static_cast<std::size_t>(time_index)];
+  const std::size_t tcol = static_cast<std::size_t>(time_index) + 1;
+  if (n < 2) {
+    return InvalidInput(Where(src, n + 1, tcol) + "too few samples: 1 data row; at least 2 are needed "
+                        "to measure the sampling interval");
+  }
+  if (auto e = CheckMonotonic(table, time_index)) return *e;
+  SamplingReport rep = MeasureSampling(t, spec);
+
+  if (spec.fs_hz) {
+    const double fs_t = 1.0 / rep.median_dt_s;
+    if (std::abs(*spec.fs_hz / fs_t - 1.0) > 0.01) {
+      return InvalidInput(Where(src, 2, tcol) + "--fs " + Num(*spec.fs_hz) + " Hz disagrees with the time column '" +
+                          spec.time_col + "' (median dt " + Num(rep.median_dt_s) + " s = " + Num(fs_t) +
+                          " Hz) by more than 1%; the time column wins: drop --fs or fix the time column");
+    }
+  }
+
+  if (rep.irregular && !spec.resample_hz) {
+    // Point at the longest gap, or else at the first interval outside the tolerance.
+    std::size_t worst = 0;
+    double worst_dev = -1;
+    for (std::size_t i = 0; i + 1 < n; ++i) {
+      const double dev = std::abs((t[i + 1] - t[i]) / rep.median_dt_s - 1.0);
+      if (dev > worst_dev) {
+        worst_dev = dev;
+        worst = i + 1;
+      }
+    }
+    // Burst signature (FIFO read times: many reads ~1/median apart, then a long wait): the mean
+    // rate is far below 1/median dt. The samples themselves may well be uniform then.
+    std::string burst_hint;
+    if (rep.fs_hz < 0.5 / rep.median_dt_s) {
+      burst_hint = " (the times look like bursts of reads: mean rate " + Num(rep.fs_hz, 4) + " Hz vs " +
+                   Num(1.0 / rep.median_dt_s, 4) + " Hz within bursts; if the sensor sampled uniformly, "
+                   "use --time-col none --fs " + Num(rep.fs_hz, 4) + " to take time = i / fs instead)";
+    }
+    const double pct = 100.0 * static_cast<double>(rep.num_irregular) / static_cast<double>(rep.num_intervals);
+    return InvalidInput(
+        Where(src, LineOf(worst), tcol) + "irregular timestamps in '" + spec.time_col + "': " +
+        std::to_string(rep.num_intervals) + " intervals, median dt " + Num(rep.median_dt_s, 4) + " s (" +
+        Num(1.0 / rep.median_dt_s, 4) + " Hz), min " + Num(rep.min_dt_s, 4) + " s, max " + Num(rep.max_dt_s, 4) +
+        " s, mean rate " + Num(rep.fs_hz, 4) + " Hz; " + std::to_string(rep.num_irregular) + " intervals (" +
+        Num(pct, 3) + "%) outside +-" + Num(100 * spec.jitter_tolerance) + "% of the median; " +
+        std::to_string(rep.num_gaps) + " gaps > " + Num(spec.gap_factor) + " x median, longest " +
+        Num(rep.longest_gap_s, 4) + " s; worst interval ends at line " + std::to_string(LineOf(worst)) +
+        ". Pass --resample HZ to interpolate linearly onto a uniform grid" + burst_hint);
+  }
+
+  std::vector<const std::vector<double>*> which;
+  for (int j : rate_index) which.push_back(&table.columns[static_cast<std::size_t>(j)]);
+  if (temp_index >= 0) which.push_back(&table.columns[static_cast<std::size_t>(temp_index)]);
+  std::vector<std::vector<double>> cols;
+  if (spec.resample_hz) {
+    std::size_t in_gaps = 0;
+    log.time_s = Interpolate(t, which, *spec.resample_hz, spec.gap_factor * rep.median_dt_s, &cols, &in_gaps);
+    rep.resampled = true;
+    rep.rows_in_gaps = in_gaps;
+    rep.rows_out = log.time_s.size();
+    rep.fs_hz = *spec.resample_hz;
+    if (rep.rows_out < spec.min_samples) {
+      return InvalidInput(Where(src, n + 1, tcol) + "too few samples after resampling to " + Num(rep.fs_hz) +
+                          " Hz: " + std::to_string(rep.rows_out) + ", this analysis needs at least " +
+                          std::to_string(spec.min_samples));
+    }
+  } else {
+    log.time_s = t;
+    for (const auto* c : which) cols.push_back(*c);
+  }
+  for (std::size_t a = 0; a < rate_index.size(); ++a) {
+    if (to_dps != 1.0) for (double& v : cols[a]) v *= to_dps;
+    log.rate_dps.push_back(std::move(cols[a]));
+  }
+  if (temp_index >= 0) log.temp_c = std::move(cols.back());
+  log.fs_hz = rep.fs_hz;
+  log.sampling = rep;
+  return log;
+}
+
+Result<GyroLog> ReadGyroLog(const std::string& path, const LogSpec& spec) {
+  std::string why;
+  if (!spec.IsValid(&why)) return InvalidArgument(why);
+  Result<Table> table = ReadCsv(path);
+  if (!table) return table.error();
+  return LoadGyroLog(*table, spec);
+}
+
+}  // namespace gyrocomp

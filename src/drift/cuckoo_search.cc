@@ -11,6 +11,7 @@
 #include <random>
 #include <sstream>
 #include <thread>
+#include <utility>
 
 namespace gyrocomp {
 namespace {
@@ -108,13 +109,11 @@ std::vector<double> EvaluateInParallel(const SearchObjective& objective,
   return values;
 }
 
-Result<CuckooSearchSummary> CuckooSearch(const SearchObjective& objective,
-                                         std::span<const SearchDimension> dimensions,
-                                         const CuckooSearchOptions& options) {
-  const auto t0 = std::chrono::steady_clock::now();
-  std::string why;
-  if (!options.IsValid(&why)) return InvalidArgument(why);
-  if (dimensions.empty()) return InvalidArgument("CuckooSearch: no dimensions to search");
+namespace {
+
+// The searched space of `dimensions` (log10 coordinates where log_scale), or an error naming
+// the dimension at fault.
+Result<Space> MakeSpace(std::span<const SearchDimension> dimensions) {
   Space space;
   for (const SearchDimension& d : dimensions) {
     const std::string name = "SearchDimension '" + d.name + "'";
@@ -127,115 +126,183 @@ Result<CuckooSearchSummary> CuckooSearch(const SearchObjective& objective,
     space.hi.push_back(d.log_scale ? std::log10(d.upper) : d.upper);
     space.log.push_back(d.log_scale);
   }
-  const std::size_t dim = dimensions.size();
-  const int n = options.num_nests;
-  int threads = options.num_threads.value_or(static_cast<int>(std::thread::hardware_concurrency()));
-  threads = std::max(1, threads);
-  const long max_evals = options.max_evaluations.value_or(std::numeric_limits<long>::max());
+  return space;
+}
 
-  std::mt19937_64 rng(options.seed);
-  std::uniform_real_distribution<double> uniform(0.0, 1.0);
-  std::normal_distribution<double> gauss(0.0, 1.0);
+using Nests = std::vector<std::vector<double>>;
 
-  CuckooSearchSummary summary;
-  summary.num_threads = threads;
-
-  // Evaluates up to the remaining budget; candidates beyond it are not evaluated (value +inf).
-  auto evaluate = [&](const std::vector<std::vector<double>>& nests) {
-    const long left = max_evals - summary.evaluations;
-    const std::size_t count = static_cast<std::size_t>(std::min<long>(left, static_cast<long>(nests.size())));
-    std::vector<std::vector<double>> natural;
-    for (std::size_t i = 0; i < count; ++i) natural.push_back(space.ToNatural(nests[i]));
-    std::vector<double> v = EvaluateInParallel(objective, natural, threads);
-    v.resize(nests.size(), std::numeric_limits<double>::infinity());
-    summary.evaluations += static_cast<long>(count);
-    return v;
-  };
+// The state of one search: the nests, their values, the best so far, the random generator (all
+// draws happen here, in one thread, in a fixed order) and the summary being filled in.
+class CuckooRun {
+ public:
+  CuckooRun(const SearchObjective& objective, Space space, std::size_t dim, const CuckooSearchOptions& options)
+      : objective_(objective),
+        space_(std::move(space)),
+        dim_(dim),
+        opt_(options),
+        n_(options.num_nests),
+        max_evals_(options.max_evaluations.value_or(std::numeric_limits<long>::max())),
+        rng_(options.seed),
+        sigma_u_(MantegnaSigma(options.levy_beta)) {
+    int threads = options.num_threads.value_or(static_cast<int>(std::thread::hardware_concurrency()));
+    threads = std::max(1, threads);
+    summary_.num_threads = threads;
+  }
 
   // Initial nests: uniform within the bounds (in the searched coordinates).
-  std::vector<std::vector<double>> nest(n, std::vector<double>(dim));
-  for (auto& x : nest)
-    for (std::size_t j = 0; j < dim; ++j) x[j] = space.lo[j] + (space.hi[j] - space.lo[j]) * uniform(rng);
-  std::vector<double> fitness = evaluate(nest);
-  std::size_t best = std::min_element(fitness.begin(), fitness.end()) - fitness.begin();
-  std::vector<double> best_z = nest[best];
-  double best_value = fitness[best];
-  summary.best_value_history.push_back(best_value);
+  void InitialNests() {
+    nest_.assign(n_, std::vector<double>(dim_));
+    for (auto& x : nest_)
+      for (std::size_t j = 0; j < dim_; ++j) x[j] = space_.lo[j] + (space_.hi[j] - space_.lo[j]) * uniform_(rng_);
+    fitness_ = Evaluate(nest_);
+    best_ = std::min_element(fitness_.begin(), fitness_.end()) - fitness_.begin();
+    best_z_ = nest_[best_];
+    best_value_ = fitness_[best_];
+    summary_.best_value_history.push_back(best_value_);
+  }
 
-  const double beta = options.levy_beta;
-  const double sigma_u = MantegnaSigma(beta);
-  auto accept = [&](std::vector<std::vector<double>>& cand, const std::vector<double>& v) {
-    for (int i = 0; i < n; ++i) {
-      if (v[i] <= fitness[i]) {  // greedy replacement, nest order
-        nest[i] = std::move(cand[i]);
-        fitness[i] = v[i];
+  // Step 1, Levy flights (Eq. 24): x' = x + alpha * L .* (x - best) .* N(0, 1), L by Mantegna:
+  // L = u / |v|^(1/beta), u ~ N(0, sigma_u^2), v ~ N(0, 1).
+  Nests LevyFlights() {
+    const double beta = opt_.levy_beta;
+    Nests cand = nest_;
+    for (int i = 0; i < n_; ++i) {
+      for (std::size_t j = 0; j < dim_; ++j) {
+        const double u = gauss_(rng_) * sigma_u_;
+        const double v = gauss_(rng_);
+        const double levy = u / std::pow(std::abs(v), 1.0 / beta);
+        const double step = opt_.step_scale * levy * (nest_[i][j] - best_z_[j]);
+        cand[i][j] += step * gauss_(rng_);
       }
+      space_.Clip(cand[i]);
     }
-    best = std::min_element(fitness.begin(), fitness.end()) - fitness.begin();
-    if (fitness[best] <= best_value) {
-      best_value = fitness[best];
-      best_z = nest[best];
+    return cand;
+  }
+
+  // Step 2, discovery with probability pa: x'' = x + r * (x_p - x_q) on the discovered
+  // components (those where U(0,1) > pa, as in the reference code).
+  Nests Discovery() {
+    std::vector<int> p(n_), q(n_);
+    std::iota(p.begin(), p.end(), 0);
+    std::iota(q.begin(), q.end(), 0);
+    std::shuffle(p.begin(), p.end(), rng_);
+    std::shuffle(q.begin(), q.end(), rng_);
+    Nests cand = nest_;
+    for (int i = 0; i < n_; ++i) {
+      const double r = uniform_(rng_);
+      for (std::size_t j = 0; j < dim_; ++j) {
+        if (uniform_(rng_) > opt_.discovery_probability)
+          cand[i][j] += r * (nest_[p[i]][j] - nest_[q[i]][j]);
+      }
+      space_.Clip(cand[i]);
     }
-  };
-  auto done = [&] {
-    if (options.target_value && best_value <= *options.target_value) {
-      summary.termination = CuckooTermination::kTargetReached;
+    return cand;
+  }
+
+  // Evaluates the candidates and keeps each one that is no worse than its nest.
+  void Replace(Nests& cand) { Accept(cand, Evaluate(cand)); }
+
+  // True (and the reason recorded) once the target or the evaluation budget is reached.
+  bool Done() {
+    if (opt_.target_value && best_value_ <= *opt_.target_value) {
+      summary_.termination = CuckooTermination::kTargetReached;
       return true;
     }
-    if (summary.evaluations >= max_evals) {
-      summary.termination = CuckooTermination::kMaxEvaluations;
+    if (summary_.evaluations >= max_evals_) {
+      summary_.termination = CuckooTermination::kMaxEvaluations;
       return true;
     }
     return false;
-  };
+  }
 
-  for (int gen = 0; gen < options.max_generations && !done(); ++gen) {
-    // 1. Levy flights (Eq. 24): x' = x + alpha * L .* (x - best) .* N(0, 1), L by Mantegna:
-    //    L = u / |v|^(1/beta), u ~ N(0, sigma_u^2), v ~ N(0, 1).
-    std::vector<std::vector<double>> cand = nest;
-    for (int i = 0; i < n; ++i) {
-      for (std::size_t j = 0; j < dim; ++j) {
-        const double u = gauss(rng) * sigma_u;
-        const double v = gauss(rng);
-        const double levy = u / std::pow(std::abs(v), 1.0 / beta);
-        const double step = options.step_scale * levy * (nest[i][j] - best_z[j]);
-        cand[i][j] += step * gauss(rng);
+  // Records generation `generation` (1-based) as complete.
+  void EndGeneration(int generation) {
+    summary_.generations = generation;
+    summary_.best_value_history.push_back(best_value_);
+    if (opt_.on_generation) opt_.on_generation(generation, best_value_);
+  }
+
+  CuckooSearchSummary Finish(std::chrono::steady_clock::time_point t0) {
+    if (summary_.termination == CuckooTermination::kMaxGenerations) Done();  // record the reason
+    summary_.best_x = space_.ToNatural(best_z_);
+    summary_.best_value = best_value_;
+    summary_.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return std::move(summary_);
+  }
+
+ private:
+  // Evaluates up to the remaining budget; candidates beyond it are not evaluated (value +inf).
+  std::vector<double> Evaluate(const Nests& nests) {
+    const long left = max_evals_ - summary_.evaluations;
+    const std::size_t count = static_cast<std::size_t>(std::min<long>(left, static_cast<long>(nests.size())));
+    Nests natural;
+    for (std::size_t i = 0; i < count; ++i) natural.push_back(space_.ToNatural(nests[i]));
+    std::vector<double> v = EvaluateInParallel(objective_, natural, summary_.num_threads);
+    v.resize(nests.size(), std::numeric_limits<double>::infinity());
+    summary_.evaluations += static_cast<long>(count);
+    return v;
+  }
+
+  void Accept(Nests& cand, const std::vector<double>& v) {
+    for (int i = 0; i < n_; ++i) {
+      if (v[i] <= fitness_[i]) {  // greedy replacement, nest order
+        nest_[i] = std::move(cand[i]);
+        fitness_[i] = v[i];
       }
-      space.Clip(cand[i]);
     }
-    accept(cand, evaluate(cand));
-    if (done()) {
-      summary.generations = gen + 1;
-      summary.best_value_history.push_back(best_value);
-      if (options.on_generation) options.on_generation(gen + 1, best_value);
+    best_ = std::min_element(fitness_.begin(), fitness_.end()) - fitness_.begin();
+    if (fitness_[best_] <= best_value_) {
+      best_value_ = fitness_[best_];
+      best_z_ = nest_[best_];
+    }
+  }
+
+  const SearchObjective& objective_;
+  Space space_;
+  std::size_t dim_;
+  const CuckooSearchOptions& opt_;
+  int n_;
+  long max_evals_;
+  std::mt19937_64 rng_;
+  std::uniform_real_distribution<double> uniform_{0.0, 1.0};
+  std::normal_distribution<double> gauss_{0.0, 1.0};
+  double sigma_u_;
+  CuckooSearchSummary summary_;
+  Nests nest_;
+  std::vector<double> fitness_;
+  std::size_t best_ = 0;
+  std::vector<double> best_z_;
+  double best_value_ = 0.0;
+};
+
+}  // namespace
+
+Result<CuckooSearchSummary> CuckooSearch(const SearchObjective& objective,
+                                         std::span<const SearchDimension> dimensions,
+                                         const CuckooSearchOptions& options) {
+  const auto t0 = std::chrono::steady_clock::now();
+  std::string why;
+  if (!options.IsValid(&why)) return InvalidArgument(why);
+  if (dimensions.empty()) return InvalidArgument("CuckooSearch: no dimensions to search");
+  Result<Space> space = MakeSpace(dimensions);
+  if (!space) return space.error();
+
+  CuckooRun run(objective, std::move(*space), dimensions.size(), options);
+  run.InitialNests();
+  for (int gen = 0; gen < options.max_generations && !run.Done(); ++gen) {
+    // 1. Levy flights (Eq. 24), each new egg replacing its nest if no worse.
+    Nests cand = run.LevyFlights();
+    run.Replace(cand);
+    if (run.Done()) {
+      run.EndGeneration(gen + 1);
       break;
     }
-    // 2. Discovery with probability pa: x'' = x + r * (x_p - x_q) on the discovered components.
-    std::vector<int> p(n), q(n);
-    std::iota(p.begin(), p.end(), 0);
-    std::iota(q.begin(), q.end(), 0);
-    std::shuffle(p.begin(), p.end(), rng);
-    std::shuffle(q.begin(), q.end(), rng);
-    cand = nest;
-    for (int i = 0; i < n; ++i) {
-      const double r = uniform(rng);
-      for (std::size_t j = 0; j < dim; ++j) {
-        if (uniform(rng) > options.discovery_probability)
-          cand[i][j] += r * (nest[p[i]][j] - nest[q[i]][j]);
-      }
-      space.Clip(cand[i]);
-    }
-    accept(cand, evaluate(cand));
-    summary.generations = gen + 1;
-    summary.best_value_history.push_back(best_value);
-    if (options.on_generation) options.on_generation(gen + 1, best_value);
+    // 2. Discovery of a fraction of the components (abandon probability pa), then replacement.
+    cand = run.Discovery();
+    run.Replace(cand);
+    run.EndGeneration(gen + 1);
   }
-  if (summary.termination == CuckooTermination::kMaxGenerations) done();  // record the reason
-
-  summary.best_x = space.ToNatural(best_z);
-  summary.best_value = best_value;
-  summary.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  return summary;
+  return run.Finish(t0);
 }
 
 }  // namespace gyrocomp

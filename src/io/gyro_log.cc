@@ -221,6 +221,156 @@ Result<Table> ResampleTable(const Table& table, const std::string& time_col, dou
   return out;
 }
 
+namespace {
+
+// Where the log's columns are in the table (-1: absent) and the names of the rate axes found.
+struct LogColumns {
+  std::vector<int> rate;
+  std::vector<std::string> axis_names;
+  int temp = -1;
+  int time = -1;
+};
+
+// Step 1: find the rate, temperature and time columns; a required one that is missing is an
+// error naming the header's columns and the option that chooses it.
+Result<LogColumns> FindLogColumns(const Table& table, const LogSpec& spec) {
+  LogColumns cols;
+  for (const std::string& name : spec.rate_cols) {
+    const int j = table.Find(name);
+    if (j < 0) {
+      if (!spec.rates_required) continue;
+      return MissingColumn(table, name, std::string("rate, ") + std::string(RateUnitName(spec.rate_unit)),
+                           "choose the rate column(s) with --rate-col");
+    }
+    cols.rate.push_back(j);
+    cols.axis_names.push_back(name);
+  }
+  cols.temp = table.Find(spec.temp_col);
+  if (cols.temp < 0 && spec.temp_required) {
+    return MissingColumn(table, spec.temp_col, "temperature, deg C", "choose it with --temp-col");
+  }
+  cols.time = table.Find(spec.time_col);
+  if (cols.time < 0 && !spec.fs_hz) {
+    return MissingColumn(table, spec.time_col, "time, s",
+                         "name the time column with --time-col, or give the sample rate with --fs HZ");
+  }
+  return cols;
+}
+
+// Step 2a (no time column): uniform by construction, time = i / fs.
+Result<GyroLog> LoadUniformLog(const Table& table, const LogSpec& spec, const LogColumns& cols, GyroLog log) {
+  const std::string& src = log.source;
+  const std::size_t n = table.num_rows();
+  const double to_dps = units::ToDegPerSec(spec.rate_unit);
+  const double fs = *spec.fs_hz;
+  log.time_s.resize(n);
+  for (std::size_t i = 0; i < n; ++i) log.time_s[i] = static_cast<double>(i) / fs;
+  log.sampling.time_from_fs = true;
+  log.sampling.fs_hz = fs;
+  log.sampling.median_dt_s = log.sampling.min_dt_s = log.sampling.max_dt_s = 1.0 / fs;
+  log.sampling.num_intervals = n > 0 ? n - 1 : 0;
+  log.sampling.rows_in = log.sampling.rows_out = n;
+  if (spec.resample_hz) {
+    return InvalidInput(Where(src, 1, 1) + "--resample needs a time column ('" + spec.time_col +
+                        "' is missing); a log without one is uniform at --fs already");
+  }
+  for (int j : cols.rate) {
+    std::vector<double> r = table.columns[static_cast<std::size_t>(j)];
+    if (to_dps != 1.0) for (double& v : r) v *= to_dps;
+    log.rate_dps.push_back(std::move(r));
+  }
+  if (cols.temp >= 0) log.temp_c = table.columns[static_cast<std::size_t>(cols.temp)];
+  log.fs_hz = fs;
+  return log;
+}
+
+// Step 2b: a given --fs must agree with the time column's median interval within 1%.
+std::optional<Error> CheckFsAgreesWithTime(const LogSpec& spec, const SamplingReport& rep, const std::string& src,
+                                           std::size_t tcol) {
+  if (!spec.fs_hz) return std::nullopt;
+  const double fs_t = 1.0 / rep.median_dt_s;
+  if (std::abs(*spec.fs_hz / fs_t - 1.0) > 0.01) {
+    return InvalidInput(Where(src, 2, tcol) + "--fs " + Num(*spec.fs_hz) + " Hz disagrees with the time column '" +
+                        spec.time_col + "' (median dt " + Num(rep.median_dt_s) + " s = " + Num(fs_t) +
+                        " Hz) by more than 1%; the time column wins: drop --fs or fix the time column");
+  }
+  return std::nullopt;
+}
+
+// Step 2c: the error for irregular timestamps without --resample, with the sampling statistics.
+Error IrregularTimestamps(const std::vector<double>& t, const LogSpec& spec, const SamplingReport& rep,
+                          const std::string& src, std::size_t tcol) {
+  const std::size_t n = t.size();
+  // Point at the longest gap, or else at the first interval outside the tolerance.
+  std::size_t worst = 0;
+  double worst_dev = -1;
+  for (std::size_t i = 0; i + 1 < n; ++i) {
+    const double dev = std::abs((t[i + 1] - t[i]) / rep.median_dt_s - 1.0);
+    if (dev > worst_dev) {
+      worst_dev = dev;
+      worst = i + 1;
+    }
+  }
+  // Burst signature (FIFO read times: many reads ~1/median apart, then a long wait): the mean
+  // rate is far below 1/median dt. The samples themselves may well be uniform then.
+  std::string burst_hint;
+  if (rep.fs_hz < 0.5 / rep.median_dt_s) {
+    burst_hint = " (the times look like bursts of reads: mean rate " + Num(rep.fs_hz, 4) + " Hz vs " +
+                 Num(1.0 / rep.median_dt_s, 4) + " Hz within bursts; if the sensor sampled uniformly, "
+                 "use --time-col none --fs " + Num(rep.fs_hz, 4) + " to take time = i / fs instead)";
+  }
+  const double pct = 100.0 * static_cast<double>(rep.num_irregular) / static_cast<double>(rep.num_intervals);
+  return InvalidInput(
+      Where(src, LineOf(worst), tcol) + "irregular timestamps in '" + spec.time_col + "': " +
+      std::to_string(rep.num_intervals) + " intervals, median dt " + Num(rep.median_dt_s, 4) + " s (" +
+      Num(1.0 / rep.median_dt_s, 4) + " Hz), min " + Num(rep.min_dt_s, 4) + " s, max " + Num(rep.max_dt_s, 4) +
+      " s, mean rate " + Num(rep.fs_hz, 4) + " Hz; " + std::to_string(rep.num_irregular) + " intervals (" +
+      Num(pct, 3) + "%) outside +-" + Num(100 * spec.jitter_tolerance) + "% of the median; " +
+      std::to_string(rep.num_gaps) + " gaps > " + Num(spec.gap_factor) + " x median, longest " +
+      Num(rep.longest_gap_s, 4) + " s; worst interval ends at line " + std::to_string(LineOf(worst)) +
+      ". Pass --resample HZ to interpolate linearly onto a uniform grid" + burst_hint);
+}
+
+// Step 3: the rate (converted to deg/s) and temperature columns on the time column's grid, or
+// linearly interpolated onto a uniform grid at --resample HZ.
+Result<GyroLog> TakeTimedColumns(const Table& table, const LogSpec& spec, const LogColumns& cols,
+                                 SamplingReport rep, GyroLog log) {
+  const std::vector<double>& t = table.columns[static_cast<std::size_t>(cols.time)];
+  const std::size_t tcol = static_cast<std::size_t>(cols.time) + 1;
+  const std::size_t n = table.num_rows();
+  const double to_dps = units::ToDegPerSec(spec.rate_unit);
+  std::vector<const std::vector<double>*> which;
+  for (int j : cols.rate) which.push_back(&table.columns[static_cast<std::size_t>(j)]);
+  if (cols.temp >= 0) which.push_back(&table.columns[static_cast<std::size_t>(cols.temp)]);
+  std::vector<std::vector<double>> taken;
+  if (spec.resample_hz) {
+    std::size_t in_gaps = 0;
+    log.time_s = Interpolate(t, which, *spec.resample_hz, spec.gap_factor * rep.median_dt_s, &taken, &in_gaps);
+    rep.resampled = true;
+    rep.rows_in_gaps = in_gaps;
+    rep.rows_out = log.time_s.size();
+    rep.fs_hz = *spec.resample_hz;
+    if (rep.rows_out < spec.min_samples) {
+      return InvalidInput(Where(log.source, n + 1, tcol) + "too few samples after resampling to " + Num(rep.fs_hz) +
+                          " Hz: " + std::to_string(rep.rows_out) + ", this analysis needs at least " +
+                          std::to_string(spec.min_samples));
+    }
+  } else {
+    log.time_s = t;
+    for (const auto* c : which) taken.push_back(*c);
+  }
+  for (std::size_t a = 0; a < cols.rate.size(); ++a) {
+    if (to_dps != 1.0) for (double& v : taken[a]) v *= to_dps;
+    log.rate_dps.push_back(std::move(taken[a]));
+  }
+  if (cols.temp >= 0) log.temp_c = std::move(taken.back());
+  log.fs_hz = rep.fs_hz;
+  log.sampling = rep;
+  return log;
+}
+
+}  // namespace
+
 Result<GyroLog> LoadGyroLog(const Table& table, const LogSpec& spec) {
   std::string why;
   if (!spec.IsValid(&why)) return InvalidArgument(why);
@@ -229,134 +379,26 @@ Result<GyroLog> LoadGyroLog(const Table& table, const LogSpec& spec) {
 
   GyroLog log;
   log.source = src;
-  // Rate axes, converted to deg/s.
-  const double to_dps = units::ToDegPerSec(spec.rate_unit);
-  std::vector<int> rate_index;
-  for (const std::string& name : spec.rate_cols) {
-    const int j = table.Find(name);
-    if (j < 0) {
-      if (!spec.rates_required) continue;
-      return MissingColumn(table, name, std::string("rate, ") + std::string(RateUnitName(spec.rate_unit)),
-                           "choose the rate column(s) with --rate-col");
-    }
-    rate_index.push_back(j);
-    log.axis_names.push_back(name);
-  }
-  const int temp_index = table.Find(spec.temp_col);
-  if (temp_index < 0 && spec.temp_required) {
-    return MissingColumn(table, spec.temp_col, "temperature, deg C", "choose it with --temp-col");
-  }
-  const int time_index = table.Find(spec.time_col);
-  if (time_index < 0 && !spec.fs_hz) {
-    return MissingColumn(table, spec.time_col, "time, s",
-                         "name the time column with --time-col, or give the sample rate with --fs HZ");
-  }
+  Result<LogColumns> cols = FindLogColumns(table, spec);
+  if (!cols) return cols.error();
+  log.axis_names = cols->axis_names;
   if (n < spec.min_samples) {
     return InvalidInput(Where(src, n + 1, 1) + "too few samples: " + std::to_string(n) +
                         " data row(s), this analysis needs at least " + std::to_string(spec.min_samples));
   }
+  if (cols->time < 0) return LoadUniformLog(table, spec, *cols, std::move(log));
 
-  if (time_index < 0) {
-    // Uniform by construction: time = i / fs.
-    const double fs = *spec.fs_hz;
-    log.time_s.resize(n);
-    for (std::size_t i = 0; i < n; ++i) log.time_s[i] = static_cast<double>(i) / fs;
-    log.sampling.time_from_fs = true;
-    log.sampling.fs_hz = fs;
-    log.sampling.median_dt_s = log.sampling.min_dt_s = log.sampling.max_dt_s = 1.0 / fs;
-    log.sampling.num_intervals = n > 0 ? n - 1 : 0;
-    log.sampling.rows_in = log.sampling.rows_out = n;
-    if (spec.resample_hz) {
-      return InvalidInput(Where(src, 1, 1) + "--resample needs a time column ('" + spec.time_col +
-                          "' is missing); a log without one is uniform at --fs already");
-    }
-    for (int j : rate_index) {
-      std::vector<double> r = table.columns[static_cast<std::size_t>(j)];
-      if (to_dps != 1.0) for (double& v : r) v *= to_dps;
-      log.rate_dps.push_back(std::move(r));
-    }
-    if (temp_index >= 0) log.temp_c = table.columns[static_cast<std::size_t>(temp_index)];
-    log.fs_hz = fs;
-    return log;
-  }
-
-  const std::vector<double>& t = table.columns[static_cast<std::size_t>(time_index)];
-  const std::size_t tcol = static_cast<std::size_t>(time_index) + 1;
+  const std::vector<double>& t = table.columns[static_cast<std::size_t>(cols->time)];
+  const std::size_t tcol = static_cast<std::size_t>(cols->time) + 1;
   if (n < 2) {
     return InvalidInput(Where(src, n + 1, tcol) + "too few samples: 1 data row; at least 2 are needed "
                         "to measure the sampling interval");
   }
-  if (auto e = CheckMonotonic(table, time_index)) return *e;
+  if (auto e = CheckMonotonic(table, cols->time)) return *e;
   SamplingReport rep = MeasureSampling(t, spec);
-
-  if (spec.fs_hz) {
-    const double fs_t = 1.0 / rep.median_dt_s;
-    if (std::abs(*spec.fs_hz / fs_t - 1.0) > 0.01) {
-      return InvalidInput(Where(src, 2, tcol) + "--fs " + Num(*spec.fs_hz) + " Hz disagrees with the time column '" +
-                          spec.time_col + "' (median dt " + Num(rep.median_dt_s) + " s = " + Num(fs_t) +
-                          " Hz) by more than 1%; the time column wins: drop --fs or fix the time column");
-    }
-  }
-
-  if (rep.irregular && !spec.resample_hz) {
-    // Point at the longest gap, or else at the first interval outside the tolerance.
-    std::size_t worst = 0;
-    double worst_dev = -1;
-    for (std::size_t i = 0; i + 1 < n; ++i) {
-      const double dev = std::abs((t[i + 1] - t[i]) / rep.median_dt_s - 1.0);
-      if (dev > worst_dev) {
-        worst_dev = dev;
-        worst = i + 1;
-      }
-    }
-    // Burst signature (FIFO read times: many reads ~1/median apart, then a long wait): the mean
-    // rate is far below 1/median dt. The samples themselves may well be uniform then.
-    std::string burst_hint;
-    if (rep.fs_hz < 0.5 / rep.median_dt_s) {
-      burst_hint = " (the times look like bursts of reads: mean rate " + Num(rep.fs_hz, 4) + " Hz vs " +
-                   Num(1.0 / rep.median_dt_s, 4) + " Hz within bursts; if the sensor sampled uniformly, "
-                   "use --time-col none --fs " + Num(rep.fs_hz, 4) + " to take time = i / fs instead)";
-    }
-    const double pct = 100.0 * static_cast<double>(rep.num_irregular) / static_cast<double>(rep.num_intervals);
-    return InvalidInput(
-        Where(src, LineOf(worst), tcol) + "irregular timestamps in '" + spec.time_col + "': " +
-        std::to_string(rep.num_intervals) + " intervals, median dt " + Num(rep.median_dt_s, 4) + " s (" +
-        Num(1.0 / rep.median_dt_s, 4) + " Hz), min " + Num(rep.min_dt_s, 4) + " s, max " + Num(rep.max_dt_s, 4) +
-        " s, mean rate " + Num(rep.fs_hz, 4) + " Hz; " + std::to_string(rep.num_irregular) + " intervals (" +
-        Num(pct, 3) + "%) outside +-" + Num(100 * spec.jitter_tolerance) + "% of the median; " +
-        std::to_string(rep.num_gaps) + " gaps > " + Num(spec.gap_factor) + " x median, longest " +
-        Num(rep.longest_gap_s, 4) + " s; worst interval ends at line " + std::to_string(LineOf(worst)) +
-        ". Pass --resample HZ to interpolate linearly onto a uniform grid" + burst_hint);
-  }
-
-  std::vector<const std::vector<double>*> which;
-  for (int j : rate_index) which.push_back(&table.columns[static_cast<std::size_t>(j)]);
-  if (temp_index >= 0) which.push_back(&table.columns[static_cast<std::size_t>(temp_index)]);
-  std::vector<std::vector<double>> cols;
-  if (spec.resample_hz) {
-    std::size_t in_gaps = 0;
-    log.time_s = Interpolate(t, which, *spec.resample_hz, spec.gap_factor * rep.median_dt_s, &cols, &in_gaps);
-    rep.resampled = true;
-    rep.rows_in_gaps = in_gaps;
-    rep.rows_out = log.time_s.size();
-    rep.fs_hz = *spec.resample_hz;
-    if (rep.rows_out < spec.min_samples) {
-      return InvalidInput(Where(src, n + 1, tcol) + "too few samples after resampling to " + Num(rep.fs_hz) +
-                          " Hz: " + std::to_string(rep.rows_out) + ", this analysis needs at least " +
-                          std::to_string(spec.min_samples));
-    }
-  } else {
-    log.time_s = t;
-    for (const auto* c : which) cols.push_back(*c);
-  }
-  for (std::size_t a = 0; a < rate_index.size(); ++a) {
-    if (to_dps != 1.0) for (double& v : cols[a]) v *= to_dps;
-    log.rate_dps.push_back(std::move(cols[a]));
-  }
-  if (temp_index >= 0) log.temp_c = std::move(cols.back());
-  log.fs_hz = rep.fs_hz;
-  log.sampling = rep;
-  return log;
+  if (auto e = CheckFsAgreesWithTime(spec, rep, src, tcol)) return *e;
+  if (rep.irregular && !spec.resample_hz) return IrregularTimestamps(t, spec, rep, src, tcol);
+  return TakeTimedColumns(table, spec, *cols, rep, std::move(log));
 }
 
 Result<GyroLog> ReadGyroLog(const std::string& path, const LogSpec& spec) {

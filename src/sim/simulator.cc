@@ -116,15 +116,10 @@ double ModelAdevDps(const NoiseOptions& noise, double tau_s) {
 
 // ---- the run --------------------------------------------------------------------------------
 
-Result<SimulatedRun> Simulate(const SimulatorOptions& o) {
-  std::string why;
-  if (!o.IsValid(&why)) return InvalidArgument(why);
-  const auto t_start = std::chrono::steady_clock::now();
-  Result<ThermalSchedule> schedule_or = MakeThermalSchedule(o.profile);
-  if (!schedule_or.ok()) return schedule_or.error();
-  const ThermalSchedule& schedule = *schedule_or;
+namespace {
 
-  const double duration_s = o.duration_s.value_or(schedule.duration_s());
+// Number of samples of the run: duration_s * fs_hz rounded, at least 2 and at most 2e8.
+Result<std::size_t> SampleCount(const SimulatorOptions& o, double duration_s) {
   const double n_real = std::round(duration_s * o.fs_hz);
   if (n_real < 2.0) {
     return InvalidArgument("SimulatorOptions::duration_s = " + std::to_string(duration_s) +
@@ -134,7 +129,153 @@ Result<SimulatedRun> Simulate(const SimulatorOptions& o) {
     return InvalidArgument("SimulatorOptions::duration_s * fs_hz = " + std::to_string(n_real) +
                            ": more than 2e8 samples");
   }
-  const auto n = static_cast<std::size_t>(n_real);
+  return static_cast<std::size_t>(n_real);
+}
+
+// Sensor temperature: first-order thermal lag behind the chamber, and the hysteresis play
+// operator that follows it.
+class SensorThermal {
+ public:
+  SensorThermal(const SimulatorOptions& o, double dt, double chamber_start_c)
+      : lag_s_(o.thermal_lag_s),
+        lag_decay_(lag_s_ > 0.0 ? std::exp(-dt / lag_s_) : 0.0),
+        half_width_c_(0.5 * o.bias.hysteresis_width_c),
+        u_prev_(chamber_start_c),
+        temp_(u_prev_),  // sensor starts in equilibrium with the chamber
+        play_(temp_) {}  // hysteresis play operator state
+
+  // Advances to sample i at chamber temperature u (deg C); returns dtemp/dt of the sensor, C/s.
+  double Step(std::size_t i, double u, double fs_hz) {
+    const double slope_c_per_s = i == 0 ? 0.0 : (u - u_prev_) * fs_hz;
+    if (i > 0) {
+      // First-order lag, exact for a chamber temperature linear over the step (first-order hold).
+      temp_ = lag_s_ > 0.0 ? u - slope_c_per_s * lag_s_ + (temp_ - u_prev_ + slope_c_per_s * lag_s_) * lag_decay_
+                           : u;
+    }
+    u_prev_ = u;
+    const double dtemp_c_per_s = lag_s_ > 0.0 ? (u - temp_) / lag_s_ : slope_c_per_s;
+    play_ = std::clamp(play_, temp_ - half_width_c_, temp_ + half_width_c_);
+    return dtemp_c_per_s;
+  }
+  double temp_c() const { return temp_; }
+  double play_c() const { return play_; }
+
+ private:
+  double lag_s_;
+  double lag_decay_;
+  double half_width_c_;
+  double u_prev_;
+  double temp_;
+  double play_;
+};
+
+// Bias drift: polynomial in temperature + temperature-rate term + hysteresis term.
+double BiasDriftDps(const BiasModelOptions& bias, double temp_c, double dtemp_c_per_s, double play_c) {
+  return Polynomial(bias.poly_dps, temp_c - bias.reference_temp_c) +
+         bias.dtemp_coeff_dps_per_c_per_s * dtemp_c_per_s + bias.hysteresis_coeff_dps_per_c * (temp_c - play_c);
+}
+
+// IEEE 952 noise terms and the output quantization. Random numbers come from the caller's
+// generator, in the order: flicker initial states (construction), then per sample white,
+// flicker drives, rate random walk.
+class SensorNoise {
+ public:
+  SensorNoise(const SimulatorOptions& o, double dt, NormalGenerator& gen)
+      : fs_hz_(o.fs_hz), dt_(dt), resolution_dps_(o.noise.resolution_dps), flicker_(MakeFlickerModel(o.noise)) {
+    const NoiseOptions& nz = o.noise;
+    // White rate noise per sample: sigma_ADEV(tau) = N / sqrt(tau) needs sigma = N sqrt(fs).
+    white_sigma_dps_ = ArwDpsSqrtS(nz) * std::sqrt(o.fs_hz);
+    // Rate random walk increment per sample: K sqrt(dt) gives sigma_ADEV^2 = K^2 tau / 3.
+    rrw_step_dps_ = RrwDpsPerSqrtS(nz) * std::sqrt(dt);
+    // Angle quantization: rounding the angle to q = sqrt(12) Q gives sigma_ADEV = sqrt(3) Q / tau.
+    angle_step_deg_ = std::sqrt(12.0) * nz.quantization_deg;
+    // Flicker: exact discretization of each Gauss-Markov process, started in its stationary state.
+    const std::size_t nf = flicker_.corr_time_s.size();
+    gm_state_.resize(nf);
+    gm_phi_.resize(nf);
+    gm_drive_.resize(nf);
+    for (std::size_t k = 0; k < nf; ++k) {
+      gm_phi_[k] = std::exp(-dt / flicker_.corr_time_s[k]);
+      gm_drive_[k] = flicker_.process_sigma_dps * std::sqrt(1.0 - gm_phi_[k] * gm_phi_[k]);
+      gm_state_[k] = flicker_.process_sigma_dps * gen.Next();
+    }
+  }
+
+  // White + flicker + rate random walk noise of one sample (deg/s); advances the states.
+  double Next(NormalGenerator& gen) {
+    double noise = 0.0;
+    if (white_sigma_dps_ > 0.0) noise += white_sigma_dps_ * gen.Next();
+    for (std::size_t k = 0; k < gm_state_.size(); ++k) {
+      noise += gm_state_[k];
+      gm_state_[k] = gm_phi_[k] * gm_state_[k] + gm_drive_[k] * gen.Next();
+    }
+    if (rrw_step_dps_ > 0.0) {
+      noise += rrw_dps_;
+      rrw_dps_ += rrw_step_dps_ * gen.Next();
+    }
+    return noise;
+  }
+
+  // Angle quantization, then the output resolution, applied to the output rate `out` (deg/s).
+  double Quantize(double out) {
+    if (angle_step_deg_ > 0.0) {
+      angle_deg_ += out * dt_;
+      const double angle_q = std::round(angle_deg_ / angle_step_deg_) * angle_step_deg_;
+      out = (angle_q - angle_q_prev_) * fs_hz_;
+      angle_q_prev_ = angle_q;
+    }
+    if (resolution_dps_ > 0.0) out = std::round(out / resolution_dps_) * resolution_dps_;
+    return out;
+  }
+
+  const FlickerModel& flicker() const { return flicker_; }
+
+ private:
+  double fs_hz_;
+  double dt_;
+  double resolution_dps_;
+  FlickerModel flicker_;
+  double white_sigma_dps_ = 0.0;
+  double rrw_step_dps_ = 0.0;
+  double angle_step_deg_ = 0.0;
+  std::vector<double> gm_state_, gm_phi_, gm_drive_;
+  double rrw_dps_ = 0.0;
+  double angle_deg_ = 0.0;
+  double angle_q_prev_ = 0.0;
+};
+
+// Fills the run's summary from its columns.
+void Summarize(const SimulatorOptions& o, const FlickerModel& flicker,
+               std::chrono::steady_clock::time_point t_start, SimulatedRun* run) {
+  const std::size_t n = run->time_s.size();
+  SimulationSummary& s = run->summary;
+  s.num_samples = n;
+  s.duration_s = static_cast<double>(n) / o.fs_hz;
+  const auto [tmin, tmax] = std::minmax_element(run->sensor_temp_c.begin(), run->sensor_temp_c.end());
+  s.min_temp_c = *tmin;
+  s.max_temp_c = *tmax;
+  const auto [dmin, dmax] = std::minmax_element(run->true_drift_dps.begin(), run->true_drift_dps.end());
+  s.min_drift_dps = *dmin;
+  s.max_drift_dps = *dmax;
+  s.flicker_process_sigma_dps = flicker.process_sigma_dps;
+  s.num_flicker_processes = static_cast<int>(flicker.corr_time_s.size());
+  s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+}
+
+}  // namespace
+
+Result<SimulatedRun> Simulate(const SimulatorOptions& o) {
+  std::string why;
+  if (!o.IsValid(&why)) return InvalidArgument(why);
+  const auto t_start = std::chrono::steady_clock::now();
+  Result<ThermalSchedule> schedule_or = MakeThermalSchedule(o.profile);
+  if (!schedule_or.ok()) return schedule_or.error();
+  const ThermalSchedule& schedule = *schedule_or;
+
+  const double duration_s = o.duration_s.value_or(schedule.duration_s());
+  const Result<std::size_t> n_or = SampleCount(o, duration_s);
+  if (!n_or.ok()) return n_or.error();
+  const std::size_t n = *n_or;
   const double dt = 1.0 / o.fs_hz;
 
   SimulatedRun run;
@@ -145,72 +286,18 @@ Result<SimulatedRun> Simulate(const SimulatorOptions& o) {
   }
 
   NormalGenerator gen(o.seed);
-  const NoiseOptions& nz = o.noise;
-  const BiasModelOptions& bias = o.bias;
-  // White rate noise per sample: sigma_ADEV(tau) = N / sqrt(tau) needs sigma = N sqrt(fs).
-  const double white_sigma_dps = ArwDpsSqrtS(nz) * std::sqrt(o.fs_hz);
-  // Rate random walk increment per sample: K sqrt(dt) gives sigma_ADEV^2 = K^2 tau / 3.
-  const double rrw_step_dps = RrwDpsPerSqrtS(nz) * std::sqrt(dt);
-  // Angle quantization: rounding the angle to q = sqrt(12) Q gives sigma_ADEV = sqrt(3) Q / tau.
-  const double angle_step_deg = std::sqrt(12.0) * nz.quantization_deg;
-
-  // Flicker: exact discretization of each Gauss-Markov process, started in its stationary state.
-  const FlickerModel flicker = MakeFlickerModel(nz);
-  const std::size_t nf = flicker.corr_time_s.size();
-  std::vector<double> gm_state(nf), gm_phi(nf), gm_drive(nf);
-  for (std::size_t k = 0; k < nf; ++k) {
-    gm_phi[k] = std::exp(-dt / flicker.corr_time_s[k]);
-    gm_drive[k] = flicker.process_sigma_dps * std::sqrt(1.0 - gm_phi[k] * gm_phi[k]);
-    gm_state[k] = flicker.process_sigma_dps * gen.Next();
-  }
-
-  const double lag_s = o.thermal_lag_s;
-  const double lag_decay = lag_s > 0.0 ? std::exp(-dt / lag_s) : 0.0;
-  const double half_width_c = 0.5 * bias.hysteresis_width_c;
-  double u_prev = schedule.ChamberTempC(0.0);
-  double temp = u_prev;     // sensor starts in equilibrium with the chamber
-  double play = temp;       // hysteresis play operator state
-  double rrw_dps = 0.0;
-  double angle_deg = 0.0;
-  double angle_q_prev = 0.0;
+  SensorNoise noise_model(o, dt, gen);  // draws the flicker initial states
+  SensorThermal thermal(o, dt, schedule.ChamberTempC(0.0));
 
   for (std::size_t i = 0; i < n; ++i) {
     const double t = static_cast<double>(i) / o.fs_hz;
     const double u = schedule.ChamberTempC(t);
-    const double slope_c_per_s = i == 0 ? 0.0 : (u - u_prev) * o.fs_hz;
-    if (i > 0) {
-      // First-order lag, exact for a chamber temperature linear over the step (first-order hold).
-      temp = lag_s > 0.0 ? u - slope_c_per_s * lag_s + (temp - u_prev + slope_c_per_s * lag_s) * lag_decay
-                         : u;
-    }
-    u_prev = u;
-    const double dtemp_c_per_s = lag_s > 0.0 ? (u - temp) / lag_s : slope_c_per_s;
-    play = std::clamp(play, temp - half_width_c, temp + half_width_c);
-
-    const double drift = Polynomial(bias.poly_dps, temp - bias.reference_temp_c) +
-                         bias.dtemp_coeff_dps_per_c_per_s * dtemp_c_per_s +
-                         bias.hysteresis_coeff_dps_per_c * (temp - play);
+    const double dtemp_c_per_s = thermal.Step(i, u, o.fs_hz);
+    const double temp = thermal.temp_c();
+    const double drift = BiasDriftDps(o.bias, temp, dtemp_c_per_s, thermal.play_c());
     const double truth = TrueRateDps(o.true_rate, t);
-
-    double noise = 0.0;
-    if (white_sigma_dps > 0.0) noise += white_sigma_dps * gen.Next();
-    for (std::size_t k = 0; k < nf; ++k) {
-      noise += gm_state[k];
-      gm_state[k] = gm_phi[k] * gm_state[k] + gm_drive[k] * gen.Next();
-    }
-    if (rrw_step_dps > 0.0) {
-      noise += rrw_dps;
-      rrw_dps += rrw_step_dps * gen.Next();
-    }
-
-    double out = truth + drift + noise;
-    if (angle_step_deg > 0.0) {
-      angle_deg += out * dt;
-      const double angle_q = std::round(angle_deg / angle_step_deg) * angle_step_deg;
-      out = (angle_q - angle_q_prev) * o.fs_hz;
-      angle_q_prev = angle_q;
-    }
-    if (nz.resolution_dps > 0.0) out = std::round(out / nz.resolution_dps) * nz.resolution_dps;
+    const double noise = noise_model.Next(gen);
+    const double out = noise_model.Quantize(truth + drift + noise);
 
     run.time_s[i] = t;
     run.rate_dps[i] = out;
@@ -222,18 +309,7 @@ Result<SimulatedRun> Simulate(const SimulatorOptions& o) {
     run.true_noise_dps[i] = out - truth - drift;
   }
 
-  SimulationSummary& s = run.summary;
-  s.num_samples = n;
-  s.duration_s = static_cast<double>(n) / o.fs_hz;
-  const auto [tmin, tmax] = std::minmax_element(run.sensor_temp_c.begin(), run.sensor_temp_c.end());
-  s.min_temp_c = *tmin;
-  s.max_temp_c = *tmax;
-  const auto [dmin, dmax] = std::minmax_element(run.true_drift_dps.begin(), run.true_drift_dps.end());
-  s.min_drift_dps = *dmin;
-  s.max_drift_dps = *dmax;
-  s.flicker_process_sigma_dps = flicker.process_sigma_dps;
-  s.num_flicker_processes = static_cast<int>(nf);
-  s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+  Summarize(o, noise_model.flicker(), t_start, &run);
   return run;
 }
 

@@ -378,15 +378,21 @@ Result<AllanResult> ComputeAllan(std::span<const double> y, double fs_hz, const 
   }
   const auto t0 = std::chrono::steady_clock::now();
   const std::size_t n = y.size();
+  // Scale first: ADEV is scale-equivariant, adev(s y) = |s| adev(y), so the curve is computed on
+  // y / s with s = max |y| and multiplied back by s. Squares then neither overflow (|y| near
+  // 1e300) nor underflow (|y| near 1e-300); for ordinary data s only rounds the last bit.
+  double scale = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!std::isfinite(y[i])) {
+      return InvalidInput("Allan deviation: sample " + std::to_string(i) + " is not finite");
+    }
+    scale = std::max(scale, std::abs(y[i]));
+  }
+  if (scale == 0.0) scale = 1.0;
   double mean = 0.0;
   {
     BlockedSum s;
-    for (std::size_t i = 0; i < n; ++i) {
-      if (!std::isfinite(y[i])) {
-        return InvalidInput("Allan deviation: sample " + std::to_string(i) + " is not finite");
-      }
-      s.Add(y[i]);
-    }
+    for (std::size_t i = 0; i < n; ++i) s.Add(y[i] / scale);
     mean = s.Total() / static_cast<double>(n);
   }
   // Phase (angle) record x_0 = 0, x_{i+1} = dt * cumsum(y - mean), as allantools frequency2phase.
@@ -395,7 +401,7 @@ Result<AllanResult> ComputeAllan(std::span<const double> y, double fs_hz, const 
   x[0] = 0.0;
   double acc = 0.0;
   for (std::size_t i = 0; i < n; ++i) {
-    acc += y[i] - mean;
+    acc += y[i] / scale - mean;
     x[i + 1] = acc * dt;
   }
 
@@ -420,7 +426,13 @@ Result<AllanResult> ComputeAllan(std::span<const double> y, double fs_hz, const 
       const double d = (x2[i] - 2.0 * x1[i]) + x0[i];
       s.Add(d * d);
     }
-    const double adev = std::sqrt(s.Total() / (2.0 * static_cast<double>(count))) / static_cast<double>(m) * fs_hz;
+    const double adev =
+        std::sqrt(s.Total() / (2.0 * static_cast<double>(count))) / static_cast<double>(m) * fs_hz * scale;
+    if (!std::isfinite(adev)) {
+      return InvalidInput("Allan deviation: rate values up to " + std::to_string(scale) +
+                          " deg/s give a deviation beyond the range of a double at tau = " +
+                          std::to_string(static_cast<double>(m) / fs_hz) + " s");
+    }
     c.m.push_back(m);
     c.tau_s.push_back(static_cast<double>(m) / fs_hz);
     c.adev_dps.push_back(adev);

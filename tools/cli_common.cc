@@ -1,5 +1,6 @@
 #include "cli_common.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -24,6 +25,10 @@ void AddLogOptions(CLI::App* app, LogOptions* o, bool input_required) {
   app->add_option("--resample", o->resample_hz,
                   "Resample an irregularly sampled log onto this uniform rate (Hz, linear interpolation)")
       ->check(CLI::PositiveNumber);
+  app->add_option("--max-memory", o->max_memory_gb,
+                  "Memory the log may take when read or resampled, GB (refused with what it needs beyond)")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
 }
 
 std::vector<std::string> SplitList(const std::string& text) {
@@ -50,6 +55,7 @@ Result<LogSpec> ToLogSpec(const LogOptions& o) {
   spec.temp_col = o.temp_col;
   spec.fs_hz = o.fs_hz;
   spec.resample_hz = o.resample_hz;
+  spec.max_memory_bytes = static_cast<std::size_t>(std::min(o.max_memory_gb, 1e9) * 1e9);
   const auto unit = ParseRateUnit(o.rate_unit);
   if (!unit) return InvalidArgument("--rate-unit " + o.rate_unit + ": must be dps, rads or dph");
   spec.rate_unit = *unit;
@@ -57,7 +63,9 @@ Result<LogSpec> ToLogSpec(const LogOptions& o) {
 }
 
 Result<LoadedLog> LoadLog(const std::string& command, const LogOptions& options, LogSpec spec) {
-  Result<Table> table = ReadCsv(options.input);
+  CsvReadOptions read;
+  read.max_memory_bytes = spec.max_memory_bytes;
+  Result<Table> table = ReadCsv(options.input, read);
   if (!table) return table.error();
   Result<GyroLog> log = LoadGyroLog(*table, spec);
   if (!log) return log.error();

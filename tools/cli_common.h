@@ -45,9 +45,11 @@ struct LogOptions {
   std::optional<double> fs_hz;
   std::string rate_unit = "dps";
   std::optional<double> resample_hz;
+  double max_memory_gb = 8.0;  // LogSpec::max_memory_bytes, CsvReadOptions::max_memory_bytes
 };
 
-// Adds -i/--input, --time-col, --rate-col, --temp-col, --fs, --rate-unit, --resample to `app`.
+// Adds -i/--input, --time-col, --rate-col, --temp-col, --fs, --rate-unit, --resample, --max-memory
+// to `app`.
 void AddLogOptions(CLI::App* app, LogOptions* options, bool input_required = true);
 
 // Converts the CLI options to a LogSpec (rate columns split on ','), or an kInvalidArgument error.

@@ -3,6 +3,8 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <charconv>
+#include <cstdint>
 #include <exception>
 #include <iostream>
 #include <string>
@@ -37,6 +39,28 @@ void InstallSignalHandlers() {
   action.sa_handler = OnTerminatingSignal;
   sigemptyset(&action.sa_mask);
   for (int sig : {SIGINT, SIGTERM, SIGHUP}) sigaction(sig, &action, nullptr);
+}
+
+// Every seed option (--seed, --sim-seed, ...) takes a decimal integer in [0, 2^64 - 1]: CLI11
+// would wrap "-1" and saturate "18446744073709551616" silently. Added here, once, for all
+// subcommands, present and future.
+void CheckSeedOptions(CLI::App& app) {
+  const CLI::Validator seed_range(
+      [](std::string& text) -> std::string {
+        std::uint64_t value = 0;
+        const auto r = std::from_chars(text.data(), text.data() + text.size(), value);
+        if (text.empty() || r.ec != std::errc() || r.ptr != text.data() + text.size()) {
+          return "seed '" + text + "': must be an integer in [0, 18446744073709551615]";
+        }
+        return "";
+      },
+      "UINT64");
+  for (CLI::App* sub : app.get_subcommands({})) {
+    for (CLI::Option* option : sub->get_options()) {
+      const std::string name = option->get_name();
+      if (name.size() >= 4 && name.compare(name.size() - 4, 4, "seed") == 0) option->check(seed_range);
+    }
+  }
 }
 
 // Runs the parsed command inside the output transaction of cli_common.h.
@@ -82,6 +106,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   std::vector<Command> commands;
   for (CommandFactory make : RegisteredCommands()) commands.push_back(make(app));
+  CheckSeedOptions(app);
   InstallSignalHandlers();
   try {
     app.parse(argc, argv);

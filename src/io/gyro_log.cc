@@ -112,6 +112,20 @@ std::vector<double> Interpolate(const std::vector<double>& t, const std::vector<
   return grid;
 }
 
+// Resampling `span_s` at `fs_hz` into `columns` columns must fit in `max_bytes`.
+std::optional<Error> CheckResampleMemory(double span_s, double fs_hz, std::size_t columns, std::size_t max_bytes,
+                                         const std::string& src) {
+  const double samples = std::floor(span_s * fs_hz) + 1.0;
+  const double bytes = samples * static_cast<double>(columns) * sizeof(double);
+  if (bytes <= static_cast<double>(max_bytes)) return std::nullopt;
+  char msg[240];
+  std::snprintf(msg, sizeof msg,
+                "--resample %.6g Hz over %.6g s needs %.3g GB for %.3g samples of %zu columns; at most %.3g GB "
+                "allowed (--max-memory)", fs_hz, span_s, bytes / 1e9, samples, columns,
+                static_cast<double>(max_bytes) / 1e9);
+  return InvalidArgument(src + ": " + msg);
+}
+
 }  // namespace
 
 bool LogSpec::IsValid(std::string* error) const {
@@ -126,10 +140,14 @@ bool LogSpec::IsValid(std::string* error) const {
       if (rate_cols[a] == rate_cols[b]) return fail("rate_cols names '" + rate_cols[a] + "' twice");
     }
   }
-  if (fs_hz && !(std::isfinite(*fs_hz) && *fs_hz > 0)) return fail("fs_hz = " + Num(*fs_hz) + ": must be > 0 (Hz)");
-  if (resample_hz && !(std::isfinite(*resample_hz) && *resample_hz > 0)) {
-    return fail("resample_hz = " + Num(*resample_hz) + ": must be > 0 (Hz)");
+  const std::string fs_range = " Hz: must be in [" + Num(kMinFsHz) + ", " + Num(kMaxFsHz) + "] Hz";
+  if (fs_hz && !(*fs_hz >= kMinFsHz && *fs_hz <= kMaxFsHz)) return fail("fs_hz = " + Num(*fs_hz) + fs_range);
+  if (resample_hz && !(*resample_hz >= kMinFsHz && *resample_hz <= kMaxFsHz)) {
+    return fail("resample_hz = " + Num(*resample_hz) + fs_range);
   }
+  if (!(max_abs_rate_dps > 0)) return fail("max_abs_rate_dps = " + Num(max_abs_rate_dps) + ": must be > 0");
+  if (!(min_temp_c < max_temp_c)) return fail("min_temp_c must be below max_temp_c");
+  if (max_memory_bytes == 0) return fail("max_memory_bytes = 0: must be > 0");
   if (min_samples < 1) return fail("min_samples = 0: must be >= 1");
   if (!(jitter_tolerance > 0 && jitter_tolerance < 1)) {
     return fail("jitter_tolerance = " + Num(jitter_tolerance) + ": must be in (0, 1) (fraction of the median dt)");
@@ -206,6 +224,11 @@ Result<Table> ResampleTable(const Table& table, const std::string& time_col, dou
                         std::to_string(table.num_rows()));
   }
   if (auto e = CheckMonotonic(table, ti)) return *e;
+  const std::vector<double>& t = table.columns[static_cast<std::size_t>(ti)];
+  if (auto e = CheckResampleMemory(t.back() - t.front(), fs_hz, table.columns.size(), LogSpec{}.max_memory_bytes,
+                                   SourceOf(table))) {
+    return *e;
+  }
   std::vector<const std::vector<double>*> which;
   for (const auto& c : table.columns) which.push_back(&c);
   std::vector<std::vector<double>> cols;
@@ -255,6 +278,31 @@ Result<LogColumns> FindLogColumns(const Table& table, const LogSpec& spec) {
                          "name the time column with --time-col, or give the sample rate with --fs HZ");
   }
   return cols;
+}
+
+// Step 1b: values no instrument produces (LogSpec::max_abs_rate_dps, min_temp_c, max_temp_c).
+std::optional<Error> CheckValueRanges(const Table& table, const LogSpec& spec, const LogColumns& cols) {
+  const double to_dps = units::ToDegPerSec(spec.rate_unit);
+  for (int j : cols.rate) {
+    const std::vector<double>& v = table.columns[static_cast<std::size_t>(j)];
+    for (std::size_t i = 0; i < v.size(); ++i) {
+      if (std::abs(v[i] * to_dps) <= spec.max_abs_rate_dps) continue;
+      return InvalidInput(Where(SourceOf(table), LineOf(i), static_cast<std::size_t>(j) + 1) + "rate " +
+                          table.names[static_cast<std::size_t>(j)] + " = " + Shortest(v[i]) +
+                          " is beyond any gyroscope (|rate| <= " + Num(spec.max_abs_rate_dps) + " deg/s)");
+    }
+  }
+  if (cols.temp >= 0) {
+    const std::vector<double>& v = table.columns[static_cast<std::size_t>(cols.temp)];
+    for (std::size_t i = 0; i < v.size(); ++i) {
+      if (v[i] >= spec.min_temp_c && v[i] <= spec.max_temp_c) continue;
+      return InvalidInput(Where(SourceOf(table), LineOf(i), static_cast<std::size_t>(cols.temp) + 1) +
+                          "temperature " + table.names[static_cast<std::size_t>(cols.temp)] + " = " +
+                          Shortest(v[i]) + " C is outside [" + Num(spec.min_temp_c) + ", " +
+                          Num(spec.max_temp_c) + "] C");
+    }
+  }
+  return std::nullopt;
 }
 
 // Step 2a (no time column): uniform by construction, time = i / fs.
@@ -344,6 +392,11 @@ Result<GyroLog> TakeTimedColumns(const Table& table, const LogSpec& spec, const 
   if (cols.temp >= 0) which.push_back(&table.columns[static_cast<std::size_t>(cols.temp)]);
   std::vector<std::vector<double>> taken;
   if (spec.resample_hz) {
+    // The log's columns, and the CLI's resampled copy of every table column (ResampleTable).
+    if (auto e = CheckResampleMemory(t.back() - t.front(), *spec.resample_hz, which.size() + 1 + table.columns.size(),
+                                     spec.max_memory_bytes, log.source)) {
+      return *e;
+    }
     std::size_t in_gaps = 0;
     log.time_s = Interpolate(t, which, *spec.resample_hz, spec.gap_factor * rep.median_dt_s, &taken, &in_gaps);
     rep.resampled = true;
@@ -382,6 +435,7 @@ Result<GyroLog> LoadGyroLog(const Table& table, const LogSpec& spec) {
   Result<LogColumns> cols = FindLogColumns(table, spec);
   if (!cols) return cols.error();
   log.axis_names = cols->axis_names;
+  if (auto e = CheckValueRanges(table, spec, *cols)) return *e;
   if (n < spec.min_samples) {
     return InvalidInput(Where(src, n + 1, 1) + "too few samples: " + std::to_string(n) +
                         " data row(s), this analysis needs at least " + std::to_string(spec.min_samples));
@@ -396,6 +450,13 @@ Result<GyroLog> LoadGyroLog(const Table& table, const LogSpec& spec) {
   }
   if (auto e = CheckMonotonic(table, cols->time)) return *e;
   SamplingReport rep = MeasureSampling(t, spec);
+  // (With --resample, the memory the new grid needs is what bounds it, in TakeTimedColumns.)
+  if (!spec.resample_hz && !(rep.fs_hz >= LogSpec::kMinFsHz && rep.fs_hz <= LogSpec::kMaxFsHz)) {
+    return InvalidInput(Where(src, 2, tcol) + "the time column '" + spec.time_col + "' gives a sample rate of " +
+                        Num(rep.fs_hz) + " Hz (" + Num(t.back() - t.front()) + " s for " +
+                        std::to_string(n - 1) + " intervals): outside [" + Num(LogSpec::kMinFsHz) + ", " +
+                        Num(LogSpec::kMaxFsHz) + "] Hz");
+  }
   if (auto e = CheckFsAgreesWithTime(spec, rep, src, tcol)) return *e;
   if (rep.irregular && !spec.resample_hz) return IrregularTimestamps(t, spec, rep, src, tcol);
   return TakeTimedColumns(table, spec, *cols, rep, std::move(log));
@@ -404,7 +465,9 @@ Result<GyroLog> LoadGyroLog(const Table& table, const LogSpec& spec) {
 Result<GyroLog> ReadGyroLog(const std::string& path, const LogSpec& spec) {
   std::string why;
   if (!spec.IsValid(&why)) return InvalidArgument(why);
-  Result<Table> table = ReadCsv(path);
+  CsvReadOptions read;
+  read.max_memory_bytes = spec.max_memory_bytes;
+  Result<Table> table = ReadCsv(path, read);
   if (!table) return table.error();
   return LoadGyroLog(*table, spec);
 }

@@ -153,6 +153,7 @@ class CsvParser {
   std::optional<Error> Header(std::string_view line);
   std::optional<Error> Row(std::string_view line);
   Error RowError(std::string_view line);
+  std::optional<Error> CheckMemory(std::size_t plain_size, std::size_t consumed) const;
   std::string ColumnLabel(std::size_t j) const {
     return "column '" + table_.names[j] + "'";
   }
@@ -174,7 +175,14 @@ Result<Table> CsvParser::Run(gzFile in, std::size_t plain_size) {
   bool eof = false;
   bool first = true;
   while (!eof) {
-    if (filled == buf.size()) buf.resize(buf.size() * 2);  // a line longer than the buffer
+    if (filled == buf.size()) {  // a line longer than the buffer
+      if (filled >= opt_.max_line_bytes) {
+        return InvalidInput(Where(source_, line_no_ + 1, 1) + "line longer than " +
+                            std::to_string(opt_.max_line_bytes) +
+                            " bytes without a line break (binary data, or not a CSV file)");
+      }
+      buf.resize(buf.size() * 2);
+    }
     const std::size_t want = std::min<std::size_t>(buf.size() - filled, 1u << 30);
     const int got = gzread(in, buf.data() + filled, static_cast<unsigned>(want));
     if (got < 0) {
@@ -213,6 +221,7 @@ Result<Table> CsvParser::Run(gzFile in, std::size_t plain_size) {
       start = filled;
     }
     consumed += start;
+    if (auto err = CheckMemory(plain_size, consumed)) return *err;
     if (!reserved && plain_size > 0 && gzdirect(in) && table_.num_rows() >= 1000) {
       // Avoids regrowing 5M-row columns; over-reserves by at most ~2 %.
       const double per_row = static_cast<double>(consumed) / static_cast<double>(table_.num_rows());
@@ -238,6 +247,22 @@ Result<Table> CsvParser::Run(gzFile in, std::size_t plain_size) {
                         }() + ")");
   }
   return std::move(table_);
+}
+
+// The table so far, or (plain file of known size) the whole file at the bytes per row seen so
+// far, must fit in opt_.max_memory_bytes.
+std::optional<Error> CsvParser::CheckMemory(std::size_t plain_size, std::size_t consumed) const {
+  const double cells_per_row = static_cast<double>(table_.names.size());
+  double rows = static_cast<double>(table_.num_rows());
+  if (plain_size > 0 && table_.num_rows() >= 1000) {
+    rows = std::max(rows, static_cast<double>(plain_size) / (static_cast<double>(consumed) / rows));
+  }
+  const double bytes = rows * cells_per_row * sizeof(double);
+  if (bytes <= static_cast<double>(opt_.max_memory_bytes)) return std::nullopt;
+  char msg[200];
+  std::snprintf(msg, sizeof msg, "needs %.3g GB for %.3g rows of %zu columns; at most %.3g GB allowed (--max-memory)",
+                bytes / 1e9, rows, table_.names.size(), static_cast<double>(opt_.max_memory_bytes) / 1e9);
+  return InvalidInput(Where(source_, line_no_, 1) + msg);
 }
 
 std::optional<Error> CsvParser::Line(std::string_view line) {

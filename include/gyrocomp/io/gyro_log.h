@@ -48,6 +48,19 @@ struct LogSpec {
   double jitter_tolerance = 0.1;
   double max_irregular_fraction = 0.001;
   double gap_factor = 1.5;
+  // Values no instrument produces are refused at load with the file, line and value, so no stage
+  // meets a number near the end of the double range: |rate| above max_abs_rate_dps (after the
+  // unit conversion; MEMS full scales are <= 1e4 deg/s), a temperature outside
+  // [min_temp_c, max_temp_c] (absolute zero .. 1000 C), a sample rate (given or measured from
+  // the time column) outside [kMinFsHz, kMaxFsHz].
+  double max_abs_rate_dps = 1e6;
+  double min_temp_c = -273.15;
+  double max_temp_c = 1000.0;
+  static constexpr double kMinFsHz = 1e-6;  // one sample in ~11.6 days
+  static constexpr double kMaxFsHz = 1e9;   // 1 GHz
+  // Memory resampling may take, bytes: --resample 1e9 (or a 1e9 s gap) is refused before the
+  // allocation with what it would need ("needs N GB ...; at most M GB allowed (--max-memory)").
+  std::size_t max_memory_bytes = std::size_t{8} << 30;
 
   // "LogSpec::fs_hz = -1: must be > 0 (Hz)" style message on failure.
   bool IsValid(std::string* error) const;

@@ -36,6 +36,12 @@ struct CsvReadOptions {
   // Reject NaN / Inf cells (the gyro pipeline cannot use them). A cell reading "nan" is reported
   // as "NaN in column 'x'" rather than as non-numeric.
   bool reject_non_finite = true;
+  // Longest line accepted, bytes. A longer one (/dev/zero, a binary file without line breaks) is
+  // an error at that line instead of a buffer growing until memory runs out.
+  std::size_t max_line_bytes = std::size_t{16} << 20;
+  // Memory the table may take, bytes (8 per cell). Past it the read stops with an error saying
+  // how much the file needs ("needs N GB ...; at most M GB allowed (--max-memory)").
+  std::size_t max_memory_bytes = std::size_t{8} << 30;
 };
 
 // Reads `path` ("-" = stdin, plain or gzip). Errors: cannot open (kIo); empty file, header only,

@@ -21,6 +21,7 @@ packages=(
   libfftw3-dev libeigen3-dev libsvm-dev zlib1g-dev
   libcli11-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  clang libclang-rt-14-dev  # libFuzzer for fuzz/ (scripts/fuzz.sh)
 )
 command -v npm >/dev/null 2>&1 || packages+=(nodejs npm)
 if [ "$want_browser" = 1 ]; then packages+=(chromium); fi

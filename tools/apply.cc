@@ -44,18 +44,24 @@ int Run(const ApplyArgs& a) {
   const DriftInputs inputs{log.temp_c, log.fs_hz};
   Result<std::vector<double>> predicted = model->Predict(inputs);
   if (!predicted.ok()) return ReportError(kName, predicted.error());
+  for (std::size_t i = 0; i < predicted->size(); ++i) {  // issue 15: never an absurd or non-finite drift
+    if (std::abs((*predicted)[i]) <= LogSpec{}.max_abs_rate_dps) continue;
+    return ReportError(kName, InvalidInput(a.model_path + ": predicts a drift of " + std::to_string((*predicted)[i]) +
+                                           " deg/s at " + log.source + " row " + std::to_string(i + 1) + " (temp " +
+                                           std::to_string(log.temp_c[i]) + " C): beyond any gyroscope"));
+  }
   const TemperatureExcursion range = model->CheckTemperatureRange(log.temp_c);
   if (range.outside) Note(kName, "warning: " + range.Message());
 
   // One axis: predicted_drift_dps, compensated_dps. Several: <axis>_predicted_drift /
   // <axis>_compensated (the same temperature model applied to each).
   const bool one = log.axis_names.size() == 1;
-  out.Add("predicted_drift_dps", *predicted);
+  SetColumn(kName, &out, "predicted_drift_dps", *predicted);
   nlohmann::json axes = nlohmann::json::object();
   for (std::size_t k = 0; k < log.axis_names.size(); ++k) {
     std::vector<double> comp(log.num_samples());
     for (std::size_t i = 0; i < comp.size(); ++i) comp[i] = log.rate_dps[k][i] - (*predicted)[i];
-    out.Add(one ? "compensated_dps" : log.axis_names[k] + "_compensated", std::move(comp));
+    SetColumn(kName, &out, one ? "compensated_dps" : log.axis_names[k] + "_compensated", std::move(comp));
   }
   if (Status s = WriteCsv(a.output, out); !s.ok()) return ReportError(kName, s.error());
 

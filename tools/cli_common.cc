@@ -94,6 +94,26 @@ int ReportError(const std::string& command, const Error& error) {
   }
 }
 
+void SetColumn(const std::string& command, Table* table, std::string name, std::vector<double> values) {
+  const std::string shown = name;
+  if (table->Set(std::move(name), std::move(values))) {
+    Note(command, "warning: the input already has a column '" + shown + "' (an earlier run's output?): replaced by this run's");
+  }
+}
+
+void WarnIfTemperatureFlat(const std::string& command, const GyroLog& log) {
+  if (log.temp_c.empty()) return;
+  const auto [lo, hi] = std::minmax_element(log.temp_c.begin(), log.temp_c.end());
+  if (*hi - *lo >= kMinTemperatureSpanC) return;
+  char msg[320];
+  std::snprintf(msg, sizeof msg,
+                "warning: the temperature spans only %.3g C (%.6g .. %.6g C), below %.3g C: there is no temperature "
+                "variation to learn drift from; the model is then a bias for this one temperature (plus fitted "
+                "noise), not a temperature compensation",
+                *hi - *lo, *lo, *hi, kMinTemperatureSpanC);
+  Note(command, msg);
+}
+
 void Note(const std::string& command, const std::string& message) {
   std::cerr << "gyrocomp " << command << ": " << message << "\n";
 }

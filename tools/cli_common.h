@@ -93,6 +93,15 @@ Status WriteJson(const std::string& path, const nlohmann::json& j);
 // `j` as text, with the checks of WriteJson.
 Result<std::string> JsonText(const nlohmann::json& j);
 
+// Adds the column `name` to an output table built from the input's columns; when the input
+// already had it (the command run on its own output), replaces it and says so on stderr.
+void SetColumn(const std::string& command, Table* table, std::string name, std::vector<double> values);
+
+// A temperature that hardly varies (span below kMinTemperatureSpanC) gives a model in T nothing
+// to learn: warns on stderr with the span and what the model then is.
+inline constexpr double kMinTemperatureSpanC = 1.0;
+void WarnIfTemperatureFlat(const std::string& command, const GyroLog& log);
+
 // Splits "a,b,c" on commas, trimming spaces; empty items are dropped.
 std::vector<std::string> SplitList(const std::string& text);
 

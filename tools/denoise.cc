@@ -205,7 +205,7 @@ int Run(const DenoiseArgs& a) {
     }
     if (a.json_path != "-") std::cout << axis << ": " << report << "\n";
     axes[axis] = j;
-    out.Add(single ? "denoised_dps" : axis + "_denoised", std::move(*y));
+    SetColumn(kName, &out, single ? "denoised_dps" : axis + "_denoised", std::move(*y));
   }
   if (!a.output.empty()) {
     if (Status s = WriteCsv(a.output, out); !s.ok()) return ReportError(kName, s.error());

@@ -85,6 +85,7 @@ int Run(FitArgs a) {
   Result<LoadedLog> loaded = LoadLog(kName, a.log, *spec);
   if (!loaded.ok()) return ReportError(kName, loaded.error());
   const GyroLog& log = loaded->log;
+  WarnIfTemperatureFlat(kName, log);
   const Table& table = loaded->table;
   const std::size_t n = log.num_samples();
 

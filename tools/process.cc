@@ -35,8 +35,9 @@ int Run(const ProcessCli& c) {
   Result<LoadedLog> loaded = LoadPipelineLog(cmd, c.log, &pipe);
   if (!loaded) return ReportError(cmd, loaded.error());
   const GyroLog& log = loaded->log;
+  WarnIfTemperatureFlat(cmd, log);
   Table out = loaded->table;
-  if (out.Find("time_s") < 0) out.Add("time_s", log.time_s);
+  if (out.Find("time_s") < 0) SetColumn(cmd, &out, "time_s", log.time_s);
   std::vector<double> known;
   if (!c.known_rate_col.empty()) {
     const int j = out.Find(c.known_rate_col);
@@ -74,12 +75,12 @@ int Run(const ProcessCli& c) {
       comparison = std::move(*cr);
     }
     const std::size_t na = log.axis_names.size();
-    out.Add(Column("compensated", axis, na), r->compensated_dps);
-    out.Add(Column("drift_feature", axis, na), r->features.drift);
-    out.Add(Column("mixed_feature", axis, na), r->features.mixed);
-    out.Add(Column("noise_feature", axis, na), r->features.noise);
-    out.Add(Column("mixed_denoised", axis, na), r->mixed_denoised);
-    out.Add(Column("predicted_drift", axis, na), r->predicted_drift_dps);
+    SetColumn(cmd, &out, Column("compensated", axis, na), r->compensated_dps);
+    SetColumn(cmd, &out, Column("drift_feature", axis, na), r->features.drift);
+    SetColumn(cmd, &out, Column("mixed_feature", axis, na), r->features.mixed);
+    SetColumn(cmd, &out, Column("noise_feature", axis, na), r->features.noise);
+    SetColumn(cmd, &out, Column("mixed_denoised", axis, na), r->mixed_denoised);
+    SetColumn(cmd, &out, Column("predicted_drift", axis, na), r->predicted_drift_dps);
 
     nlohmann::json j;
     j["before"] = AllanJson(r->allan_before);

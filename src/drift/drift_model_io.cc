@@ -34,8 +34,8 @@ json SummaryJson(const DriftFitSummary& s) {
             {"train_rmse", s.train_rmse},
             {"evaluations", s.evaluations},
             {"generations", s.generations},
-            {"best_cv_history", s.best_cv_history},
-            {"fit_time_s", s.fit_time_s}};
+            {"best_cv_history", s.best_cv_history}};
+  // No fit_time_s: a model file is reproducible, byte for byte (issue 15); timings are in --json.
   if (s.C) {
     j["C"] = *s.C;
     j["gamma"] = *s.gamma;
@@ -50,6 +50,10 @@ json SummaryJson(const DriftFitSummary& s) {
 }
 
 // Typed field access that reports the field's path on failure.
+// Largest magnitude of any number a model file may hold: no coefficient, scale or support-vector
+// value of a gyro drift model comes near it, and a model that holds 1e308 overflows on use.
+constexpr double kMaxModelValue = 1e100;
+
 class Reader {
  public:
   explicit Reader(std::string source) : source_(std::move(source)) {}
@@ -68,8 +72,8 @@ class Reader {
   double Number(const json& obj, const std::string& key, const std::string& path) {
     const json* v = Get(obj, key, path);
     if (!v) return 0.0;
-    if (!v->is_number() || !std::isfinite(v->get<double>())) {
-      Fail("field '" + path + "' must be a finite number");
+    if (!v->is_number() || !(std::abs(v->get<double>()) <= kMaxModelValue)) {
+      Fail("field '" + path + "' = " + v->dump() + ": must be a finite number of magnitude <= 1e100");
       return 0.0;
     }
     return v->get<double>();
@@ -101,8 +105,8 @@ class Reader {
       return out;
     }
     for (const json& e : *v) {
-      if (!e.is_number() || !std::isfinite(e.get<double>())) {
-        Fail("field '" + path + "' must be an array of finite numbers");
+      if (!e.is_number() || !(std::abs(e.get<double>()) <= kMaxModelValue)) {
+        Fail("field '" + path + "' must be an array of finite numbers of magnitude <= 1e100 (" + e.dump() + ")");
         return {};
       }
       out.push_back(e.get<double>());
@@ -290,7 +294,9 @@ void ReadTrainingSummary(Reader& r, const json& training, bool want_poly, DriftF
   s.evaluations = r.Integer(training, "evaluations", "training.evaluations");
   s.generations = static_cast<int>(r.Integer(training, "generations", "training.generations"));
   s.best_cv_history = r.Numbers(training, "best_cv_history", "training.best_cv_history");
-  s.fit_time_s = r.Number(training, "fit_time_s", "training.fit_time_s");
+  if (training.is_object() && training.contains("fit_time_s")) {  // files written before issue 15
+    s.fit_time_s = r.Number(training, "fit_time_s", "training.fit_time_s");
+  }
   if (want_poly) {
     s.degree = static_cast<int>(r.Integer(training, "degree", "training.degree"));
     s.dtemp_degree = static_cast<int>(r.Integer(training, "dtemp_degree", "training.dtemp_degree"));

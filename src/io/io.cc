@@ -39,6 +39,17 @@ void Table::Add(std::string name, std::vector<double> values) {
   columns.push_back(std::move(values));
 }
 
+bool Table::Set(std::string name, std::vector<double> values) {
+  const int j = Find(name);
+  if (j < 0) {
+    Add(std::move(name), std::move(values));
+    return false;
+  }
+  assert(values.size() == num_rows());
+  columns[static_cast<std::size_t>(j)] = std::move(values);
+  return true;
+}
+
 namespace {
 
 constexpr std::size_t kChunkBytes = std::size_t{1} << 22;  // 4 MiB per read

@@ -321,6 +321,12 @@ Status CheckCsvTable(const std::string& path, const Table& table) {
       return InvalidArgument(path + ": column name '" + n.substr(0, 40) +
                              "' cannot be written (empty, or contains a comma, quote or line break)");
     }
+    for (std::size_t k = 0; k < j; ++k) {
+      if (table.names[k] == n) {
+        return InternalError(path + ": column name '" + n + "' twice (columns " + std::to_string(k + 1) + " and " +
+                             std::to_string(j + 1) + "): a CSV that gyrocomp could not read back");
+      }
+    }
     if (table.columns[j].size() != rows) {
       return InvalidArgument(path + ": column '" + n + "' has " + std::to_string(table.columns[j].size()) +
                              " rows, expected " + std::to_string(rows));

@@ -27,6 +27,9 @@ struct Table {
   int Find(const std::string& name) const;
   // Appends a column (must have num_rows() entries unless the table is empty).
   void Add(std::string name, std::vector<double> values);
+  // Add, or, when a column of that name exists (a command run on its own output), replaces it in
+  // place: returns true then. Keeps the names unique, as ReadCsv requires.
+  bool Set(std::string name, std::vector<double> values);
 };
 
 struct CsvReadOptions {

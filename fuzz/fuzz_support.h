@@ -1,0 +1,27 @@
+// Helpers shared by the harnesses.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+
+namespace gyrocomp::fuzz {
+
+// An in-memory file holding `data` (memfd), named "/proc/self/fd/N" for readers that take a
+// path. Closed on destruction.
+class MemoryFile {
+ public:
+  MemoryFile(const std::uint8_t* data, std::size_t size);
+  ~MemoryFile();
+  const std::string& path() const { return path_; }
+
+ private:
+  int fd_ = -1;
+  std::string path_;
+};
+
+// Reads the file through ReadCsv and, when it parses, LoadGyroLog with a few specs (time
+// column, --fs, --resample, several axes): what every subcommand does with -i.
+void ReadAndLoad(const std::string& path);
+
+}  // namespace gyrocomp::fuzz

@@ -1,0 +1,56 @@
+#!/usr/bin/env bash
+# Builds the libFuzzer harnesses of fuzz/ (clang, ASan + UBSan) and runs each for SECONDS
+# (default 60) on a seed corpus made from tests/, ../shared/fieldlogs and a simulated log.
+#   scripts/fuzz.sh [SECONDS] [FUZZER...]      e.g. scripts/fuzz.sh 300 fuzz_csv
+# A crash leaves its input in build-fuzz/crashes/<fuzzer>/ and makes the script exit 1; turn it
+# into a regression test (src/io/io_fuzz_regression_test.cc) before fixing it.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+seconds=${1:-60}
+shift || true
+build=${FUZZ_BUILD_DIR:-build-fuzz}
+CC=${FUZZ_CC:-clang} CXX=${FUZZ_CXX:-clang++} cmake -S fuzz -B "$build" -DCMAKE_BUILD_TYPE=None >/dev/null
+cmake --build "$build" -j"$(nproc)"
+
+# Seeds: small CSVs (plain and gzip) from tests/ and the field logs' IMU extracts (first 200
+# lines), model files from tests/golden, and the fuzzer's own corpus kept between runs.
+seeds=$build/seeds
+mkdir -p "$seeds"/csv "$seeds"/gz "$seeds"/model
+if [ ! -e "$seeds/.done" ]; then
+  i=0
+  while IFS= read -r f; do
+    i=$((i + 1))
+    head -c 65536 "$f" > "$seeds/csv/t$i.csv"
+    gzip -c "$seeds/csv/t$i.csv" > "$seeds/gz/t$i.csv.gz"
+  done < <(find tests ../shared/fieldlogs -name '*.csv' -size -8M 2>/dev/null | head -n 40)
+  while IFS= read -r f; do
+    i=$((i + 1))
+    head -n 200 "$f" > "$seeds/csv/f$i.csv"
+    gzip -c "$seeds/csv/f$i.csv" > "$seeds/gz/f$i.csv.gz"
+  done < <(find ../shared/fieldlogs -name '*.csv' 2>/dev/null)
+  # gz seeds carry the mode byte of fuzz_gz.cc (even: raw gzip bytes follow).
+  for f in "$seeds"/gz/*.gz; do { printf '\0'; cat "$f"; } > "$f.seed" && mv "$f.seed" "$f"; done
+  cp fuzz/seeds/model/*.json "$seeds/model/"  # made by gyrocomp fit (poly, poly in T and dT/dt, svr)
+  touch "$seeds/.done"
+fi
+
+declare -A corpus_of=([fuzz_csv]=csv [fuzz_gz]=gz [fuzz_model]=model)
+fuzzers=("$@")
+[ ${#fuzzers[@]} -eq 0 ] && fuzzers=(fuzz_csv fuzz_gz fuzz_model)
+status=0
+for fz in "${fuzzers[@]}"; do
+  corpus=$build/corpus/$fz
+  crashes=$build/crashes/$fz
+  mkdir -p "$corpus" "$crashes"
+  echo "== $fz: $seconds s"
+  if ! "$build/$fz" "$corpus" "$seeds/${corpus_of[$fz]}" -max_total_time="$seconds" -rss_limit_mb=2048 \
+      -max_len=65536 -timeout=10 -artifact_prefix="$crashes/" -print_final_stats=1 2>"$build/$fz.log"; then
+    echo "$fz: FAILED, see $build/$fz.log and $crashes/" >&2
+    tail -n 40 "$build/$fz.log" >&2
+    status=1
+  else
+    grep -E "^stat::(number_of_executed_units|peak_rss_mb)|^#[0-9]+ +DONE" "$build/$fz.log" | tr '\n' ' '
+    echo
+  fi
+done
+exit $status

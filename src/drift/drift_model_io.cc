@@ -72,7 +72,11 @@ class Reader {
   double Number(const json& obj, const std::string& key, const std::string& path) {
     const json* v = Get(obj, key, path);
     if (!v) return 0.0;
-    if (!v->is_number() || !(std::abs(v->get<double>()) <= kMaxModelValue)) {
+    if (!v->is_number() || !std::isfinite(v->get<double>())) {
+      Fail("field '" + path + "' must be a finite number");
+      return 0.0;
+    }
+    if (!(std::abs(v->get<double>()) <= kMaxModelValue)) {
       Fail("field '" + path + "' = " + v->dump() + ": must be a finite number of magnitude <= 1e100");
       return 0.0;
     }
@@ -105,8 +109,12 @@ class Reader {
       return out;
     }
     for (const json& e : *v) {
-      if (!e.is_number() || !(std::abs(e.get<double>()) <= kMaxModelValue)) {
-        Fail("field '" + path + "' must be an array of finite numbers of magnitude <= 1e100 (" + e.dump() + ")");
+      if (!e.is_number() || !std::isfinite(e.get<double>())) {
+        Fail("field '" + path + "' must be an array of finite numbers");
+        return {};
+      }
+      if (!(std::abs(e.get<double>()) <= kMaxModelValue)) {
+        Fail("field '" + path + "' = ... " + e.dump() + " ...: must hold numbers of magnitude <= 1e100");
         return {};
       }
       out.push_back(e.get<double>());

@@ -157,7 +157,7 @@ TEST(GyroLogTest, SpecValidation) {
   EXPECT_TRUE(spec.IsValid(&why)) << why;
   spec.fs_hz = -1;
   EXPECT_FALSE(spec.IsValid(&why));
-  EXPECT_EQ(why, "LogSpec::fs_hz = -1: must be > 0 (Hz)");
+  EXPECT_EQ(why, "LogSpec::fs_hz = -1 Hz: must be in [1e-06, 1e+09] Hz");
   spec.fs_hz.reset();
   spec.gap_factor = 0.5;
   EXPECT_FALSE(spec.IsValid(&why));

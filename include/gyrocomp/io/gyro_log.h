@@ -12,6 +12,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -80,6 +81,16 @@ struct GyroLog {
   std::vector<std::vector<double>> rate_dps;    // one vector per axis
   std::vector<double> temp_c;                   // empty when the file has no temperature
   SamplingReport sampling;
+  // Flight-controller logs only (gyrocomp/io/flight_log.h). The gyro's device id as logged in
+  // PX4 ULog sensor_gyro.device_id (what PX4's TC_G{i}_ID holds); empty for CSV, DataFlash and
+  // ULog sensor_combined, which do not log one.
+  std::optional<std::uint32_t> device_id;
+  // Where the rows came from in a flight log, e.g. "ULog sensor_gyro multi_id 1" or
+  // "DataFlash IMU I=0"; empty for CSV.
+  std::string origin;
+  // What the flight-log reader warned about (truncated last record, rates that may already be
+  // compensated); also passed to LogSpec::on_warning as they happen.
+  std::vector<std::string> warnings;
   std::size_t num_samples() const { return time_s.size(); }
   bool has_temperature() const { return !temp_c.empty(); }
 };

@@ -13,6 +13,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -28,7 +29,8 @@ struct LogSpec {
   std::string time_col = "time_s";
   // Rate column(s): one per axis.
   std::vector<std::string> rate_cols = {"rate_dps"};
-  // Unit of the rate columns; converted to deg/s on load.
+  // Unit of the rate columns; converted to deg/s on load. For ULog / DataFlash input the unit
+  // is the log's own (rad/s): ReadGyroLog sets it.
   RateUnit rate_unit = RateUnit::kDegPerSec;
   // Temperature column (deg C). Required only when temp_required.
   std::string temp_col = "temp_c";
@@ -49,6 +51,12 @@ struct LogSpec {
   double jitter_tolerance = 0.1;
   double max_irregular_fraction = 0.001;
   double gap_factor = 1.5;
+  // Flight-controller logs (ULog, DataFlash; gyrocomp/io/flight_log.h): which gyro instance to
+  // read. nullopt: the only one; with several, reading fails and lists them. Ignored for CSV.
+  std::optional<int> instance;
+  // Called with each warning of a flight-log reader as it is found (may be empty: the warnings
+  // are also in GyroLog::warnings). The CLI prints them.
+  std::function<void(const std::string&)> on_warning;
 
   // "LogSpec::fs_hz = -1: must be > 0 (Hz)" style message on failure.
   bool IsValid(std::string* error) const;

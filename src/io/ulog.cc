@@ -19,6 +19,9 @@ constexpr std::size_t kHeaderBytes = 16;
 constexpr std::size_t kMessageHeaderBytes = 3;  // uint16 msg_size, uint8 msg_type
 // Nested formats are flattened; a deeper nesting than this is taken for a format loop.
 constexpr int kMaxNestingDepth = 16;
+// Flattening steps per subscription (fields and nested elements visited); a format whose arrays
+// of empty nested types would take longer than this is refused instead of hanging.
+constexpr std::size_t kMaxFlattenSteps = 1u << 20;
 
 std::uint16_t U16(const std::uint8_t* p) { return static_cast<std::uint16_t>(p[0] | (p[1] << 8)); }
 std::uint32_t U32(const std::uint8_t* p) {
@@ -104,6 +107,7 @@ class Parser {
   std::map<std::string, std::vector<FieldDef>> formats_;
   std::map<int, Subscription> subs_;  // active subscriptions by msg_id
   bool first_message_ = true;
+  std::size_t flatten_steps_ = 0;
 };
 
 Result<ULogContents> Parser::Run() {
@@ -280,11 +284,13 @@ std::optional<Error> Parser::ParseKeyValue(char type, std::size_t at, const std:
 std::optional<Error> Parser::Flatten(std::size_t at, const std::string& type, const std::string& prefix, int depth,
                                      std::vector<FlatField>* fields, std::size_t* size, std::size_t* padding_tail) {
   if (depth > kMaxNestingDepth) return Bad(at, "formats nested deeper than " + std::to_string(kMaxNestingDepth));
+  if (depth == 0) flatten_steps_ = 0;
   const auto it = formats_.find(type);
   if (it == formats_.end()) return Bad(at, "no format ('F') for type '" + type + "'");
   for (const FieldDef& f : it->second) {
     const std::size_t count = f.array_size == 0 ? 1 : f.array_size;
     for (std::size_t k = 0; k < count; ++k) {
+      if (++flatten_steps_ > kMaxFlattenSteps) return Bad(at, "format '" + type + "' has too many (nested) fields");
       const std::string name = prefix + f.name + (f.array_size ? "[" + std::to_string(k) + "]" : "");
       if (const std::size_t b = BasicSize(f.type); b > 0) {
         fields->push_back({name, f.type, *size});

@@ -180,6 +180,33 @@ TEST(ULogTest, CorruptFilesAreRefusedWithTheByteOffset) {
   }
 }
 
+std::string Message(char type, const std::string& payload) {
+  std::string m;
+  m.push_back(static_cast<char>(payload.size() & 0xFF));
+  m.push_back(static_cast<char>(payload.size() >> 8));
+  m.push_back(type);
+  return m + payload;
+}
+
+// Arrays of empty nested types: flattening would take 99999^3 steps; refused instead.
+TEST(ULogTest, FormatBombIsRefused) {
+  std::string b("\x55\x4C\x6F\x67\x01\x12\x35\x01", 8);
+  b.append(8, '\0');
+  b += Message('F', "e:");
+  b += Message('F', "n1:e[99999] a;");
+  b += Message('F', "n2:n1[99999] b;");
+  b += Message('F', "top:n2[99999] c;");
+  b += Message('A', std::string("\0\0\0", 3) + "top");
+  Result<ULogContents> r = Parse(b);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().message.find("too many (nested) fields"), std::string::npos) << r.error().message;
+  // A format that names itself.
+  std::string c = b.substr(0, 16) + Message('F', "loop:loop x;") + Message('A', std::string("\0\0\0", 3) + "loop");
+  r = Parse(c);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().message.find("nested deeper than"), std::string::npos) << r.error().message;
+}
+
 ULogGyroWriteInput SmallSeries(std::size_t n) {
   ULogGyroWriteInput in;
   for (std::size_t i = 0; i < n; ++i) {

@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cstring>
 #include <fstream>
-#include <iterator>
 #include <optional>
 #include <utility>
 
@@ -248,8 +247,12 @@ Result<DataFlashContents> ParseDataFlash(const std::uint8_t* data, std::size_t s
 Result<DataFlashContents> ReadDataFlash(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) return IoError(path + ": cannot open");
-  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) return IoError(path + ": read error");
+  in.seekg(0, std::ios::end);
+  const std::streamoff size = in.tellg();
+  in.seekg(0, std::ios::beg);
+  if (size < 0) return IoError(path + ": cannot tell its size (not a regular file?)");
+  std::string bytes(static_cast<std::size_t>(size), '\0');
+  if (!in.read(bytes.data(), size)) return IoError(path + ": read error");
   return ParseDataFlash(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size(), path);
 }
 

@@ -2,6 +2,7 @@
 #include "gyrocomp/io/flight_log.h"
 
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <utility>
 
@@ -64,7 +65,10 @@ std::string_view LogFormatName(LogFormat format) {
 }
 
 LogFormat DetectLogFormat(const std::string& path) {
-  if (path == "-") return LogFormat::kCsv;
+  // Only regular files are peeked at: reading the first bytes of a pipe (stdin, `<(zcat x)`)
+  // would take them away from the CSV reader.
+  std::error_code ec;
+  if (path == "-" || !std::filesystem::is_regular_file(path, ec)) return LogFormat::kCsv;
   std::ifstream in(path, std::ios::binary);
   std::uint8_t head[8] = {};
   in.read(reinterpret_cast<char*>(head), sizeof head);

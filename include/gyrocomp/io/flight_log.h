@@ -31,8 +31,9 @@ namespace gyrocomp {
 enum class LogFormat { kCsv, kULog, kDataFlash };
 std::string_view LogFormatName(LogFormat format);  // "csv", "ulog", "dataflash"
 
-// The format of `path` from its first bytes (not its name). "-" (stdin), gzip and anything
-// that is not ULog or DataFlash is kCsv (ReadCsv then says what is wrong with it). A file that
+// The format of `path` from its first bytes (not its name). "-" (stdin), anything that is not a
+// regular file (a pipe: its bytes cannot be read twice), gzip and anything that is not ULog or
+// DataFlash is kCsv (ReadCsv then says what is wrong with it). A file that
 // cannot be opened is kCsv too: the reader reports it.
 LogFormat DetectLogFormat(const std::string& path);
 

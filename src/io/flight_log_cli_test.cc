@@ -144,5 +144,25 @@ TEST_F(FlightLogCliTest, SimulatedULogFitsLikeTheCsv) {
   }
 }
 
+// The hook is shared: commands that take -i read a ULog like a CSV (three axes by default).
+TEST_F(FlightLogCliTest, LogCommandsReadAULog) {
+  std::string log;
+  const std::string ulg = dir_ + "/soak.ulg";
+  ASSERT_EQ(Run("simulate --profile ramp --ramp-end 40 --fs 10 --seed 5 -o '" + ulg + "'", &log), 0) << log;
+  ASSERT_EQ(Run("allan -i '" + ulg + "' --json '" + dir_ + "/a.json'", &log), 0) << log;
+  const auto a = testing::ReadJsonFile(dir_ + "/a.json");
+  EXPECT_TRUE(a["axes"].contains("x_rad_s") && a["axes"].contains("y_rad_s") && a["axes"].contains("z_rad_s")) << a.dump();
+  ASSERT_EQ(Run("denoise -i '" + ulg + "' --method wavelet -o '" + dir_ + "/d.csv'", &log), 0) << log;
+  EXPECT_EQ(testing::ReadGoldenCsv(dir_ + "/d.csv").count("z_rad_s_denoised"), 1u);
+  ASSERT_EQ(Run("fit -i '" + ulg + "' --rate-col z_rad_s --model poly -o '" + dir_ + "/m.json'", &log), 0) << log;
+  ASSERT_EQ(Run("apply -m '" + dir_ + "/m.json' -i '" + ulg + "' --rate-col z_rad_s -o '" + dir_ + "/c.csv'", &log), 0)
+      << log;
+  EXPECT_EQ(testing::ReadGoldenCsv(dir_ + "/c.csv").count("compensated_dps"), 1u);
+  // A --rate-unit that contradicts the log's rad/s is refused.
+  EXPECT_EQ(Run("fit -i '" + ulg + "' --rate-col z_rad_s --rate-unit dps --model poly -o '" + dir_ + "/m2.json'", &log),
+            2);
+  EXPECT_NE(log.find("is a flight-controller log, whose rates are rad/s"), std::string::npos) << log;
+}
+
 }  // namespace
 }  // namespace gyrocomp

@@ -1,6 +1,7 @@
 // Flight-controller logs as gyro tables (include/gyrocomp/io/flight_log.h).
 #include "gyrocomp/io/flight_log.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -45,6 +46,17 @@ std::vector<double> Seconds(const std::vector<std::uint64_t>& us) {
   std::vector<double> t(us.size());
   for (std::size_t i = 0; i < us.size(); ++i) t[i] = static_cast<double>(us[i]) / 1e6;
   return t;
+}
+
+// A temperature that never changes (PX4 SITL logs 0.0) cannot carry a thermal model.
+void WarnIfConstant(const std::vector<double>& temp_c, const std::string& source, const std::string& origin,
+                    std::vector<std::string>* warnings) {
+  if (temp_c.size() < 2) return;
+  const auto [lo, hi] = std::minmax_element(temp_c.begin(), temp_c.end());
+  if (*lo == *hi) {
+    warnings->push_back(source + ": " + origin + ": the temperature is " + Num(*lo) +
+                        " C in every row (a simulated sensor?); no thermal model can be fitted on it");
+  }
 }
 
 bool Enabled(const std::map<std::string, double>& params, const std::string& name, double* value) {
@@ -106,6 +118,7 @@ Result<FlightLogTable> FlightLogFromULog(const ULogContents& log, std::optional<
   out.table.Add(kFlightRateCols[2], g.z_rad_s);
   if (!g.temperature_c.empty()) {
     out.table.Add(kFlightTempCol, g.temperature_c);
+    WarnIfConstant(g.temperature_c, log.source, out.origin, &out.warnings);
   } else {
     out.warnings.push_back(log.source + ": " + out.origin + " has no temperature" +
                            (combined ? " (the log has no sensor_gyro data, only sensor_combined, which logs none)" : ""));
@@ -141,6 +154,7 @@ Result<FlightLogTable> FlightLogFromDataFlash(const DataFlashContents& log, std:
   out.table.Add(kFlightRateCols[2], s.gyr_z_rad_s);
   if (s.temp_c.size() == s.time_us.size()) {
     out.table.Add(kFlightTempCol, s.temp_c);
+    WarnIfConstant(s.temp_c, log.source, out.origin, &out.warnings);
   } else {
     out.warnings.push_back(log.source + ": " + out.origin + " has no temperature field T");
   }

@@ -269,6 +269,22 @@ TEST(ULogTest, CompensationEnabledIsALoudWarning) {
   EXPECT_EQ(t->warnings.back().rfind("WARNING: mem.ulg: TC_G_ENABLE = 1", 0), 0u) << t->warnings.back();
 }
 
+TEST(ULogTest, ConstantTemperatureIsAWarning) {
+  ULogGyroWriteInput in = SmallSeries(10);
+  for (float& t : in.temperature_c) t = 0.0f;  // as PX4 SITL logs it
+  Result<std::string> bytes = EncodeULogGyro(in);
+  ASSERT_TRUE(bytes.ok());
+  Result<ULogContents> log = Parse(*bytes);
+  ASSERT_TRUE(log.ok());
+  Result<FlightLogTable> t = FlightLogFromULog(*log, std::nullopt);
+  ASSERT_TRUE(t.ok());
+  ASSERT_EQ(t->warnings.size(), 1u);
+  EXPECT_NE(t->warnings[0].find("the temperature is 0 C in every row"), std::string::npos) << t->warnings[0];
+  // ... and a varying one is not.
+  Result<ULogContents> varying = Parse(*EncodeULogGyro(SmallSeries(10)));
+  EXPECT_TRUE(FlightLogFromULog(*varying, std::nullopt)->warnings.empty());
+}
+
 TEST(ULogTest, WriterRefusesBadInput) {
   ULogGyroWriteInput in = SmallSeries(10);
   in.timestamp_us[5] = in.timestamp_us[4];

@@ -272,8 +272,9 @@ struct AdmmState {
   std::size_t num_blocks = 0;
   std::vector<vmd_internal::LaneSums> sums;  // sums[block * K + k]: mode k over the block's bins
   // The stopping rule in the normalised units of the working signal (signal / 2^scale_exp):
-  // tol and eps of the absolute rule are squared signal units, so they scale by 2^(-2 scale_exp)
-  // (exactly: a power of two), which keeps every comparison, and so the iteration count, exact.
+  // tol of the absolute rule is in squared signal units, so it scales by 2^(-2 scale_exp)
+  // (exactly: a power of two), which keeps every comparison, and so the iteration count, exact
+  // for a scaled copy of a signal.
   int scale_exp = 0;
   double tol_norm = 0.0;
   double eps_norm = 0.0;
@@ -382,10 +383,9 @@ double SignalUnits(const AdmmState& st, double u) {
 // (vmdpy's Niter convention). Afterwards `old_*` hold update n and `new_*` update n-1.
 void RunAdmm(AdmmState& st, int threads) {
   const VmdOptions& opt = st.opt;
-  const double eps = std::numeric_limits<double>::epsilon();  // np.spacing(1)
-  // vmdpy starts from uDiff = tol + eps: the loop runs unless tol absorbs eps (tol >= ~1e16 eps).
-  const bool first_runs = opt.tol + eps > opt.tol;
-  st.u_diff = st.tol_norm;
+  // vmdpy starts from uDiff = tol + eps to enter the loop; with tol >= 1 squared signal units eps
+  // is absorbed and it returns its all-zero initial modes. Here the first update always runs.
+  st.u_diff = std::numeric_limits<double>::infinity();
   st.n = 0;
   st.omega_prev = st.omega;
   std::vector<double> om_snapshot;
@@ -396,7 +396,7 @@ void RunAdmm(AdmmState& st, int threads) {
     const std::size_t b1 = num_blocks * (t + 1) / threads;
     for (std::size_t b = b0; b < b1; ++b) UpdateBlock(st, b, om_snapshot);
   };
-  while ((st.n == 0 ? first_runs : st.u_diff > st.tol_norm) && st.n < opt.max_iterations - 1) {
+  while (st.u_diff > st.tol_norm && st.n < opt.max_iterations - 1) {
     om_snapshot = st.omega;
     pool.Run(round);
     st.omega_prev = st.omega;
@@ -508,7 +508,10 @@ Result<VmdResult> DecomposeVmd(std::span<const double> signal, const VmdOptions&
   st.scale_exp = sp.scale_exp;
   const bool absolute = opt.stopping_rule == VmdStoppingRule::kAbsolute;
   st.tol_norm = absolute ? std::ldexp(opt.tol, -2 * sp.scale_exp) : opt.tol;
-  st.eps_norm = std::ldexp(std::numeric_limits<double>::epsilon(), absolute ? -2 * sp.scale_exp : 0);
+  // vmdpy's np.spacing(1) guard of the absolute rule, taken in the normalised units (i.e. relative
+  // to the signal's scale) so that the rule is scale-free: for a signal with max |x| in [1, 2) it
+  // is vmdpy's; otherwise it differs from vmdpy's by less than eps * max|x|^2 squared units.
+  st.eps_norm = std::numeric_limits<double>::epsilon();
   st.omega = InitialCenterFrequencies(opt, sp.n_even);
   const int threads = ChooseThreads(opt, static_cast<std::size_t>(K) * sp.H, st.num_blocks);
   RunAdmm(st, threads);
@@ -538,9 +541,8 @@ Result<VmdResult> DecomposeVmd(std::span<const double> signal, const VmdOptions&
   s.num_samples = n_in;
   s.extended_length = sp.T;
   s.iterations = st.n;
-  // No update at all: vmdpy's uDiff = tol + eps, which equals tol.
-  s.converged = st.n == 0 || st.u_diff <= st.tol_norm;
-  s.final_update = st.n == 0 ? opt.tol + std::numeric_limits<double>::epsilon() : SignalUnits(st, st.u_diff);
+  s.converged = st.u_diff <= st.tol_norm;
+  s.final_update = SignalUnits(st, st.u_diff);
   s.center_frequency_cycles_per_sample = out_omega;
   s.fs_hz = opt.fs_hz;
   for (double w : out_omega) s.center_frequency_hz.push_back(w * opt.fs_hz);

@@ -222,6 +222,7 @@ std::vector<double> InitialCenterFrequencies(const VmdOptions& opt, std::size_t 
     for (int k = 0; k < K; ++k) omega[k] = std::exp(std::log(fs) + (std::log(0.5) - std::log(fs)) * u[k]);
     std::sort(omega.begin(), omega.end());
   }
+  if (opt.initial_center_frequencies) omega = *opt.initial_center_frequencies;
   if (opt.dc) omega[0] = 0.0;
   return omega;
 }
@@ -466,6 +467,15 @@ bool VmdOptions::IsValid(std::string* error) const {
   if (!(alpha > 0) || !std::isfinite(alpha)) return fail("alpha", str(alpha), "must be > 0 and finite");
   if (!(tau >= 0) || !std::isfinite(tau)) return fail("tau", str(tau), "must be >= 0 and finite");
   if (!(tol > 0) || !std::isfinite(tol)) return fail("tol", str(tol), "must be > 0 and finite");
+  if (initial_center_frequencies) {
+    if (initial_center_frequencies->size() != static_cast<std::size_t>(num_modes)) {
+      return fail("initial_center_frequencies", std::to_string(initial_center_frequencies->size()) + " values",
+                  "must hold num_modes values");
+    }
+    for (double w : *initial_center_frequencies) {
+      if (!(w >= 0 && w <= 0.5)) return fail("initial_center_frequencies", str(w), "must be in [0, 0.5] cycles per sample");
+    }
+  }
   if (max_iterations < 2) return fail("max_iterations", std::to_string(max_iterations), "must be >= 2");
   if (!(fs_hz > 0) || !std::isfinite(fs_hz)) return fail("fs_hz", str(fs_hz), "must be > 0 and finite");
   if (num_threads && *num_threads < 1) {

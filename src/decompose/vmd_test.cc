@@ -258,6 +258,36 @@ TEST(VmdExtremeValues, AlternatingPlusMinus1e308GivesFiniteModesExactlyScaledFro
   EXPECT_EQ(big->summary.center_frequency_cycles_per_sample, ref->summary.center_frequency_cycles_per_sample);
 }
 
+TEST(Vmd, WarmStartFromCenterFrequencies) {
+  // Started at the centre frequencies a full run ends at, the same tolerance is met in fewer
+  // updates, and the modes are those of the full run within the accuracy the rule allows.
+  const auto input = ReadGoldenCsv(GoldenPath("vmd/gyro_like_K6.input.csv")).at("x");
+  const VmdOptions base = GoldenOptions(ReadJsonFile(GoldenPath("vmd/gyro_like_K6.json")).at("params"));
+  auto cold = DecomposeVmd(input, base);
+  ASSERT_TRUE(cold.ok());
+  VmdOptions opt = base;
+  opt.initial_center_frequencies = cold->summary.center_frequency_cycles_per_sample;
+  auto warm = DecomposeVmd(input, opt);
+  ASSERT_TRUE(warm.ok());
+  EXPECT_TRUE(warm->summary.converged);
+  EXPECT_LT(warm->summary.iterations, cold->summary.iterations * 3 / 4);
+  for (int k = 0; k < base.num_modes; ++k) {
+    EXPECT_NEAR(warm->summary.center_frequency_cycles_per_sample[k], cold->summary.center_frequency_cycles_per_sample[k], 2e-3);
+    double err = 0, ref = 0;
+    for (std::size_t i = 0; i < input.size(); ++i) {
+      err += std::pow(warm->modes[k][i] - cold->modes[k][i], 2);
+      ref += input[i] * input[i];
+    }
+    EXPECT_LT(std::sqrt(err / ref), 2e-2) << "mode " << k + 1;  // both stop at ||du||^2/T ~ 1e-7
+  }
+  std::string why;
+  opt.initial_center_frequencies = std::vector<double>{0.1, 0.2};
+  EXPECT_FALSE(opt.IsValid(&why));
+  EXPECT_NE(why.find("initial_center_frequencies"), std::string::npos);
+  opt.initial_center_frequencies = std::vector<double>(6, 0.7);
+  EXPECT_FALSE(DecomposeVmd(input, opt).ok());
+}
+
 TEST(Vmd, OddLengthKeepsEverySample) {
   auto x = Tone(1001, 0.02, 1.0);
   VmdOptions opt;

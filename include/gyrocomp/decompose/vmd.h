@@ -71,6 +71,9 @@ struct VmdOptions {
   bool dc = false;
   // Initial centre frequencies.
   VmdInit init = VmdInit::kUniform;
+  // Warm start: the initial centre frequencies themselves (cycles per sample, K values in
+  // [0, 0.5]), e.g. those of a VMD of an excerpt of the record. Set: overrides `init`.
+  std::optional<std::vector<double>> initial_center_frequencies;
   // Seed of the MT19937 stream for VmdInit::kRandom (numpy np.random.seed semantics, 32 bits).
   std::uint32_t seed = 0;
   // The reference's Niter: at most max_iterations - 1 updates are run. >= 2.

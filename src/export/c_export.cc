@@ -101,10 +101,14 @@ void EmitSvr(std::ostringstream& s, const Names& n, int k, const SvrModel& m) {
   else
     s << "  (void)dtemp;\n";
   if (nsv > 0) {
-    s << "  {\n    int i, j;\n    for (i = 0; i < " << nsv << "; ++i) {\n      " << n.real << " d2 = " << n.R(0.0)
-      << ";\n      for (j = 0; j < " << nin << "; ++j) {\n        const " << n.real << " d = z[j] - " << a << "_sv[i * "
-      << nin << " + j];\n        d2 += d * d;\n      }\n      f += " << a << "_coef[i] * " << n.P << "_EXP("
-      << n.R(-m.gamma) << " * d2);\n    }\n  }\n";
+    // Compensated (Kahan) sum: the terms cancel (|sum| << sum |terms|), which float alone would
+    // not survive (docs/export.md). Do not compile with -ffast-math: it removes the compensation.
+    s << "  {\n    int i, j;\n    " << n.real << " comp = " << n.R(0.0) << ";\n    for (i = 0; i < " << nsv
+      << "; ++i) {\n      " << n.real << " d2 = " << n.R(0.0) << ", term, y, sum;\n      for (j = 0; j < " << nin
+      << "; ++j) {\n        const " << n.real << " d = z[j] - " << a << "_sv[i * " << nin
+      << " + j];\n        d2 += d * d;\n      }\n      term = " << a << "_coef[i] * " << n.P << "_EXP("
+      << n.R(-m.gamma) << " * d2);\n      y = term - comp;\n      sum = f + y;\n      comp = (sum - f) - y;\n"
+      << "      f = sum;\n    }\n  }\n";
   } else {
     s << "  (void)z;\n";
   }
@@ -120,10 +124,13 @@ std::string Header(const std::vector<AxisDriftModel>& axes, const CExportOptions
   s << "#ifndef " << n.P << "_H\n#define " << n.P << "_H\n\n";
   s << "#ifdef " << n.P << "_USE_FLOAT\ntypedef float " << n.real << ";\n#else\ntypedef double " << n.real
     << ";\n#endif\n\n#define " << n.P << "_NUM_AXES " << axes.size() << "\n\n";
-  s << "/* Axes, in rate_in / rate_out order:";
-  for (std::size_t k = 0; k < axes.size(); ++k) s << " " << k << " = " << axes[k].axis << (k + 1 < axes.size() ? "," : ".");
+  s << "/* Axes, in rate_in / rate_out order (float build: bound on the model's rounding, c_export.h):\n";
+  for (std::size_t k = 0; k < axes.size(); ++k)
+    s << " *   " << k << " = " << axes[k].axis << ", float rounding <= "
+      << FloatEvaluationBound(axes[k].model) * o.output_scale << " " << o.output_unit << "\n";
   s << " */\ntypedef struct {\n  int initialized;\n"
-    << "  " << n.real << " lag_c[" << axes.size() << "];   /* causal dT/dt: first lag L, deg C */\n"
+    << "  " << n.real << " prev_c[" << axes.size() << "];  /* causal dT/dt: previous temperature, deg C */\n"
+    << "  " << n.real << " err_c[" << axes.size() << "];   /* T minus the first lag L, deg C */\n"
     << "  " << n.real << " diff_c[" << axes.size() << "];  /* L minus the second lag, deg C */\n"
     << "  " << n.real << " drift[" << axes.size() << "];   /* last drift subtracted, " << o.output_unit << " */\n"
     << "} " << n.p << "_state;\n\n";
@@ -146,18 +153,22 @@ void EmitPrelude(std::ostringstream& s, const std::vector<AxisDriftModel>& axes,
   if (!any_rate) return;
   // CausalRateStep of causal_drift.cc.
   s << "/* Causal dT/dt: two first-order lags (backward Euler), estimate (L - M) / tau, delay 2 tau. */\n";
-  s << "static " << n.real << " " << n.p << "_rate_step(" << n.real << " *lag, " << n.real << " *diff, int initialized, "
-    << n.real << " dt_s, " << n.real << " temp_c, " << n.real << " tau_s) {\n";
-  s << "  " << n.real << " a, step;\n  if (!initialized) {\n    *lag = temp_c;\n    *diff = " << n.R(0.0)
-    << ";\n    return " << n.R(0.0) << ";\n  }\n";
-  s << "  a = dt_s / (tau_s + dt_s);\n  step = a * (temp_c - *lag);\n  *lag += step;\n"
-    << "  *diff = (" << n.R(1.0) << " - a) * (*diff + step);\n  return *diff / tau_s;\n}\n\n";
+  s << "static " << n.real << " " << n.p << "_rate_step(" << n.real << " *prev, " << n.real << " *err, " << n.real
+    << " *diff, int initialized, " << n.real << " dt_s, " << n.real << " temp_c, " << n.real << " tau_s) {\n";
+  s << "  " << n.real << " a, b, x;\n  if (!initialized) {\n    *prev = temp_c;\n    *err = " << n.R(0.0)
+    << ";\n    *diff = " << n.R(0.0) << ";\n    return " << n.R(0.0) << ";\n  }\n";
+  s << "  if (!(dt_s > " << n.R(0.0) << ")) return *diff / tau_s;\n"
+    << "  b = tau_s / (tau_s + dt_s);\n  a = " << n.R(1.0) << " - b;\n"
+    << "  x = (temp_c - *prev) + *err;  /* T_k - L_{k-1}, small numbers only */\n"
+    << "  *prev = temp_c;\n  *err = b * x;\n  *diff = b * (*diff + a * x);\n"
+    << "  /* D a / (b dt) = D / tau, unbiased by the rounding of a and b */\n"
+    << "  return *diff * a / (b * dt_s);\n}\n\n";
 }
 
 void EmitStep(std::ostringstream& s, const std::vector<AxisDriftModel>& axes, const CExportOptions& o, const Names& n) {
   s << "void " << n.p << "_init(" << n.p << "_state *state) {\n  int a;\n  state->initialized = 0;\n"
-    << "  for (a = 0; a < " << n.P << "_NUM_AXES; ++a) {\n    state->lag_c[a] = " << n.R(0.0)
-    << ";\n    state->diff_c[a] = " << n.R(0.0) << ";\n    state->drift[a] = " << n.R(0.0) << ";\n  }\n}\n\n";
+    << "  for (a = 0; a < " << n.P << "_NUM_AXES; ++a) {\n    state->prev_c[a] = " << n.R(0.0)
+    << ";\n    state->err_c[a] = " << n.R(0.0) << ";\n    state->diff_c[a] = " << n.R(0.0) << ";\n    state->drift[a] = " << n.R(0.0) << ";\n  }\n}\n\n";
   s << "void " << n.p << "_step(" << n.p << "_state *state, " << n.real << " dt_s, " << n.real << " temp_c,\n"
     << "    const " << n.real << " *rate_in, " << n.real << " *rate_out) {\n";
   s << "  " << n.real << " t, r;\n";
@@ -173,7 +184,7 @@ void EmitStep(std::ostringstream& s, const std::vector<AxisDriftModel>& axes, co
       << n.R(f.temp_max_c) << ") t = " << n.R(f.temp_max_c) << ";\n";
     if (UsesRate(m)) {
       const double tau = ResolvedCausalTau(o.causal, m.rate);
-      s << "  r = " << n.p << "_rate_step(&state->lag_c[" << k << "], &state->diff_c[" << k
+      s << "  r = " << n.p << "_rate_step(&state->prev_c[" << k << "], &state->err_c[" << k << "], &state->diff_c[" << k
         << "], state->initialized, dt_s, temp_c, " << n.R(tau) << ");  /* delay " << CausalRateDelay(tau) << " s */\n";
       s << "  if (r < " << n.R(f.dtemp_min_c_per_s) << ") r = " << n.R(f.dtemp_min_c_per_s) << ";\n  else if (r > "
         << n.R(f.dtemp_max_c_per_s) << ") r = " << n.R(f.dtemp_max_c_per_s) << ";\n";
@@ -186,7 +197,40 @@ void EmitStep(std::ostringstream& s, const std::vector<AxisDriftModel>& axes, co
   s << "  state->initialized = 1;\n}\n";
 }
 
+// Largest |standardised input| over the clamped range, per input column.
+std::vector<double> MaxScaled(const DriftModel& m, const AffineScaler& sc) {
+  const DriftFitSummary& f = m.summary;
+  const double lo[2] = {f.temp_min_c, f.dtemp_min_c_per_s}, hi[2] = {f.temp_max_c, f.dtemp_max_c_per_s};
+  std::vector<double> z;
+  for (std::size_t j = 0; j < sc.offset.size() && j < 2; ++j)
+    z.push_back(std::max(std::abs((lo[j] - sc.offset[j]) / sc.scale[j]), std::abs((hi[j] - sc.offset[j]) / sc.scale[j])));
+  return z;
+}
+
 }  // namespace
+
+double FloatEvaluationBound(const DriftModel& model) {
+  constexpr double u = 1.0 / (1 << 24);
+  if (const auto* p = std::get_if<PolynomialModel>(&model.model)) {
+    const std::vector<double> z = MaxScaled(model, p->input_scaler);
+    double sum = 0.0;
+    for (const auto& t : p->terms)
+      sum += std::abs(t.coefficient) * std::pow(z[0], t.temp_power) * (z.size() > 1 ? std::pow(z[1], t.dtemp_power) : 1.0);
+    return 6.0 * u * sum;
+  }
+  const SvrModel& m = std::get<SvrModel>(model.model);
+  const std::vector<double> z = MaxScaled(model, m.input_scaler);
+  double zmax = 0.0;
+  for (double v : z) zmax += v * v;
+  zmax = std::sqrt(zmax);
+  double sum = 0.0;
+  for (std::size_t i = 0; i < m.num_support(); ++i) {
+    double sv = 0.0;
+    for (std::size_t j = 0; j < m.num_inputs; ++j) sv += m.support_vectors[i * m.num_inputs + j] * m.support_vectors[i * m.num_inputs + j];
+    sum += std::abs(m.coefficients[i]) * (6.0 + 0.86 * std::sqrt(m.gamma) * (zmax + std::sqrt(sv)));
+  }
+  return u * std::abs(m.target_scale) * (sum + 2.0 * std::abs(m.intercept));
+}
 
 bool CExportOptions::IsValid(std::string* error) const {
   if (!IsCIdentifier(prefix)) {

@@ -27,15 +27,23 @@ double ResolvedCausalTau(const CausalRateOptions& options, const TemperatureRate
 double CausalRateStep(CausalRateState* s, double dt_s, double temp_c, double tau_s) {
   if (!s->initialized) {
     s->initialized = true;
-    s->lag_c = temp_c;
+    s->prev_temp_c = temp_c;
+    s->lag_error_c = 0.0;
     s->diff_c = 0.0;
     return 0.0;
   }
-  const double a = dt_s / (tau_s + dt_s);          // backward Euler, exact ramp lag tau
-  const double step = a * (temp_c - s->lag_c);     // L_k - L_{k-1}
-  s->lag_c += step;
-  s->diff_c = (1.0 - a) * (s->diff_c + step);      // D_k = (1 - a)(D_{k-1} + L_k - L_{k-1})
-  return s->diff_c / tau_s;
+  if (!(dt_s > 0.0)) return s->diff_c / tau_s;     // no time elapsed: nothing new
+  const double b = tau_s / (tau_s + dt_s);         // 1 - a, backward Euler
+  const double a = 1.0 - b;                        // exact (b >= 1/2 when dt <= tau)
+  // T_k - L_{k-1} = (T_k - T_{k-1}) + (T_{k-1} - L_{k-1}): only small numbers are carried.
+  const double x = (temp_c - s->prev_temp_c) + s->lag_error_c;
+  const double step = a * x;                       // L_k - L_{k-1}
+  s->prev_temp_c = temp_c;
+  s->lag_error_c = b * x;                          // T_k - L_k
+  s->diff_c = b * (s->diff_c + step);              // D_k = (1 - a)(D_{k-1} + L_k - L_{k-1})
+  // D / tau, written with the a and b the recursion used: on a ramp D = b s dt / a exactly in
+  // the recursion's own arithmetic, so the rounding of a and b does not bias the estimate.
+  return s->diff_c * a / (b * dt_s);
 }
 
 Result<std::vector<double>> CausalTemperatureRate(std::span<const double> temp_c, double fs_hz,

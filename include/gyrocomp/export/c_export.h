@@ -14,7 +14,9 @@
 // operation is float (no double promotion).
 //
 // It computes exactly what PredictDriftCausal computes (same formulas, same order of operations):
-// in double within rounding (tests: 1e-12 of the drift span), in float within 1e-5 of the span.
+// in double within rounding (tests: 1e-12 of the drift span); in float within 1e-5 of the span
+// plus the model's own conditioning (an SVR whose terms cancel: its sum is compensated, Kahan,
+// but each term keeps its float rounding; docs/export.md gives the measured figures).
 #pragma once
 
 #include <string>

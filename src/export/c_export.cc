@@ -124,10 +124,11 @@ std::string Header(const std::vector<AxisDriftModel>& axes, const CExportOptions
   s << "#ifndef " << n.P << "_H\n#define " << n.P << "_H\n\n";
   s << "#ifdef " << n.P << "_USE_FLOAT\ntypedef float " << n.real << ";\n#else\ntypedef double " << n.real
     << ";\n#endif\n\n#define " << n.P << "_NUM_AXES " << axes.size() << "\n\n";
-  s << "/* Axes, in rate_in / rate_out order (float build: bound on the model's rounding, c_export.h):\n";
+  s << "/* Axes, in rate_in / rate_out order:\n";
   for (std::size_t k = 0; k < axes.size(); ++k)
-    s << " *   " << k << " = " << axes[k].axis << ", float rounding <= "
-      << FloatEvaluationBound(axes[k].model) * o.output_scale << " " << o.output_unit << "\n";
+    s << " *   " << k << " = " << axes[k].axis << " (" << DriftModelKindName(axes[k].model.kind) << ", "
+      << DriftInputSetName(axes[k].model.inputs) << ", T clamped to [" << axes[k].model.summary.temp_min_c << ", "
+      << axes[k].model.summary.temp_max_c << "] C)\n";
   s << " */\ntypedef struct {\n  int initialized;\n"
     << "  " << n.real << " prev_c[" << axes.size() << "];  /* causal dT/dt: previous temperature, deg C */\n"
     << "  " << n.real << " err_c[" << axes.size() << "];   /* T minus the first lag L, deg C */\n"
@@ -197,40 +198,7 @@ void EmitStep(std::ostringstream& s, const std::vector<AxisDriftModel>& axes, co
   s << "  state->initialized = 1;\n}\n";
 }
 
-// Largest |standardised input| over the clamped range, per input column.
-std::vector<double> MaxScaled(const DriftModel& m, const AffineScaler& sc) {
-  const DriftFitSummary& f = m.summary;
-  const double lo[2] = {f.temp_min_c, f.dtemp_min_c_per_s}, hi[2] = {f.temp_max_c, f.dtemp_max_c_per_s};
-  std::vector<double> z;
-  for (std::size_t j = 0; j < sc.offset.size() && j < 2; ++j)
-    z.push_back(std::max(std::abs((lo[j] - sc.offset[j]) / sc.scale[j]), std::abs((hi[j] - sc.offset[j]) / sc.scale[j])));
-  return z;
-}
-
 }  // namespace
-
-double FloatEvaluationBound(const DriftModel& model) {
-  constexpr double u = 1.0 / (1 << 24);
-  if (const auto* p = std::get_if<PolynomialModel>(&model.model)) {
-    const std::vector<double> z = MaxScaled(model, p->input_scaler);
-    double sum = 0.0;
-    for (const auto& t : p->terms)
-      sum += std::abs(t.coefficient) * std::pow(z[0], t.temp_power) * (z.size() > 1 ? std::pow(z[1], t.dtemp_power) : 1.0);
-    return 6.0 * u * sum;
-  }
-  const SvrModel& m = std::get<SvrModel>(model.model);
-  const std::vector<double> z = MaxScaled(model, m.input_scaler);
-  double zmax = 0.0;
-  for (double v : z) zmax += v * v;
-  zmax = std::sqrt(zmax);
-  double sum = 0.0;
-  for (std::size_t i = 0; i < m.num_support(); ++i) {
-    double sv = 0.0;
-    for (std::size_t j = 0; j < m.num_inputs; ++j) sv += m.support_vectors[i * m.num_inputs + j] * m.support_vectors[i * m.num_inputs + j];
-    sum += std::abs(m.coefficients[i]) * (6.0 + 0.86 * std::sqrt(m.gamma) * (zmax + std::sqrt(sv)));
-  }
-  return u * std::abs(m.target_scale) * (sum + 2.0 * std::abs(m.intercept));
-}
 
 bool CExportOptions::IsValid(std::string* error) const {
   if (!IsCIdentifier(prefix)) {

@@ -177,6 +177,8 @@ TEST_F(GeneratedCTest, AgreesWithTheLibraryCausalPrediction) {
       ASSERT_TRUE(d.ok());
       expected.push_back(*d);
     }
+    std::vector<std::vector<double>> cond;
+    for (const auto& a : axes) cond.push_back(InputConditioning(a.model, val.temp_c, 16.0));
     for (bool use_float : {false, true}) {
       const std::string bin = Build(*gen, o.prefix, axes.size(), use_float);
       const auto got = Run(bin, 1.0, val.temp_c, val.rate_dps, axes.size());
@@ -184,11 +186,10 @@ TEST_F(GeneratedCTest, AgreesWithTheLibraryCausalPrediction) {
       for (std::size_t k = 0; k < axes.size(); ++k) {
         // Float: 1e-5 of the span plus the model's own conditioning (16 float ulps of T and dT/dt,
         // and for an SVR the rounding bound of its sum); double: 1e-12 of the span.
-        const std::vector<double> cond = InputConditioning(axes[k].model, val.temp_c, 16.0);
         double worst = 0.0, worst_over_tol = 0.0;
         for (std::size_t i = 0; i < got.size(); ++i) {
           const double e = std::abs(got[i][k] - (val.rate_dps[i] - expected[k][i]));
-          const double tol = use_float ? 1e-5 * Span(expected[k]) + cond[i] : 1e-12 * Span(expected[k]);
+          const double tol = use_float ? 1e-5 * Span(expected[k]) + cond[k][i] : 1e-12 * Span(expected[k]);
           worst = std::max(worst, e);
           worst_over_tol = std::max(worst_over_tol, e / tol);
         }

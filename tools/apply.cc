@@ -65,7 +65,7 @@ int Run(const ApplyArgs& a) {
     for (std::size_t i = 0; i < comp.size(); ++i) comp[i] = log.rate_dps[k][i] - (*predicted)[i];
     out.Add(one ? "compensated_dps" : log.axis_names[k] + "_compensated", std::move(comp));
   }
-  if (Status s = WriteCsvAtomic(a.output, out); !s.ok()) return ReportError(kName, s.error());
+  if (Status s = WriteCsv(a.output, out); !s.ok()) return ReportError(kName, s.error());
 
   nlohmann::json j;
   j["model_file"] = a.model_path;
@@ -106,10 +106,10 @@ Command Make(CLI::App& app) {
       "  temp_above_fitted_c, fraction_outside_fitted_range, and rmse_vs_true_drift_dps when the\n"
       "  record has a true_drift_dps column (simulator output).\n"
       "Example: gyrocomp apply -m model.json -i run2.csv -o compensated.csv");
-  sub->add_option("-m,--model", a->model_path, "Model file written by gyrocomp fit")->required();
+  AddInputOption(sub, "-m,--model", &a->model_path, "Model file written by gyrocomp fit")->required();
   AddLogOptions(sub, &a->log);
-  sub->add_option("-o,--output", a->output, "Output CSV")->required();
-  sub->add_option("--json", a->json_path, "Write a summary as JSON to FILE ('-' = stdout)");
+  AddOutputOption(sub, "-o,--output", &a->output, "Output CSV")->required();
+  AddOutputOption(sub, "--json", &a->json_path, "Write a summary as JSON to FILE ('-' = stdout)");
   sub->add_flag("--causal", a->causal,
                 "Firmware form: causal dT/dt (double lag, delay 2 tau), inputs clamped to the fitted range; "
                 "equals the C of 'export --format c'");

@@ -18,7 +18,6 @@
 #include "gyrocomp/export/c_export.h"
 #include "gyrocomp/export/param_export.h"
 #include "gyrocomp/export/thermal_cubic.h"
-#include "gyrocomp/io/io.h"
 #include "result_json.h"
 
 namespace gyrocomp::cli {
@@ -136,14 +135,6 @@ std::vector<std::string> ParamComments(const ExportArgs& a, const std::vector<Ax
   return c;
 }
 
-Status WriteText(const std::string& path, const std::string& text) {
-  if (path.empty() || path == "-") {
-    std::cout << text;
-    return Status::Ok();
-  }
-  return WriteTextAtomic(path, text);
-}
-
 int RunParams(const ExportArgs& a, const std::vector<AxisDriftModel>& axes, nlohmann::json* j) {
   if (axes.size() != 3)
     return ReportError(kName, InvalidArgument("--format " + a.format + " needs three axis models (-m x.json -m y.json "
@@ -169,7 +160,7 @@ int RunParams(const ExportArgs& a, const std::vector<AxisDriftModel>& axes, nloh
     text = WriteArduPilotThermalParams(radps, o, comments);
   }
   if (!text.ok()) return ReportError(kName, text.error());
-  if (Status s = WriteText(a.output, *text); !s.ok()) return ReportError(kName, s.error());
+  if (Status s = WriteText(a.output.empty() ? "-" : a.output, *text); !s.ok()) return ReportError(kName, s.error());
   nlohmann::json ax = nlohmann::json::array();
   for (int k = 0; k < 3; ++k) {
     const TemperatureCubic& c = (*costs)[k].cubic_dps;
@@ -202,8 +193,8 @@ int RunC(const ExportArgs& a, const std::vector<AxisDriftModel>& axes, nlohmann:
   Result<GeneratedC> gen = GenerateCEvaluator(axes, o);
   if (!gen.ok()) return ReportError(kName, gen.error());
   const std::filesystem::path dir = out.parent_path();
-  if (Status s = WriteTextAtomic((dir / gen->header_name).string(), gen->header); !s.ok()) return ReportError(kName, s.error());
-  if (Status s = WriteTextAtomic((dir / gen->source_name).string(), gen->source); !s.ok()) return ReportError(kName, s.error());
+  if (Status s = WriteText((dir / gen->header_name).string(), gen->header); !s.ok()) return ReportError(kName, s.error());
+  if (Status s = WriteText((dir / gen->source_name).string(), gen->source); !s.ok()) return ReportError(kName, s.error());
   nlohmann::json ax = nlohmann::json::array();
   for (std::size_t k = 0; k < axes.size(); ++k) {
     const bool rate = axes[k].model.inputs == DriftInputSet::kTempAndRate;
@@ -246,14 +237,15 @@ Command Make(CLI::App& app) {
   sub->add_option("-m,--model", a->model_paths, "Model file(s) written by gyrocomp fit, one per axis (x, y, z)")
       ->required();
   sub->add_option("--format", a->format, "px4 | ardupilot | c")->required()->check(CLI::IsMember({"px4", "ardupilot", "c"}));
+  // For c, -o is a stem: NAME.h and NAME.c are declared when written (WriteText).
   sub->add_option("-o,--output", a->output, "Output file ('-' or none: stdout); for c: DIR/NAME");
-  sub->add_option("--json", a->json_path, "Write a summary as JSON to FILE ('-' = stdout)");
+  AddOutputOption(sub, "--json", &a->json_path, "Write a summary as JSON to FILE ('-' = stdout)");
   sub->add_option("--device-id", a->device_id, "px4: TC_G<i>_ID, the gyro's device_id (sensor_gyro.device_id)");
   sub->add_option("--index", a->index, "px4: slot i of TC_G<i> (0..3, default 0); ardupilot: IMU n of INS_TCAL<n> (1..3, default 1)");
   sub->add_option("--c-unit", a->c_unit, "c: unit of rate_in/rate_out, dps or rads")->capture_default_str();
   sub->add_option("--tau", a->tau_s, "c: causal dT/dt lag time constant, s (default: the model's window / 48^(1/3))");
   AddLogOptions(sub, &a->log, /*input_required=*/false);
-  sub->add_option("--validation", a->validation_path, "px4/ardupilot: a validation run (same columns as -i) for the cost");
+  AddInputOption(sub, "--validation", &a->validation_path, "px4/ardupilot: a validation run (same columns as -i) for the cost");
   return {sub, [a] { return Run(*a); }};
 }
 

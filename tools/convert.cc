@@ -29,7 +29,7 @@ int Run(const ConvertArgs& a) {
   if (!log.ok()) return ReportError(kName, log.error());
   for (const std::string& w : log->warnings) Note(kName, w);
   const std::size_t rows = log->table.num_rows();
-  if (Status s = WriteCsvAtomic(a.output, log->table); !s.ok()) return ReportError(kName, s.error());
+  if (Status s = WriteCsv(a.output, log->table); !s.ok()) return ReportError(kName, s.error());
   if (!a.json_path.empty()) {
     nlohmann::json j;
     j["input"] = a.input;
@@ -55,11 +55,11 @@ Command Make(CLI::App& app) {
       "for ULog sensor_combined). ULog: sensor_gyro multi_id N (sensor_combined when there is no\n"
       "sensor_gyro); DataFlash: IMU instance N (old logs: IMU, IMU2, IMU3). No sampling checks: the\n"
       "rows are what the reader sees. Example: gyrocomp convert -i log.ulg --instance 0 -o gyro0.csv");
-  sub->add_option("-i,--input", a->input, "Input log (ULog or DataFlash, recognised by its first bytes)")->required();
+  AddInputOption(sub, "-i,--input", &a->input, "Input log (ULog or DataFlash, recognised by its first bytes)")->required();
   sub->add_option("--instance", a->instance, "Gyro instance (default: the only one; several are listed)")
       ->check(CLI::NonNegativeNumber);
-  sub->add_option("-o,--output", a->output, "Output CSV (.gz: gzip; '-' = stdout)")->required();
-  sub->add_option("--json", a->json_path, "Write what was converted as JSON ('-' = stdout)");
+  AddOutputOption(sub, "-o,--output", &a->output, "Output CSV (.gz: gzip; '-' = stdout)")->required();
+  AddOutputOption(sub, "--json", &a->json_path, "Write what was converted as JSON ('-' = stdout)");
   return {sub, [a] { return Run(*a); }};
 }
 

@@ -149,8 +149,8 @@ Command Make(CLI::App& app) {
       "Prints the topics (ULog) or message types (DataFlash), the gyro instances with rows, device id,\n"
       "mean sample rate and temperature range, and the thermal-compensation parameters found\n"
       "(PX4 TC_G_ENABLE / TC_G{i}_ID, ArduPilot INS_TCAL{n}_ENABLE). Example: gyrocomp inspect -i log.ulg");
-  sub->add_option("-i,--input", a->input, "Input log (ULog or DataFlash, recognised by its first bytes)")->required();
-  sub->add_option("--json", a->json_path, "Write the listing as JSON ('-' = stdout, then no text)");
+  AddInputOption(sub, "-i,--input", &a->input, "Input log (ULog or DataFlash, recognised by its first bytes)")->required();
+  AddOutputOption(sub, "--json", &a->json_path, "Write the listing as JSON ('-' = stdout, then no text)");
   return {sub, [a] { return Run(*a); }};
 }
 

@@ -61,7 +61,7 @@ Status WriteULogRun(const std::string& path, const SimulatorOptions& options, Si
   }
   Result<std::string> bytes = EncodeULogGyro(in);
   if (!bytes.ok()) return bytes.error();
-  return WriteTextAtomic(path, *bytes);
+  return WriteText(path, *bytes);
 }
 
 int Run(SimulateArgs& a) {
@@ -87,7 +87,7 @@ int Run(SimulateArgs& a) {
   const bool ulog = EndsWith(a.output, ".ulg");
   if (ulog) {
     if (Status s = WriteULogRun(a.output, a.sim, std::move(*run)); !s.ok()) return ReportError(kName, s.error());
-  } else if (Status s = WriteCsvAtomic(a.output, std::move(*run).ToTable()); !s.ok()) {
+  } else if (Status s = WriteCsv(a.output, std::move(*run).ToTable()); !s.ok()) {
     return ReportError(kName, s.error());
   }
   if (!a.json_path.empty()) {
@@ -130,8 +130,8 @@ Command Make(CLI::App& app) {
       "-o run.ulg writes a PX4 ULog instead: sensor_gyro x, y, z (rad/s, float32) and temperature; x is\n"
       "the run, y and z the same run with --seed + 1 and + 2; no ground truth (write a CSV for that).\n"
       "Example: gyrocomp simulate --fs 100 --seed 7 -o run.csv.gz");
-  sub->add_option("-o,--output", a->output, "Output CSV (.gz: gzip), or PX4 ULog when it ends in .ulg")->required();
-  sub->add_option("--json", a->json_path, "Write a summary of the run as JSON ('-' = stdout)");
+  AddOutputOption(sub, "-o,--output", &a->output, "Output CSV (.gz: gzip), or PX4 ULog when it ends in .ulg")->required();
+  AddOutputOption(sub, "--json", &a->json_path, "Write a summary of the run as JSON ('-' = stdout)");
   sub->add_option("--profile", a->profile, "paper | soak | ramp | cycle")->capture_default_str();
   sub->add_option("--fs", o.fs_hz, "Sample rate, Hz")->check(CLI::PositiveNumber)->capture_default_str();
   sub->add_option("--seed", o.seed, "Random seed")->capture_default_str();

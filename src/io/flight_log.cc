@@ -2,6 +2,7 @@
 #include "gyrocomp/io/flight_log.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -57,6 +58,21 @@ void WarnIfConstant(const std::vector<double>& temp_c, const std::string& source
     warnings->push_back(source + ": " + origin + ": the temperature is " + Num(*lo) +
                         " C in every row (a simulated sensor?); no thermal model can be fitted on it");
   }
+}
+
+// NaN / infinity in a logged value: refused, as ReadCsv refuses them in a CSV. "line" is the line
+// of `gyrocomp convert`'s output (header = line 1), the row's timestamp says where in the log.
+std::optional<Error> CheckFinite(const Table& table) {
+  for (std::size_t j = 0; j < table.columns.size(); ++j) {
+    const std::vector<double>& c = table.columns[j];
+    for (std::size_t i = 0; i < c.size(); ++i) {
+      if (std::isfinite(c[i])) continue;
+      return InvalidInput(table.source + ":" + std::to_string(i + 2) + ":" + std::to_string(j + 1) + ": " +
+                          (std::isnan(c[i]) ? "NaN" : "infinity") + " in column '" + table.names[j] +
+                          "' (row " + std::to_string(i) + ", time_s " + Num(table.columns[0][i]) + ")");
+    }
+  }
+  return std::nullopt;
 }
 
 bool Enabled(const std::map<std::string, double>& params, const std::string& name, double* value) {
@@ -123,6 +139,7 @@ Result<FlightLogTable> FlightLogFromULog(const ULogContents& log, std::optional<
     out.warnings.push_back(log.source + ": " + out.origin + " has no temperature" +
                            (combined ? " (the log has no sensor_gyro data, only sensor_combined, which logs none)" : ""));
   }
+  if (auto e = CheckFinite(out.table)) return *e;
   double v = 0;
   if (Enabled(log.parameters, "TC_G_ENABLE", &v)) {
     out.warnings.push_back("WARNING: " + log.source + ": TC_G_ENABLE = " + Num(v) +
@@ -158,6 +175,7 @@ Result<FlightLogTable> FlightLogFromDataFlash(const DataFlashContents& log, std:
   } else {
     out.warnings.push_back(log.source + ": " + out.origin + " has no temperature field T");
   }
+  if (auto e = CheckFinite(out.table)) return *e;
   out.warnings.push_back("WARNING: " + log.source + ": ArduPilot logs IMU rates after its gyro offset correction "
                          "and rotation to the board frame; they are not the sensor's raw output");
   double v = 0;

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -283,6 +284,16 @@ TEST(ULogTest, ConstantTemperatureIsAWarning) {
   // ... and a varying one is not.
   Result<ULogContents> varying = Parse(*EncodeULogGyro(SmallSeries(10)));
   EXPECT_TRUE(FlightLogFromULog(*varying, std::nullopt)->warnings.empty());
+}
+
+TEST(ULogTest, NonFiniteValuesAreRefused) {
+  ULogGyroWriteInput in = SmallSeries(10);
+  in.y_rad_s[4] = std::numeric_limits<float>::quiet_NaN();
+  Result<ULogContents> log = Parse(*EncodeULogGyro(in));
+  ASSERT_TRUE(log.ok());  // the reader reads what is logged ...
+  Result<FlightLogTable> t = FlightLogFromULog(*log, std::nullopt);
+  ASSERT_FALSE(t.ok());  // ... the gyro table refuses it, as ReadCsv refuses NaN
+  EXPECT_EQ(t.error().message, "mem.ulg[sensor_gyro.0]:6:3: NaN in column 'y_rad_s' (row 4, time_s 1.04)");
 }
 
 TEST(ULogTest, WriterRefusesBadInput) {

@@ -10,10 +10,13 @@
 #include <limits>
 #include <sstream>
 
+#include "blocked_sum.h"
 #include "gyrocomp/core/units.h"
 
 namespace gyrocomp {
 namespace {
+
+using allan_internal::BlockedSum;
 
 // Fewest m-averages for the lag-1 autocorrelation noise identification (Riley & Greenhall ask
 // for about 30).
@@ -59,29 +62,6 @@ std::optional<PowerLawNoise> Lag1NoiseFromPhase(const std::vector<double>& x, st
     z.pop_back();
   }
 }
-
-// Sum of a long series of squares with bounded rounding error: block partial sums (the error
-// grows with the block count, not with N), close to numpy's pairwise summation.
-class BlockedSum {
- public:
-  void Add(double v) {
-    block_ += v;
-    if (++count_ == 1024) Flush();
-  }
-  double Total() {
-    Flush();
-    return total_;
-  }
-
- private:
-  void Flush() {
-    total_ += block_;
-    block_ = 0.0;
-    count_ = 0;
-  }
-  double total_ = 0.0, block_ = 0.0;
-  int count_ = 0;
-};
 
 // Regularized lower incomplete gamma P(a, x) (Numerical Recipes 6.2: series for x < a + 1,
 // Lentz continued fraction otherwise).
@@ -192,12 +172,12 @@ bool AllanOptions::IsValid(std::string* error) const {
   return false;
 }
 
-Result<std::vector<std::int64_t>> AllanAveragingFactors(std::size_t n_samples,
-                                                        const AllanOptions& options) {
+Result<std::vector<std::int64_t>> CandidateAveragingFactors(std::size_t n_samples,
+                                                            const AllanOptions& options) {
   std::string why;
   if (!options.IsValid(&why)) return InvalidArgument(why);
   // allantools works on the phase record, one point longer than the rate record, and keeps
-  // 0 < m < len(phase) before dropping taus with n = len(phase) - 2m <= 1.
+  // 0 < m < len(phase); each deviation then drops the taus with n <= 1 terms.
   const auto num_phase = static_cast<std::int64_t>(n_samples) + 1;
   std::vector<std::int64_t> m;
   switch (options.grid) {
@@ -228,11 +208,42 @@ Result<std::vector<std::int64_t>> AllanAveragingFactors(std::size_t n_samples,
   }
   std::vector<std::int64_t> out;
   for (std::int64_t v : m) {
-    if (v > 0 && v < num_phase && num_phase - 2 * v > 1) out.push_back(v);
+    if (v > 0 && v < num_phase) out.push_back(v);
   }
   std::sort(out.begin(), out.end());
   out.erase(std::unique(out.begin(), out.end()), out.end());
   return out;
+}
+
+Result<std::vector<std::int64_t>> AllanAveragingFactors(std::size_t n_samples,
+                                                        const AllanOptions& options) {
+  Result<std::vector<std::int64_t>> m = CandidateAveragingFactors(n_samples, options);
+  if (!m.ok()) return m;
+  const auto num_phase = static_cast<std::int64_t>(n_samples) + 1;
+  std::erase_if(*m, [&](std::int64_t v) { return num_phase - 2 * v <= 1; });  // n = N_p - 2m
+  return m;
+}
+
+Result<std::vector<double>> PhaseFromRate(std::span<const double> y, double fs_hz) {
+  const std::size_t n = y.size();
+  BlockedSum s;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!std::isfinite(y[i])) {
+      return InvalidInput("Allan deviation: sample " + std::to_string(i) + " is not finite");
+    }
+    s.Add(y[i]);
+  }
+  const double mean = n > 0 ? s.Total() / static_cast<double>(n) : 0.0;
+  // x_0 = 0, x_{i+1} = dt * cumsum(y - mean), as allantools frequency2phase.
+  const double dt = 1.0 / fs_hz;
+  std::vector<double> x(n + 1);
+  x[0] = 0.0;
+  double acc = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    acc += y[i] - mean;
+    x[i + 1] = acc * dt;
+  }
+  return x;
 }
 
 std::optional<PowerLawNoise> IdentifyNoiseLag1(std::span<const double> rate, std::int64_t m) {
@@ -378,26 +389,9 @@ Result<AllanResult> ComputeAllan(std::span<const double> y, double fs_hz, const 
   }
   const auto t0 = std::chrono::steady_clock::now();
   const std::size_t n = y.size();
-  double mean = 0.0;
-  {
-    BlockedSum s;
-    for (std::size_t i = 0; i < n; ++i) {
-      if (!std::isfinite(y[i])) {
-        return InvalidInput("Allan deviation: sample " + std::to_string(i) + " is not finite");
-      }
-      s.Add(y[i]);
-    }
-    mean = s.Total() / static_cast<double>(n);
-  }
-  // Phase (angle) record x_0 = 0, x_{i+1} = dt * cumsum(y - mean), as allantools frequency2phase.
-  const double dt = 1.0 / fs_hz;
-  std::vector<double> x(n + 1);
-  x[0] = 0.0;
-  double acc = 0.0;
-  for (std::size_t i = 0; i < n; ++i) {
-    acc += y[i] - mean;
-    x[i + 1] = acc * dt;
-  }
+  Result<std::vector<double>> phase = PhaseFromRate(y, fs_hz);
+  if (!phase.ok()) return phase.error();
+  const std::vector<double>& x = *phase;
 
   Result<std::vector<std::int64_t>> ms = AllanAveragingFactors(n, options);
   if (!ms.ok()) return ms.error();

@@ -140,6 +140,16 @@ struct AllanResult {
 Result<std::vector<std::int64_t>> AllanAveragingFactors(std::size_t n_samples,
                                                         const AllanOptions& options);
 
+// Every m in (0, n_samples + 1) of the grid, sorted and unique, before any deviation drops the
+// taus with too few terms (each kind has its own count; deviations.h).
+Result<std::vector<std::int64_t>> CandidateAveragingFactors(std::size_t n_samples,
+                                                            const AllanOptions& options);
+
+// Phase (angle) record of a rate series as allantools' frequency2phase: x_0 = 0,
+// x_{i+1} = x_i + (y_i - mean(y)) / fs (deg). Error (kInvalidInput) naming the first non-finite
+// sample.
+Result<std::vector<double>> PhaseFromRate(std::span<const double> rate_dps, double fs_hz);
+
 // Overlapping ADEV of one rate series (deg/s) at fs_hz, with confidence intervals and noise
 // terms. Errors: fs_hz <= 0 or non-finite, fewer than 3 samples, non-finite values
 // (kInvalidInput), invalid options (kInvalidArgument).

@@ -303,10 +303,20 @@ AllanNoiseTerms ExtractNoiseTerms(const AllanCurve& c, const AllanOptions& optio
   if (c.size() == 0) return t;
   const double tol = options.slope_tolerance;
 
-  // Minimum ("bias stability") and B = min / 0.664 (IEEE 952 flicker floor).
-  // Only taus with at least min_edf_for_terms degrees of freedom are used for the minimum and the
-  // fits (all taus when none qualifies, or when the curve carries no EDFs): the last octaves of a
-  // record have a handful of degrees of freedom and their random dips would pass for a minimum.
+  // Minimum ("bias stability") of the whole curve, and B = min / 0.664 (IEEE 952 flicker floor).
+  std::size_t jall = 0;
+  for (std::size_t j = 1; j < c.size(); ++j) {
+    if (c.adev_dps[j] < c.adev_dps[jall]) jall = j;
+  }
+  t.adev_min_deg_per_h = units::DpsToDph(c.adev_dps[jall]);
+  t.tau_at_min_s = c.tau_s[jall];
+  t.min_at_longest_tau = jall + 1 == c.size();
+  t.bias_instability_deg_per_h = t.adev_min_deg_per_h / 0.664;
+
+  // The EDF-qualified minimum, which also anchors the fits: only taus with at least min_edf
+  // degrees of freedom (all taus when none qualifies, or when the curve carries no EDFs). The
+  // last octaves of a record have a handful of degrees of freedom and their random dips would
+  // pass for a minimum or bend a fit.
   const bool have_edf = c.edf.size() == c.size();
   std::vector<std::size_t> usable;
   for (std::size_t j = 0; j < c.size(); ++j) {
@@ -319,11 +329,11 @@ AllanNoiseTerms ExtractNoiseTerms(const AllanCurve& c, const AllanOptions& optio
   for (std::size_t j : usable) {
     if (c.adev_dps[j] < c.adev_dps[jmin]) jmin = j;
   }
+  t.min_edf = options.min_edf_for_terms;
   t.num_taus_used = usable.size();
-  t.adev_min_deg_per_h = units::DpsToDph(c.adev_dps[jmin]);
-  t.tau_at_min_s = c.tau_s[jmin];
-  t.min_at_longest_tau = jmin == usable.back();
-  t.bias_instability_deg_per_h = t.adev_min_deg_per_h / 0.664;
+  t.adev_min_usable_deg_per_h = units::DpsToDph(c.adev_dps[jmin]);
+  t.tau_at_min_usable_s = c.tau_s[jmin];
+  t.min_usable_at_longest_usable_tau = jmin == usable.back();
 
   // ARW: sigma(arw_tau) read off the curve, N = sigma(tau) sqrt(tau) (method.md 6).
   const double ta = options.arw_tau_s;
@@ -484,7 +494,9 @@ std::string AllanResult::BriefReport() const {
     os << "n/a";
   }
   os << "; ADEV min " << terms.adev_min_deg_per_h << " deg/h at tau " << terms.tau_at_min_s << " s"
-     << (terms.min_at_longest_tau ? " (longest usable tau: floor not reached)" : "")
+     << (terms.min_at_longest_tau ? " (longest tau: floor not reached)" : "") << " (EDF >= "
+     << terms.min_edf << ": " << terms.adev_min_usable_deg_per_h << " deg/h at " << terms.tau_at_min_usable_s
+     << " s" << (terms.min_usable_at_longest_usable_tau ? ", longest usable tau" : "") << ")"
      << "; B = min/0.664 = " << terms.bias_instability_deg_per_h << " deg/h; RRW ";
   if (terms.rrw_deg_per_h_per_sqrt_h) {
     os << *terms.rrw_deg_per_h_per_sqrt_h << " deg/h/sqrt(h) (+1/2 fit, sigma(3 s))";

@@ -130,34 +130,22 @@ nlohmann::json SoftwareVersions() {
           {"uPlot", "1.6.32 (MIT), bundled"}};
 }
 
-ReportData BuildPipelineReport(const PipelineResult& r, const ReportContext& ctx) {
-  ReportData data;
-  nlohmann::json& c = data.content;
-  c["title"] = ctx.title;
-  c["subtitle"] = ctx.source + (ctx.axis.empty() ? "" : ", axis " + ctx.axis) + ": " +
-                  std::to_string(r.num_samples) + " samples at " + std::to_string(r.fs_hz) +
-                  " Hz. Parallel VMD-SE-WFLP-" + (r.drift_model ? DriftModelKindName(r.drift_model->kind) : "none") +
-                  " model (Chang, Cao & Shen 2020).";
+namespace {
+
+// Before/after table (BeforeAfterRows) with the bandwidth caveat and HonestyNotes.
+nlohmann::json SummaryJson(const PipelineResult& r) {
   nlohmann::json rows = nlohmann::json::array();
   for (const SummaryRow& row : BeforeAfterRows(r)) {
     rows.push_back({row.metric + " (" + row.unit + ")", Num(row.before), Num(row.after), ChangeCell(row.before, row.after)});
   }
-  c["summary"] = {{"columns", {"metric", "before", "after", "change (%)"}},
-                  {"rows", rows},
-                  {"note", [&] {
-                     std::string note = "Bandwidth 'before' is the Nyquist frequency of the raw record. A lower ARW "
-                                        "obtained by narrowing the bandwidth is low-pass filtering: read the two together.";
-                     for (const std::string& s : HonestyNotes(r)) note += " " + s;
-                     return note;
-                   }()}};
+  std::string note = "Bandwidth 'before' is the Nyquist frequency of the raw record. A lower ARW "
+                     "obtained by narrowing the bandwidth is low-pass filtering: read the two together.";
+  for (const std::string& s : HonestyNotes(r)) note += " " + s;
+  return {{"columns", {"metric", "before", "after", "change (%)"}}, {"rows", rows}, {"note", note}};
+}
 
-  const std::vector<double> hours = Hours(ctx.time_s);
-  const auto env = MinMaxEnvelopes(hours, {ctx.rate_dps, r.compensated_dps, ctx.temp_c}, 1500);
-  c["timeseries"] = {{"x_label", "time (h)"},
-                     {"x", env[0].x},
-                     {"series", {{{"name", "raw rate (deg/s)"}, {"y", env[0].y}, {"axis", "rate"}},
-                                 {{"name", "compensated (deg/s)"}, {"y", env[1].y}, {"axis", "rate"}},
-                                 {{"name", "temperature (deg C)"}, {"y", env[2].y}, {"axis", "temp"}}}}};
+// The VMD modes (Fig. 8) with their sample entropy and class (Fig. 9).
+nlohmann::json ModesJson(const PipelineResult& r, const std::vector<double>& hours) {
   nlohmann::json modes = nlohmann::json::array();
   for (std::size_t k = 0; k < r.mode_reports.size() && k < r.modes.size(); ++k) {
     const ModeReport& m = r.mode_reports[k];
@@ -166,11 +154,12 @@ ReportData BuildPipelineReport(const PipelineResult& r, const ReportContext& ctx
                      {"center_frequency_hz", Num(m.center_frequency_hz)},
                      {"class", FeatureClassName(m.feature)}, {"x", d.x}, {"y", d.y}});
   }
-  c["modes"] = modes;
-  c["allan"] = {AllanCurveJson(r.allan_before, "raw"), AllanCurveJson(r.allan_after, "compensated")};
+  return modes;
+}
 
-  // Drift against temperature: block means (about 1500 points) of the drift feature and of the
-  // model's prediction along the record.
+// Drift against temperature: block means (about 1500 points) of the drift feature and of the
+// model's prediction along the record.
+nlohmann::json DriftVsTemperatureJson(const PipelineResult& r, const ReportContext& ctx) {
   const std::size_t n = r.num_samples, points = std::min<std::size_t>(n, 1500);
   std::vector<double> t_mean, d_mean, p_mean;
   for (std::size_t b = 0; b < points; ++b) {
@@ -186,45 +175,53 @@ ReportData BuildPipelineReport(const PipelineResult& r, const ReportContext& ctx
     d_mean.push_back(sd / w);
     p_mean.push_back(sp / w);
   }
-  c["drift"] = {{"temp_c", t_mean}, {"drift_dps", d_mean}};
+  nlohmann::json drift = {{"temp_c", t_mean}, {"drift_dps", d_mean}};
   if (r.drift_model) {
-    c["drift"]["model_temp_c"] = t_mean;
-    c["drift"]["model_dps"] = p_mean;
+    drift["model_temp_c"] = t_mean;
+    drift["model_dps"] = p_mean;
   }
+  return drift;
+}
 
+nlohmann::json DriftModelTable(const DriftFitSummary& s) {
+  return {{"title", "Drift model"},
+          {"columns", {"model", "inputs", "C", "sigma", "epsilon", "support vectors", "CV RMSE (deg/s)",
+                       "train RMSE (deg/s)", "T range (deg C)", "fit time (s)"}},
+          {"rows", {{DriftModelKindName(s.model), DriftInputSetName(s.inputs), Num(s.C), Num(s.sigma),
+                     Num(s.epsilon), s.num_support, Num(s.cv_rmse), Num(s.train_rmse),
+                     std::to_string(s.temp_min_c).substr(0, 6) + " .. " + std::to_string(s.temp_max_c).substr(0, 6),
+                     Num(s.fit_time_s)}}},
+          {"note", "C and sigma in the SVR's scaled units (standardised inputs by default). "
+                   "CV: blocked cross-validation on contiguous blocks."}};
+}
+
+// One table per comparison group (Section 4.3): denoising, drift models, serial vs parallel.
+void AddComparisonTables(const ComparisonResult& comparison, nlohmann::json* tables) {
+  for (const char* group : {"denoising", "drift", "scheme"}) {
+    nlohmann::json rows = nlohmann::json::array();
+    for (const MethodRow& m : comparison.rows) {
+      if (m.group != group) continue;
+      rows.push_back({m.method, Num(m.arw_deg_per_sqrt_h), Num(m.adev_min_deg_per_h), Num(m.bandwidth_hz),
+                      Num(m.rmse_vs_true_rate_dps), Num(m.drift_rmse_vs_truth_dps), Num(m.seconds), m.note});
+    }
+    const std::string title = std::string(group) == "denoising" ? "Comparison: denoising of the mixed feature"
+                            : std::string(group) == "drift"     ? "Comparison: drift models"
+                                                                : "Comparison: serial vs parallel";
+    tables->push_back({{"title", title},
+                       {"columns", {"method", "ARW (deg/sqrt(h))", "ADEV min (deg/h)", "bandwidth (Hz)",
+                                    "RMSE vs true rate (deg/s)", "drift RMSE vs truth (deg/s)", "time (s)", "note"}},
+                       {"rows", rows}});
+  }
+}
+
+// Classification rule, drift model, comparisons, timings, warnings.
+nlohmann::json TablesJson(const PipelineResult& r, const ReportContext& ctx) {
   nlohmann::json tables = nlohmann::json::array();
   tables.push_back({{"title", "Classification rule"},
                     {"columns", {"rule"}},
                     {"rows", {{r.classification_rule + (r.drift_mode_forced ? " (drift mode forced: see warnings)" : "")}}}});
-  if (r.drift_model) {
-    const DriftFitSummary& s = r.drift_model->summary;
-    tables.push_back({{"title", "Drift model"},
-                      {"columns", {"model", "inputs", "C", "sigma", "epsilon", "support vectors", "CV RMSE (deg/s)",
-                                   "train RMSE (deg/s)", "T range (deg C)", "fit time (s)"}},
-                      {"rows", {{DriftModelKindName(s.model), DriftInputSetName(s.inputs), Num(s.C), Num(s.sigma),
-                                 Num(s.epsilon), s.num_support, Num(s.cv_rmse), Num(s.train_rmse),
-                                 std::to_string(s.temp_min_c).substr(0, 6) + " .. " + std::to_string(s.temp_max_c).substr(0, 6),
-                                 Num(s.fit_time_s)}}},
-                      {"note", "C and sigma in the SVR's scaled units (standardised inputs by default). "
-                               "CV: blocked cross-validation on contiguous blocks."}});
-  }
-  if (ctx.comparison) {
-    for (const char* group : {"denoising", "drift", "scheme"}) {
-      nlohmann::json rows2 = nlohmann::json::array();
-      for (const MethodRow& m : ctx.comparison->rows) {
-        if (m.group != group) continue;
-        rows2.push_back({m.method, Num(m.arw_deg_per_sqrt_h), Num(m.adev_min_deg_per_h), Num(m.bandwidth_hz),
-                         Num(m.rmse_vs_true_rate_dps), Num(m.drift_rmse_vs_truth_dps), Num(m.seconds), m.note});
-      }
-      const std::string title = std::string(group) == "denoising" ? "Comparison: denoising of the mixed feature"
-                              : std::string(group) == "drift"     ? "Comparison: drift models"
-                                                                  : "Comparison: serial vs parallel";
-      tables.push_back({{"title", title},
-                        {"columns", {"method", "ARW (deg/sqrt(h))", "ADEV min (deg/h)", "bandwidth (Hz)",
-                                     "RMSE vs true rate (deg/s)", "drift RMSE vs truth (deg/s)", "time (s)", "note"}},
-                        {"rows", rows2}});
-    }
-  }
+  if (r.drift_model) tables.push_back(DriftModelTable(r.drift_model->summary));
+  if (ctx.comparison) AddComparisonTables(*ctx.comparison, &tables);
   nlohmann::json timing_rows = nlohmann::json::array();
   for (const auto& [stage, seconds] : r.timings_s) timing_rows.push_back({stage, seconds});
   tables.push_back({{"title", "Timings"}, {"columns", {"stage", "seconds"}}, {"rows", timing_rows}});
@@ -233,7 +230,31 @@ ReportData BuildPipelineReport(const PipelineResult& r, const ReportContext& ctx
     for (const std::string& s : r.warnings) w.push_back({s});
     tables.push_back({{"title", "Warnings"}, {"columns", {"warning"}}, {"rows", w}});
   }
-  c["tables"] = tables;
+  return tables;
+}
+
+}  // namespace
+
+ReportData BuildPipelineReport(const PipelineResult& r, const ReportContext& ctx) {
+  ReportData data;
+  nlohmann::json& c = data.content;
+  c["title"] = ctx.title;
+  c["subtitle"] = ctx.source + (ctx.axis.empty() ? "" : ", axis " + ctx.axis) + ": " +
+                  std::to_string(r.num_samples) + " samples at " + std::to_string(r.fs_hz) +
+                  " Hz. Parallel VMD-SE-WFLP-" + (r.drift_model ? DriftModelKindName(r.drift_model->kind) : "none") +
+                  " model (Chang, Cao & Shen 2020).";
+  c["summary"] = SummaryJson(r);
+  const std::vector<double> hours = Hours(ctx.time_s);
+  const auto env = MinMaxEnvelopes(hours, {ctx.rate_dps, r.compensated_dps, ctx.temp_c}, 1500);
+  c["timeseries"] = {{"x_label", "time (h)"},
+                     {"x", env[0].x},
+                     {"series", {{{"name", "raw rate (deg/s)"}, {"y", env[0].y}, {"axis", "rate"}},
+                                 {{"name", "compensated (deg/s)"}, {"y", env[1].y}, {"axis", "rate"}},
+                                 {{"name", "temperature (deg C)"}, {"y", env[2].y}, {"axis", "temp"}}}}};
+  c["modes"] = ModesJson(r, hours);
+  c["allan"] = {AllanCurveJson(r.allan_before, "raw"), AllanCurveJson(r.allan_after, "compensated")};
+  c["drift"] = DriftVsTemperatureJson(r, ctx);
+  c["tables"] = TablesJson(r, ctx);
   c["parameters"] = ctx.parameters;
   c["versions"] = SoftwareVersions();
   return data;

@@ -85,23 +85,21 @@ std::string PipelineResult::BriefReport() const {
   return s.str();
 }
 
-Result<PipelineResult> RunParallelModel(const PipelineInput& input, const PipelineOptions& options,
-                                        const ProgressCallback& progress) {
-  std::string why;
-  if (!options.IsValid(&why)) return InvalidArgument(why);
-  const std::size_t min_samples = std::max<std::size_t>(64, 4 * static_cast<std::size_t>(options.vmd.num_modes));
-  if (Status s = CheckInput(input, min_samples); !s) return s.error();
-  auto report = [&](const char* stage, double f) { if (progress) progress(stage, f); };
-  const auto t_total = Clock::now();
-  const std::size_t n = input.rate_dps.size();
+namespace {
 
-  PipelineResult out;
-  out.fs_hz = input.fs_hz;
-  out.num_samples = n;
+void Report(const ProgressCallback& progress, const char* stage, double fraction) {
+  if (progress) progress(stage, fraction);
+}
 
-  // Step 1: VMD (Section 3.1, Eqs. 1-7).
-  report("vmd", 0.0);
-  auto t = Clock::now();
+bool AnyNonZero(std::span<const double> x) {
+  return std::any_of(x.begin(), x.end(), [](double v) { return v != 0.0; });
+}
+
+// Step 1: VMD of the rate into K modes (Section 3.1, Eqs. 1-7).
+Result<VmdResult> DecomposeIntoModes(const PipelineInput& input, const PipelineOptions& options,
+                                     const ProgressCallback& progress, PipelineResult* out) {
+  Report(progress, "vmd", 0.0);
+  const auto t = Clock::now();
   VmdOptions vmd_options = options.vmd;
   vmd_options.fs_hz = input.fs_hz;
   if (progress) {
@@ -113,170 +111,244 @@ Result<PipelineResult> RunParallelModel(const PipelineInput& input, const Pipeli
   }
   Result<VmdResult> vmd = DecomposeVmd(input.rate_dps, vmd_options);
   if (!vmd) return vmd.error();
-  out.timings_s["vmd"] = SecondsSince(t);
-  out.vmd = vmd->summary;
+  out->timings_s["vmd"] = SecondsSince(t);
+  out->vmd = vmd->summary;
   if (!vmd->summary.converged) {
-    out.warnings.push_back("VMD stopped at max_iterations without meeting its tolerance (" +
-                           vmd->summary.BriefReport() + ")");
+    out->warnings.push_back("VMD stopped at max_iterations without meeting its tolerance (" +
+                            vmd->summary.BriefReport() + ")");
   }
-  report("vmd", 1.0);
+  Report(progress, "vmd", 1.0);
+  return vmd;
+}
 
-  // Step 2: sample entropy of each mode (Section 3.2, Eqs. 8-13, modes measured in parallel)
-  // and the drift / mixed / noise classes.
-  report("entropy", 0.0);
-  t = Clock::now();
-  Result<ClassificationResult> classes =
-      ClassifyVmdModes(*vmd, options.entropy, options.classifier, options.entropy_max_samples);
-  if (!classes) return classes.error();
-  out.timings_s["entropy"] = SecondsSince(t);
+// PipelineOptions::force_drift_mode: with no drift-like mode, the mode of lowest centre frequency
+// becomes the drift feature C1.
+void ForceDriftModeIfNone(const PipelineOptions& options, ClassificationResult* classes,
+                          PipelineResult* out) {
   const bool has_drift = std::any_of(classes->modes.begin(), classes->modes.end(),
       [](const ModeClassification& m) { return m.feature == FeatureClass::kDrift; });
-  if (!has_drift && options.force_drift_mode && !classes->modes.empty()) {
-    auto lowest = std::min_element(classes->modes.begin(), classes->modes.end(),
-        [](const ModeClassification& a, const ModeClassification& b) {
-          return a.center_frequency_hz < b.center_frequency_hz;
-        });
-    lowest->feature = FeatureClass::kDrift;
-    out.drift_mode_forced = true;
-    out.warnings.push_back("no mode had a drift-like sample entropy; mode " +
-                           std::to_string(lowest->index) +
-                           " (lowest centre frequency) was taken as the drift feature");
-  }
-  out.classification_rule = classes->rule_text;
-  for (const ModeClassification& m : classes->modes) {
-    out.mode_reports.push_back({m.index, m.center_frequency_hz, m.center_frequency_cycles_per_sample,
-                                m.sample_entropy, m.feature});
-  }
-  out.features = SumFeatures(*vmd, *classes);
-  report("entropy", 1.0);
+  if (has_drift || !options.force_drift_mode || classes->modes.empty()) return;
+  auto lowest = std::min_element(classes->modes.begin(), classes->modes.end(),
+      [](const ModeClassification& a, const ModeClassification& b) {
+        return a.center_frequency_hz < b.center_frequency_hz;
+      });
+  lowest->feature = FeatureClass::kDrift;
+  out->drift_mode_forced = true;
+  out->warnings.push_back("no mode had a drift-like sample entropy; mode " +
+                          std::to_string(lowest->index) +
+                          " (lowest centre frequency) was taken as the drift feature");
+}
 
-  // Step 3, in parallel (Section 3.5): WFLP on the mixed feature, CS-SVR on the drift feature.
-  const bool any_mixed = std::any_of(out.features.mixed.begin(), out.features.mixed.end(),
-                                     [](double v) { return v != 0.0; });
-  // The task touches only its own locals and reads out.features.mixed, which nothing writes
+// Step 2: sample entropy of each mode (Section 3.2, Eqs. 8-13, modes measured in parallel)
+// and the drift (C1) / mixed (C2) / noise (C3) classes; the features are the sums of their modes.
+Status ClassifyModesBySampleEntropy(const VmdResult& vmd, const PipelineOptions& options,
+                                    const ProgressCallback& progress, PipelineResult* out) {
+  Report(progress, "entropy", 0.0);
+  const auto t = Clock::now();
+  Result<ClassificationResult> classes =
+      ClassifyVmdModes(vmd, options.entropy, options.classifier, options.entropy_max_samples);
+  if (!classes) return classes.error();
+  out->timings_s["entropy"] = SecondsSince(t);
+  ForceDriftModeIfNone(options, &*classes, out);
+  out->classification_rule = classes->rule_text;
+  for (const ModeClassification& m : classes->modes) {
+    out->mode_reports.push_back({m.index, m.center_frequency_hz, m.center_frequency_cycles_per_sample,
+                                 m.sample_entropy, m.feature});
+  }
+  out->features = SumFeatures(vmd, *classes);
+  Report(progress, "entropy", 1.0);
+  return Status::Ok();
+}
+
+// Step 3, denoising branch (Section 3.3): WFLP on the mixed feature C2. `seconds` stays 0 when
+// there is no mixed feature.
+Result<WflpResult> DenoiseMixedFeature(std::span<const double> mixed, const WflpOptions& options,
+                                       double* seconds) {
+  const auto start = Clock::now();
+  if (!AnyNonZero(mixed)) {  // no mixed mode: nothing to denoise
+    WflpResult r;
+    r.denoised.assign(mixed.size(), 0.0);
+    return r;
+  }
+  Result<WflpResult> r = RunWflp(mixed, options);
+  *seconds = SecondsSince(start);
+  return r;
+}
+
+// Step 3, compensation branch (Section 3.4): the drift model (CS-SVR by default) of the drift
+// feature C1, less any known applied rate, against temperature; its prediction model(T).
+Status CompensateDriftFeature(const PipelineInput& input, const PipelineOptions& options,
+                              const ProgressCallback& progress, PipelineResult* out) {
+  const std::size_t n = input.rate_dps.size();
+  Report(progress, "drift-fit", 0.0);
+  auto t = Clock::now();
+  std::vector<double> target = out->features.drift;
+  if (!input.known_rate_dps.empty()) {
+    for (std::size_t i = 0; i < n; ++i) target[i] -= input.known_rate_dps[i];
+  }
+  DriftFitOptions drift_options = options.drift;
+  if (progress) {
+    const int generations = drift_options.search.cuckoo.max_generations;
+    drift_options.search.cuckoo.on_generation = [&progress, generations](int generation, double) {
+      progress("drift-fit (cuckoo search)", static_cast<double>(generation) / generations);
+    };
+  }
+  if (drift_options.target_name.empty() || drift_options.target_name == "rate_dps") {
+    drift_options.target_name = "drift-mode";
+  }
+  const DriftInputs drift_inputs{input.temp_c, input.fs_hz};
+  Result<DriftModel> model = FitDriftModel(drift_inputs, target, drift_options);
+  out->timings_s["drift_fit"] = SecondsSince(t);
+  Status status;
+  if (!model) {
+    status = model.error();
+  } else {
+    t = Clock::now();
+    Result<std::vector<double>> predicted = model->Predict(drift_inputs);
+    out->timings_s["drift_predict"] = SecondsSince(t);
+    if (!predicted) {
+      status = predicted.error();
+    } else {
+      out->predicted_drift_dps = std::move(*predicted);
+      out->drift_model = std::move(*model);
+    }
+  }
+  Report(progress, "drift-fit", 1.0);
+  return status;
+}
+
+// Step 3 (Section 3.5, step 2): the mixed feature C2 denoised and the drift feature C1
+// compensated, the two branches concurrently; the noise feature C3 is not used (discarded).
+Status ProcessFeaturesInParallel(const PipelineInput& input, const PipelineOptions& options,
+                                 const ProgressCallback& progress, PipelineResult* out) {
+  // The task touches only its own locals and reads out->features.mixed, which nothing writes
   // until it is joined.
   double wflp_seconds = 0.0;
   auto wflp_task = std::async(std::launch::async, [&]() -> Result<WflpResult> {
-    const auto start = Clock::now();
-    if (!any_mixed) {  // no mixed mode: nothing to denoise
-      WflpResult r;
-      r.denoised.assign(n, 0.0);
-      return r;
-    }
-    Result<WflpResult> r = RunWflp(out.features.mixed, options.wflp);
-    wflp_seconds = SecondsSince(start);
-    return r;
+    return DenoiseMixedFeature(out->features.mixed, options.wflp, &wflp_seconds);
   });
 
-  const bool any_drift = std::any_of(out.features.drift.begin(), out.features.drift.end(),
-                                     [](double v) { return v != 0.0; });
-  out.predicted_drift_dps.assign(n, 0.0);
+  out->predicted_drift_dps.assign(input.rate_dps.size(), 0.0);
   Status drift_status;
-  if (any_drift) {
-    report("drift-fit", 0.0);
-    t = Clock::now();
-    std::vector<double> target = out.features.drift;
-    if (!input.known_rate_dps.empty()) {
-      for (std::size_t i = 0; i < n; ++i) target[i] -= input.known_rate_dps[i];
-    }
-    DriftFitOptions drift_options = options.drift;
-    if (progress) {
-      const int generations = drift_options.search.cuckoo.max_generations;
-      drift_options.search.cuckoo.on_generation = [&progress, generations](int generation, double) {
-        progress("drift-fit (cuckoo search)", static_cast<double>(generation) / generations);
-      };
-    }
-    if (drift_options.target_name.empty() || drift_options.target_name == "rate_dps") {
-      drift_options.target_name = "drift-mode";
-    }
-    const DriftInputs drift_inputs{input.temp_c, input.fs_hz};
-    Result<DriftModel> model = FitDriftModel(drift_inputs, target, drift_options);
-    out.timings_s["drift_fit"] = SecondsSince(t);
-    if (!model) {
-      drift_status = model.error();
-    } else {
-      t = Clock::now();
-      Result<std::vector<double>> predicted = model->Predict(drift_inputs);
-      out.timings_s["drift_predict"] = SecondsSince(t);
-      if (!predicted) {
-        drift_status = predicted.error();
-      } else {
-        out.predicted_drift_dps = std::move(*predicted);
-        out.drift_model = std::move(*model);
-      }
-    }
-    report("drift-fit", 1.0);
+  if (AnyNonZero(out->features.drift)) {
+    drift_status = CompensateDriftFeature(input, options, progress, out);
   } else {
-    out.warnings.push_back("no drift feature: no temperature compensation was applied");
+    out->warnings.push_back("no drift feature: no temperature compensation was applied");
   }
   Result<WflpResult> wflp = wflp_task.get();
-  out.timings_s["wflp"] = wflp_seconds;
+  out->timings_s["wflp"] = wflp_seconds;
   if (!drift_status) return drift_status.error();
   if (!wflp) return wflp.error();
-  out.mixed_denoised = std::move(wflp->denoised);
-  out.wflp = std::move(wflp->summary);
+  out->mixed_denoised = std::move(wflp->denoised);
+  out->wflp = std::move(wflp->summary);
+  return Status::Ok();
+}
 
-  // Step 4: reconstruction. Output = WFLP(C2) + (C1 - model(T)); C3 discarded.
-  out.compensated_dps.resize(n);
+// Step 4: reconstruction. Output = WFLP(C2) + (C1 - model(T)); C3 discarded.
+void Reconstruct(PipelineResult* out) {
+  const std::size_t n = out->features.drift.size();
+  out->compensated_dps.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
-    out.compensated_dps[i] =
-        out.mixed_denoised[i] + (out.features.drift[i] - out.predicted_drift_dps[i]);
+    out->compensated_dps[i] =
+        out->mixed_denoised[i] + (out->features.drift[i] - out->predicted_drift_dps[i]);
   }
+}
 
-  // Step 5: Allan variance before and after (Section 4.3.1).
-  t = Clock::now();
+// Step 5: Allan variance before and after (Section 4.3.1).
+Status AnalyseAllanBeforeAfter(const PipelineInput& input, const PipelineOptions& options,
+                               PipelineResult* out) {
+  const auto t = Clock::now();
   Result<AllanResult> before = ComputeAllan(input.rate_dps, input.fs_hz, options.allan);
   if (!before) return before.error();
-  Result<AllanResult> after = ComputeAllan(out.compensated_dps, input.fs_hz, options.allan);
+  Result<AllanResult> after = ComputeAllan(out->compensated_dps, input.fs_hz, options.allan);
   if (!after) return after.error();
-  out.allan_before = std::move(*before);
-  out.allan_after = std::move(*after);
-  out.allan_before.axis = "raw";
-  out.allan_after.axis = "compensated";
-  out.timings_s["allan"] = SecondsSince(t);
+  out->allan_before = std::move(*before);
+  out->allan_after = std::move(*after);
+  out->allan_before.axis = "raw";
+  out->allan_after.axis = "compensated";
+  out->timings_s["allan"] = SecondsSince(t);
+  return Status::Ok();
+}
 
-  // Effective bandwidth: replay VMD + the same classes + WFLP on a segment with test sines.
-  if (options.measure_bandwidth) {
-    report("bandwidth", 0.0);
-    t = Clock::now();
-    const std::size_t seg = std::min(n, options.bandwidth_segment_samples);
-    const std::span<const double> background = input.rate_dps.subspan((n - seg) / 2, seg);
-    std::vector<FeatureClass> class_of_mode;
-    for (const ModeReport& m : out.mode_reports) class_of_mode.push_back(m.feature);
-    VmdOptions seg_vmd = vmd_options;
-    seg_vmd.on_iteration = nullptr;
-    const WflpOptions wflp_options = options.wflp;
-    SignalProcessing processing =
-        [&, seg_vmd, wflp_options](std::span<const double> x) -> Result<std::vector<double>> {
-      Result<VmdResult> v = DecomposeVmd(x, seg_vmd);
-      if (!v) return v.error();
-      std::vector<double> drift(x.size(), 0.0), mixed(x.size(), 0.0);
-      for (std::size_t k = 0; k < v->modes.size() && k < class_of_mode.size(); ++k) {
-        std::vector<double>* dst = class_of_mode[k] == FeatureClass::kDrift ? &drift
-                                 : class_of_mode[k] == FeatureClass::kMixed ? &mixed : nullptr;
-        if (!dst) continue;
-        for (std::size_t i = 0; i < x.size(); ++i) (*dst)[i] += v->modes[k][i];
-      }
-      if (any_mixed) {
-        Result<std::vector<double>> d = WflpDenoise(mixed, wflp_options);
-        if (!d) return d.error();
-        mixed = std::move(*d);
-      }
-      for (std::size_t i = 0; i < x.size(); ++i) drift[i] += mixed[i];
-      return drift;
-    };
-    BandwidthOptions bw;
-    bw.fs_hz = input.fs_hz;
-    bw.num_frequencies = options.bandwidth_frequencies;
-    Result<BandwidthResult> measured = MeasureBandwidth(processing, background, bw);
-    if (measured) {
-      out.bandwidth = std::move(*measured);
-    } else {
-      out.warnings.push_back("bandwidth not measured: " + measured.error().message);
+// The processing the bandwidth is measured on: VMD of a segment, the run's mode classes (by mode
+// index), WFLP on the mixed part (when the run had one), drift + denoised mixed; noise dropped.
+SignalProcessing ReplayParallelModel(const VmdOptions& seg_vmd, std::vector<FeatureClass> class_of_mode,
+                                     bool any_mixed, const WflpOptions& wflp_options) {
+  return [seg_vmd, class_of_mode = std::move(class_of_mode), any_mixed,
+          wflp_options](std::span<const double> x) -> Result<std::vector<double>> {
+    Result<VmdResult> v = DecomposeVmd(x, seg_vmd);
+    if (!v) return v.error();
+    std::vector<double> drift(x.size(), 0.0), mixed(x.size(), 0.0);
+    for (std::size_t k = 0; k < v->modes.size() && k < class_of_mode.size(); ++k) {
+      std::vector<double>* dst = class_of_mode[k] == FeatureClass::kDrift ? &drift
+                               : class_of_mode[k] == FeatureClass::kMixed ? &mixed : nullptr;
+      if (!dst) continue;
+      for (std::size_t i = 0; i < x.size(); ++i) (*dst)[i] += v->modes[k][i];
     }
-    out.timings_s["bandwidth"] = SecondsSince(t);
-    report("bandwidth", 1.0);
+    if (any_mixed) {
+      Result<std::vector<double>> d = WflpDenoise(mixed, wflp_options);
+      if (!d) return d.error();
+      mixed = std::move(*d);
+    }
+    for (std::size_t i = 0; i < x.size(); ++i) drift[i] += mixed[i];
+    return drift;
+  };
+}
+
+// Effective bandwidth: replay VMD + the same classes + WFLP on a segment with test sines.
+// A failure is a warning, not an error.
+void MeasureEffectiveBandwidth(const PipelineInput& input, const PipelineOptions& options,
+                               const ProgressCallback& progress, PipelineResult* out) {
+  Report(progress, "bandwidth", 0.0);
+  const auto t = Clock::now();
+  const std::size_t n = input.rate_dps.size();
+  const std::size_t seg = std::min(n, options.bandwidth_segment_samples);
+  const std::span<const double> background = input.rate_dps.subspan((n - seg) / 2, seg);
+  std::vector<FeatureClass> class_of_mode;
+  for (const ModeReport& m : out->mode_reports) class_of_mode.push_back(m.feature);
+  VmdOptions seg_vmd = options.vmd;
+  seg_vmd.fs_hz = input.fs_hz;
+  seg_vmd.on_iteration = nullptr;
+  const SignalProcessing processing = ReplayParallelModel(
+      seg_vmd, std::move(class_of_mode), AnyNonZero(out->features.mixed), options.wflp);
+  BandwidthOptions bw;
+  bw.fs_hz = input.fs_hz;
+  bw.num_frequencies = options.bandwidth_frequencies;
+  Result<BandwidthResult> measured = MeasureBandwidth(processing, background, bw);
+  if (measured) {
+    out->bandwidth = std::move(*measured);
+  } else {
+    out->warnings.push_back("bandwidth not measured: " + measured.error().message);
   }
+  out->timings_s["bandwidth"] = SecondsSince(t);
+  Report(progress, "bandwidth", 1.0);
+}
+
+}  // namespace
+
+// The parallel model of Section 3.5 (Fig. 5), one named step per stage.
+Result<PipelineResult> RunParallelModel(const PipelineInput& input, const PipelineOptions& options,
+                                        const ProgressCallback& progress) {
+  std::string why;
+  if (!options.IsValid(&why)) return InvalidArgument(why);
+  const std::size_t min_samples = std::max<std::size_t>(64, 4 * static_cast<std::size_t>(options.vmd.num_modes));
+  if (Status s = CheckInput(input, min_samples); !s) return s.error();
+  const auto t_total = Clock::now();
+
+  PipelineResult out;
+  out.fs_hz = input.fs_hz;
+  out.num_samples = input.rate_dps.size();
+  Result<VmdResult> vmd = DecomposeIntoModes(input, options, progress, &out);          // Step 1
+  if (!vmd) return vmd.error();
+  if (Status s = ClassifyModesBySampleEntropy(*vmd, options, progress, &out); !s) {   // Step 2
+    return s.error();
+  }
+  if (Status s = ProcessFeaturesInParallel(input, options, progress, &out); !s) {     // Step 3
+    return s.error();
+  }
+  Reconstruct(&out);                                                                  // Step 4
+  if (Status s = AnalyseAllanBeforeAfter(input, options, &out); !s) return s.error();  // Step 5
+  if (options.measure_bandwidth) MeasureEffectiveBandwidth(input, options, progress, &out);
   out.modes = std::move(vmd->modes);
   out.timings_s["total"] = SecondsSince(t_total);
   return out;

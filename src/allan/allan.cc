@@ -224,23 +224,31 @@ Result<std::vector<std::int64_t>> AllanAveragingFactors(std::size_t n_samples,
   return m;
 }
 
-Result<std::vector<double>> PhaseFromRate(std::span<const double> y, double fs_hz) {
+Result<std::vector<double>> PhaseFromRate(std::span<const double> y, double fs_hz, double* scale) {
   const std::size_t n = y.size();
-  BlockedSum s;
+  // Scale first: every deviation is scale-equivariant, dev(s y) = |s| dev(y), so the record is
+  // built from y / s with s = max |y| and the caller multiplies back by s. Squares then neither
+  // overflow (|y| near 1e300) nor underflow (|y| near 1e-300); for ordinary data s only rounds
+  // the last bit.
+  double s = 0.0;
   for (std::size_t i = 0; i < n; ++i) {
     if (!std::isfinite(y[i])) {
       return InvalidInput("Allan deviation: sample " + std::to_string(i) + " is not finite");
     }
-    s.Add(y[i]);
+    s = std::max(s, std::abs(y[i]));
   }
-  const double mean = n > 0 ? s.Total() / static_cast<double>(n) : 0.0;
-  // x_0 = 0, x_{i+1} = dt * cumsum(y - mean), as allantools frequency2phase.
+  if (s == 0.0) s = 1.0;
+  if (scale != nullptr) *scale = s;
+  BlockedSum sum;
+  for (std::size_t i = 0; i < n; ++i) sum.Add(y[i] / s);
+  const double mean = n > 0 ? sum.Total() / static_cast<double>(n) : 0.0;
+  // x_0 = 0, x_{i+1} = dt * cumsum(y / s - mean), as allantools frequency2phase.
   const double dt = 1.0 / fs_hz;
   std::vector<double> x(n + 1);
   x[0] = 0.0;
   double acc = 0.0;
   for (std::size_t i = 0; i < n; ++i) {
-    acc += y[i] - mean;
+    acc += y[i] / s - mean;
     x[i + 1] = acc * dt;
   }
   return x;
@@ -399,7 +407,8 @@ Result<AllanResult> ComputeAllan(std::span<const double> y, double fs_hz, const 
   }
   const auto t0 = std::chrono::steady_clock::now();
   const std::size_t n = y.size();
-  Result<std::vector<double>> phase = PhaseFromRate(y, fs_hz);
+  double scale = 1.0;
+  Result<std::vector<double>> phase = PhaseFromRate(y, fs_hz, &scale);
   if (!phase.ok()) return phase.error();
   const std::vector<double>& x = *phase;
 
@@ -424,7 +433,13 @@ Result<AllanResult> ComputeAllan(std::span<const double> y, double fs_hz, const 
       const double d = (x2[i] - 2.0 * x1[i]) + x0[i];
       s.Add(d * d);
     }
-    const double adev = std::sqrt(s.Total() / (2.0 * static_cast<double>(count))) / static_cast<double>(m) * fs_hz;
+    const double adev =
+        std::sqrt(s.Total() / (2.0 * static_cast<double>(count))) / static_cast<double>(m) * fs_hz * scale;
+    if (!std::isfinite(adev)) {
+      return InvalidInput("Allan deviation: rate values up to " + std::to_string(scale) +
+                          " deg/s give a deviation beyond the range of a double at tau = " +
+                          std::to_string(static_cast<double>(m) / fs_hz) + " s");
+    }
     c.m.push_back(m);
     c.tau_s.push_back(static_cast<double>(m) / fs_hz);
     c.adev_dps.push_back(adev);

@@ -188,7 +188,8 @@ Result<DeviationCurve> ComputeDeviation(std::span<const double> rate, double fs_
                            " (every tau costs O(N); use N taus per decade instead)");
   }
   const auto t0 = std::chrono::steady_clock::now();
-  Result<std::vector<double>> phase = PhaseFromRate(rate, fs_hz);
+  double scale = 1.0;
+  Result<std::vector<double>> phase = PhaseFromRate(rate, fs_hz, &scale);
   if (!phase.ok()) return phase.error();
   Result<std::vector<std::int64_t>> ms = CandidateAveragingFactors(rate.size(), options);
   if (!ms.ok()) return ms.error();
@@ -210,6 +211,12 @@ Result<DeviationCurve> ComputeDeviation(std::span<const double> rate, double fs_
       case DeviationKind::kAdev: break;
     }
     if (v.n <= 1) continue;  // allantools' remove_small_ns
+    v.dev_dps *= scale;
+    if (!std::isfinite(v.dev_dps)) {
+      return InvalidInput(std::string(name) + ": rate values up to " + std::to_string(scale) +
+                          " deg/s give a deviation beyond the range of a double at tau = " +
+                          std::to_string(tau_s) + " s");
+    }
     d.m.push_back(m);
     d.tau_s.push_back(tau_s);
     d.dev_dps.push_back(v.dev_dps);

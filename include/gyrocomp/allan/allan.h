@@ -155,10 +155,11 @@ Result<std::vector<std::int64_t>> AllanAveragingFactors(std::size_t n_samples,
 Result<std::vector<std::int64_t>> CandidateAveragingFactors(std::size_t n_samples,
                                                             const AllanOptions& options);
 
-// Phase (angle) record of a rate series as allantools' frequency2phase: x_0 = 0,
-// x_{i+1} = x_i + (y_i - mean(y)) / fs (deg). Error (kInvalidInput) naming the first non-finite
-// sample.
-Result<std::vector<double>> PhaseFromRate(std::span<const double> rate_dps, double fs_hz);
+// Phase (angle) record of a rate series as allantools' frequency2phase, of y / s with
+// s = max |y| (*scale, 1 for an all-zero record): x_0 = 0, x_{i+1} = x_i + (y_i / s - mean) / fs.
+// Deviations computed on it are multiplied back by s (they are scale-equivariant; this keeps
+// squares of |y| near 1e+-300 in range). Error (kInvalidInput) naming the first non-finite sample.
+Result<std::vector<double>> PhaseFromRate(std::span<const double> rate_dps, double fs_hz, double* scale);
 
 // Overlapping ADEV of one rate series (deg/s) at fs_hz, with confidence intervals and noise
 // terms. Errors: fs_hz <= 0 or non-finite, fewer than 3 samples, non-finite values

@@ -212,10 +212,10 @@ int Run(const AllanArgs& a) {
 
   if (!a.csv_path.empty()) {
     const Table table = out->deviations.empty() ? CurveTable(results) : DeviationTable(results, out->deviations);
-    if (Status s = WriteCsvAtomic(a.csv_path, table); !s.ok()) return ReportError(kName, s.error());
+    if (Status s = WriteCsv(a.csv_path, table); !s.ok()) return ReportError(kName, s.error());
   }
   if (!a.kalibr_yaml_path.empty()) {
-    if (Status s = WriteTextAtomic(a.kalibr_yaml_path, yaml); !s.ok()) return ReportError(kName, s.error());
+    if (Status s = WriteText(a.kalibr_yaml_path, yaml); !s.ok()) return ReportError(kName, s.error());
   }
   if (!a.json_path.empty()) {
     if (Status s = WriteJson(a.json_path, j); !s.ok()) return ReportError(kName, s.error());
@@ -260,14 +260,15 @@ Command Make(CLI::App& app) {
       "Example: gyrocomp allan -i log.csv.gz --rate-col gx_dps --time-col t_s --json - -o adev.csv");
   AddLogOptions(sub, &args->log);
   sub->add_option("--taus", args->taus, "Tau grid: octave | decade | all | N (taus per decade)")->capture_default_str();
-  sub->add_option("--json", args->json_path, "Write the results as JSON to FILE ('-' = stdout)");
-  sub->add_option("-o,--output", args->csv_path, "Write the ADEV curve as CSV to FILE");
+  AddOutputOption(sub, "--json", &args->json_path, "Write the results as JSON to FILE ('-' = stdout)");
+  AddOutputOption(sub, "-o,--output", &args->csv_path,
+                  "Write the ADEV curve (or the --deviation curve) as CSV to FILE");
   sub->add_option("--confidence", args->allan.confidence, "Two-sided confidence level of the chi-square interval")
       ->check(CLI::Range(1e-6, 1.0 - 1e-6))
       ->capture_default_str();
   sub->add_option("--deviation", args->deviation, "Also compute: adev | mdev | hdev | ohdev | totdev")
       ->capture_default_str();
-  sub->add_option("--kalibr-yaml", args->kalibr_yaml_path, "Write Kalibr's IMU noise file (imu.yaml) to FILE");
+  AddOutputOption(sub, "--kalibr-yaml", &args->kalibr_yaml_path, "Write Kalibr's IMU noise file (imu.yaml) to FILE");
   sub->add_option("--rostopic", args->rostopic, "rostopic written in the Kalibr file")->capture_default_str();
   sub->add_option("--accel-col", args->accel_cols,
                   "Accelerometer column(s), m/s^2, for the Kalibr file's accelerometer keys (comma-separated)");

@@ -3,11 +3,13 @@
 #include <cmath>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "commands.h"
 #include "gyrocomp/drift/drift_model.h"
+#include "gyrocomp/export/causal_drift.h"
 #include "gyrocomp/io/io.h"
 #include "result_json.h"
 
@@ -22,6 +24,8 @@ struct ApplyArgs {
   std::string output;
   std::string json_path;
   std::string truth_col = "true_drift_dps";
+  bool causal = false;           // issue 12: firmware-equivalent prediction
+  std::optional<double> tau_s;   // causal dT/dt lag time constant
 };
 
 double Rmse(const std::vector<double>& a, const std::vector<double>& b) {
@@ -42,8 +46,12 @@ int Run(const ApplyArgs& a) {
   Table out = loaded->table;
 
   const DriftInputs inputs{log.temp_c, log.fs_hz};
-  Result<std::vector<double>> predicted = model->Predict(inputs);
+  // --causal (issue 12): what the generated C computes (causal_drift.h); else the centred model.
+  CausalPredictionSummary causal;
+  Result<std::vector<double>> predicted =
+      a.causal ? PredictDriftCausal(*model, inputs, CausalRateOptions{a.tau_s}, &causal) : model->Predict(inputs);
   if (!predicted.ok()) return ReportError(kName, predicted.error());
+  if (a.causal) Note(kName, causal.BriefReport());
   const TemperatureExcursion range = model->CheckTemperatureRange(log.temp_c);
   if (range.outside) Note(kName, "warning: " + range.Message());
 
@@ -57,7 +65,7 @@ int Run(const ApplyArgs& a) {
     for (std::size_t i = 0; i < comp.size(); ++i) comp[i] = log.rate_dps[k][i] - (*predicted)[i];
     out.Add(one ? "compensated_dps" : log.axis_names[k] + "_compensated", std::move(comp));
   }
-  if (Status s = WriteCsvAtomic(a.output, out); !s.ok()) return ReportError(kName, s.error());
+  if (Status s = WriteCsv(a.output, out); !s.ok()) return ReportError(kName, s.error());
 
   nlohmann::json j;
   j["model_file"] = a.model_path;
@@ -69,6 +77,8 @@ int Run(const ApplyArgs& a) {
   j["temp_below_fitted_c"] = range.below_c;
   j["temp_above_fitted_c"] = range.above_c;
   j["fraction_outside_fitted_range"] = range.fraction_outside;
+  if (a.causal)
+    j["causal"] = {{"tau_s", causal.tau_s}, {"delay_s", causal.delay_s}, {"samples_clamped", causal.num_clamped}};
   // When the record carries the true drift (simulator output), score the prediction.
   const int truth = out.Find(a.truth_col);
   if (truth >= 0) j["rmse_vs_" + a.truth_col] = Rmse(*predicted, out.columns[truth]);
@@ -96,10 +106,14 @@ Command Make(CLI::App& app) {
       "  temp_above_fitted_c, fraction_outside_fitted_range, and rmse_vs_true_drift_dps when the\n"
       "  record has a true_drift_dps column (simulator output).\n"
       "Example: gyrocomp apply -m model.json -i run2.csv -o compensated.csv");
-  sub->add_option("-m,--model", a->model_path, "Model file written by gyrocomp fit")->required();
+  AddInputOption(sub, "-m,--model", &a->model_path, "Model file written by gyrocomp fit")->required();
   AddLogOptions(sub, &a->log);
-  sub->add_option("-o,--output", a->output, "Output CSV")->required();
-  sub->add_option("--json", a->json_path, "Write a summary as JSON to FILE ('-' = stdout)");
+  AddOutputOption(sub, "-o,--output", &a->output, "Output CSV")->required();
+  AddOutputOption(sub, "--json", &a->json_path, "Write a summary as JSON to FILE ('-' = stdout)");
+  sub->add_flag("--causal", a->causal,
+                "Firmware form: causal dT/dt (double lag, delay 2 tau), inputs clamped to the fitted range; "
+                "equals the C of 'export --format c'");
+  sub->add_option("--tau", a->tau_s, "With --causal: dT/dt lag time constant, s (default: model window / 48^(1/3))");
   sub->add_option("--truth-col", a->truth_col, "Column with the true drift, scored when present")->capture_default_str();
   return {sub, [a] { return Run(*a); }};
 }

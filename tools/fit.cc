@@ -118,7 +118,7 @@ int Run(FitArgs a) {
   const DriftInputs drift_inputs{log.temp_c, log.fs_hz};
   Result<DriftModel> model = FitDriftModel(drift_inputs, target, o);
   if (!model.ok()) return ReportError(kName, model.error());
-  if (Status s = SaveDriftModel(*model, a.model_path); !s.ok()) return ReportError(kName, s.error());
+  if (Status s = WriteText(a.model_path, DriftModelToJson(*model)); !s.ok()) return ReportError(kName, s.error());
 
   const DriftFitSummary& s = model->summary;
   if (!a.json_path.empty()) {
@@ -209,8 +209,8 @@ Command Make(CLI::App& app) {
   sub->add_option("--degree", a->fit.polynomial.degree, "poly: degree in temperature (1..5)")->group(d)->capture_default_str();
   sub->add_option("--dtemp-degree", a->fit.polynomial.dtemp_degree, "poly: degree in dT/dt (1..3) with --inputs temp,dtemp")
       ->group(d)->capture_default_str();
-  sub->add_option("-o,--output", a->model_path, "Model file to write (JSON)")->required();
-  sub->add_option("--json", a->json_path, "Write the fit summary as JSON to FILE ('-' = stdout)");
+  AddOutputOption(sub, "-o,--output", &a->model_path, "Model file to write (JSON)")->required();
+  AddOutputOption(sub, "--json", &a->json_path, "Write the fit summary as JSON to FILE ('-' = stdout)");
   return {sub, [a] { return Run(*a); }};
 }
 

@@ -3,11 +3,13 @@
 #include <cmath>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "commands.h"
 #include "gyrocomp/drift/drift_model.h"
+#include "gyrocomp/export/causal_drift.h"
 #include "gyrocomp/io/io.h"
 #include "result_json.h"
 
@@ -22,6 +24,8 @@ struct ApplyArgs {
   std::string output;
   std::string json_path;
   std::string truth_col = "true_drift_dps";
+  bool causal = false;           // issue 12: firmware-equivalent prediction
+  std::optional<double> tau_s;   // causal dT/dt lag time constant
 };
 
 double Rmse(const std::vector<double>& a, const std::vector<double>& b) {
@@ -42,8 +46,12 @@ int Run(const ApplyArgs& a) {
   Table out = loaded->table;
 
   const DriftInputs inputs{log.temp_c, log.fs_hz};
-  Result<std::vector<double>> predicted = model->Predict(inputs);
+  // --causal (issue 12): what the generated C computes (causal_drift.h); else the centred model.
+  CausalPredictionSummary causal;
+  Result<std::vector<double>> predicted =
+      a.causal ? PredictDriftCausal(*model, inputs, CausalRateOptions{a.tau_s}, &causal) : model->Predict(inputs);
   if (!predicted.ok()) return ReportError(kName, predicted.error());
+  if (a.causal) Note(kName, causal.BriefReport());
   for (std::size_t i = 0; i < predicted->size(); ++i) {  // issue 15: never an absurd or non-finite drift
     if (std::abs((*predicted)[i]) <= LogSpec{}.max_abs_rate_dps) continue;
     return ReportError(kName, InvalidInput(a.model_path + ": predicts a drift of " + std::to_string((*predicted)[i]) +
@@ -75,6 +83,8 @@ int Run(const ApplyArgs& a) {
   j["temp_below_fitted_c"] = range.below_c;
   j["temp_above_fitted_c"] = range.above_c;
   j["fraction_outside_fitted_range"] = range.fraction_outside;
+  if (a.causal)
+    j["causal"] = {{"tau_s", causal.tau_s}, {"delay_s", causal.delay_s}, {"samples_clamped", causal.num_clamped}};
   // When the record carries the true drift (simulator output), score the prediction.
   const int truth = out.Find(a.truth_col);
   if (truth >= 0) j["rmse_vs_" + a.truth_col] = Rmse(*predicted, out.columns[truth]);
@@ -106,6 +116,10 @@ Command Make(CLI::App& app) {
   AddLogOptions(sub, &a->log);
   AddOutputOption(sub, "-o,--output", &a->output, "Output CSV")->required();
   AddOutputOption(sub, "--json", &a->json_path, "Write a summary as JSON to FILE ('-' = stdout)");
+  sub->add_flag("--causal", a->causal,
+                "Firmware form: causal dT/dt (double lag, delay 2 tau), inputs clamped to the fitted range; "
+                "equals the C of 'export --format c'");
+  sub->add_option("--tau", a->tau_s, "With --causal: dT/dt lag time constant, s (default: model window / 48^(1/3))");
   sub->add_option("--truth-col", a->truth_col, "Column with the true drift, scored when present")->capture_default_str();
   return {sub, [a] { return Run(*a); }};
 }

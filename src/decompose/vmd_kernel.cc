@@ -1,9 +1,9 @@
 // The VMD inner kernel: see vmd_kernel.h. Compiled with -ffp-contract=off (CMakeLists.txt).
 //
 // Vectorisation: GCC vector extensions of kLanes doubles (the compiler lowers one to a 512-bit,
-// two 256-bit or four 128-bit registers), and GCC target_clones to compile the kernel for
-// AVX-512F, AVX2 and the x86-64 baseline and pick one at load time (no -march=native: the
-// binary runs on any x86-64). Every lane does the same IEEE operations in the same order on
+// two 256-bit or four 128-bit registers); the kernel is compiled three times (target
+// attributes AVX-512F, AVX2 and the x86-64 baseline) and the best path the CPU supports is
+// picked at the first call (no -march=native: the binary runs on any x86-64). Every lane does the same IEEE operations in the same order on
 // every path (add, subtract, multiply, divide are correctly rounded; no reassociation, no FMA),
 // so the paths give bit-identical results.
 #include "vmd_kernel.h"
@@ -95,19 +95,71 @@ double LaneTotal(const double (&v)[kLanes]) {
   return ((v[0] + v[1]) + (v[2] + v[3])) + ((v[4] + v[5]) + (v[6] + v[7]));
 }
 
-__attribute__((target_clones("avx512f", "avx2", "default"))) void UpdateModeChunk(
-    const ModeChunk& c, std::size_t n, double omega_k, double alpha, LaneSums& sums) {
-  if (c.l_re != nullptr) {
-    UpdateChunk<true>(c, n, omega_k, alpha, sums);
-  } else {
-    UpdateChunk<false>(c, n, omega_k, alpha, sums);
+namespace {
+
+// One function per instruction set: the same source (UpdateChunk is inlined into each and
+// compiled for the function's target).
+template <bool kLambda>
+__attribute__((target("avx512f"))) void ChunkAvx512f(const ModeChunk& c, std::size_t n, double wk, double alpha,
+                                                     LaneSums& acc) {
+  UpdateChunk<kLambda>(c, n, wk, alpha, acc);
+}
+template <bool kLambda>
+__attribute__((target("avx2"))) void ChunkAvx2(const ModeChunk& c, std::size_t n, double wk, double alpha,
+                                               LaneSums& acc) {
+  UpdateChunk<kLambda>(c, n, wk, alpha, acc);
+}
+template <bool kLambda>
+void ChunkBaseline(const ModeChunk& c, std::size_t n, double wk, double alpha, LaneSums& acc) {
+  UpdateChunk<kLambda>(c, n, wk, alpha, acc);
+}
+
+using ChunkFn = void (*)(const ModeChunk&, std::size_t, double, double, LaneSums&);
+
+ChunkFn Select(KernelPath path, bool lambda) {
+  switch (path) {
+    case KernelPath::kAvx512f: return lambda ? ChunkAvx512f<true> : ChunkAvx512f<false>;
+    case KernelPath::kAvx2: return lambda ? ChunkAvx2<true> : ChunkAvx2<false>;
+    case KernelPath::kBaseline: break;
   }
+  return lambda ? ChunkBaseline<true> : ChunkBaseline<false>;
+}
+
+KernelPath BestPath() {
+  if (KernelPathSupported(KernelPath::kAvx512f)) return KernelPath::kAvx512f;
+  if (KernelPathSupported(KernelPath::kAvx2)) return KernelPath::kAvx2;
+  return KernelPath::kBaseline;
+}
+
+}  // namespace
+
+bool KernelPathSupported(KernelPath path) {
+  __builtin_cpu_init();
+  switch (path) {
+    case KernelPath::kAvx512f: return __builtin_cpu_supports("avx512f");
+    case KernelPath::kAvx2: return __builtin_cpu_supports("avx2");
+    case KernelPath::kBaseline: return true;
+  }
+  return false;
+}
+
+void UpdateModeChunkOn(KernelPath path, const ModeChunk& c, std::size_t n, double omega_k, double alpha,
+                       LaneSums& sums) {
+  Select(path, c.l_re != nullptr)(c, n, omega_k, alpha, sums);
+}
+
+void UpdateModeChunk(const ModeChunk& c, std::size_t n, double omega_k, double alpha, LaneSums& sums) {
+  static const ChunkFn with_lambda = Select(BestPath(), true);
+  static const ChunkFn without_lambda = Select(BestPath(), false);
+  (c.l_re != nullptr ? with_lambda : without_lambda)(c, n, omega_k, alpha, sums);
 }
 
 const char* KernelIsa() {
-  __builtin_cpu_init();
-  if (__builtin_cpu_supports("avx512f")) return "avx512f";
-  if (__builtin_cpu_supports("avx2")) return "avx2";
+  switch (BestPath()) {
+    case KernelPath::kAvx512f: return "avx512f";
+    case KernelPath::kAvx2: return "avx2";
+    case KernelPath::kBaseline: break;
+  }
   return "baseline";
 }
 

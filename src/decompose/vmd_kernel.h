@@ -48,12 +48,19 @@ struct ModeChunk {
 //   u_k    = ((f - sum_uk) - lambda / 2) * rcp,  rcp = 1 / (1 + alpha (freq - omega_k)^2)
 // (one reciprocal per bin shared by the real and imaginary parts), and adds the bins to `sums`:
 // bin i of the chunk goes to lane i mod kLanes (chunks start at multiples of kLanes from the
-// block start, so this is the block's lane). The SIMD width is chosen at run time
-// (GCC target_clones: AVX-512F, AVX2 or the x86-64 baseline); all give the same bits.
+// block start, so this is the block's lane). The SIMD width is chosen at run time (AVX-512F,
+// AVX2 or the x86-64 baseline); all give the same bits.
 void UpdateModeChunk(const ModeChunk& c, std::size_t n, double omega_k, double alpha, LaneSums& sums);
 
 // The instruction set the dispatcher picks on this machine ("avx512f", "avx2", "baseline"), for
 // benchmark and log output.
 const char* KernelIsa();
+
+// The compiled paths, for tests that check they agree bit for bit.
+enum class KernelPath { kBaseline, kAvx2, kAvx512f };
+bool KernelPathSupported(KernelPath path);
+// UpdateModeChunk on the given path (which must be supported by this CPU).
+void UpdateModeChunkOn(KernelPath path, const ModeChunk& c, std::size_t n, double omega_k, double alpha,
+                       LaneSums& sums);
 
 }  // namespace gyrocomp::vmd_internal

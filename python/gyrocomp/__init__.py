@@ -57,6 +57,11 @@ def _returns(name):
     return decorate
 
 
+# DriftModel.summary as a result object too (the C++ property returns a dict).
+_summary_dict = DriftModel.summary
+DriftModel.summary = property(lambda self: Result("DriftFitSummary", _summary_dict.fget(self)),
+                              doc="The fit summary (DriftFitSummary) as a result object.")
+
 compute_allan = _returns("AllanResult")(_core.compute_allan)
 compute_deviation = _returns("DeviationCurve")(_core.compute_deviation)
 kalibr_imu_yaml = _core.kalibr_imu_yaml
@@ -68,9 +73,33 @@ flp_denoise = _returns("FlpResult")(_core.flp_denoise)
 wflp_denoise = _returns("WflpResult")(_core.wflp_denoise)
 fit_drift_model = _core.fit_drift_model
 run_parallel_model = _returns("PipelineResult")(_core.run_parallel_model)
+project_onto_cubic = _returns("TemperatureCubic")(_core.project_onto_cubic)
+px4_thermal_params = _core.px4_thermal_params
+ardupilot_thermal_params = _core.ardupilot_thermal_params
+
+
+def export_params(models, format, **options):
+    """Parameter file text for an autopilot from three axis drift models (x, y, z).
+
+    As `gyrocomp export --format px4|ardupilot`: every axis projected onto a cubic over the
+    temperature range the three models share (the autopilots have one range per sensor), then
+    written by the library (deg/s converted to rad/s there). options: device_id, index (px4);
+    imu (ardupilot); comments.
+    """
+    if len(models) != 3:
+        raise ValueError(f"export_params: three axis models are needed, got {len(models)}")
+    lo = max(m.summary.temp_min_c for m in models)
+    hi = min(m.summary.temp_max_c for m in models)
+    cubics = [project_onto_cubic(m, temp_min_c=lo, temp_max_c=hi) for m in models]
+    if format == "px4":
+        return px4_thermal_params(cubics, **options)
+    if format == "ardupilot":
+        return ardupilot_thermal_params(cubics, **options)
+    raise ValueError(f"export_params: format={format}: must be px4 or ardupilot")
 
 __all__ = [
-    "CancellationToken", "Cancelled", "DriftModel", "Result", "compute_allan", "compute_deviation",
+    "CancellationToken", "Cancelled", "DriftModel", "Result", "ardupilot_thermal_params", "compute_allan",
+    "compute_deviation", "export_params", "project_onto_cubic", "px4_thermal_params",
     "drift_model_from_json", "fit_drift_model", "flp_denoise", "kalibr_imu_yaml", "load_drift_model",
     "run_parallel_model", "sample_entropy", "simulate", "vmd", "wavelet_denoise", "wflp_denoise",
 ]

@@ -84,7 +84,6 @@ class Hooks {
  public:
   Hooks(py::object progress, const CancellationToken* token) : progress_(std::move(progress)), token_(token) {}
   void Poll(const std::string& stage, double fraction) const;
-  bool active() const { return true; }
 
  private:
   py::object progress_;

@@ -28,6 +28,7 @@ PYBIND11_MODULE(_core, m) {
   BindStages(m);
   BindDrift(m);
   BindPipeline(m);
+  BindExport(m);
 }
 
 }  // namespace gyrocomp::python

@@ -112,3 +112,29 @@ def test_parallel_model_on_a_short_simulated_chamber_run():
     assert np.std(r.predicted_drift_dps - truth) < 0.75 * np.std(truth)
     assert isinstance(r.drift_model, gyrocomp.DriftModel)
     assert r.allan_before.terms.arw_deg_per_sqrt_h > 0
+
+
+def test_export_cubic_projection_and_autopilot_files():
+    fs = 1.0
+    temp = np.linspace(-10.0, 60.0, 2000)
+    # A cubic drift (deg/s): a degree-3 polynomial model reproduces it, and its projection onto a
+    # cubic about the range's middle (25 C) is that same cubic.
+    c = [0.02, 1.5e-3, 1.2e-5, -2e-7]
+    x = temp - 25.0
+    drift = c[0] + c[1] * x + c[2] * x ** 2 + c[3] * x ** 3
+    models = [gyrocomp.fit_drift_model(temp, s * drift, fs, model="poly", degree=3) for s in (1.0, -0.5, 2.0)]
+    cubic = gyrocomp.project_onto_cubic(models[0])
+    assert cubic.ref_temp_c == pytest.approx(25.0)
+    # Exact data, exact model: coefficients to rounding of the fits (1e-9 of the largest term).
+    np.testing.assert_allclose(cubic.coeff_dps, c, rtol=0, atol=1e-9 * 0.1)
+    px4 = gyrocomp.export_params(models, "px4", device_id=1234)
+    assert "TC_G0_ID\t1234" in px4 and "TC_G0_TMIN" in px4
+    # TC_G0_X0_0 is c0 of the x axis in rad/s, written as float32.
+    line = next(l for l in px4.splitlines() if "\tTC_G0_X0_0\t" in l)
+    assert float(line.split("\t")[3]) == pytest.approx(0.02 * np.pi / 180.0, rel=1e-6)
+    ardu = gyrocomp.export_params(models, "ardupilot", imu=2)
+    assert "INS_TCAL2_" in ardu
+    with pytest.raises(ValueError):
+        gyrocomp.export_params(models[:2], "px4")
+    with pytest.raises(ValueError, match="device_id|TC_G|ID"):
+        gyrocomp.export_params(models, "px4")  # PX4 needs the sensor's device id

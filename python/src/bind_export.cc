@@ -1,0 +1,77 @@
+// gyrocomp.project_onto_cubic, px4_thermal_params, ardupilot_thermal_params (issue 12's export
+// stage, include/gyrocomp/export/). The three-axis convenience export_params is Python
+// (python/gyrocomp/__init__.py).
+#include "bindings.h"
+
+#include "gyrocomp/core/units.h"
+#include "gyrocomp/export/param_export.h"
+#include "gyrocomp/export/thermal_cubic.h"
+
+namespace gyrocomp::python {
+namespace {
+
+py::dict CubicDict(const TemperatureCubic& c) {
+  return py::dict(py::arg("ref_temp_c") = c.ref_temp_c, py::arg("temp_min_c") = c.temp_min_c,
+                  py::arg("temp_max_c") = c.temp_max_c, py::arg("coeff_dps") = c.coeff);
+}
+
+// Three cubics in deg/s (dicts as project_onto_cubic returns them) -> rad/s.
+ThreeAxisCubics CubicsRadps(const py::sequence& cubics_dps) {
+  if (py::len(cubics_dps) != 3) throw py::value_error("three axis cubics (x, y, z) are needed, got " + std::to_string(py::len(cubics_dps)));
+  ThreeAxisCubics out;
+  for (int k = 0; k < 3; ++k) {
+    py::object c = cubics_dps[k];
+    if (py::hasattr(c, "to_dict")) c = c.attr("to_dict")();
+    const py::dict d = c.cast<py::dict>();
+    TemperatureCubic t;
+    t.ref_temp_c = d["ref_temp_c"].cast<double>();
+    t.temp_min_c = d["temp_min_c"].cast<double>();
+    t.temp_max_c = d["temp_max_c"].cast<double>();
+    t.coeff = d["coeff_dps"].cast<std::array<double, 4>>();
+    out[k] = t.Scaled(1.0 / units::kDegPerRad);  // deg/s -> rad/s, the autopilots' unit
+  }
+  return out;
+}
+
+}  // namespace
+
+void BindExport(py::module_& m) {
+  m.def(
+      "project_onto_cubic",
+      [](const DriftModel& model, const py::kwargs& kwargs) {
+        Kwargs kw(kwargs, "project_onto_cubic");
+        CubicProjectionOptions o;
+        kw.Get("grid_points", &o.grid_points);
+        kw.Get("temp_min_c", &o.temp_min_c);
+        kw.Get("temp_max_c", &o.temp_max_c);
+        kw.Get("ref_temp_c", &o.ref_temp_c);
+        kw.Done();
+        return CubicDict(Unwrap(WithoutGil([&] { return ProjectOntoCubic(model, o); })));
+      },
+      py::arg("model"), "Least-squares cubic in T (deg/s) of a drift model (CubicProjectionOptions as keywords).");
+
+  m.def(
+      "px4_thermal_params",
+      [](const py::sequence& cubics_dps, std::optional<std::uint32_t> device_id, int index,
+         const std::vector<std::string>& comments) {
+        Px4ThermalParamOptions o;
+        o.device_id = device_id;
+        o.index = index;
+        return Unwrap(WritePx4ThermalParams(CubicsRadps(cubics_dps), o, comments));
+      },
+      py::arg("cubics_dps"), py::kw_only(), py::arg("device_id") = py::none(), py::arg("index") = 0,
+      py::arg("comments") = std::vector<std::string>{},
+      "PX4 TC_G<index>_* parameter file text from three axis cubics in deg/s (docs/export.md).");
+
+  m.def(
+      "ardupilot_thermal_params",
+      [](const py::sequence& cubics_dps, int imu, const std::vector<std::string>& comments) {
+        ArduPilotThermalParamOptions o;
+        o.imu = imu;
+        return Unwrap(WriteArduPilotThermalParams(CubicsRadps(cubics_dps), o, comments));
+      },
+      py::arg("cubics_dps"), py::kw_only(), py::arg("imu") = 1, py::arg("comments") = std::vector<std::string>{},
+      "ArduPilot INS_TCAL<imu>_* parameter file text from three axis cubics in deg/s (docs/export.md).");
+}
+
+}  // namespace gyrocomp::python

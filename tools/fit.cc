@@ -85,6 +85,9 @@ int Run(FitArgs a) {
   Result<LoadedLog> loaded = LoadLog(kName, a.log, *spec);
   if (!loaded.ok()) return ReportError(kName, loaded.error());
   const GyroLog& log = loaded->log;
+  if (!target_is_column && log.rate_dps.size() != 1)  // a flight log's default: x, y, z (issue 12)
+    return ReportError(kName, InvalidArgument("--rate-col: fit models one axis; " + log.source + " has " +
+                                              std::to_string(log.rate_dps.size()) + " (choose one with --rate-col)"));
   const Table& table = loaded->table;
   const std::size_t n = log.num_samples();
 

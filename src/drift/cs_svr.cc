@@ -64,43 +64,65 @@ CvPlan SegmentPlan(std::span<const double> rate, int folds, double threshold) {
   plan.segments = static_cast<int>(starts.size());
   plan.folds = std::min<int>(folds, plan.segments);
   plan.fold_of.resize(n);
+  plan.direction_of.resize(n);
   for (std::size_t j = 0; j < starts.size(); ++j) {
     const std::size_t end = j + 1 < starts.size() ? starts[j + 1] : n;
-    for (std::size_t i = starts[j]; i < end; ++i) plan.fold_of[i] = static_cast<int>(j % plan.folds);
+    for (std::size_t i = starts[j]; i < end; ++i) {
+      plan.fold_of[i] = static_cast<int>(j % plan.folds);
+      plan.direction_of[i] = direction(starts[j]) + 1;
+    }
   }
   return plan;
 }
 
 Result<double> CrossValidate(const Columns& x, std::span<const double> y, const CvPlan& plan,
-                             const FitPredict& fit_predict) {
+                             const FitPredict& fit_predict, std::vector<double>* fold_rmse) {
   const std::size_t n = y.size();
   if (plan.folds < 2 || n < 2 * static_cast<std::size_t>(plan.folds) || plan.fold_of.size() != n)
     return InvalidInput("cross-validation: " + std::to_string(plan.folds) + " folds need at least " +
                         std::to_string(2 * plan.folds) + " training samples, got " + std::to_string(n));
-  double ss = 0.0;
+  const bool balanced = plan.direction_of.size() == n;
+  double ss[3] = {0.0, 0.0, 0.0};  // per direction when balanced, else all in [0]
+  std::size_t count[3] = {0, 0, 0};
   std::size_t scored = 0;
   for (int k = 0; k < plan.folds; ++k) {
     Columns tx(x.size()), vx(x.size());
     std::vector<double> ty, vy;
+    std::vector<int> vd;
     for (std::size_t i = 0; i < n; ++i) {
       const bool held_out = plan.fold_of[i] == k;
       for (std::size_t j = 0; j < x.size(); ++j) (held_out ? vx : tx)[j].push_back(x[j][i]);
       (held_out ? vy : ty).push_back(y[i]);
+      if (held_out) vd.push_back(balanced ? plan.direction_of[i] : 0);
     }
     if (ty.empty() || vy.empty()) continue;
     auto pred = fit_predict(tx, ty, vx);
     if (!pred.ok()) return pred.error();
     const auto [lo, hi] = std::minmax_element(tx[0].begin(), tx[0].end());
+    double fold_ss = 0.0;
+    std::size_t fold_n = 0;
     for (std::size_t i = 0; i < vy.size(); ++i) {
       if (plan.in_range_only && (vx[0][i] < *lo || vx[0][i] > *hi)) continue;
-      ss += ((*pred)[i] - vy[i]) * ((*pred)[i] - vy[i]);
+      const double e2 = ((*pred)[i] - vy[i]) * ((*pred)[i] - vy[i]);
+      ss[vd[i]] += e2;
+      ++count[vd[i]];
       ++scored;
+      fold_ss += e2;
+      ++fold_n;
     }
+    if (fold_rmse && fold_n > 0) fold_rmse->push_back(std::sqrt(fold_ss / static_cast<double>(fold_n)));
+  }
+  if (scored > 0 && balanced) {
+    double mse = 0.0;
+    int present = 0;
+    for (int d = 0; d < 3; ++d)
+      if (count[d] > 0) mse += ss[d] / static_cast<double>(count[d]), ++present;
+    return std::sqrt(mse / present);
   }
   if (scored == 0)
     return InvalidInput("blocked cross-validation: no held-out sample lies inside the temperature range of the "
                         "other blocks (a monotonic sweep?); set cv_in_range_only = false (--cv-all)");
-  return std::sqrt(ss / static_cast<double>(scored));
+  return std::sqrt(ss[0] / static_cast<double>(scored));
 }
 
 long CuckooBudget(const CuckooSearchOptions& o) {

@@ -122,6 +122,7 @@ Result<FitData> PrepareFitData(const DriftInputs& inputs, std::span<const double
   auto rate = TemperatureRate(inputs.temp_c, inputs.fs_hz, o.rate);
   if (!rate.ok()) return rate.error();
   d.rate_d = BlockMeans(*rate, d.block);
+  MinMax(*rate, &d.dtemp_min_c_per_s, &d.dtemp_max_c_per_s);
   return d;
 }
 
@@ -154,7 +155,8 @@ Result<DriftModel> FitPrepared(const FitData& d, const DriftInputs& inputs, Drif
   s.cv_in_range_only = plan.in_range_only;
   s.train_period_s = d.train_period_s;
   MinMax(d.x[0], &s.temp_min_c, &s.temp_max_c);
-  if (o.inputs == DriftInputSet::kTempAndRate) MinMax(d.x[1], &s.dtemp_min_c_per_s, &s.dtemp_max_c_per_s);
+  s.dtemp_min_c_per_s = d.dtemp_min_c_per_s;  // centred dT/dt, whatever the state
+  s.dtemp_max_c_per_s = d.dtemp_max_c_per_s;
   if (o.inputs != DriftInputSet::kTemp) MinMax(d.x[1], &s.state_min, &s.state_max);
   if (o.inputs == DriftInputSet::kTempAndLag) s.lag_tau_s = o.state.lag_tau_s;
 

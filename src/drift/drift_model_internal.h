@@ -33,6 +33,11 @@ struct CvPlan {
   bool in_range_only = false;   // score a held-out sample only inside the training folds' T range
   DriftCvScheme scheme = DriftCvScheme::kBlocks;
   int segments = 0;             // kThermalSegments: segments found
+  // kThermalSegments: direction of each sample's segment (0 cooling, 1 holding, 2 heating). The
+  // score is then balanced: sqrt of the mean over the directions present of their held-out MSE,
+  // so the one heating leg of a cooling calibration weighs as much as all its cooling ramps (the
+  // next run may go either way). Empty: pooled RMSE over every scored sample.
+  std::vector<int> direction_of;
 };
 // `folds` contiguous blocks of (nearly) equal length: block k = [n k / folds, n (k+1) / folds).
 CvPlan BlockPlan(std::size_t n, int folds, bool in_range_only);
@@ -45,8 +50,9 @@ CvPlan SegmentPlan(std::span<const double> rate_c_per_s, int folds, double thres
 // Cross-validation: each fold is predicted by a model fitted on the other folds (training and
 // held-out rows keep their order). Returns the RMSE over the scored held-out predictions (an
 // error if none is scored).
+// fold_rmse (optional): the RMSE of each fold's scored held-out samples (pooled within the fold).
 Result<double> CrossValidate(const Columns& x, std::span<const double> y, const CvPlan& plan,
-                             const FitPredict& fit_predict);
+                             const FitPredict& fit_predict, std::vector<double>* fold_rmse = nullptr);
 
 // Least squares polynomial (Eigen) on the standardised inputs.
 Result<PolynomialModel> FitPolynomial(const Columns& x, std::span<const double> y,
@@ -81,6 +87,7 @@ struct FitData {
   Columns xd;                 // block means over train_period_s
   std::vector<double> yd;
   std::vector<double> rate_d; // block means of the centred dT/dt, deg C / s
+  double dtemp_min_c_per_s = 0.0, dtemp_max_c_per_s = 0.0;  // its full-rate range
   std::size_t block = 1;
   double train_period_s = 0.0;
 };

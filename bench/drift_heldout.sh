@@ -2,11 +2,14 @@
 # Held-out drift table of docs/drift_model.md (issue 11): for each drift structure and seed, fit on
 # a simulated cooling run (paper profile), test on a heating run (ramp -40 -> 60 C) and a second
 # cooling run, both of other seeds. Prints one markdown row per (structure, seed, model).
-# Usage: G=build/gyrocomp D=heldout FS=1 sh bench/drift_heldout.sh
+# cs-svr and hybrid run with GEN cuckoo-search generations (default 4, auto's budget; the paper
+# pipeline's default is 10).
+# Usage: G=build/gyrocomp D=heldout FS=1 GEN=4 sh bench/drift_heldout.sh
 set -e
 G=${G:-gyrocomp}
 D=${D:-heldout}
 FS=${FS:-1}
+GEN=${GEN:-4}
 mkdir -p "$D"
 structure() {  # name -> simulator flags
   case $1 in
@@ -26,7 +29,8 @@ for S in A B C; do
     $G simulate --profile paper --fs $FS --seed $((seed + 20)) $F -o $p.cool2.csv > /dev/null 2>&1
     for M in poly cs-svr hybrid auto; do
       case $M in
-        poly|cs-svr|hybrid) args="--model $M --inputs temp,dtemp" ;;
+        poly) args="--model $M --inputs temp,dtemp" ;;
+        cs-svr|hybrid) args="--model $M --inputs temp,dtemp --generations $GEN" ;;
         auto) args="--model auto" ;;
       esac
       $G fit -i $p.cool.csv $args -o $p.$M.json --json $p.$M.fit.json > /dev/null 2>&1

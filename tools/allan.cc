@@ -86,7 +86,7 @@ int Run(const AllanArgs& a) {
   j["sampling"] = log->sampling.BriefReport();
 
   if (!a.csv_path.empty()) {
-    if (Status s = WriteCsvAtomic(a.csv_path, CurveTable(*results)); !s.ok()) return ReportError(kName, s.error());
+    if (Status s = WriteCsv(a.csv_path, CurveTable(*results)); !s.ok()) return ReportError(kName, s.error());
   }
   if (!a.json_path.empty()) {
     if (Status s = WriteJson(a.json_path, j); !s.ok()) return ReportError(kName, s.error());
@@ -119,8 +119,8 @@ Command Make(CLI::App& app) {
       "Example: gyrocomp allan -i log.csv.gz --rate-col gx_dps --time-col t_s --json - -o adev.csv");
   AddLogOptions(sub, &args->log);
   sub->add_option("--taus", args->taus, "Tau grid: octave | decade | all | N (taus per decade)")->capture_default_str();
-  sub->add_option("--json", args->json_path, "Write the results as JSON to FILE ('-' = stdout)");
-  sub->add_option("-o,--output", args->csv_path, "Write the ADEV curve as CSV to FILE");
+  AddOutputOption(sub, "--json", &args->json_path, "Write the results as JSON to FILE ('-' = stdout)");
+  AddOutputOption(sub, "-o,--output", &args->csv_path, "Write the ADEV curve as CSV to FILE");
   sub->add_option("--confidence", args->allan.confidence, "Two-sided confidence level of the chi-square interval")
       ->check(CLI::Range(1e-6, 1.0 - 1e-6))
       ->capture_default_str();

@@ -1,5 +1,7 @@
 #include "cli_common.h"
 
+#include <cmath>
+#include <cstdio>
 #include <iostream>
 
 #include "gyrocomp/io/io.h"
@@ -8,7 +10,7 @@
 namespace gyrocomp::cli {
 
 void AddLogOptions(CLI::App* app, LogOptions* o, bool input_required) {
-  auto* in = app->add_option("-i,--input", o->input, "Input CSV (header row; .gz read directly; '-' = stdin)");
+  auto* in = AddInputOption(app, "-i,--input", &o->input, "Input CSV (header row; .gz read directly; '-' = stdin)");
   if (input_required) in->required();
   app->add_option("--time-col", o->time_col, "Time column, seconds")->capture_default_str();
   app->add_option("--rate-col", o->rate_col, "Rate column(s), comma-separated for several axes")
@@ -88,8 +90,123 @@ void Note(const std::string& command, const std::string& message) {
   std::cerr << "gyrocomp " << command << ": " << message << "\n";
 }
 
+namespace {
+
+struct FileOption {
+  const CLI::App* app;
+  CLI::Option* option;
+  std::string* path;
+  bool output;
+};
+
+std::vector<FileOption>& FileOptions() {
+  static std::vector<FileOption> options;
+  return options;
+}
+
+// Length of the valid UTF-8 sequence at s[i], or 0.
+std::size_t Utf8Length(const std::string& s, std::size_t i) {
+  const auto c = static_cast<unsigned char>(s[i]);
+  std::size_t n = c < 0x80 ? 1 : (c >> 5) == 0x6 && c >= 0xc2 ? 2 : (c >> 4) == 0xe ? 3 : (c >> 3) == 0x1e && c <= 0xf4 ? 4 : 0;
+  if (n == 0 || i + n > s.size()) return 0;
+  for (std::size_t k = 1; k < n; ++k) {
+    if ((static_cast<unsigned char>(s[i + k]) & 0xc0) != 0x80) return 0;
+  }
+  const auto c1 = static_cast<unsigned char>(s[i + 1 < s.size() ? i + 1 : i]);
+  if ((c == 0xe0 && c1 < 0xa0) || (c == 0xed && c1 >= 0xa0) || (c == 0xf0 && c1 < 0x90) || (c == 0xf4 && c1 >= 0x90)) {
+    return 0;  // overlong, surrogate, beyond U+10FFFF
+  }
+  return n;
+}
+
+// `s` with every byte that is not part of valid UTF-8 written as the four characters \xNN.
+std::string EscapeNonUtf8(const std::string& s) {
+  std::string out;
+  for (std::size_t i = 0; i < s.size();) {
+    const std::size_t n = Utf8Length(s, i);
+    if (n > 0) {
+      out.append(s, i, n);
+      i += n;
+    } else {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\x%02x", static_cast<unsigned char>(s[i]));
+      out += buf;
+      ++i;
+    }
+  }
+  return out;
+}
+
+// Escapes non-UTF-8 strings in place and refuses non-finite numbers, naming their JSON pointer.
+Status CleanJson(nlohmann::json& j, const std::string& where) {
+  if (j.is_number_float() && !std::isfinite(j.get<double>())) {
+    return InternalError("JSON value at '" + where + "' would be " + (std::isnan(j.get<double>()) ? "NaN" : "an infinity") +
+                         ": refusing to write a non-finite number");
+  }
+  if (j.is_string()) {
+    const std::string& s = j.get_ref<const std::string&>();
+    if (EscapeNonUtf8(s) != s) j = EscapeNonUtf8(s);
+  } else if (j.is_array()) {
+    for (std::size_t i = 0; i < j.size(); ++i) {
+      if (Status s = CleanJson(j[i], where + "/" + std::to_string(i)); !s) return s;
+    }
+  } else if (j.is_object()) {
+    nlohmann::json clean = nlohmann::json::object();
+    for (auto& [key, value] : j.items()) {
+      const std::string k = EscapeNonUtf8(key);
+      if (Status s = CleanJson(value, where + "/" + k); !s) return s;
+      clean[k] = std::move(value);
+    }
+    j = std::move(clean);
+  }
+  return Status::Ok();
+}
+
+}  // namespace
+
+CLI::Option* AddInputOption(CLI::App* app, const std::string& flags, std::string* path, const std::string& help) {
+  CLI::Option* option = app->add_option(flags, *path, help);
+  FileOptions().push_back({app, option, path, false});
+  return option;
+}
+
+CLI::Option* AddOutputOption(CLI::App* app, const std::string& flags, std::string* path, const std::string& help) {
+  CLI::Option* option = app->add_option(flags, *path, help);
+  FileOptions().push_back({app, option, path, true});
+  return option;
+}
+
+OutputSet& Outputs() {
+  static OutputSet outputs;
+  return outputs;
+}
+
+Status PrepareFiles(const CLI::App* app) {
+  for (const FileOption& f : FileOptions()) {
+    if (f.app == app && !f.output) Outputs().AddInput(*f.path);
+  }
+  for (const FileOption& f : FileOptions()) {
+    if (f.app != app || !f.output || (f.option->count() == 0 && f.path->empty())) continue;
+    if (f.path->empty()) return InvalidArgument(f.option->get_name() + ": the file name is empty");
+    if (Status s = Outputs().Declare(*f.path); !s) return s;
+  }
+  return Status::Ok();
+}
+
+Status WriteCsv(const std::string& path, const Table& table) { return Outputs().StageCsv(path, table); }
+
+Status WriteText(const std::string& path, const std::string& text) { return Outputs().StageText(path, text); }
+
+Result<std::string> JsonText(const nlohmann::json& j) {
+  nlohmann::json copy = j;
+  if (Status s = CleanJson(copy, ""); !s) return s.error();
+  return copy.dump(1) + "\n";
+}
+
 Status WriteJson(const std::string& path, const nlohmann::json& j) {
-  return WriteTextAtomic(path, j.dump(1) + "\n");
+  Result<std::string> text = JsonText(j);
+  if (!text) return Status(Error{text.error().kind, path + ": " + text.error().message});
+  return WriteText(path, *text);
 }
 
 }  // namespace gyrocomp::cli

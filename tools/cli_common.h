@@ -1,5 +1,14 @@
 // Pieces every gyrocomp subcommand shares: the log-reading options of cli.md ("Reading a log"),
-// error reporting with the exit-status contract, and atomic JSON output.
+// error reporting with the exit-status contract, and the output transaction.
+//
+// Files: a subcommand adds the options naming files it reads with AddInputOption and those naming
+// files it writes with AddOutputOption. main() then, before the command runs, registers every
+// input and declares every output in one OutputSet (gyrocomp/io/output.h): an empty name, an
+// output that is an input (any spelling, symbolic or hard link), a missing or read-only folder
+// are refused with exit 2 before any work. The command writes with WriteCsv / WriteText /
+// WriteJson, which only stage the content in temporaries; main() commits them together when the
+// command returns 0 (a failed commit, e.g. ENOSPC, is exit 1) and discards them otherwise, and
+// its SIGINT / SIGTERM handler removes them.
 #pragma once
 
 #include <functional>
@@ -11,6 +20,7 @@
 #include <nlohmann/json.hpp>
 
 #include "gyrocomp/io/gyro_log.h"
+#include "gyrocomp/io/output.h"
 #include "gyrocomp/core/status.h"
 
 namespace gyrocomp::cli {
@@ -59,8 +69,27 @@ int ReportError(const std::string& command, const Error& error);
 // Prints a one-line note to stderr (warnings, what resampling did), prefixed with the command.
 void Note(const std::string& command, const std::string& message);
 
-// Writes `j` (pretty-printed) to `path` atomically; "-" writes to stdout.
+// Adds an option naming a file the command reads (never written, see above).
+CLI::Option* AddInputOption(CLI::App* app, const std::string& flags, std::string* path, const std::string& help);
+
+// Adds an option naming a file the command writes (checked before the command runs, see above).
+CLI::Option* AddOutputOption(CLI::App* app, const std::string& flags, std::string* path, const std::string& help);
+
+// The outputs of this run (one per process).
+OutputSet& Outputs();
+
+// For main(): registers the inputs and declares the outputs given to the parsed subcommand `app`.
+Status PrepareFiles(const CLI::App* app);
+
+// Stage content for an output (declared by AddOutputOption, or declared now); see above.
+Status WriteCsv(const std::string& path, const Table& table);
+Status WriteText(const std::string& path, const std::string& text);
+// JSON, pretty-printed. A NaN or infinity anywhere is refused (kInternal, naming its key), never
+// written as null; strings that are not UTF-8 (file names are bytes) have those bytes escaped.
 Status WriteJson(const std::string& path, const nlohmann::json& j);
+
+// `j` as text, with the checks of WriteJson.
+Result<std::string> JsonText(const nlohmann::json& j);
 
 // Splits "a,b,c" on commas, trimming spaces; empty items are dropped.
 std::vector<std::string> SplitList(const std::string& text);

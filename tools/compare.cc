@@ -100,7 +100,7 @@ Command Make(CLI::App& app) {
       "compare", "The paper's comparisons on a log: wavelet threshold vs FLP vs WFLP; SVR vs grid vs CS-SVR; "
                  "polynomial baselines; serial vs parallel (errors against the truth on simulated records)");
   AddLogOptions(sub, &c->log);
-  sub->add_option("--json", c->json, "JSON with every row ('-' = stdout)");
+  AddOutputOption(sub, "--json", &c->json, "JSON with every row ('-' = stdout)");
   sub->add_option("--true-rate-col", c->true_rate_col, "Ground-truth rate column, used when present")->capture_default_str();
   sub->add_option("--true-drift-col", c->true_drift_col, "Ground-truth drift column, used when present")->capture_default_str();
   sub->add_flag("--no-grid", c->no_grid, "Skip the grid-search SVR baseline");

@@ -135,7 +135,7 @@ int Run(DecomposeArgs a) {
       const std::string prefix = results.size() == 1 ? "" : r.axis + "_";
       for (std::size_t k = 0; k < r.vmd.modes.size(); ++k) t.Add(prefix + "mode_" + std::to_string(k + 1), r.vmd.modes[k]);
     }
-    if (Status s = WriteCsvAtomic(a.csv_path, t); !s.ok()) return ReportError(kName, s.error());
+    if (Status s = WriteCsv(a.csv_path, t); !s.ok()) return ReportError(kName, s.error());
   }
   if (!a.json_path.empty()) {
     nlohmann::json j;
@@ -213,8 +213,8 @@ Command Make(CLI::App& app) {
   sub->add_option("--drift-max-freq", args->drift_max_frequency_hz,
                   "Optional guard: a drift-by-SE mode at or above this centre frequency (Hz) is mixed")->group(g);
   g = "Output";
-  sub->add_option("-o,--output", args->csv_path, "Write the modes as CSV to FILE")->group(g);
-  sub->add_option("--json", args->json_path, "Write the results as JSON to FILE ('-' = stdout)")->group(g);
+  AddOutputOption(sub, "-o,--output", &args->csv_path, "Write the modes as CSV to FILE")->group(g);
+  AddOutputOption(sub, "--json", &args->json_path, "Write the results as JSON to FILE ('-' = stdout)")->group(g);
   return {sub, [args] { return Run(*args); }};
 }
 

@@ -208,7 +208,7 @@ int Run(const DenoiseArgs& a) {
     out.Add(single ? "denoised_dps" : axis + "_denoised", std::move(*y));
   }
   if (!a.output.empty()) {
-    if (Status s = WriteCsvAtomic(a.output, out); !s.ok()) return ReportError(kName, s.error());
+    if (Status s = WriteCsv(a.output, out); !s.ok()) return ReportError(kName, s.error());
   }
   if (!a.json_path.empty()) {
     nlohmann::json j = single ? axes.begin().value() : nlohmann::json{{"axes", axes}};
@@ -229,9 +229,9 @@ Command Make(CLI::App& app) {
   sub->add_option("--method", a.method, "wavelet | flp | wflp")
       ->required()
       ->check(CLI::IsMember({"wavelet", "flp", "wflp"}));
-  sub->add_option("-o,--output", a.output,
+  AddOutputOption(sub, "-o,--output", &a.output,
                   "Output CSV: the input columns plus denoised_dps (several axes: <col>_denoised)");
-  sub->add_option("--json", a.json_path, "Write a summary (and the metrics below) as JSON ('-' = stdout)");
+  AddOutputOption(sub, "--json", &a.json_path, "Write a summary (and the metrics below) as JSON ('-' = stdout)");
   std::string g = "Wavelet (wavelet, wflp)";
   sub->add_option("--wavelet", a.wavelet, "haar, db1-db20, sym2-sym20, coif1-coif5")->group(g)->capture_default_str();
   sub->add_option("--level", a.level, "Decomposition level (default 4)")->check(CLI::NonNegativeNumber)->group(g);

@@ -74,14 +74,14 @@ Command Make(CLI::App& app) {
       "JSON: sample_entropy (null if infinite or undefined), m, r (the absolute tolerance used), n,\n"
       "  a_matches, b_matches, defined.\n"
       "Example: gyrocomp entropy -i log.csv --col rate_dps --m 2 --r 0.2 --json -");
-  sub->add_option("-i,--input", args->input, "Input CSV (header row; .gz read directly; '-' = stdin)")->required();
+  AddInputOption(sub, "-i,--input", &args->input, "Input CSV (header row; .gz read directly; '-' = stdin)")->required();
   sub->add_option("--col", args->col, "Column to measure")->required();
   sub->add_option("--m", args->options.m, "Embedding dimension m (1..10)")->capture_default_str();
   auto* r = sub->add_option("--r", args->options.r_factor, "Tolerance as a factor of the column's SD")->capture_default_str();
   auto* r_abs = sub->add_option("--r-abs", args->r_abs, "Absolute tolerance, in the column's unit");
   r->excludes(r_abs);
   sub->add_flag("--brute-force", args->brute_force, "Use the O(N^2) definition (for checking)");
-  sub->add_option("--json", args->json_path, "Write the result as JSON to FILE ('-' = stdout)");
+  AddOutputOption(sub, "--json", &args->json_path, "Write the result as JSON to FILE ('-' = stdout)");
   return {sub, [args] { return Run(*args); }};
 }
 

@@ -199,7 +199,7 @@ int Run(FitArgs a) {
     if (!v.ok()) return ReportError(kName, v.error());
     validation = std::move(*v);
   }
-  if (Status s = SaveDriftModelSet(set, a.model_path); !s.ok()) return ReportError(kName, s.error());
+  if (Status s = WriteText(a.model_path, DriftModelSetToJson(set)); !s.ok()) return ReportError(kName, s.error());
   if (!a.json_path.empty()) {
     // One axis: its summary at the top level (as before); always: "axes" with one entry per axis.
     nlohmann::json j = AxisJson(a, set.axes[0]);
@@ -253,7 +253,7 @@ Command Make(CLI::App& app) {
   sub->add_option("--out-of-range", a->out_of_range,
                   "Temperature outside the fitted range: extrapolate | clamp (stored in the model file)")
       ->check(CLI::IsMember({"extrapolate", "clamp"}))->capture_default_str();
-  sub->add_option("--validate", a->validate_path,
+  AddInputOption(sub, "--validate", &a->validate_path,
                   "Also validate the fitted model on another run (as gyrocomp validate; its columns as -i)");
   sub->add_option("--target", a->target,
                   "What to model: rate (the rate column), drift-mode (sum of the VMD modes classified drift), or a column name")
@@ -303,8 +303,8 @@ Command Make(CLI::App& app) {
   sub->add_option("--degree", a->fit.polynomial.degree, "poly: degree in temperature (1..5)")->group(d)->capture_default_str();
   sub->add_option("--dtemp-degree", a->fit.polynomial.dtemp_degree, "poly: degree in dT/dt (1..3) with --inputs temp,dtemp")
       ->group(d)->capture_default_str();
-  sub->add_option("-o,--output", a->model_path, "Model file to write (JSON)")->required();
-  sub->add_option("--json", a->json_path, "Write the fit summary as JSON to FILE ('-' = stdout)");
+  AddOutputOption(sub, "-o,--output", &a->model_path, "Model file to write (JSON)")->required();
+  AddOutputOption(sub, "--json", &a->json_path, "Write the fit summary as JSON to FILE ('-' = stdout)");
   return {sub, [a] { return Run(*a); }};
 }
 

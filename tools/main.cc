@@ -1,4 +1,7 @@
 // gyrocomp: MEMS gyroscope denoising and temperature-drift compensation (Chang, Cao & Shen 2020).
+#include <signal.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <exception>
 #include <iostream>
@@ -20,6 +23,38 @@ struct Entry {
 std::vector<Entry>& Registry() {
   static std::vector<Entry> registry;
   return registry;
+}
+
+// SIGINT / SIGTERM / SIGHUP: remove the temporaries of the outputs being written, then exit with
+// 128 + signal (the shell's convention). Async-signal-safe: RemoveLiveTemporaryFiles and _exit.
+extern "C" void OnTerminatingSignal(int sig) {
+  gyrocomp::RemoveLiveTemporaryFiles();
+  _exit(128 + sig);
+}
+
+void InstallSignalHandlers() {
+  struct sigaction action {};
+  action.sa_handler = OnTerminatingSignal;
+  sigemptyset(&action.sa_mask);
+  for (int sig : {SIGINT, SIGTERM, SIGHUP}) sigaction(sig, &action, nullptr);
+}
+
+// Runs the parsed command inside the output transaction of cli_common.h.
+int RunCommand(const Command& c) {
+  const std::string name = c.app->get_name();
+  if (Status s = PrepareFiles(c.app); !s) return ReportError(name, s.error());
+  const int code = c.run();
+  if (code != kExitOk) {
+    Outputs().Discard();
+    return code;
+  }
+  if (Status s = Outputs().Commit(); !s) {
+    // Every destination was checked before the run: what fails now (ENOSPC, EIO) is not the
+    // user's input.
+    std::cerr << "gyrocomp " << name << ": error: " << s.error().message << "\n";
+    return kExitFailure;
+  }
+  return kExitOk;
 }
 
 }  // namespace
@@ -47,6 +82,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   std::vector<Command> commands;
   for (CommandFactory make : RegisteredCommands()) commands.push_back(make(app));
+  InstallSignalHandlers();
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -55,9 +91,10 @@ int main(int argc, char** argv) {
   }
   try {
     for (const Command& c : commands) {
-      if (c.app->parsed()) return c.run();
+      if (c.app->parsed()) return RunCommand(c);
     }
   } catch (const std::exception& e) {
+    Outputs().Discard();
     std::cerr << "gyrocomp: internal error: " << e.what() << "\n";
     return kExitFailure;
   }

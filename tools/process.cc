@@ -121,13 +121,13 @@ int Run(const ProcessCli& c) {
     json["axes"] = axes;
   }
   if (!c.output.empty()) {
-    if (Status s = WriteCsvAtomic(c.output, out); !s) return ReportError(cmd, s.error());
+    if (Status s = WriteCsv(c.output, out); !s) return ReportError(cmd, s.error());
   }
   if (!c.json.empty()) {
     if (Status s = WriteJson(c.json, json); !s) return ReportError(cmd, s.error());
   }
   if (report) {
-    if (Status s = WriteTextAtomic(c.report, RenderReportHtml(*report)); !s) return ReportError(cmd, s.error());
+    if (Status s = WriteText(c.report, RenderReportHtml(*report)); !s) return ReportError(cmd, s.error());
   }
   return kExitOk;
 }
@@ -138,10 +138,10 @@ Command Make(CLI::App& app) {
       "process", "The parallel VMD-SE-WFLP-CS-SVR model on a log: denoise, compensate temperature drift, "
                  "Allan analysis before/after (needs rate and temperature)");
   AddLogOptions(sub, &c->log);
-  sub->add_option("-o,--output", c->output,
+  AddOutputOption(sub, "-o,--output", &c->output,
                   "Output CSV: input columns plus compensated_dps and the feature columns");
-  sub->add_option("--json", c->json, "JSON summary ('-' = stdout)");
-  sub->add_option("--report", c->report, "Self-contained HTML report");
+  AddOutputOption(sub, "--json", &c->json, "JSON summary ('-' = stdout)");
+  AddOutputOption(sub, "--report", &c->report, "Self-contained HTML report");
   sub->add_option("--known-rate-col", c->known_rate_col,
                   "Column of a rate known to be applied (Earth rate, turntable): the drift model learns bias only");
   sub->add_flag("--compare", c->compare, "Also run the baseline comparisons (in the JSON per axis, and tables in the report)");

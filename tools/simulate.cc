@@ -44,7 +44,7 @@ int Run(SimulateArgs& a) {
   if (!run.ok()) return ReportError(kName, run.error());
   const SimulationSummary sum = run->summary;
   const double fs_hz = run->fs_hz;
-  if (Status s = WriteCsvAtomic(a.output, std::move(*run).ToTable()); !s.ok()) return ReportError(kName, s.error());
+  if (Status s = WriteCsv(a.output, std::move(*run).ToTable()); !s.ok()) return ReportError(kName, s.error());
   if (!a.json_path.empty()) {
     nlohmann::json j;
     j["output"] = a.output;
@@ -82,8 +82,8 @@ Command Make(CLI::App& app) {
       "Noise in datasheet units (IEEE 952); bias instability = flicker floor / 0.664, made of a sum of\n"
       "Gauss-Markov processes (docs/simulator.md). Same options and --seed: identical output.\n"
       "Example: gyrocomp simulate --fs 100 --seed 7 -o run.csv.gz");
-  sub->add_option("-o,--output", a->output, "Output CSV (.gz: gzip)")->required();
-  sub->add_option("--json", a->json_path, "Write a summary of the run as JSON ('-' = stdout)");
+  AddOutputOption(sub, "-o,--output", &a->output, "Output CSV (.gz: gzip)")->required();
+  AddOutputOption(sub, "--json", &a->json_path, "Write a summary of the run as JSON ('-' = stdout)");
   sub->add_option("--profile", a->profile, "paper | soak | ramp | cycle")->capture_default_str();
   sub->add_option("--fs", o.fs_hz, "Sample rate, Hz")->check(CLI::PositiveNumber)->capture_default_str();
   sub->add_option("--seed", o.seed, "Random seed")->capture_default_str();

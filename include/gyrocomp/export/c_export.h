@@ -1,0 +1,58 @@
+// A generated, dependency-free C99 evaluator of drift models: the firmware form that keeps the
+// whole model (docs/export.md).
+//
+// The generated <prefix>.h / <prefix>.c hold the model's numbers as constant tables and
+//     void <prefix>_init(<prefix>_state *state);
+//     void <prefix>_step(<prefix>_state *state, <prefix>_real dt_s, <prefix>_real temp_c,
+//                        const <prefix>_real rate_in[<PREFIX>_NUM_AXES],
+//                        <prefix>_real rate_out[<PREFIX>_NUM_AXES]);
+// step() runs the causal dT/dt estimator (causal_drift.h: the double lag, one per axis), clamps
+// the model inputs to the fitted range, evaluates each axis's model (polynomial or RBF SVR) and
+// returns rate_out = rate_in - drift; state->drift[a] keeps the last drift. No allocation, no
+// globals written, no libm except exp (expf in the float build) when a model is an SVR.
+// Compile with -D<PREFIX>_USE_FLOAT for MCUs without double: then every constant and every
+// operation is float (no double promotion).
+//
+// It computes exactly what PredictDriftCausal computes (same formulas, same order of operations):
+// in double within rounding (tests: 1e-12 of the drift span); in float within 1e-5 of the span
+// plus the model's own conditioning (an SVR whose terms cancel: its sum is compensated, Kahan,
+// but each term keeps its float rounding; docs/export.md gives the measured figures).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "gyrocomp/core/status.h"
+#include "gyrocomp/drift/drift_model.h"
+#include "gyrocomp/export/causal_drift.h"
+
+namespace gyrocomp {
+
+// One axis: its name (a comment in the generated code) and its model.
+struct AxisDriftModel {
+  std::string axis;
+  DriftModel model;
+};
+
+struct CExportOptions {
+  // C identifier prefix of every generated name, and the file stem: <prefix>.h, <prefix>.c.
+  std::string prefix = "gyrocomp_drift";
+  // Unit of rate_in / rate_out relative to the model's unit: drift_out = model * output_scale
+  // (1: the model's deg/s; pi/180 for rad/s).
+  double output_scale = 1.0;
+  std::string output_unit = "deg/s";
+  CausalRateOptions causal;
+  // Free text for the header comment (where the model came from).
+  std::vector<std::string> comments;
+  bool IsValid(std::string* error) const;
+};
+
+struct GeneratedC {
+  std::string header_name, header;  // "<prefix>.h" and its text
+  std::string source_name, source;  // "<prefix>.c" and its text
+};
+
+// Errors: no axes, invalid options (prefix not a C identifier), non-finite model numbers.
+Result<GeneratedC> GenerateCEvaluator(const std::vector<AxisDriftModel>& axes, const CExportOptions& options = {});
+
+}  // namespace gyrocomp

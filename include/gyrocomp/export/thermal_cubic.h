@@ -1,0 +1,71 @@
+// The autopilots' form of a drift model: a cubic in temperature alone (PX4 TC_G*, ArduPilot
+// INS_TCAL*), and the least-squares projection of any DriftModel onto it (docs/export.md).
+//
+// Projection: the model is evaluated on a uniform grid of `grid_points` temperatures over the
+// range [temp_min_c, temp_max_c] (the calibrated range: clamped outside, as the firmware does),
+// with dT/dt = 0 for models that read it (the static curve: the firmware forms have no dT/dt),
+// and the cubic in dT = T - ref_temp_c that minimises the squared error over the grid is kept.
+// A grid uniform in T weighs every temperature alike, as PX4's own process_sensor_caldata.py does
+// with its temperature bins, whatever time the run spent at each temperature.
+//
+// What that loses is measured, not assumed: CubicProjectionCost compares the full model (its own
+// centred prediction, dT/dt included) with the cubic on a record (the calibration run, a
+// validation run).
+#pragma once
+
+#include <array>
+#include <optional>
+#include <span>
+#include <string>
+
+#include "gyrocomp/core/status.h"
+#include "gyrocomp/drift/drift_model.h"
+
+namespace gyrocomp {
+
+// offset(T) = c0 + c1 dT + c2 dT^2 + c3 dT^3, dT = clamp(T, temp_min_c, temp_max_c) - ref_temp_c,
+// in the model's target unit (deg/s for a rate).
+struct TemperatureCubic {
+  double ref_temp_c = 0.0;
+  double temp_min_c = 0.0;
+  double temp_max_c = 0.0;
+  std::array<double, 4> coeff{};  // c0..c3, target unit / C^k
+  double Evaluate(double temp_c) const;
+  // The same cubic scaled by `factor` (unit conversion: deg/s -> rad/s).
+  TemperatureCubic Scaled(double factor) const;
+  // The same polynomial re-expanded about `new_ref_c` (exact algebra, range unchanged):
+  // sum_k c_k (x + d)^k with d = new_ref_c - ref_temp_c.
+  TemperatureCubic Recentered(double new_ref_c) const;
+};
+
+struct CubicProjectionOptions {
+  // Grid temperatures over the range (>= 8). 401 points: the projection changes by less than
+  // 1e-6 of the span between 401 and 4001 points for the models in the tests.
+  int grid_points = 401;
+  // Range to project over; automatic: the model's fitted range. Several axes exported together
+  // share one range (the autopilots have one TMIN/TMAX per sensor).
+  std::optional<double> temp_min_c, temp_max_c;
+  // dT origin; automatic: the middle of the range (PX4's process_sensor_caldata.py convention).
+  std::optional<double> ref_temp_c;
+  bool IsValid(std::string* error) const;
+};
+
+// Errors: invalid options, an empty range (min >= max).
+Result<TemperatureCubic> ProjectOntoCubic(const DriftModel& model,
+                                          const CubicProjectionOptions& options = {});
+
+// RMS and largest |full model - cubic| over a record, in the model's target unit.
+struct CubicProjectionCost {
+  std::size_t num_samples = 0;
+  double rms = 0.0;
+  double max_abs = 0.0;
+  double model_span = 0.0;  // max - min of the full model's prediction over the record
+  std::string BriefReport() const;
+};
+
+// Errors as DriftModel::Predict.
+Result<CubicProjectionCost> MeasureCubicProjectionCost(const DriftModel& model,
+                                                       const TemperatureCubic& cubic,
+                                                       const DriftInputs& record);
+
+}  // namespace gyrocomp

@@ -1,0 +1,96 @@
+// `gyrocomp export` end to end (cli.md contract: files, JSON, one-line errors with exit 2).
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include <gtest/gtest.h>
+
+#include "export_test_models.h"
+#include "gyrocomp/export/thermal_cubic.h"
+#include "test_support.h"
+
+namespace gyrocomp {
+namespace {
+
+class ExportCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    cli_ = testing::CliPath();
+    if (cli_.empty()) GTEST_SKIP() << "the gyrocomp CLI is not built (GYROCOMP_BUILD_CLI=OFF)";
+    dir_ = testing::MakeTempDir("export_cli_test");
+    run_ = export_test::ChamberRun(51);
+    std::ofstream f(dir_ + "/cal.csv");
+    f.precision(17);
+    f << "time_s,rate_dps,temp_c\n";
+    for (std::size_t i = 0; i < run_.temp_c.size(); ++i) f << i << "," << run_.rate_dps[i] << "," << run_.temp_c[i] << "\n";
+    f.close();
+    models_ = {export_test::Fit(run_, DriftModelKind::kPolynomial, DriftInputSet::kTemp, 5),
+               export_test::Fit(run_, DriftModelKind::kPolynomial, DriftInputSet::kTempAndRate),
+               export_test::Fit(run_, DriftModelKind::kSvr, DriftInputSet::kTemp)};
+    for (int a = 0; a < 3; ++a) ASSERT_TRUE(SaveDriftModel(models_[a], Model(a)).ok());
+  }
+  std::string Model(int a) const { return dir_ + "/m" + std::to_string(a) + ".json"; }
+  std::string Models() const { return " -m " + Model(0) + " -m " + Model(1) + " -m " + Model(2); }
+  int Run(const std::string& args, std::string* out) { return testing::RunCommand(cli_ + " " + args, out); }
+  std::string cli_, dir_;
+  SimulatedRun run_;
+  std::vector<DriftModel> models_;
+};
+
+TEST_F(ExportCli, Px4FileAndCostOnTheCalibrationRun) {
+  std::string out;
+  ASSERT_EQ(Run("export" + Models() + " --format px4 --device-id 2293768 --index 1 -i " + dir_ +
+                    "/cal.csv -o " + dir_ + "/tc.params --json " + dir_ + "/e.json", &out), 0) << out;
+  std::ifstream f(dir_ + "/tc.params");
+  const std::string text((std::istreambuf_iterator<char>(f)), {});
+  EXPECT_NE(text.find("1\t1\tTC_G1_ID\t2293768\t6\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("1\t1\tTC_G_ENABLE\t1\t6\n"), std::string::npos);
+  EXPECT_NE(text.find("# Vehicle-Id Component-Id Name Value Type\n"), std::string::npos);
+  EXPECT_NE(text.find("rad/s = deg/s x pi/180"), std::string::npos);  // the unit conversion is stated
+  const nlohmann::json j = testing::ReadJsonFile(dir_ + "/e.json");
+  ASSERT_EQ(j["axes"].size(), 3u);
+  for (int a = 0; a < 3; ++a) {
+    // The reported cost is the library's, on the same run and the same cubic.
+    TemperatureCubic c;
+    c.ref_temp_c = j["ref_temp_c"].get<double>();
+    c.temp_min_c = j["temp_min_c"].get<double>();
+    c.temp_max_c = j["temp_max_c"].get<double>();
+    c.coeff = j["axes"][a]["cubic_dps"]["coeff"].get<std::array<double, 4>>();
+    auto cost = MeasureCubicProjectionCost(models_[a], c, DriftInputs{run_.temp_c, 1.0});
+    ASSERT_TRUE(cost.ok());
+    EXPECT_NEAR(j["axes"][a]["cost_calibration"]["rms_dps"].get<double>(), cost->rms, 1e-12);
+    EXPECT_TRUE(j["axes"][a]["cost_validation"].is_null());
+  }
+}
+
+TEST_F(ExportCli, ArduPilotToStdout) {
+  std::string out;
+  ASSERT_EQ(Run("export" + Models() + " --format ardupilot --index 2", &out), 0) << out;
+  EXPECT_NE(out.find("INS_TCAL2_ENABLE,1\n"), std::string::npos) << out;
+  EXPECT_NE(out.find("INS_TCAL2_GYR3_Z,"), std::string::npos) << out;
+  EXPECT_NE(out.find("cost not measured"), std::string::npos) << out;
+}
+
+TEST_F(ExportCli, BadRequestsAreOneLineErrors) {
+  struct Case {
+    std::string args, says;
+  };
+  const std::vector<Case> cases = {
+      {"export" + Models() + " --format px4 -o " + dir_ + "/x.params", "device_id"},
+      {"export -m " + Model(0) + " -m " + Model(1) + " --format ardupilot", "three axis models"},
+      {"export -m " + Model(0) + " --format c", "-o DIR/NAME"},
+      {"export -m " + Model(0) + " --format c -o " + dir_ + "/9bad", "C identifier"},
+      {"export -m " + dir_ + "/missing.json --format c -o " + dir_ + "/g", "missing.json"},
+      {"export" + Models() + " --format px4 --device-id 0", "--device-id"},
+  };
+  for (const Case& c : cases) {
+    std::string out;
+    EXPECT_EQ(Run(c.args, &out), 2) << c.args << "\n" << out;
+    EXPECT_NE(out.find(c.says), std::string::npos) << c.args << "\n" << out;
+    EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1) << out;
+  }
+  EXPECT_FALSE(std::ifstream(dir_ + "/x.params").good());  // no partial output
+}
+
+}  // namespace
+}  // namespace gyrocomp

@@ -1,0 +1,300 @@
+// PX4 and ArduPilot parameter files evaluated with the firmware's own formulas (written here from
+// the sources cited in param_export.h and docs/export.md), compared with the model's prediction;
+// and the cubic projection they rest on.
+#include "gyrocomp/export/param_export.h"
+
+#include <cmath>
+#include <map>
+#include <numbers>
+#include <sstream>
+
+#include <gtest/gtest.h>
+
+#include "export_test_models.h"
+#include "gyrocomp/export/causal_drift.h"
+
+namespace gyrocomp {
+namespace {
+
+constexpr double kRadPerDeg = std::numbers::pi / 180.0;
+constexpr double kFloatEps = 1.0 / (1 << 24);  // float32 unit roundoff
+
+// ---- PX4: TemperatureCompensation::calc_thermal_offsets_3D, in float as on the vehicle ----
+struct Px4GyroCal {
+  float tref = 0, tmin = 0, tmax = 0;
+  float x0[3]{}, x1[3]{}, x2[3]{}, x3[3]{};
+};
+
+void Px4Offsets(const Px4GyroCal& c, float measured_temp, float offset[3]) {
+  float delta_temp;
+  if (measured_temp > c.tmax) delta_temp = c.tmax - c.tref;
+  else if (measured_temp < c.tmin) delta_temp = c.tmin - c.tref;
+  else delta_temp = measured_temp - c.tref;
+  const float delta_temp_2 = delta_temp * delta_temp;
+  const float delta_temp_3 = delta_temp_2 * delta_temp;
+  for (int i = 0; i < 3; ++i)
+    offset[i] = c.x0[i] + c.x1[i] * delta_temp + c.x2[i] * delta_temp_2 + c.x3[i] * delta_temp_3;
+}
+
+// QGroundControl file: '#' comments, then "sys<TAB>comp<TAB>name<TAB>value<TAB>type".
+std::map<std::string, std::pair<std::string, int>> ParseQgc(const std::string& text) {
+  std::map<std::string, std::pair<std::string, int>> out;
+  std::istringstream in(text);
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::vector<std::string> f;
+    std::istringstream ls(line);
+    std::string x;
+    while (std::getline(ls, x, '\t')) f.push_back(x);
+    EXPECT_EQ(f.size(), 5u) << line;
+    if (f.size() != 5) continue;
+    EXPECT_EQ(f[0], "1");
+    EXPECT_EQ(f[1], "1");
+    out[f[2]] = {f[3], std::stoi(f[4])};
+  }
+  return out;
+}
+
+Px4GyroCal ReadPx4(const std::string& text, int slot, std::uint32_t id) {
+  auto p = ParseQgc(text);
+  const std::string s = "TC_G" + std::to_string(slot) + "_";
+  EXPECT_EQ(p.at("TC_G_ENABLE"), (std::pair<std::string, int>{"1", 6}));
+  EXPECT_EQ(p.at(s + "ID"), (std::pair<std::string, int>{std::to_string(id), 6}));
+  EXPECT_EQ(p.size(), 2u + 3u + 12u);
+  auto f = [&](const std::string& name) {
+    EXPECT_EQ(p.at(s + name).second, 9) << name;
+    return std::stof(p.at(s + name).first);
+  };
+  Px4GyroCal c;
+  c.tref = f("TREF");
+  c.tmin = f("TMIN");
+  c.tmax = f("TMAX");
+  for (int a = 0; a < 3; ++a) {
+    c.x0[a] = f("X0_" + std::to_string(a));
+    c.x1[a] = f("X1_" + std::to_string(a));
+    c.x2[a] = f("X2_" + std::to_string(a));
+    c.x3[a] = f("X3_" + std::to_string(a));
+  }
+  return c;
+}
+
+// ---- ArduPilot: AP_InertialSensor_TCal::polynomial_eval / correct_sensor, in float ----
+struct ApTcal {
+  float tmin = 0, tmax = 0;
+  float gyr[3][3]{};  // [order-1][axis]
+};
+
+float ApPoly(const ApTcal& c, int axis, float tdiff) {
+  return (c.gyr[0][axis] + (c.gyr[1][axis] + c.gyr[2][axis] * tdiff) * tdiff) * tdiff * 1.0e-6f;
+}
+
+// correct_sensor: v -= p(T - 35); v += p(Tcal - 35), both clamped; returns the amount removed.
+float ApCorrection(const ApTcal& c, int axis, float temperature, float cal_temp) {
+  temperature = std::min(std::max(temperature, c.tmin), c.tmax);
+  cal_temp = std::min(std::max(cal_temp, c.tmin), c.tmax);
+  return ApPoly(c, axis, temperature - 35.0f) - ApPoly(c, axis, cal_temp - 35.0f);
+}
+
+ApTcal ReadArduPilot(const std::string& text, int imu) {
+  std::map<std::string, float> p;
+  std::istringstream in(text);
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    const auto comma = line.find(',');  // mavparm.py: ',' -> ' ', then exactly two fields
+    EXPECT_NE(comma, std::string::npos) << line;
+    EXPECT_EQ(line.find(',', comma + 1), std::string::npos) << line;
+    p[line.substr(0, comma)] = std::stof(line.substr(comma + 1));
+  }
+  const std::string s = "INS_TCAL" + std::to_string(imu) + "_";
+  EXPECT_EQ(p.size(), 3u + 9u);
+  EXPECT_EQ(p.at(s + "ENABLE"), 1.0f);
+  ApTcal c;
+  c.tmin = p.at(s + "TMIN");
+  c.tmax = p.at(s + "TMAX");
+  const char* axis = "XYZ";
+  for (int k = 0; k < 3; ++k)
+    for (int a = 0; a < 3; ++a) c.gyr[k][a] = p.at(s + "GYR" + std::to_string(k + 1) + "_" + axis[a]);
+  return c;
+}
+
+// Three temperature-only models whose drift is an exact cubic (noise-free targets): the export
+// must then reproduce the model itself.
+std::vector<DriftModel> ExactCubicModels() {
+  const std::vector<std::vector<double>> coeffs = {
+      {0.02, 1.5e-3, 1.2e-5, -2.0e-7}, {-0.01, -8e-4, 3e-5, 4e-7}, {0.05, 2e-4, -2e-5, 1e-7}};
+  std::vector<double> temp;
+  for (int i = 0; i < 2000; ++i) temp.push_back(-30.0 + 90.0 * i / 1999.0);
+  std::vector<DriftModel> out;
+  for (const auto& c : coeffs) {
+    std::vector<double> y;
+    for (double t : temp) {
+      const double d = t - 25.0;
+      y.push_back(c[0] + d * (c[1] + d * (c[2] + d * c[3])));
+    }
+    DriftFitOptions o;
+    o.model = DriftModelKind::kPolynomial;
+    o.inputs = DriftInputSet::kTemp;
+    auto m = FitDriftModel(DriftInputs{temp, 1.0}, y, o);
+    EXPECT_TRUE(m.ok());
+    out.push_back(std::move(*m));
+  }
+  return out;
+}
+
+ThreeAxisCubics ProjectRadps(const std::vector<DriftModel>& models) {
+  CubicProjectionOptions po;
+  po.temp_min_c = models[0].summary.temp_min_c;
+  po.temp_max_c = models[0].summary.temp_max_c;
+  ThreeAxisCubics c;
+  for (int a = 0; a < 3; ++a) {
+    auto p = ProjectOntoCubic(models[a], po);
+    EXPECT_TRUE(p.ok());
+    c[a] = p->Scaled(kRadPerDeg);
+  }
+  return c;
+}
+
+double ModelRadps(const DriftModel& m, double temp_c) {
+  const double t = std::clamp(temp_c, m.summary.temp_min_c, m.summary.temp_max_c);
+  return EvaluateDriftModel(m, t, 0.0) * kRadPerDeg;
+}
+
+// Float rounding bound of the firmware's sum_k c_k x^k at x = T - Tref: each term carries a few
+// float roundings (parameter storage, products, sums): 8 unit roundoffs per term; and the
+// temperature itself is a float (T, Tref and x rounded: |T| + |Tref| + |x| units of roundoff),
+// which moves the value by the slope sum_k k |c_k| |x|^(k-1) times that.
+double FloatBound(double c0, double c1, double c2, double c3, double x, double temp_c = 0.0, double ref_c = 0.0) {
+  const double ax = std::abs(x);
+  const double terms = std::abs(c0) + std::abs(c1) * ax + std::abs(c2) * ax * ax + std::abs(c3) * ax * ax * ax;
+  const double slope = std::abs(c1) + 2.0 * std::abs(c2) * ax + 3.0 * std::abs(c3) * ax * ax;
+  return 8.0 * kFloatEps * terms + 2.0 * kFloatEps * (std::abs(temp_c) + std::abs(ref_c) + ax) * slope;
+}
+
+TEST(Px4Export, FirmwareFormulaReproducesAnExactCubicModel) {
+  const auto models = ExactCubicModels();
+  const ThreeAxisCubics radps = ProjectRadps(models);
+  Px4ThermalParamOptions o;
+  o.index = 2;
+  o.device_id = 2293768;
+  auto text = WritePx4ThermalParams(radps, o, {"test"});
+  ASSERT_TRUE(text.ok()) << text.error().message;
+  const Px4GyroCal cal = ReadPx4(*text, 2, 2293768);
+  EXPECT_NEAR(cal.tref, 15.0, 1e-5);  // middle of -30..60 C
+  for (double t = -40.0; t <= 70.0; t += 0.37) {
+    float off[3];
+    Px4Offsets(cal, static_cast<float>(t), off);
+    const double dt = std::clamp(t, -30.0, 60.0) - cal.tref;
+    for (int a = 0; a < 3; ++a) {
+      const auto& c = radps[a].coeff;
+      // raw - offset must equal raw - model: offset = model (rad/s, clamped).
+      EXPECT_NEAR(off[a], ModelRadps(models[a], t), FloatBound(c[0], c[1], c[2], c[3], dt, t, cal.tref)) << "T " << t << " axis " << a;
+    }
+  }
+}
+
+TEST(ArduPilotExport, FirmwareFormulaReproducesAnExactCubicModel) {
+  const auto models = ExactCubicModels();
+  const ThreeAxisCubics radps = ProjectRadps(models);
+  auto text = WriteArduPilotThermalParams(radps, ArduPilotThermalParamOptions{3}, {"test"});
+  ASSERT_TRUE(text.ok()) << text.error().message;
+  const ApTcal cal = ReadArduPilot(*text, 3);
+  // Gyro offsets are measured at boot at Tcal: INS_GYR_OFFS = drift(Tcal). Then the vehicle
+  // removes p(T) - p(Tcal) + drift(Tcal), which must be drift(T).
+  for (double tcal : {-25.0, 20.0, 35.0, 58.0}) {
+    for (double t = -40.0; t <= 70.0; t += 0.53) {
+      for (int a = 0; a < 3; ++a) {
+        const double removed = ApCorrection(cal, a, static_cast<float>(t), static_cast<float>(tcal)) +
+                               ModelRadps(models[a], tcal);
+        const auto g = ArduPilotGyrCoefficients(radps[a]);
+        const double x = std::clamp(t, -30.0, 60.0) - 35.0, xc = std::clamp(tcal, -30.0, 60.0) - 35.0;
+        const double tol = (FloatBound(0, g[0], g[1], g[2], x, t, 35.0) + FloatBound(0, g[0], g[1], g[2], xc, tcal, 35.0)) * 1e-6;
+        EXPECT_NEAR(removed, ModelRadps(models[a], t), tol) << "T " << t << " Tcal " << tcal << " axis " << a;
+      }
+    }
+  }
+}
+
+// Models that are not cubics (degree 5; SVR; dT/dt-driven drift): the firmware evaluates the
+// projected cubic exactly (within float), and its RMS distance to the full model over the run is
+// the reported projection cost.
+TEST(Px4Export, NonCubicModelsCostIsWhatTheFirmwareLoses) {
+  for (std::uint64_t seed : {11u, 12u}) {
+    const SimulatedRun run = export_test::ChamberRun(seed);
+    const std::vector<DriftModel> models = {
+        export_test::Fit(run, DriftModelKind::kPolynomial, DriftInputSet::kTemp, 5),
+        export_test::Fit(run, DriftModelKind::kSvr, DriftInputSet::kTemp),
+        export_test::Fit(run, DriftModelKind::kPolynomial, DriftInputSet::kTempAndRate)};
+    const ThreeAxisCubics radps = ProjectRadps(models);
+    Px4ThermalParamOptions o;
+    o.device_id = 1;
+    auto text = WritePx4ThermalParams(radps, o, {});
+    ASSERT_TRUE(text.ok());
+    const Px4GyroCal cal = ReadPx4(*text, 0, 1);
+    for (int a = 0; a < 3; ++a) {
+      auto cost = MeasureCubicProjectionCost(models[a], radps[a].Scaled(1.0 / kRadPerDeg), DriftInputs{run.temp_c, 1.0});
+      ASSERT_TRUE(cost.ok());
+      auto full = models[a].Predict(DriftInputs{run.temp_c, 1.0});
+      double ss = 0.0, bound = 0.0;
+      for (std::size_t i = 0; i < run.temp_c.size(); ++i) {
+        float off[3];
+        Px4Offsets(cal, static_cast<float>(run.temp_c[i]), off);
+        const double e = (*full)[i] * kRadPerDeg - off[a];
+        ss += e * e;
+        const auto& c = radps[a].coeff;
+        bound = std::max(bound, FloatBound(c[0], c[1], c[2], c[3], run.temp_c[i] - cal.tref, run.temp_c[i], cal.tref));
+      }
+      const double rms_fw = std::sqrt(ss / static_cast<double>(run.temp_c.size()));
+      EXPECT_NEAR(rms_fw, cost->rms * kRadPerDeg, bound) << "seed " << seed << " axis " << a;
+      EXPECT_GT(cost->rms, 0.0);
+      EXPECT_LT(cost->rms, cost->model_span);  // a projection, not garbage
+    }
+  }
+}
+
+TEST(ThermalCubic, RecenteredIsTheSamePolynomial) {
+  TemperatureCubic c;
+  c.ref_temp_c = 12.5;
+  c.temp_min_c = -100;
+  c.temp_max_c = 100;
+  c.coeff = {0.3, -0.02, 4e-4, -3e-6};
+  const TemperatureCubic r = c.Recentered(35.0);
+  for (double t = -50; t <= 80; t += 3.1) EXPECT_NEAR(r.Evaluate(t), c.Evaluate(t), 1e-13 * (1 + std::abs(c.Evaluate(t))));
+  // Clamping: outside the range the value at the end.
+  c.temp_min_c = 0;
+  c.temp_max_c = 40;
+  EXPECT_EQ(c.Evaluate(-10), c.Evaluate(0));
+  EXPECT_EQ(c.Evaluate(55), c.Evaluate(40));
+}
+
+TEST(ThermalCubic, ProjectionOfACubicIsExact) {
+  const auto models = ExactCubicModels();
+  for (const auto& m : models) {
+    auto c = ProjectOntoCubic(m);
+    ASSERT_TRUE(c.ok());
+    auto p = m.Predict(DriftInputs{std::vector<double>{-30, -7.3, 0, 25, 44.4, 60}, 1.0});
+    const std::vector<double> t = {-30, -7.3, 0, 25, 44.4, 60};
+    for (std::size_t i = 0; i < t.size(); ++i) EXPECT_NEAR(c->Evaluate(t[i]), (*p)[i], 1e-12);
+  }
+}
+
+TEST(ParamExport, RefusesWhatTheFirmwareCannotUse) {
+  const ThreeAxisCubics radps = ProjectRadps(ExactCubicModels());
+  EXPECT_FALSE(WritePx4ThermalParams(radps, {}, {}).ok());  // no device id
+  Px4ThermalParamOptions o;
+  o.device_id = 5;
+  o.index = 4;
+  EXPECT_FALSE(WritePx4ThermalParams(radps, o, {}).ok());
+  EXPECT_FALSE(WriteArduPilotThermalParams(radps, ArduPilotThermalParamOptions{0}, {}).ok());
+  ThreeAxisCubics mixed = radps;
+  mixed[1].temp_max_c += 1.0;
+  o.index = 0;
+  EXPECT_FALSE(WritePx4ThermalParams(mixed, o, {}).ok());
+  ThreeAxisCubics nan = radps;
+  nan[2].coeff[3] = NAN;
+  EXPECT_FALSE(WriteArduPilotThermalParams(nan, {}, {}).ok());
+}
+
+}  // namespace
+}  // namespace gyrocomp

@@ -1,0 +1,261 @@
+// gyrocomp export: put a drift model on the device (issue 12; docs/export.md). PX4 and ArduPilot
+// parameter files (the model projected onto the autopilot's cubic in T, with the cost measured)
+// or a generated C99 evaluator of the full model with the causal dT/dt estimator inside.
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <numbers>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "commands.h"
+#include "gyrocomp/core/units.h"
+#include "gyrocomp/drift/drift_model.h"
+#include "gyrocomp/export/c_export.h"
+#include "gyrocomp/export/param_export.h"
+#include "gyrocomp/export/thermal_cubic.h"
+#include "result_json.h"
+
+namespace gyrocomp::cli {
+namespace {
+
+constexpr const char* kName = "export";
+constexpr double kRadPerDeg = std::numbers::pi / 180.0;
+
+struct ExportArgs {
+  std::vector<std::string> model_paths;
+  std::string format;
+  std::string output;
+  std::string json_path;
+  std::optional<long long> device_id;
+  std::optional<int> index;
+  std::string c_unit = "dps";
+  std::optional<double> tau_s;
+  LogOptions log;               // optional calibration run (-i): projection cost
+  std::string validation_path;  // optional validation run, same columns
+};
+
+// Today a model file holds one axis (schema 1): each -m is one axis, in x, y, z order.
+Result<std::vector<AxisDriftModel>> LoadAxes(const std::vector<std::string>& paths) {
+  std::vector<AxisDriftModel> axes;
+  for (const std::string& p : paths) {
+    Result<DriftModel> m = LoadDriftModel(p);
+    if (!m.ok()) return m.error();
+    // Issue 11 models the exporters do not handle yet (minimal guard added by issue 11).
+    if (m->kind == DriftModelKind::kHybrid ||
+        (m->inputs != DriftInputSet::kTemp && m->inputs != DriftInputSet::kTempAndRate))
+      return InvalidInput(p + ": export handles poly / svr models on temp or temp,dtemp; this model is " +
+                          DriftModelKindName(m->kind) + " on " + DriftInputSetName(m->inputs) +
+                          " (refit with --model poly|cs-svr --inputs temp,dtemp)");
+    const std::string& t = m->summary.target_name;
+    if (t != "rate_dps" && t != "drift-mode")
+      return InvalidInput(p + ": the model predicts column '" + t + "', whose unit is unknown; export needs a "
+                          "rate model in deg/s (fit --target rate or drift-mode)");
+    axes.push_back({std::filesystem::path(p).stem().string(), std::move(*m)});
+  }
+  return axes;
+}
+
+struct AxisCost {
+  TemperatureCubic cubic_dps;
+  std::optional<CubicProjectionCost> calibration, validation;
+};
+
+nlohmann::json CostJson(const std::optional<CubicProjectionCost>& c) {
+  if (!c) return nullptr;
+  return {{"n_samples", c->num_samples}, {"rms_dps", c->rms}, {"max_abs_dps", c->max_abs},
+          {"rms_rad_s", c->rms * kRadPerDeg}, {"model_span_dps", c->model_span}};
+}
+
+// The record's temperature as DriftInputs, read with the shared log options.
+Result<GyroLog> ReadRun(const LogOptions& options) {
+  Result<LogSpec> spec = ToLogSpec(options);
+  if (!spec.ok()) return spec.error();
+  spec->temp_required = true;
+  Result<LoadedLog> loaded = LoadLog(kName, options, *spec);
+  if (!loaded.ok()) return loaded.error();
+  return std::move(loaded->log);
+}
+
+// Projects every axis onto one shared range and measures the cost on the runs given.
+Result<std::vector<AxisCost>> ProjectAxes(const ExportArgs& a, const std::vector<AxisDriftModel>& axes) {
+  CubicProjectionOptions po;
+  po.temp_min_c = axes[0].model.summary.temp_min_c;
+  po.temp_max_c = axes[0].model.summary.temp_max_c;
+  for (const auto& x : axes) {
+    po.temp_min_c = std::max(*po.temp_min_c, x.model.summary.temp_min_c);
+    po.temp_max_c = std::min(*po.temp_max_c, x.model.summary.temp_max_c);
+  }
+  std::optional<GyroLog> cal, val;
+  if (!a.log.input.empty()) {
+    auto r = ReadRun(a.log);
+    if (!r.ok()) return r.error();
+    cal = std::move(*r);
+  }
+  if (!a.validation_path.empty()) {
+    LogOptions v = a.log;
+    v.input = a.validation_path;
+    auto r = ReadRun(v);
+    if (!r.ok()) return r.error();
+    val = std::move(*r);
+  }
+  std::vector<AxisCost> out;
+  for (const auto& x : axes) {
+    AxisCost c;
+    auto cubic = ProjectOntoCubic(x.model, po);
+    if (!cubic.ok()) return cubic.error();
+    c.cubic_dps = *cubic;
+    for (auto [run, cost] : {std::pair{&cal, &c.calibration}, std::pair{&val, &c.validation}}) {
+      if (!*run) continue;
+      auto m = MeasureCubicProjectionCost(x.model, c.cubic_dps, DriftInputs{(*run)->temp_c, (*run)->fs_hz});
+      if (!m.ok()) return m.error();
+      *cost = *m;
+    }
+    out.push_back(c);
+  }
+  return out;
+}
+
+std::vector<std::string> ParamComments(const ExportArgs& a, const std::vector<AxisDriftModel>& axes,
+                                       const std::vector<AxisCost>& costs) {
+  std::vector<std::string> c = {
+      "Gyro thermal compensation generated by gyrocomp export --format " + a.format + " (docs/export.md)",
+      "Rates: the models predict deg/s (the log's unit was converted to deg/s when it was read);",
+      "  exported in rad/s = deg/s x pi/180. Temperatures in deg C, clamped to [TMIN, TMAX].",
+      "Each axis's model projected by least squares onto a cubic in T over [TMIN, TMAX]",
+      "  (uniform temperature grid, dT/dt = 0); cost = RMS(full model - cubic) in deg/s:"};
+  static constexpr const char* kAxis[3] = {"x", "y", "z"};
+  for (std::size_t k = 0; k < axes.size(); ++k) {
+    std::ostringstream s;
+    s << "  " << kAxis[k] << ": " << a.model_paths[k] << " (" << DriftModelKindName(axes[k].model.kind) << ", "
+      << DriftInputSetName(axes[k].model.inputs) << ")";
+    if (costs[k].calibration) s << "; calibration run " << costs[k].calibration->rms;
+    if (costs[k].validation) s << "; validation run " << costs[k].validation->rms;
+    if (!costs[k].calibration && !costs[k].validation) s << "; cost not measured (give -i / --validation)";
+    c.push_back(s.str());
+  }
+  return c;
+}
+
+int RunParams(const ExportArgs& a, const std::vector<AxisDriftModel>& axes, nlohmann::json* j) {
+  if (axes.size() != 3)
+    return ReportError(kName, InvalidArgument("--format " + a.format + " needs three axis models (-m x.json -m y.json "
+                                              "-m z.json), got " + std::to_string(axes.size())));
+  auto costs = ProjectAxes(a, axes);
+  if (!costs.ok()) return ReportError(kName, costs.error());
+  ThreeAxisCubics radps;
+  for (int k = 0; k < 3; ++k) radps[k] = (*costs)[k].cubic_dps.Scaled(kRadPerDeg);
+  const auto comments = ParamComments(a, axes, *costs);
+  Result<std::string> text = InternalError("unreachable");
+  if (a.format == "px4") {
+    Px4ThermalParamOptions o;
+    o.index = a.index.value_or(0);
+    if (a.device_id) {
+      if (*a.device_id <= 0 || *a.device_id > 0xFFFFFFFFLL)
+        return ReportError(kName, InvalidArgument("--device-id: must be in 1..4294967295"));
+      o.device_id = static_cast<std::uint32_t>(*a.device_id);
+    }
+    text = WritePx4ThermalParams(radps, o, comments);
+  } else {
+    ArduPilotThermalParamOptions o;
+    o.imu = a.index.value_or(1);
+    text = WriteArduPilotThermalParams(radps, o, comments);
+  }
+  if (!text.ok()) return ReportError(kName, text.error());
+  if (Status s = WriteText(a.output.empty() ? "-" : a.output, *text); !s.ok()) return ReportError(kName, s.error());
+  nlohmann::json ax = nlohmann::json::array();
+  for (int k = 0; k < 3; ++k) {
+    const TemperatureCubic& c = (*costs)[k].cubic_dps;
+    ax.push_back({{"model_file", a.model_paths[k]}, {"model", DriftSummaryJson(axes[k].model.summary)},
+                  {"cubic_dps", {{"ref_temp_c", c.ref_temp_c}, {"coeff", c.coeff}}},
+                  {"cost_calibration", CostJson((*costs)[k].calibration)},
+                  {"cost_validation", CostJson((*costs)[k].validation)}});
+  }
+  (*j)["axes"] = ax;
+  (*j)["temp_min_c"] = radps[0].temp_min_c;
+  (*j)["temp_max_c"] = radps[0].temp_max_c;
+  (*j)["ref_temp_c"] = radps[0].ref_temp_c;
+  return kExitOk;
+}
+
+int RunC(const ExportArgs& a, const std::vector<AxisDriftModel>& axes, nlohmann::json* j) {
+  if (a.output.empty() || a.output == "-")
+    return ReportError(kName, InvalidArgument("--format c needs -o DIR/NAME (writes DIR/NAME.h and DIR/NAME.c)"));
+  const std::filesystem::path out(a.output);
+  CExportOptions o;
+  o.prefix = out.filename().string();
+  o.causal.tau_s = a.tau_s;
+  if (a.c_unit == "rads") {
+    o.output_scale = kRadPerDeg;
+    o.output_unit = "rad/s";
+  } else if (a.c_unit != "dps") {
+    return ReportError(kName, InvalidArgument("--c-unit " + a.c_unit + ": expected dps or rads"));
+  }
+  for (const std::string& p : a.model_paths) o.comments.push_back("model: " + p);
+  Result<GeneratedC> gen = GenerateCEvaluator(axes, o);
+  if (!gen.ok()) return ReportError(kName, gen.error());
+  const std::filesystem::path dir = out.parent_path();
+  if (Status s = WriteText((dir / gen->header_name).string(), gen->header); !s.ok()) return ReportError(kName, s.error());
+  if (Status s = WriteText((dir / gen->source_name).string(), gen->source); !s.ok()) return ReportError(kName, s.error());
+  nlohmann::json ax = nlohmann::json::array();
+  for (std::size_t k = 0; k < axes.size(); ++k) {
+    const bool rate = axes[k].model.inputs == DriftInputSet::kTempAndRate;
+    const double tau = ResolvedCausalTau(o.causal, axes[k].model.rate);
+    ax.push_back({{"model_file", a.model_paths[k]}, {"model", DriftSummaryJson(axes[k].model.summary)},
+                  {"causal_tau_s", rate ? nlohmann::json(tau) : nlohmann::json(nullptr)},
+                  {"causal_delay_s", rate ? CausalRateDelay(tau) : 0.0}});
+  }
+  (*j)["axes"] = ax;
+  (*j)["files"] = {(dir / gen->header_name).string(), (dir / gen->source_name).string()};
+  (*j)["unit"] = o.output_unit;
+  return kExitOk;
+}
+
+int Run(const ExportArgs& a) {
+  auto axes = LoadAxes(a.model_paths);
+  if (!axes.ok()) return ReportError(kName, axes.error());
+  nlohmann::json j;
+  j["format"] = a.format;
+  j["output"] = a.output.empty() ? "-" : a.output;
+  const int rc = a.format == "c" ? RunC(a, *axes, &j) : RunParams(a, *axes, &j);
+  if (rc != kExitOk) return rc;
+  if (!a.json_path.empty())
+    if (Status s = WriteJson(a.json_path, j); !s.ok()) return ReportError(kName, s.error());
+  return kExitOk;
+}
+
+Command Make(CLI::App& app) {
+  auto a = std::make_shared<ExportArgs>();
+  CLI::App* sub = app.add_subcommand(kName, "Export drift models for a flight controller: PX4 / ArduPilot parameters or C code");
+  sub->footer(
+      "px4: QGroundControl parameter file (TC_G_ENABLE, TC_G<i>_ID/TREF/TMIN/TMAX/X0..X3_0..2, rad/s);\n"
+      "  needs --device-id (the gyro's device_id) and three models, -m x -m y -m z.\n"
+      "ardupilot: .param file (INS_TCAL<n>_ENABLE/TMIN/TMAX/GYR1..3_X/Y/Z: x1e6, rad/s, about 35 C).\n"
+      "  Both are cubics in T: each model is projected onto one; with -i CAL (and --validation RUN,\n"
+      "  same columns) the cost RMS(full model - cubic) is measured and written in the header.\n"
+      "c: -o DIR/NAME writes NAME.h and NAME.c (C99, no allocation, -DNAME_USE_FLOAT for float):\n"
+      "  the full model per axis with the causal dT/dt estimator; same numbers as apply --causal.\n"
+      "Example: gyrocomp export -m x.json -m y.json -m z.json --format px4 --device-id 2293768 -o tc.params");
+  sub->add_option("-m,--model", a->model_paths, "Model file(s) written by gyrocomp fit, one per axis (x, y, z)")
+      ->required();
+  sub->add_option("--format", a->format, "px4 | ardupilot | c")->required()->check(CLI::IsMember({"px4", "ardupilot", "c"}));
+  // For c, -o is a stem: NAME.h and NAME.c are declared when written (WriteText).
+  sub->add_option("-o,--output", a->output, "Output file ('-' or none: stdout); for c: DIR/NAME");
+  AddOutputOption(sub, "--json", &a->json_path, "Write a summary as JSON to FILE ('-' = stdout)");
+  sub->add_option("--device-id", a->device_id, "px4: TC_G<i>_ID, the gyro's device_id (sensor_gyro.device_id)");
+  sub->add_option("--index", a->index, "px4: slot i of TC_G<i> (0..3, default 0); ardupilot: IMU n of INS_TCAL<n> (1..3, default 1)");
+  sub->add_option("--c-unit", a->c_unit, "c: unit of rate_in/rate_out, dps or rads")->capture_default_str();
+  sub->add_option("--tau", a->tau_s, "c: causal dT/dt lag time constant, s (default: the model's window / 48^(1/3))");
+  AddLogOptions(sub, &a->log, /*input_required=*/false);
+  AddInputOption(sub, "--validation", &a->validation_path, "px4/ardupilot: a validation run (same columns as -i) for the cost");
+  return {sub, [a] { return Run(*a); }};
+}
+
+const CommandRegistrar kReg(kName, 66, &Make);
+
+}  // namespace
+}  // namespace gyrocomp::cli

@@ -45,6 +45,12 @@ Result<std::vector<AxisDriftModel>> LoadAxes(const std::vector<std::string>& pat
   for (const std::string& p : paths) {
     Result<DriftModel> m = LoadDriftModel(p);
     if (!m.ok()) return m.error();
+    // Issue 11 models the exporters do not handle yet (minimal guard added by issue 11).
+    if (m->kind == DriftModelKind::kHybrid ||
+        (m->inputs != DriftInputSet::kTemp && m->inputs != DriftInputSet::kTempAndRate))
+      return InvalidInput(p + ": export handles poly / svr models on temp or temp,dtemp; this model is " +
+                          DriftModelKindName(m->kind) + " on " + DriftInputSetName(m->inputs) +
+                          " (refit with --model poly|cs-svr --inputs temp,dtemp)");
     const std::string& t = m->summary.target_name;
     if (t != "rate_dps" && t != "drift-mode")
       return InvalidInput(p + ": the model predicts column '" + t + "', whose unit is unknown; export needs a "

@@ -35,18 +35,18 @@ bool IsCIdentifier(const std::string& s) {
 }
 
 bool UsesRate(const DriftModel& m) { return m.inputs == DriftInputSet::kTempAndRate; }
-bool IsSvr(const DriftModel& m) { return std::holds_alternative<SvrModel>(m.model); }
+bool IsSvr(const DriftModel& m) { return m.kernel.has_value(); }
 
 Status CheckFinite(const AxisDriftModel& a) {
   auto bad = [&](double v) { return !std::isfinite(v); };
   const DriftFitSummary& s = a.model.summary;
   bool any = bad(s.temp_min_c) || bad(s.temp_max_c) || bad(s.dtemp_min_c_per_s) || bad(s.dtemp_max_c_per_s);
-  if (const auto* p = std::get_if<PolynomialModel>(&a.model.model)) {
+  if (const PolynomialModel* p = a.model.structured ? &*a.model.structured : nullptr) {
     for (const auto& t : p->terms) any = any || bad(t.coefficient);
     for (double v : p->input_scaler.offset) any = any || bad(v);
     for (double v : p->input_scaler.scale) any = any || bad(v);
   } else {
-    const SvrModel& m = std::get<SvrModel>(a.model.model);
+    const SvrModel& m = *a.model.kernel;
     for (double v : m.support_vectors) any = any || bad(v);
     for (double v : m.coefficients) any = any || bad(v);
     any = any || bad(m.gamma) || bad(m.intercept) || bad(m.target_offset) || bad(m.target_scale);
@@ -233,10 +233,10 @@ Result<GeneratedC> GenerateCEvaluator(const std::vector<AxisDriftModel>& axes, c
   EmitPrelude(s, axes, n, any_rate);
   for (std::size_t k = 0; k < axes.size(); ++k) {
     const DriftModel& m = axes[k].model;
-    if (const auto* p = std::get_if<PolynomialModel>(&m.model))
+    if (const PolynomialModel* p = m.structured ? &*m.structured : nullptr)
       EmitPolynomial(s, n, static_cast<int>(k), *p, UsesRate(m));
     else
-      EmitSvr(s, n, static_cast<int>(k), std::get<SvrModel>(m.model));
+      EmitSvr(s, n, static_cast<int>(k), *m.kernel);
   }
   EmitStep(s, axes, o, n);
   out.source = s.str();

@@ -101,7 +101,7 @@ class GeneratedCTest : public ::testing::Test {
 // u target_scale sum_j |coef_j| K_j (4 + (2 n + 3) arg_j). Where the terms cancel this exceeds
 // 1e-5 of the span: the conditioning of the expansion, not an error of the generated code.
 double SvrSumRounding(const DriftModel& dm, double t, double q) {
-  const auto* m = std::get_if<SvrModel>(&dm.model);
+  const SvrModel* m = dm.kernel ? &*dm.kernel : nullptr;
   if (!m) return 0.0;
   const double u = 1.0 / (1 << 24);
   const double x[2] = {t, q};
@@ -251,10 +251,11 @@ TEST(GenerateCEvaluator, RefusesBadOptions) {
   CExportOptions o;
   o.prefix = "9bad";
   DriftModel m;
-  m.model = PolynomialModel{AffineScaler::Identity(1), {{0, 0, 1.0}}};
+  m.structured = PolynomialModel{AffineScaler::Identity(1), {{0, 0, 1.0}}};
+  m.kernel.reset();
   EXPECT_FALSE(GenerateCEvaluator({{"x", m}}, o).ok());
   EXPECT_FALSE(GenerateCEvaluator({}, {}).ok());
-  std::get<PolynomialModel>(m.model).terms[0].coefficient = NAN;
+  m.structured->terms[0].coefficient = NAN;
   EXPECT_FALSE(GenerateCEvaluator({{"x", m}}, {}).ok());
 }
 

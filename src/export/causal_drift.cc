@@ -74,13 +74,13 @@ std::string CausalPredictionSummary::BriefReport() const {
 
 double EvaluateDriftModel(const DriftModel& model, double temp_c, double dtemp_c_per_s) {
   const bool rate = model.inputs == DriftInputSet::kTempAndRate;
-  if (const auto* poly = std::get_if<PolynomialModel>(&model.model)) {
+  if (const PolynomialModel* poly = model.structured ? &*model.structured : nullptr) {
     std::vector<std::vector<double>> x = {{temp_c}};
     if (rate) x.push_back({dtemp_c_per_s});
     return poly->Predict(x)[0];
   }
   const double row[2] = {temp_c, dtemp_c_per_s};
-  return std::get<SvrModel>(model.model).PredictOne(std::span<const double>(row, rate ? 2 : 1));
+  return model.kernel->PredictOne(std::span<const double>(row, rate ? 2 : 1));
 }
 
 Result<std::vector<double>> PredictDriftCausal(const DriftModel& model, const DriftInputs& in,

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <numbers>
 #include <sstream>
 
 #include <gtest/gtest.h>
@@ -245,6 +246,45 @@ TEST_F(GeneratedCTest, AgreesWithApplyCausal) {
     }
     EXPECT_LE(worst_over_tol, 1.0) << (use_float ? "float" : "double");
   }
+}
+
+// The options reach both sides alike: --tau for the estimator, --c-unit rads for the C's units
+// (rate_in / rate_out in rad/s, the drift scaled by pi/180). Double build, 1e-12 of the span.
+TEST_F(GeneratedCTest, TauAndRadPerSecondReachBothSides) {
+  const std::string cli = testing::CliPath();
+  if (cli.empty()) GTEST_SKIP() << "the gyrocomp CLI is not built (GYROCOMP_BUILD_CLI=OFF)";
+  const DriftModel m = export_test::Fit(export_test::ChamberRun(43), DriftModelKind::kPolynomial,
+                                        DriftInputSet::kTempAndRate);
+  ASSERT_TRUE(SaveDriftModel(m, dir_ + "/m.json").ok());
+  const SimulatedRun val = HeldOut(44);
+  {
+    std::ofstream f(dir_ + "/val.csv");
+    f.precision(17);
+    f << "time_s,rate_dps,temp_c\n";
+    for (std::size_t i = 0; i < val.temp_c.size(); ++i) f << i << "," << val.rate_dps[i] << "," << val.temp_c[i] << "\n";
+  }
+  std::string out;
+  ASSERT_EQ(testing::RunCommand(cli + " apply --causal --tau 40 -m " + dir_ + "/m.json -i " + dir_ + "/val.csv -o " +
+                                    dir_ + "/applied.csv --json " + dir_ + "/apply.json", &out), 0) << out;
+  EXPECT_DOUBLE_EQ(testing::ReadJsonFile(dir_ + "/apply.json")["causal"]["delay_s"].get<double>(), 80.0);
+  ASSERT_EQ(testing::RunCommand(cli + " export -m " + dir_ + "/m.json --format c --c-unit rads --tau 40 -o " + dir_ +
+                                    "/gcd_rad", &out), 0) << out;
+  GeneratedC gen;
+  gen.header_name = "gcd_rad.h";
+  gen.source_name = "gcd_rad.c";
+  std::ifstream h(dir_ + "/gcd_rad.h"), c(dir_ + "/gcd_rad.c");
+  gen.header.assign(std::istreambuf_iterator<char>(h), {});
+  gen.source.assign(std::istreambuf_iterator<char>(c), {});
+  EXPECT_NE(gen.header.find("Rates in rad/s"), std::string::npos);
+  auto applied = testing::ReadGoldenCsv(dir_ + "/applied.csv");
+  const double k = std::numbers::pi / 180.0;
+  std::vector<double> rate_rad;
+  for (double v : applied["rate_dps"]) rate_rad.push_back(v * k);
+  const auto got = Run(Build(gen, "gcd_rad", 1, false), 1.0, applied["temp_c"], rate_rad, 1);
+  const double tol = 1e-12 * Span(applied["predicted_drift_dps"]);
+  double worst = 0.0;
+  for (std::size_t i = 0; i < got.size(); ++i) worst = std::max(worst, std::abs(got[i][0] / k - applied["compensated_dps"][i]));
+  EXPECT_LE(worst, tol);
 }
 
 TEST(GenerateCEvaluator, RefusesBadOptions) {

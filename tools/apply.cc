@@ -3,13 +3,11 @@
 #include <cmath>
 #include <iostream>
 #include <memory>
-#include <optional>
 #include <string>
 #include <vector>
 
 #include "commands.h"
 #include "gyrocomp/drift/drift_model.h"
-#include "gyrocomp/export/causal_drift.h"
 #include "gyrocomp/io/io.h"
 #include "result_json.h"
 
@@ -24,8 +22,8 @@ struct ApplyArgs {
   std::string output;
   std::string json_path;
   std::string truth_col = "true_drift_dps";
-  bool causal = false;           // issue 12: firmware-equivalent prediction
-  std::optional<double> tau_s;   // causal dT/dt lag time constant
+  bool causal = false;
+  std::string out_of_range;  // "" = the model file's policy
 };
 
 double Rmse(const std::vector<double>& a, const std::vector<double>& b) {
@@ -34,9 +32,18 @@ double Rmse(const std::vector<double>& a, const std::vector<double>& b) {
   return a.empty() ? 0.0 : std::sqrt(ss / static_cast<double>(a.size()));
 }
 
+// The model for axis k: the file's axis with that rate column, else its only axis (version 1
+// files and single-axis models apply to every axis given, as before).
+const DriftModel* ModelFor(const DriftModelSet& set, const std::string& axis) {
+  if (const DriftModel* m = set.Find(axis)) return m;
+  return set.axes.size() == 1 ? &set.axes[0] : nullptr;
+}
+
 int Run(const ApplyArgs& a) {
-  Result<DriftModel> model = LoadDriftModel(a.model_path);
-  if (!model.ok()) return ReportError(kName, model.error());
+  Result<DriftModelSet> set = LoadDriftModelSet(a.model_path);
+  if (!set.ok()) return ReportError(kName, set.error());
+  if (!a.out_of_range.empty())
+    for (DriftModel& m : set->axes) m.out_of_range = *ParseOutOfRangePolicy(a.out_of_range);
   Result<LogSpec> spec = ToLogSpec(a.log);
   if (!spec.ok()) return ReportError(kName, spec.error());
   spec->temp_required = true;
@@ -44,50 +51,56 @@ int Run(const ApplyArgs& a) {
   if (!loaded.ok()) return ReportError(kName, loaded.error());
   const GyroLog& log = loaded->log;
   Table out = loaded->table;
-
   const DriftInputs inputs{log.temp_c, log.fs_hz};
-  // --causal (issue 12): what the generated C computes (causal_drift.h); else the centred model.
-  CausalPredictionSummary causal;
-  Result<std::vector<double>> predicted =
-      a.causal ? PredictDriftCausal(*model, inputs, CausalRateOptions{a.tau_s}, &causal) : model->Predict(inputs);
-  if (!predicted.ok()) return ReportError(kName, predicted.error());
-  if (a.causal) Note(kName, causal.BriefReport());
-  const TemperatureExcursion range = model->CheckTemperatureRange(log.temp_c);
-  if (range.outside) Note(kName, "warning: " + range.Message());
 
   // One axis: predicted_drift_dps, compensated_dps. Several: <axis>_predicted_drift /
-  // <axis>_compensated (the same temperature model applied to each).
+  // <axis>_compensated, each with its own model when the file has one per axis.
   const bool one = log.axis_names.size() == 1;
-  out.Add("predicted_drift_dps", *predicted);
-  nlohmann::json axes = nlohmann::json::object();
+  const int truth = out.Find(a.truth_col);
+  nlohmann::json axes = nlohmann::json::array();
+  std::vector<double> first_prediction;
   for (std::size_t k = 0; k < log.axis_names.size(); ++k) {
+    const DriftModel* model = ModelFor(*set, log.axis_names[k]);
+    if (!model)
+      return ReportError(kName, InvalidInput(a.model_path + ": no model for rate column '" + log.axis_names[k] + "'"));
+    Result<std::vector<double>> predicted = model->Predict(inputs, a.causal);
+    if (!predicted.ok()) return ReportError(kName, predicted.error());
+    const TemperatureExcursion range = model->CheckTemperatureRange(log.temp_c);
+    if (range.outside && k == 0) Note(kName, "warning: " + range.Message());
     std::vector<double> comp(log.num_samples());
     for (std::size_t i = 0; i < comp.size(); ++i) comp[i] = log.rate_dps[k][i] - (*predicted)[i];
+    nlohmann::json j;
+    j["rate_col"] = log.axis_names[k];
+    j["model"] = DriftSummaryJson(model->summary);
+    j["out_of_range"] = OutOfRangePolicyName(model->out_of_range);
+    j["temp_outside_fitted_range"] = range.outside;
+    j["temp_below_fitted_c"] = range.below_c;
+    j["temp_above_fitted_c"] = range.above_c;
+    j["fraction_outside_fitted_range"] = range.fraction_outside;
+    // When the record carries the true drift (simulator output), score the prediction.
+    if (truth >= 0) j["rmse_vs_" + a.truth_col] = Rmse(*predicted, out.columns[truth]);
+    axes.push_back(j);
+    out.Add(one ? "predicted_drift_dps" : log.axis_names[k] + "_predicted_drift", *predicted);
     out.Add(one ? "compensated_dps" : log.axis_names[k] + "_compensated", std::move(comp));
   }
   if (Status s = WriteCsv(a.output, out); !s.ok()) return ReportError(kName, s.error());
 
-  nlohmann::json j;
+  // The first axis's keys at the top level (as before), every axis under "axes".
+  nlohmann::json j = axes[0];
+  j.erase("rate_col");
   j["model_file"] = a.model_path;
-  j["model"] = DriftSummaryJson(model->summary);
   j["input"] = out.source;
   j["n_samples"] = log.num_samples();
   j["fs_hz"] = log.fs_hz;
-  j["temp_outside_fitted_range"] = range.outside;
-  j["temp_below_fitted_c"] = range.below_c;
-  j["temp_above_fitted_c"] = range.above_c;
-  j["fraction_outside_fitted_range"] = range.fraction_outside;
-  if (a.causal)
-    j["causal"] = {{"tau_s", causal.tau_s}, {"delay_s", causal.delay_s}, {"samples_clamped", causal.num_clamped}};
-  // When the record carries the true drift (simulator output), score the prediction.
-  const int truth = out.Find(a.truth_col);
-  if (truth >= 0) j["rmse_vs_" + a.truth_col] = Rmse(*predicted, out.columns[truth]);
+  j["causal"] = a.causal;
+  j["axes"] = axes;
   if (!a.json_path.empty()) {
     if (Status s = WriteJson(a.json_path, j); !s.ok()) return ReportError(kName, s.error());
   }
   if (a.json_path != "-") {
-    std::cout << "applied " << DriftModelKindName(model->kind) << " model (" << DriftInputSetName(model->inputs)
-              << ") to " << log.num_samples() << " samples; wrote " << a.output;
+    std::cout << "applied " << set->axes.size() << " model(s) (" << DriftModelKindName(set->axes[0].kind) << ", "
+              << DriftInputSetName(set->axes[0].inputs) << (a.causal ? ", causal" : "") << ") to "
+              << log.num_samples() << " samples; wrote " << a.output;
     if (truth >= 0) std::cout << "; RMSE vs " << a.truth_col << " = " << j["rmse_vs_" + a.truth_col].get<double>() << " deg/s";
     std::cout << "\n";
   }
@@ -99,10 +112,11 @@ Command Make(CLI::App& app) {
   CLI::App* sub = app.add_subcommand(kName, "Apply a saved drift model: predict the drift from temperature and subtract it");
   sub->footer(
       "OUT.csv: the input columns plus predicted_drift_dps and compensated_dps (= rate -\n"
-      "predicted); with several --rate-col axes, <axis>_compensated for each. dT/dt, when the model\n"
-      "uses it, is computed from this record with the model's own window. Temperatures outside the\n"
+      "predicted); with several --rate-col axes, <axis>_predicted_drift and <axis>_compensated, each\n"
+      "with the model file's model for that rate column (or its only model). Thermal states, when the\n"
+      "model uses one, are computed from this record with the model's own parameters. Temperatures outside the\n"
       "range the model was fitted on are reported (how far, what share of samples).\n"
-      "JSON: model summary, n_samples, fs_hz, temp_outside_fitted_range, temp_below_fitted_c,\n"
+      "JSON: model summary, n_samples, fs_hz, causal, out_of_range, axes[], temp_outside_fitted_range, temp_below_fitted_c,\n"
       "  temp_above_fitted_c, fraction_outside_fitted_range, and rmse_vs_true_drift_dps when the\n"
       "  record has a true_drift_dps column (simulator output).\n"
       "Example: gyrocomp apply -m model.json -i run2.csv -o compensated.csv");
@@ -111,9 +125,10 @@ Command Make(CLI::App& app) {
   AddOutputOption(sub, "-o,--output", &a->output, "Output CSV")->required();
   AddOutputOption(sub, "--json", &a->json_path, "Write a summary as JSON to FILE ('-' = stdout)");
   sub->add_flag("--causal", a->causal,
-                "Firmware form: causal dT/dt (double lag, delay 2 tau), inputs clamped to the fitted range; "
-                "equals the C of 'export --format c'");
-  sub->add_option("--tau", a->tau_s, "With --causal: dT/dt lag time constant, s (default: model window / 48^(1/3))");
+                "Evaluate thermal states one sample at a time as firmware does (dT/dt by two lags instead of the "
+                "centred slope; lag and memory are causal either way)");
+  sub->add_option("--out-of-range", a->out_of_range, "Override the model's policy: extrapolate | clamp")
+      ->check(CLI::IsMember({"extrapolate", "clamp"}));
   sub->add_option("--truth-col", a->truth_col, "Column with the true drift, scored when present")->capture_default_str();
   return {sub, [a] { return Run(*a); }};
 }

@@ -1,5 +1,6 @@
-// gyrocomp fit: fit a temperature-drift model (poly | svr | grid-svr | cs-svr) on a calibration
-// run and save it as a JSON model file for `gyrocomp apply` (method.md section 4; cli.md).
+// gyrocomp fit: fit a temperature-drift model (auto | poly | svr | grid-svr | cs-svr | hybrid) on a
+// calibration run, one per rate column, and save them in one JSON model file for `gyrocomp apply`
+// (method.md section 4; cli.md; docs/drift_model.md).
 #include <cmath>
 #include <iostream>
 #include <memory>
@@ -9,6 +10,7 @@
 
 #include "commands.h"
 #include "gyrocomp/drift/drift_model.h"
+#include "gyrocomp/drift/drift_validate.h"
 #include "gyrocomp/decompose/feature_classifier.h"
 #include "gyrocomp/pipeline/pipeline.h"
 #include "gyrocomp/decompose/vmd.h"
@@ -22,7 +24,7 @@ constexpr const char* kName = "fit";
 struct FitArgs {
   LogOptions log;
   DriftFitOptions fit;  // library defaults
-  std::string model = "cs-svr";
+  std::string model = "auto";
   std::string inputs = "temp";
   std::string target = "rate";
   std::string scale = "standard";
@@ -32,6 +34,10 @@ struct FitArgs {
   std::optional<double> known_rate_dps;
   std::string known_rate_col;
   int modes = VmdOptions{}.num_modes;
+  std::string out_of_range = "extrapolate";
+  std::string cv_scheme;             // "" = automatic
+  std::optional<double> lag_tau_s;   // --lag-tau: fixed; absent: fitted
+  std::string validate_path;
   std::string model_path;
   std::string json_path;
 };
@@ -54,118 +60,202 @@ Result<std::vector<double>> DriftFeature(const std::vector<double>& rate, double
   return SumFeatures(*vmd, *classes).drift;
 }
 
-int Run(FitArgs a) {
+// Options from the arguments; an error names the offending flag.
+Status ResolveOptions(FitArgs& a) {
   const auto kind = ParseDriftModelKind(a.model);
   const auto inputs = ParseDriftInputSet(a.inputs);
   const auto scale = ParseSvrScaling(a.scale);
-  if (!kind || !inputs || !scale) return ReportError(kName, InvalidArgument("bad --model/--inputs/--scale"));
+  const auto policy = ParseOutOfRangePolicy(a.out_of_range);
+  if (!kind || !inputs || !scale || !policy) return InvalidArgument("bad --model/--inputs/--scale/--out-of-range");
   DriftFitOptions& o = a.fit;
   o.model = *kind;
   o.inputs = *inputs;
   o.svr.scaling = *scale;
+  o.out_of_range = *policy;
   if ((a.C || a.gamma || a.sigma) && *kind != DriftModelKind::kSvr)
-    return ReportError(kName, InvalidArgument("--C/--gamma/--sigma fix the SVR's parameters: use them with "
-                                              "--model svr (grid-svr and cs-svr search C and sigma)"));
+    return InvalidArgument("--C/--gamma/--sigma fix the SVR's parameters: use them with --model svr "
+                           "(grid-svr, cs-svr, hybrid and auto search C and sigma)");
   if (a.C) o.svr.C = *a.C;
   o.svr.gamma = a.gamma;
   o.svr.sigma = a.sigma;
   if (a.cv_all) o.cv_in_range_only = false;
   if (a.search_epsilon) o.search.epsilon = SearchDimension{"epsilon", 1e-3, 0.5, true};
+  if (!a.cv_scheme.empty()) {
+    const auto scheme = ParseDriftCvScheme(a.cv_scheme);
+    if (!scheme) return InvalidArgument("--cv-scheme must be blocks or segments");
+    o.cv_scheme = *scheme;
+  }
+  if (a.lag_tau_s) {
+    o.state.lag_tau_s = *a.lag_tau_s;
+    o.fit_lag_tau = false;
+  }
   std::string why;
-  if (!o.IsValid(&why)) return ReportError(kName, InvalidArgument(why));
+  if (!o.IsValid(&why)) return InvalidArgument(why);
+  return Status::Ok();
+}
 
+// The target of one axis (rate column k, the drift mode of it, or another column), minus a known
+// true rate (Earth rate, turntable) so the model learns the bias only.
+Result<std::vector<double>> Target(const FitArgs& a, const LoadedLog& loaded, std::size_t k, std::string* name,
+                                   std::string* feature_report) {
+  const GyroLog& log = loaded.log;
+  const Table& table = loaded.table;
+  std::vector<double> target;
+  if (a.target == "rate") {
+    target = log.rate_dps[k];
+    *name = log.axis_names[k];
+  } else if (a.target == "drift-mode") {
+    Result<std::vector<double>> drift = DriftFeature(log.rate_dps[k], log.fs_hz, a.modes, feature_report);
+    if (!drift.ok()) return drift.error();
+    target = std::move(*drift);
+    *name = "drift-mode";
+  } else {
+    const int j = table.Find(a.target);
+    if (j < 0) return InvalidInput(table.source + ":1: no column '" + a.target + "' for --target");
+    target = table.columns[j];
+    *name = a.target;
+  }
+  if (a.known_rate_dps)
+    for (double& v : target) v -= *a.known_rate_dps;
+  if (!a.known_rate_col.empty()) {
+    const int j = table.Find(a.known_rate_col);
+    if (j < 0) return InvalidInput(table.source + ":1: no column '" + a.known_rate_col + "' for --known-rate-col");
+    for (std::size_t i = 0; i < target.size(); ++i) target[i] -= table.columns[j][i];
+  }
+  return target;
+}
+
+nlohmann::json AxisJson(const FitArgs& a, const DriftModel& m) {
+  const DriftFitSummary& s = m.summary;
+  nlohmann::json j = DriftSummaryJson(s);
+  j["rate_col"] = m.rate_col;
+  j["dtemp_range_c_per_s"] = {s.dtemp_min_c_per_s, s.dtemp_max_c_per_s};
+  j["best_cv_history_dps"] = s.best_cv_history;
+  j["dtemp_window_s"] = a.fit.rate.window_s;
+  j["cv_in_range_only"] = s.cv_in_range_only;
+  return j;
+}
+
+// fit --validate: the fitted models on another run, per axis.
+Result<nlohmann::json> ValidateOn(const FitArgs& a, const DriftModelSet& set) {
+  LogOptions other = a.log;
+  other.input = a.validate_path;
+  Result<LogSpec> spec = ToLogSpec(other);
+  if (!spec.ok()) return spec.error();
+  spec->temp_required = true;
+  Result<LoadedLog> loaded = LoadLog(kName, other, *spec);
+  if (!loaded.ok()) return loaded.error();
+  nlohmann::json out = nlohmann::json::array();
+  for (std::size_t k = 0; k < set.axes.size(); ++k) {
+    const DriftModel& m = set.axes[k];
+    const std::size_t axis = k < loaded->log.rate_dps.size() ? k : 0;
+    const int truth = loaded->table.Find("true_drift_dps");
+    std::vector<double> none;
+    auto v = ValidateDriftModel(m, loaded->log.rate_dps[axis], loaded->log.temp_c, loaded->log.fs_hz,
+                                truth >= 0 ? loaded->table.columns[truth] : none);
+    if (!v.ok()) return v.error();
+    if (a.json_path != "-") std::cout << m.rate_col << " on " << a.validate_path << ": " << v->BriefReport() << "\n";
+    nlohmann::json j = DriftValidationJson(*v);
+    j["rate_col"] = m.rate_col;
+    out.push_back(j);
+  }
+  return out;
+}
+
+int Run(FitArgs a) {
+  if (Status st = ResolveOptions(a); !st.ok()) return ReportError(kName, st.error());
+  DriftFitOptions& o = a.fit;
   // Which columns are needed: temperature always; the rate unless --target names another column.
   Result<LogSpec> spec = ToLogSpec(a.log);
   if (!spec.ok()) return ReportError(kName, spec.error());
   const bool target_is_column = a.target != "rate" && a.target != "drift-mode";
   spec->temp_required = true;
   spec->rates_required = !target_is_column;
-  if (!target_is_column && spec->rate_cols.size() != 1)
-    return ReportError(kName, InvalidArgument("--rate-col: fit models one axis; give one column (run fit once per axis)"));
+  if (target_is_column && spec->rate_cols.size() != 1)
+    return ReportError(kName, InvalidArgument("--rate-col: with --target COLUMN give one rate column"));
   Result<LoadedLog> loaded = LoadLog(kName, a.log, *spec);
   if (!loaded.ok()) return ReportError(kName, loaded.error());
   const GyroLog& log = loaded->log;
-  const Table& table = loaded->table;
-  const std::size_t n = log.num_samples();
 
-  std::vector<double> target;
+  // One model per axis (--rate-col gx,gy,gz), all in one model file.
+  DriftModelSet set;
   std::string feature_report;
-  if (a.target == "rate") {
-    target = log.rate_dps[0];
-    o.target_name = log.axis_names[0];
-  } else if (a.target == "drift-mode") {
-    Result<std::vector<double>> drift = DriftFeature(log.rate_dps[0], log.fs_hz, a.modes, &feature_report);
-    if (!drift.ok()) return ReportError(kName, drift.error());
-    target = std::move(*drift);
-    o.target_name = "drift-mode";
-  } else {
-    const int j = table.Find(a.target);
-    if (j < 0) return ReportError(kName, InvalidInput(table.source + ":1: no column '" + a.target + "' for --target"));
-    target = table.columns[j];
-    o.target_name = a.target;
+  const std::size_t axes = target_is_column ? 1 : log.rate_dps.size();
+  for (std::size_t k = 0; k < axes; ++k) {
+    Result<std::vector<double>> target = Target(a, *loaded, k, &o.target_name, &feature_report);
+    if (!target.ok()) return ReportError(kName, target.error());
+    Result<DriftModel> model = FitDriftModel({log.temp_c, log.fs_hz}, *target, o);
+    if (!model.ok()) return ReportError(kName, model.error());
+    model->rate_col = k < log.axis_names.size() ? log.axis_names[k] : o.target_name;
+    if (a.json_path != "-") {
+      if (!feature_report.empty()) std::cout << "VMD modes: " << feature_report << "\n";
+      std::cout << model->rate_col << ": " << model->summary.BriefReport() << "\n";
+    }
+    set.axes.push_back(std::move(*model));
   }
-  // A known true rate during calibration (Earth rate, turntable) is removed so the model learns
-  // the bias only.
-  if (a.known_rate_dps)
-    for (double& v : target) v -= *a.known_rate_dps;
-  if (!a.known_rate_col.empty()) {
-    const int j = table.Find(a.known_rate_col);
-    if (j < 0)
-      return ReportError(kName, InvalidInput(table.source + ":1: no column '" + a.known_rate_col + "' for --known-rate-col"));
-    for (std::size_t i = 0; i < n; ++i) target[i] -= table.columns[j][i];
+  nlohmann::json validation;
+  if (!a.validate_path.empty()) {
+    auto v = ValidateOn(a, set);
+    if (!v.ok()) return ReportError(kName, v.error());
+    validation = std::move(*v);
   }
-
-  const DriftInputs drift_inputs{log.temp_c, log.fs_hz};
-  Result<DriftModel> model = FitDriftModel(drift_inputs, target, o);
-  if (!model.ok()) return ReportError(kName, model.error());
-  if (Status s = WriteText(a.model_path, DriftModelToJson(*model)); !s.ok()) return ReportError(kName, s.error());
-
-  const DriftFitSummary& s = model->summary;
+  // Through the run's output transaction (issue 15) the model set of issue 11.
+  if (Status s = WriteText(a.model_path, DriftModelSetToJson(set)); !s.ok()) return ReportError(kName, s.error());
   if (!a.json_path.empty()) {
-    nlohmann::json j = DriftSummaryJson(s);
+    // One axis: its summary at the top level (as before); always: "axes" with one entry per axis.
+    nlohmann::json j = AxisJson(a, set.axes[0]);
+    j["axes"] = nlohmann::json::array();
+    for (const DriftModel& m : set.axes) j["axes"].push_back(AxisJson(a, m));
     j["model_file"] = a.model_path;
-    j["input"] = table.source;
-    j["n_samples"] = n;
+    j["input"] = loaded->table.source;
+    j["n_samples"] = log.num_samples();
     j["fs_hz"] = log.fs_hz;
-    j["dtemp_range_c_per_s"] = {s.dtemp_min_c_per_s, s.dtemp_max_c_per_s};
-    j["best_cv_history_dps"] = s.best_cv_history;
-    j["dtemp_window_s"] = o.rate.window_s;
-    j["cv_in_range_only"] = s.cv_in_range_only;
     j["known_rate_dps"] = a.known_rate_dps ? nlohmann::json(*a.known_rate_dps) : nlohmann::json();
     j["known_rate_col"] = a.known_rate_col.empty() ? nlohmann::json() : nlohmann::json(a.known_rate_col);
     if (!feature_report.empty()) j["drift_feature"] = feature_report;
+    if (!validation.is_null()) j["validation"] = validation;
     if (Status st = WriteJson(a.json_path, j); !st.ok()) return ReportError(kName, st.error());
   }
-  if (a.json_path != "-") {
-    if (!feature_report.empty()) std::cout << "VMD modes: " << feature_report << "\n";
-    std::cout << s.BriefReport() << "\nmodel written to " << a.model_path << "\n";
-  }
+  if (a.json_path != "-") std::cout << "model written to " << a.model_path << "\n";
   return kExitOk;
 }
 
 Command Make(CLI::App& app) {
   auto a = std::make_shared<FitArgs>();
-  CLI::App* sub = app.add_subcommand(kName, "Fit a temperature-drift model (poly, SVR, grid-searched or cuckoo-searched SVR) and save it");
+  CLI::App* sub = app.add_subcommand(
+      kName, "Fit a temperature-drift model (auto, poly, SVR, grid/cuckoo-searched SVR, hybrid) per axis and save it");
   sub->footer(
-      "The model maps temperature [and dT/dt] to drift. The SVR family trains on block means of\n"
-      "--train-period seconds (automatic: max(30 s, duration / 600)) and predicts at the full rate;\n"
+      "The model maps temperature [and a thermal state: dT/dt, lag, memory] to drift. --model auto\n"
+      "(default) fits poly with each state, svr, cs-svr and hybrid, scores them by cross-validation\n"
+      "leaving out whole thermal segments, and keeps the best (it prints why). The SVR family trains\n"
+      "on block means of --train-period seconds (automatic: none when the record has at most\n"
+      "--max-train samples, else max(30 s, duration / --max-train)) and predicts at the full rate;\n"
       "grid-svr and cs-svr choose C and sigma by blocked cross-validation (--cv-folds contiguous\n"
       "blocks: random folds leak, the drift is autocorrelated); grid-svr uses the same number of\n"
       "parameter sets as cs-svr. The polynomial is fitted on every sample. With --scale standard\n"
       "(default) inputs and target are standardised: sigma in input SDs, epsilon in target SDs.\n"
       "dT/dt: least-squares slope over a centred --dtemp-window (robust to quantized temperature).\n"
       "JSON: model, inputs, target, C, gamma, sigma, epsilon, num_support, degree, cv_rmse_dps,\n"
-      "  train_rmse_dps, num_train, train_period_s, temp_range_c, evaluations, fit_time_s, ...\n"
+      "  train_rmse_dps, num_train, train_period_s, temp_range_c, evaluations, fit_time_s, candidates,\n"
+      "  selection_reason, identifiability, axes (one entry per rate column), validation, ...\n"
       "Examples:\n"
       "  gyrocomp fit -i chamber.csv --model cs-svr -o model.json --json fit.json\n"
       "  gyrocomp fit -i chamber.csv --model poly --degree 3 --inputs temp,dtemp -o poly.json\n"
       "  gyrocomp fit -i train.csv --target drift_dps --model svr --scale none --C 1 --gamma 0.001 \\\n"
       "      --epsilon 0.005 --svr-tol 1e-6 -o svr.json");
   AddLogOptions(sub, &a->log);
-  sub->add_option("--model", a->model, "Model: cs-svr | svr | grid-svr | poly")
-      ->check(CLI::IsMember({"cs-svr", "svr", "grid-svr", "poly"}))->capture_default_str();
-  sub->add_option("--inputs", a->inputs, "Model inputs: temp | temp,dtemp")
-      ->check(CLI::IsMember({"temp", "temp,dtemp"}))->capture_default_str();
+  sub->add_option("--model", a->model,
+                  "Model: auto (compares the others on left-out thermal segments) | poly | svr | grid-svr | cs-svr "
+                  "(the paper) | hybrid (poly + CS-SVR on its residual)")
+      ->check(CLI::IsMember({"auto", "cs-svr", "svr", "grid-svr", "poly", "hybrid"}))->capture_default_str();
+  sub->add_option("--inputs", a->inputs, "Model inputs (not with auto): temp | temp,dtemp | temp,lag | temp,memory")
+      ->check(CLI::IsMember({"temp", "temp,dtemp", "temp,lag", "temp,memory"}))->capture_default_str();
+  sub->add_option("--lag-tau", a->lag_tau_s, "temp,lag: time constant of the lag state, s (default: fitted)");
+  sub->add_option("--out-of-range", a->out_of_range,
+                  "Temperature outside the fitted range: extrapolate | clamp (stored in the model file)")
+      ->check(CLI::IsMember({"extrapolate", "clamp"}))->capture_default_str();
+  sub->add_option("--validate", a->validate_path,
+                  "Also validate the fitted model on another run (as gyrocomp validate; its columns as -i)");
   sub->add_option("--target", a->target,
                   "What to model: rate (the rate column), drift-mode (sum of the VMD modes classified drift), or a column name")
       ->capture_default_str();
@@ -200,6 +290,11 @@ Command Make(CLI::App& app) {
   sub->add_flag("--cv-all", a->cv_all,
                 "Score every held-out sample in the blocked CV, also those outside the other blocks' temperature range "
                 "(default: in-range only)")->group(s);
+  sub->add_option("--cv-scheme", a->cv_scheme,
+                  "Cross-validation folds: blocks | segments (default: segments for auto and hybrid, blocks otherwise)")
+      ->check(CLI::IsMember({"blocks", "segments"}))->group(s);
+  sub->add_option("--auto-generations", a->fit.auto_select.search_generations,
+                  "auto: cuckoo-search generations of its cs-svr and hybrid candidates")->group(s)->capture_default_str();
   sub->add_option("--cv-folds", a->fit.cv_folds, "Contiguous blocks of the blocked cross-validation")->group(s)->capture_default_str();
   const std::string d = "Data";
   sub->add_option("--train-period", a->fit.train_period_s, "Block-mean period of the SVR training copy, s (default automatic)")->group(d);

@@ -81,10 +81,19 @@ nlohmann::json DriftSummaryJson(const DriftFitSummary& s) {
   j["sigma"] = Num(s.sigma);
   j["epsilon"] = Num(s.epsilon);
   j["num_support"] = s.num_support;
-  if (s.model == DriftModelKind::kPolynomial) {
+  if (s.model == DriftModelKind::kPolynomial || s.model == DriftModelKind::kHybrid) {
     j["degree"] = s.degree;
     j["dtemp_degree"] = s.dtemp_degree;
   }
+  j["lag_tau_s"] = Num(s.lag_tau_s);
+  j["cv_scheme"] = DriftCvSchemeName(s.cv_scheme);
+  j["cv_segments"] = s.cv_segments;
+  nlohmann::json cands = nlohmann::json::array();
+  for (const DriftCandidateScore& c : s.candidates)
+    cands.push_back({{"name", c.name}, {"cv_rmse_dps", Num(c.cv_rmse)}, {"note", c.note}});
+  j["candidates"] = cands;
+  j["selection_reason"] = s.selection_reason;
+  j["identifiability"] = s.identifiability;
   j["cv_folds"] = s.cv_folds;
   j["cv_rmse_dps"] = Num(s.cv_rmse);
   j["train_rmse_dps"] = Num(s.train_rmse);
@@ -109,6 +118,31 @@ nlohmann::json MethodRowJson(const MethodRow& m) {
           {"drift_cv_rmse_dps", Num(m.drift_cv_rmse_dps)},
           {"seconds", m.seconds},
           {"note", m.note}};
+}
+
+}  // namespace gyrocomp::cli
+
+namespace gyrocomp::cli {
+
+nlohmann::json DriftValidationJson(const DriftValidation& v) {
+  nlohmann::json j;
+  j["n_samples"] = v.num_samples;
+  j["fs_hz"] = v.fs_hz;
+  j["num_blocks"] = v.num_blocks;
+  j["raw_drift_rms_dps"] = Num(v.raw_drift_rms);
+  j["residual_drift_rms_dps"] = Num(v.residual_drift_rms);
+  j["residual_mean_dps"] = Num(v.residual_mean);
+  j["residual_slope_vs_temp_dps_per_c"] = Num(v.slope_vs_temp);
+  j["residual_slope_vs_dtemp_dps_per_c_per_s"] = Num(v.slope_vs_dtemp);
+  j["adev_tau_s"] = v.tau_s;
+  j["adev_raw_dps"] = v.adev_raw;
+  j["adev_compensated_dps"] = v.adev_compensated;
+  j["rmse_vs_true_drift_dps"] = Num(v.rmse_vs_true_drift);
+  j["fraction_temp_outside_fitted_range"] = v.fraction_temp_outside;
+  j["fraction_dtemp_outside_fitted_range"] = v.fraction_dtemp_outside;
+  j["temp_below_fitted_c"] = v.excursion.below_c;
+  j["temp_above_fitted_c"] = v.excursion.above_c;
+  return j;
 }
 
 }  // namespace gyrocomp::cli

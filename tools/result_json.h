@@ -8,6 +8,7 @@
 #include "gyrocomp/denoise/bandwidth.h"
 #include "gyrocomp/pipeline/compare.h"
 #include "gyrocomp/drift/drift_model.h"
+#include "gyrocomp/drift/drift_validate.h"
 #include "gyrocomp/pipeline/pipeline.h"
 
 namespace gyrocomp::cli {
@@ -27,6 +28,8 @@ nlohmann::json ModesJson(const std::vector<ModeReport>& modes);
 nlohmann::json BandwidthJson(const BandwidthResult& b);
 
 nlohmann::json DriftSummaryJson(const DriftFitSummary& s);
+// A drift model on another run (validate, fit --validate): keys documented in docs/cli.md.
+nlohmann::json DriftValidationJson(const DriftValidation& v);
 
 // One row of `compare` (gyrocomp/compare.h).
 nlohmann::json MethodRowJson(const MethodRow& m);

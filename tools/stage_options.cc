@@ -46,10 +46,10 @@ void AddPipelineOptions(CLI::App* app, PipelineCliOptions* c) {
   app->add_option("--flp-alpha", o.wflp.flp.alpha, "FLP step sensitivity alpha (Eq. 16)")->group(g)->capture_default_str();
 
   g = "Drift model";
-  app->add_option("--model", c->model, "Drift model")->group(g)
-      ->check(CLI::IsMember({"cs-svr", "svr", "grid-svr", "poly"}))->capture_default_str();
-  app->add_option("--inputs", c->inputs, "Model inputs: temp or temp,dtemp")->group(g)
-      ->check(CLI::IsMember({"temp", "temp,dtemp"}))->capture_default_str();
+  app->add_option("--model", c->model, "Drift model: auto | cs-svr (the paper) | svr | grid-svr | poly | hybrid")->group(g)
+      ->check(CLI::IsMember({"auto", "cs-svr", "svr", "grid-svr", "poly", "hybrid"}))->capture_default_str();
+  app->add_option("--inputs", c->inputs, "Model inputs: temp | temp,dtemp | temp,lag | temp,memory (not with auto)")->group(g)
+      ->check(CLI::IsMember({"temp", "temp,dtemp", "temp,lag", "temp,memory"}))->capture_default_str();
   app->add_option("--degree", o.drift.polynomial.degree, "Polynomial degree in temperature (poly)")->group(g)->capture_default_str();
   app->add_option("--C", c->svr_C, "SVR C (svr)")->group(g);
   app->add_option("--gamma", c->svr_gamma, "SVR RBF gamma (svr)")->group(g);

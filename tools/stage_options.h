@@ -24,7 +24,7 @@ struct PipelineCliOptions {
   std::string wavelet_extension = "symmetric";
   std::string details = "threshold";
   std::string threshold_mode = "soft";
-  std::string model = "cs-svr";
+  std::string model = "auto";
   std::string inputs = "temp";
   std::string scale = "standard";
   std::optional<double> svr_C, svr_gamma, svr_sigma;

@@ -15,16 +15,6 @@ Columns Rows(const Columns& x, std::size_t a, std::size_t b) {  // rows [a, b)
   return out;
 }
 
-// Fit-and-predict with fixed SVR options.
-FitPredict SvrFitPredict(const SvrOptions& o) {
-  return [o](const Columns& tx, std::span<const double> ty,
-             const Columns& vx) -> Result<std::vector<double>> {
-    auto m = FitSvr(tx, ty, o);
-    if (!m.ok()) return m.error();
-    return m->Predict(vx);
-  };
-}
-
 // The options one search point stands for: x = (C, sigma[, epsilon]).
 SvrOptions PointOptions(const SvrOptions& base, std::span<const double> x) {
   SvrOptions o = base;
@@ -37,38 +27,102 @@ SvrOptions PointOptions(const SvrOptions& base, std::span<const double> x) {
 
 }  // namespace
 
-Result<double> BlockedCvRmse(const Columns& x, std::span<const double> y, int folds,
-                             bool in_range_only, const FitPredict& fit_predict) {
-  const std::size_t n = y.size();
-  if (folds < 2 || n < 2 * static_cast<std::size_t>(folds))
-    return InvalidInput("blocked cross-validation: " + std::to_string(folds) + " folds need at least " +
-                        std::to_string(2 * folds) + " training samples, got " + std::to_string(n));
-  double ss = 0.0;
-  std::size_t scored = 0;
-  for (int k = 0; k < folds; ++k) {
-    const std::size_t a = n * k / folds;
-    const std::size_t b = n * (k + 1) / folds;
-    Columns tx;
-    for (const auto& c : x) {
-      std::vector<double> col(c.begin(), c.begin() + a);
-      col.insert(col.end(), c.begin() + b, c.end());
-      tx.push_back(std::move(col));
+FitPredict SvrFitPredict(const SvrOptions& o) {
+  return [o](const Columns& tx, std::span<const double> ty,
+             const Columns& vx) -> Result<std::vector<double>> {
+    auto m = FitSvr(tx, ty, o);
+    if (!m.ok()) return m.error();
+    return m->Predict(vx);
+  };
+}
+
+CvPlan BlockPlan(std::size_t n, int folds, bool in_range_only) {
+  CvPlan plan;
+  plan.folds = folds;
+  plan.in_range_only = in_range_only;
+  plan.fold_of.resize(n);
+  for (int k = 0; k < folds; ++k)
+    for (std::size_t i = n * k / folds; i < n * (k + 1) / folds; ++i) plan.fold_of[i] = k;
+  return plan;
+}
+
+CvPlan SegmentPlan(std::span<const double> rate, int folds, double threshold) {
+  const std::size_t n = rate.size();
+  auto direction = [&](std::size_t i) { return rate[i] > threshold ? 1 : rate[i] < -threshold ? -1 : 0; };
+  // Segment starts: where the direction changes; runs shorter than min_run join the previous.
+  const std::size_t min_run = std::max<std::size_t>(3, n / 100);
+  std::vector<std::size_t> starts = {0};
+  for (std::size_t i = 1; i < n; ++i) {
+    if (direction(i) == direction(i - 1)) continue;
+    std::size_t run = i;
+    while (run < n && direction(run) == direction(i)) ++run;
+    if (run - i >= min_run && i - starts.back() >= min_run) starts.push_back(i);
+  }
+  if (starts.size() < 2) return BlockPlan(n, folds, false);
+  CvPlan plan;
+  plan.scheme = DriftCvScheme::kThermalSegments;
+  plan.segments = static_cast<int>(starts.size());
+  plan.folds = std::min<int>(folds, plan.segments);
+  plan.fold_of.resize(n);
+  plan.direction_of.resize(n);
+  for (std::size_t j = 0; j < starts.size(); ++j) {
+    const std::size_t end = j + 1 < starts.size() ? starts[j + 1] : n;
+    for (std::size_t i = starts[j]; i < end; ++i) {
+      plan.fold_of[i] = static_cast<int>(j % plan.folds);
+      plan.direction_of[i] = direction(starts[j]) + 1;
     }
-    std::vector<double> ty(y.begin(), y.begin() + a);
-    ty.insert(ty.end(), y.begin() + b, y.end());
-    auto pred = fit_predict(tx, ty, Rows(x, a, b));
+  }
+  return plan;
+}
+
+Result<double> CrossValidate(const Columns& x, std::span<const double> y, const CvPlan& plan,
+                             const FitPredict& fit_predict, std::vector<double>* fold_rmse) {
+  const std::size_t n = y.size();
+  if (plan.folds < 2 || n < 2 * static_cast<std::size_t>(plan.folds) || plan.fold_of.size() != n)
+    return InvalidInput("cross-validation: " + std::to_string(plan.folds) + " folds need at least " +
+                        std::to_string(2 * plan.folds) + " training samples, got " + std::to_string(n));
+  const bool balanced = plan.direction_of.size() == n;
+  double ss[3] = {0.0, 0.0, 0.0};  // per direction when balanced, else all in [0]
+  std::size_t count[3] = {0, 0, 0};
+  std::size_t scored = 0;
+  for (int k = 0; k < plan.folds; ++k) {
+    Columns tx(x.size()), vx(x.size());
+    std::vector<double> ty, vy;
+    std::vector<int> vd;
+    for (std::size_t i = 0; i < n; ++i) {
+      const bool held_out = plan.fold_of[i] == k;
+      for (std::size_t j = 0; j < x.size(); ++j) (held_out ? vx : tx)[j].push_back(x[j][i]);
+      (held_out ? vy : ty).push_back(y[i]);
+      if (held_out) vd.push_back(balanced ? plan.direction_of[i] : 0);
+    }
+    if (ty.empty() || vy.empty()) continue;
+    auto pred = fit_predict(tx, ty, vx);
     if (!pred.ok()) return pred.error();
     const auto [lo, hi] = std::minmax_element(tx[0].begin(), tx[0].end());
-    for (std::size_t i = a; i < b; ++i) {
-      if (in_range_only && (x[0][i] < *lo || x[0][i] > *hi)) continue;
-      ss += ((*pred)[i - a] - y[i]) * ((*pred)[i - a] - y[i]);
+    double fold_ss = 0.0;
+    std::size_t fold_n = 0;
+    for (std::size_t i = 0; i < vy.size(); ++i) {
+      if (plan.in_range_only && (vx[0][i] < *lo || vx[0][i] > *hi)) continue;
+      const double e2 = ((*pred)[i] - vy[i]) * ((*pred)[i] - vy[i]);
+      ss[vd[i]] += e2;
+      ++count[vd[i]];
       ++scored;
+      fold_ss += e2;
+      ++fold_n;
     }
+    if (fold_rmse && fold_n > 0) fold_rmse->push_back(std::sqrt(fold_ss / static_cast<double>(fold_n)));
+  }
+  if (scored > 0 && balanced) {
+    double mse = 0.0;
+    int present = 0;
+    for (int d = 0; d < 3; ++d)
+      if (count[d] > 0) mse += ss[d] / static_cast<double>(count[d]), ++present;
+    return std::sqrt(mse / present);
   }
   if (scored == 0)
     return InvalidInput("blocked cross-validation: no held-out sample lies inside the temperature range of the "
                         "other blocks (a monotonic sweep?); set cv_in_range_only = false (--cv-all)");
-  return std::sqrt(ss / static_cast<double>(scored));
+  return std::sqrt(ss[0] / static_cast<double>(scored));
 }
 
 long CuckooBudget(const CuckooSearchOptions& o) {
@@ -76,14 +130,14 @@ long CuckooBudget(const CuckooSearchOptions& o) {
   return o.max_evaluations ? std::min(full, *o.max_evaluations) : full;
 }
 
-Result<SvrChoice> SearchSvrCuckoo(const Columns& x, std::span<const double> y,
-                                  const DriftFitOptions& options) {
+Result<SvrChoice> SearchSvrCuckoo(const Columns& x, std::span<const double> y, const DriftFitOptions& options,
+                                  const CvPlan& plan, const MakeFitPredict& make) {
   const SvrSearchOptions& s = options.search;
   std::vector<SearchDimension> dims = {s.C, s.sigma};
   if (s.epsilon) dims.push_back(*s.epsilon);
   // Fitness: blocked CV RMSE (method.md section 4); a failed fit counts as +infinity.
   auto objective = [&](std::span<const double> p) {
-    auto r = BlockedCvRmse(x, y, options.cv_folds, options.cv_in_range_only, SvrFitPredict(PointOptions(options.svr, p)));
+    auto r = CrossValidate(x, y, plan, make(PointOptions(options.svr, p)));
     return r.ok() ? *r : std::numeric_limits<double>::infinity();
   };
   auto found = CuckooSearch(objective, dims, s.cuckoo);
@@ -99,8 +153,8 @@ Result<SvrChoice> SearchSvrCuckoo(const Columns& x, std::span<const double> y,
   return choice;
 }
 
-Result<SvrChoice> SearchSvrGrid(const Columns& x, std::span<const double> y,
-                                const DriftFitOptions& options) {
+Result<SvrChoice> SearchSvrGrid(const Columns& x, std::span<const double> y, const DriftFitOptions& options,
+                                const CvPlan& plan, const MakeFitPredict& make) {
   const SvrSearchOptions& s = options.search;
   const long budget = s.grid_budget.value_or(CuckooBudget(s.cuckoo));
   // Square grid over C x sigma, log-spaced (both dimensions are scale parameters).
@@ -117,7 +171,7 @@ Result<SvrChoice> SearchSvrGrid(const Columns& x, std::span<const double> y,
       points.push_back(p);
     }
   auto objective = [&](std::span<const double> p) {
-    auto r = BlockedCvRmse(x, y, options.cv_folds, options.cv_in_range_only, SvrFitPredict(PointOptions(options.svr, p)));
+    auto r = CrossValidate(x, y, plan, make(PointOptions(options.svr, p)));
     return r.ok() ? *r : std::numeric_limits<double>::infinity();
   };
   const int threads = s.cuckoo.num_threads.value_or(static_cast<int>(std::thread::hardware_concurrency()));

@@ -2,7 +2,6 @@
 #include "gyrocomp/drift/drift_model.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <sstream>
 
@@ -27,12 +26,6 @@ bool ValidDimension(const SearchDimension& d, const std::string& field, std::str
   return true;
 }
 
-double Rmse(std::span<const double> a, std::span<const double> b) {
-  double ss = 0.0;
-  for (std::size_t i = 0; i < a.size(); ++i) ss += (a[i] - b[i]) * (a[i] - b[i]);
-  return a.empty() ? 0.0 : std::sqrt(ss / static_cast<double>(a.size()));
-}
-
 }  // namespace
 
 std::optional<DriftModelKind> ParseDriftModelKind(std::string_view name) {
@@ -40,6 +33,8 @@ std::optional<DriftModelKind> ParseDriftModelKind(std::string_view name) {
   if (name == "svr") return DriftModelKind::kSvr;
   if (name == "grid-svr") return DriftModelKind::kGridSvr;
   if (name == "cs-svr") return DriftModelKind::kCsSvr;
+  if (name == "hybrid") return DriftModelKind::kHybrid;
+  if (name == "auto") return DriftModelKind::kAuto;
   return std::nullopt;
 }
 
@@ -49,18 +44,49 @@ const char* DriftModelKindName(DriftModelKind kind) {
     case DriftModelKind::kSvr: return "svr";
     case DriftModelKind::kGridSvr: return "grid-svr";
     case DriftModelKind::kCsSvr: return "cs-svr";
+    case DriftModelKind::kHybrid: return "hybrid";
+    case DriftModelKind::kAuto: return "auto";
   }
   return "?";
 }
 
-std::optional<DriftInputSet> ParseDriftInputSet(std::string_view name) {
-  if (name == "temp") return DriftInputSet::kTemp;
-  if (name == "temp,dtemp") return DriftInputSet::kTempAndRate;
+std::optional<OutOfRangePolicy> ParseOutOfRangePolicy(std::string_view name) {
+  if (name == "extrapolate") return OutOfRangePolicy::kExtrapolate;
+  if (name == "clamp") return OutOfRangePolicy::kClamp;
   return std::nullopt;
 }
 
-const char* DriftInputSetName(DriftInputSet inputs) {
-  return inputs == DriftInputSet::kTemp ? "temp" : "temp,dtemp";
+const char* OutOfRangePolicyName(OutOfRangePolicy policy) {
+  return policy == OutOfRangePolicy::kClamp ? "clamp" : "extrapolate";
+}
+
+std::optional<DriftCvScheme> ParseDriftCvScheme(std::string_view name) {
+  if (name == "blocks") return DriftCvScheme::kBlocks;
+  if (name == "segments") return DriftCvScheme::kThermalSegments;
+  return std::nullopt;
+}
+
+const char* DriftCvSchemeName(DriftCvScheme scheme) {
+  return scheme == DriftCvScheme::kThermalSegments ? "segments" : "blocks";
+}
+
+bool DriftAutoOptions::IsValid(std::string* error) const {
+  if (search_generations < 1) {
+    if (error) *error = "DriftAutoOptions::search_generations = " + std::to_string(search_generations) + ": must be >= 1";
+    return false;
+  }
+  if (!(lag_tau_min_s > 0.0) || !(lag_tau_min_s < lag_tau_max_s) || !std::isfinite(lag_tau_max_s)) {
+    if (error)
+      *error = "DriftAutoOptions::lag_tau_min_s/lag_tau_max_s = " + Num(lag_tau_min_s) + "/" + Num(lag_tau_max_s) +
+               ": must satisfy 0 < min < max";
+    return false;
+  }
+  if (lag_tau_evaluations < 3) {
+    if (error)
+      *error = "DriftAutoOptions::lag_tau_evaluations = " + std::to_string(lag_tau_evaluations) + ": must be >= 3";
+    return false;
+  }
+  return true;
 }
 
 bool PolynomialOptions::IsValid(std::string* error) const {
@@ -88,8 +114,8 @@ bool SvrSearchOptions::IsValid(std::string* error) const {
 }
 
 bool DriftFitOptions::IsValid(std::string* error) const {
-  if (!rate.IsValid(error) || !polynomial.IsValid(error) || !svr.IsValid(error) ||
-      !search.IsValid(error))
+  if (!rate.IsValid(error) || !state.IsValid(error) || !auto_select.IsValid(error) ||
+      !polynomial.IsValid(error) || !svr.IsValid(error) || !search.IsValid(error))
     return false;
   if (train_period_s && (!(*train_period_s > 0.0) || !std::isfinite(*train_period_s))) {
     if (error) *error = "DriftFitOptions::train_period_s = " + Num(*train_period_s) + ": must be > 0";
@@ -115,13 +141,18 @@ std::string DriftFitSummary::BriefReport() const {
     << temp_max_c << "] C";
   if (C) s << ", C = " << *C << ", sigma = " << *sigma << ", epsilon = " << *epsilon
            << ", " << num_support << " SVs";
-  if (model == DriftModelKind::kPolynomial) {
+  if (model == DriftModelKind::kPolynomial || model == DriftModelKind::kHybrid) {
     s << ", degree " << degree;
-    if (inputs == DriftInputSet::kTempAndRate) s << " (+ dT/dt degree " << dtemp_degree << ")";
+    if (inputs != DriftInputSet::kTemp) s << " (+ state degree " << dtemp_degree << ")";
   }
-  s << "; blocked CV RMSE (" << cv_folds << " folds) = " << cv_rmse << ", train RMSE = " << train_rmse;
+  if (lag_tau_s) s << ", lag tau = " << *lag_tau_s << " s";
+  s << "; CV RMSE (" << DriftCvSchemeName(cv_scheme) << ", " << cv_folds << " folds";
+  if (cv_scheme == DriftCvScheme::kThermalSegments) s << " over " << cv_segments << " thermal segments";
+  s << ") = " << cv_rmse << ", train RMSE = " << train_rmse;
   if (evaluations > 0) s << ", " << evaluations << " parameter sets tried";
   s << ", " << fit_time_s << " s";
+  if (!selection_reason.empty()) s << "\n" << selection_reason;
+  if (!identifiability.empty()) s << "\n" << identifiability;
   return s.str();
 }
 
@@ -137,15 +168,15 @@ std::string TemperatureExcursion::Message() const {
 
 namespace drift_internal {
 
-Result<Columns> BuildFeatures(const DriftInputs& inputs, DriftInputSet set,
-                              const TemperatureRateOptions& rate) {
+Result<Columns> BuildFeatures(const DriftInputs& inputs, DriftInputSet set, const TemperatureRateOptions& rate,
+                              const ThermalStateOptions& state, bool causal) {
   if (inputs.temp_c.empty()) return InvalidInput("drift model: empty temperature record");
   for (std::size_t i = 0; i < inputs.temp_c.size(); ++i)
     if (!std::isfinite(inputs.temp_c[i]))
       return InvalidInput("drift model: non-finite temperature at sample " + std::to_string(i));
   Columns x = {std::vector<double>(inputs.temp_c.begin(), inputs.temp_c.end())};
-  if (set == DriftInputSet::kTempAndRate) {
-    auto r = TemperatureRate(inputs.temp_c, inputs.fs_hz, rate);
+  if (set != DriftInputSet::kTemp) {
+    auto r = ComputeThermalState(inputs.temp_c, inputs.fs_hz, set, rate, state, causal);
     if (!r.ok()) return r.error();
     x.push_back(std::move(*r));
   }
@@ -168,125 +199,35 @@ std::vector<double> BlockMeans(std::span<const double> x, std::size_t block) {
 
 using drift_internal::Columns;
 
-Result<DriftModel> FitDriftModel(const DriftInputs& inputs, std::span<const double> target,
-                                 const DriftFitOptions& options) {
-  const auto t0 = std::chrono::steady_clock::now();
-  std::string why;
-  if (!options.IsValid(&why)) return InvalidArgument(why);
-  if (!(inputs.fs_hz > 0.0) || !std::isfinite(inputs.fs_hz))
-    return InvalidArgument("FitDriftModel: fs_hz = " + Num(inputs.fs_hz) + ": must be > 0");
-  const std::size_t n = inputs.temp_c.size();
-  if (target.size() != n)
-    return InvalidInput("FitDriftModel: " + std::to_string(target.size()) + " target values for " +
-                        std::to_string(n) + " temperature samples");
-  for (std::size_t i = 0; i < n; ++i)
-    if (!std::isfinite(target[i]))
-      return InvalidInput("FitDriftModel: non-finite target at sample " + std::to_string(i));
-  auto features = drift_internal::BuildFeatures(inputs, options.inputs, options.rate);
-  if (!features.ok()) return features.error();
-  const Columns& x = *features;
-
-  DriftModel model;
-  model.kind = options.model;
-  model.inputs = options.inputs;
-  model.rate = options.rate;
-  DriftFitSummary& s = model.summary;
-  s.model = options.model;
-  s.inputs = options.inputs;
-  s.target_name = options.target_name;
-  s.num_samples = n;
-  s.fs_hz = inputs.fs_hz;
-  s.duration_s = static_cast<double>(n) / inputs.fs_hz;
-  s.cv_folds = options.cv_folds;
-  s.cv_in_range_only = options.cv_in_range_only;
-  const auto [tmin, tmax] = std::minmax_element(x[0].begin(), x[0].end());
-  s.temp_min_c = *tmin;
-  s.temp_max_c = *tmax;
-  if (x.size() > 1) {
-    const auto [rmin, rmax] = std::minmax_element(x[1].begin(), x[1].end());
-    s.dtemp_min_c_per_s = *rmin;
-    s.dtemp_max_c_per_s = *rmax;
-  }
-
-  // Decimated training copy: block means over train_period_s (the mean is the anti-alias filter;
-  // the drift varies over minutes to hours, far slower than the default 30 s).
-  const double period_s = options.train_period_s.value_or(
-      std::max(30.0, s.duration_s / static_cast<double>(options.max_train_samples)));
-  const std::size_t block = std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(period_s * inputs.fs_hz)));
-  Columns xd;
-  for (const auto& c : x) xd.push_back(drift_internal::BlockMeans(c, block));
-  const std::vector<double> yd = drift_internal::BlockMeans(target, block);
-  s.train_period_s = static_cast<double>(block) / inputs.fs_hz;
-  if (yd.size() < 2 * static_cast<std::size_t>(options.cv_folds))
-    return InvalidInput("FitDriftModel: the record gives " + std::to_string(yd.size()) +
-                        " training samples of " + Num(s.train_period_s) + " s; " +
-                        std::to_string(options.cv_folds) + "-fold blocked CV needs at least " +
-                        std::to_string(2 * options.cv_folds) + " (shorter train_period_s or a longer record)");
-
-  if (options.model == DriftModelKind::kPolynomial) {
-    // Fitted on every sample (cheap); scored by blocked CV on the decimated copy like the SVRs.
-    auto poly = drift_internal::FitPolynomial(x, target, options.polynomial);
-    if (!poly.ok()) return poly.error();
-    auto cv = drift_internal::BlockedCvRmse(
-        xd, yd, options.cv_folds, options.cv_in_range_only,
-        [&](const Columns& tx, std::span<const double> ty, const Columns& vx) -> Result<std::vector<double>> {
-          auto m = drift_internal::FitPolynomial(tx, ty, options.polynomial);
-          if (!m.ok()) return m.error();
-          return m->Predict(vx);
-        });
-    if (!cv.ok()) return cv.error();
-    s.cv_rmse = *cv;
-    s.degree = options.polynomial.degree;
-    s.dtemp_degree = x.size() > 1 ? options.polynomial.dtemp_degree : 0;
-    s.num_train = n;
-    model.model = std::move(*poly);
-  } else {
-    SvrOptions chosen = options.svr;
-    if (options.model == DriftModelKind::kSvr) {
-      auto cv = drift_internal::BlockedCvRmse(
-          xd, yd, options.cv_folds, options.cv_in_range_only,
-          [&](const Columns& tx, std::span<const double> ty, const Columns& vx) -> Result<std::vector<double>> {
-            auto m = FitSvr(tx, ty, chosen);
-            if (!m.ok()) return m.error();
-            return m->Predict(vx);
-          });
-      if (!cv.ok()) return cv.error();
-      s.cv_rmse = *cv;
-    } else {
-      auto choice = options.model == DriftModelKind::kCsSvr
-                        ? drift_internal::SearchSvrCuckoo(xd, yd, options)
-                        : drift_internal::SearchSvrGrid(xd, yd, options);
-      if (!choice.ok()) return choice.error();
-      chosen = choice->options;
-      s.cv_rmse = choice->cv_rmse;
-      s.evaluations = choice->evaluations;
-      s.generations = choice->generations;
-      s.best_cv_history = choice->history;
-    }
-    auto svr = FitSvr(xd, yd, chosen);
-    if (!svr.ok()) return svr.error();
-    s.num_train = yd.size();
-    s.C = chosen.C;
-    s.gamma = svr->gamma;
-    s.sigma = 1.0 / std::sqrt(2.0 * svr->gamma);  // Eq. (20)
-    s.epsilon = chosen.epsilon;
-    s.num_support = svr->num_support();
-    model.model = std::move(*svr);
-  }
-  if (options.model == DriftModelKind::kPolynomial) s.train_period_s = 1.0 / inputs.fs_hz;
-
-  auto fitted = model.Predict(inputs);
-  if (!fitted.ok()) return fitted.error();
-  s.train_rmse = Rmse(*fitted, target);
-  s.fit_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  return model;
+double DriftModel::EffectiveTemp(double temp_c) const {
+  if (out_of_range == OutOfRangePolicy::kClamp) return std::clamp(temp_c, summary.temp_min_c, summary.temp_max_c);
+  return temp_c;
 }
 
-Result<std::vector<double>> DriftModel::Predict(const DriftInputs& in) const {
-  auto features = drift_internal::BuildFeatures(in, inputs, rate);
+double DriftModel::PredictAt(double temp_c, double state) const {
+  const double t = EffectiveTemp(temp_c);
+  double f = 0.0;
+  if (structured) f += structured->PredictOne(t, state);
+  if (kernel) {
+    const double x[2] = {t, state};
+    f += kernel->PredictOne(std::span<const double>(x, kernel->num_inputs));
+  }
+  return f;
+}
+
+Result<std::vector<double>> DriftModel::Predict(const DriftInputs& in, bool causal) const {
+  auto features = drift_internal::BuildFeatures(in, inputs, rate, state, causal);
   if (!features.ok()) return features.error();
-  if (const auto* poly = std::get_if<PolynomialModel>(&model)) return poly->Predict(*features);
-  return std::get<SvrModel>(model).Predict(*features);
+  if (out_of_range == OutOfRangePolicy::kClamp)
+    for (double& t : (*features)[0]) t = EffectiveTemp(t);
+  // One part: its own batch prediction (bit-identical to version 1 for poly and SVR models).
+  if (structured && !kernel) return structured->Predict(*features);
+  if (kernel && !structured) return kernel->Predict(*features);
+  if (!structured) return InvalidArgument("drift model: no structured part and no kernel part");
+  std::vector<double> f = structured->Predict(*features);
+  const std::vector<double> k = kernel->Predict(*features);
+  for (std::size_t i = 0; i < f.size(); ++i) f[i] += k[i];
+  return f;
 }
 
 TemperatureExcursion DriftModel::CheckTemperatureRange(std::span<const double> temp_c) const {

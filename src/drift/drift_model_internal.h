@@ -2,6 +2,7 @@
 // Not installed; not part of the public API.
 #pragma once
 
+#include <cmath>
 #include <cstddef>
 #include <functional>
 #include <span>
@@ -13,10 +14,10 @@ namespace gyrocomp::drift_internal {
 
 using Columns = std::vector<std::vector<double>>;  // columns[j][i]
 
-// Model inputs at every sample: column 0 temperature (deg C), column 1 dT/dt (deg C/s) when the
-// input set includes it.
-Result<Columns> BuildFeatures(const DriftInputs& inputs, DriftInputSet set,
-                              const TemperatureRateOptions& rate);
+// Model inputs at every sample: column 0 temperature (deg C), column 1 the thermal state when the
+// input set includes one (thermal_state.h; the rate is the centred slope unless causal).
+Result<Columns> BuildFeatures(const DriftInputs& inputs, DriftInputSet set, const TemperatureRateOptions& rate,
+                              const ThermalStateOptions& state, bool causal);
 
 // Means of consecutive blocks of `block` samples (the last block may be shorter).
 std::vector<double> BlockMeans(std::span<const double> x, std::size_t block);
@@ -25,11 +26,33 @@ std::vector<double> BlockMeans(std::span<const double> x, std::size_t block);
 using FitPredict = std::function<Result<std::vector<double>>(
     const Columns& train_x, std::span<const double> train_y, const Columns& test_x)>;
 
-// Blocked cross-validation: `folds` contiguous blocks; each is predicted by a model fitted on the
-// others. Returns the RMSE over the held-out predictions (only those whose temperature, column 0,
-// lies within the training blocks' range when in_range_only; an error if none does).
-Result<double> BlockedCvRmse(const Columns& x, std::span<const double> y, int folds,
-                             bool in_range_only, const FitPredict& fit_predict);
+// How the (decimated) training copy is split for cross-validation: the fold of every sample.
+struct CvPlan {
+  std::vector<int> fold_of;     // 0 .. folds - 1, one per training sample
+  int folds = 0;
+  bool in_range_only = false;   // score a held-out sample only inside the training folds' T range
+  DriftCvScheme scheme = DriftCvScheme::kBlocks;
+  int segments = 0;             // kThermalSegments: segments found
+  // kThermalSegments: direction of each sample's segment (0 cooling, 1 holding, 2 heating). The
+  // score is then balanced: sqrt of the mean over the directions present of their held-out MSE,
+  // so the one heating leg of a cooling calibration weighs as much as all its cooling ramps (the
+  // next run may go either way). Empty: pooled RMSE over every scored sample.
+  std::vector<int> direction_of;
+};
+// `folds` contiguous blocks of (nearly) equal length: block k = [n k / folds, n (k+1) / folds).
+CvPlan BlockPlan(std::size_t n, int folds, bool in_range_only);
+// Ramps and holds from the (decimated) temperature rate: a sample is heating / cooling / holding
+// by the sign of its rate beyond `threshold_c_per_s`; runs shorter than `min_run` samples join
+// the previous one; segment j goes to fold j mod folds (fewer segments: one fold each). Falls
+// back to BlockPlan (all samples scored) when fewer than 2 segments are found.
+CvPlan SegmentPlan(std::span<const double> rate_c_per_s, int folds, double threshold_c_per_s);
+
+// Cross-validation: each fold is predicted by a model fitted on the other folds (training and
+// held-out rows keep their order). Returns the RMSE over the scored held-out predictions (an
+// error if none is scored).
+// fold_rmse (optional): the RMSE of each fold's scored held-out samples (pooled within the fold).
+Result<double> CrossValidate(const Columns& x, std::span<const double> y, const CvPlan& plan,
+                             const FitPredict& fit_predict, std::vector<double>* fold_rmse = nullptr);
 
 // Least squares polynomial (Eigen) on the standardised inputs.
 Result<PolynomialModel> FitPolynomial(const Columns& x, std::span<const double> y,
@@ -44,14 +67,55 @@ struct SvrChoice {
   std::vector<double> history;
 };
 
-// cs-svr: cuckoo search over (C, sigma[, epsilon]) minimising the blocked CV RMSE.
-Result<SvrChoice> SearchSvrCuckoo(const Columns& x, std::span<const double> y,
-                                  const DriftFitOptions& options);
+// The fit-and-predict one search point (SVR options with C, sigma[, epsilon] set) stands for:
+// a plain SVR (cs-svr, grid-svr) or the hybrid's polynomial + SVR on its residual.
+using MakeFitPredict = std::function<FitPredict(const SvrOptions&)>;
+FitPredict SvrFitPredict(const SvrOptions& o);
+
+// cs-svr: cuckoo search over (C, sigma[, epsilon]) minimising the CV RMSE.
+Result<SvrChoice> SearchSvrCuckoo(const Columns& x, std::span<const double> y, const DriftFitOptions& options,
+                                  const CvPlan& plan, const MakeFitPredict& make);
 // grid-svr: log-spaced square grid over (C, sigma) at the same budget.
-Result<SvrChoice> SearchSvrGrid(const Columns& x, std::span<const double> y,
-                                const DriftFitOptions& options);
+Result<SvrChoice> SearchSvrGrid(const Columns& x, std::span<const double> y, const DriftFitOptions& options,
+                                const CvPlan& plan, const MakeFitPredict& make);
+
+// Training data of one input set: full-rate features and target, their decimated copy, and the
+// decimated centred dT/dt the segment plan reads.
+struct FitData {
+  Columns x;                  // full rate: temperature [, state]
+  std::vector<double> y;
+  Columns xd;                 // block means over train_period_s
+  std::vector<double> yd;
+  std::vector<double> rate_d; // block means of the centred dT/dt, deg C / s
+  double dtemp_min_c_per_s = 0.0, dtemp_max_c_per_s = 0.0;  // its full-rate range
+  std::size_t block = 1;
+  double train_period_s = 0.0;
+};
+
+// |dT/dt| above which a sample is on a ramp (segment plan, identifiability), deg C / s: 0.06 C/min.
+inline constexpr double kSegmentRateThreshold = 1e-3;
+
+Status CheckFitArguments(const DriftInputs& inputs, std::span<const double> target, const DriftFitOptions& o);
+Result<FitData> PrepareFitData(const DriftInputs& inputs, std::span<const double> target, const DriftFitOptions& o);
+// The CV plan of o.cv_scheme (automatic: segments for hybrid and auto, blocks otherwise).
+CvPlan MakeCvPlan(const FitData& d, const DriftFitOptions& o, DriftModelKind kind);
+// One model of `kind` (not kAuto) with o.inputs and o.state as given.
+Result<DriftModel> FitPrepared(const FitData& d, const DriftInputs& inputs, DriftModelKind kind,
+                               const DriftFitOptions& o, const CvPlan& plan);
+// --model auto, and any model with the lag state whose tau is fitted (drift_auto.cc).
+Result<DriftModel> FitSelected(const DriftInputs& inputs, std::span<const double> target, const DriftFitOptions& o);
+// What the calibration run can identify: heating and cooling coverage (drift_auto.cc).
+std::string DescribeIdentifiability(const DriftInputs& inputs, const DriftFitOptions& o);
+// Whether both directions cover enough of the temperature range for the memory state.
+bool MemoryIdentifiable(const DriftInputs& inputs, const DriftFitOptions& o);
 
 // Evaluations the cuckoo search makes: num_nests * (1 + 2 * max_generations), capped.
 long CuckooBudget(const CuckooSearchOptions& o);
+
+inline double Rmse(std::span<const double> a, std::span<const double> b) {
+  double ss = 0.0;
+  for (std::size_t i = 0; i < a.size(); ++i) ss += (a[i] - b[i]) * (a[i] - b[i]);
+  return a.empty() ? 0.0 : std::sqrt(ss / static_cast<double>(a.size()));
+}
 
 }  // namespace gyrocomp::drift_internal

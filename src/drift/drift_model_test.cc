@@ -139,6 +139,7 @@ TEST(DriftModelSvr, CsSvrDeterministicAcrossThreads) {
   std::vector<double> y(temp.size());
   for (std::size_t i = 0; i < temp.size(); ++i) y[i] = 1e-3 * temp[i] + 1e-4 * std::sin(0.01 * i);
   DriftFitOptions o;
+  o.model = DriftModelKind::kCsSvr;
   o.max_train_samples = 120;
   o.search.cuckoo.num_nests = 6;
   o.search.cuckoo.max_generations = 3;
@@ -175,6 +176,8 @@ TEST(DriftModelFile, RoundTripPolynomialAndSvr) {
     EXPECT_EQ(*loaded->Predict({temp, fs_hz}), *m->Predict({temp, fs_hz}));
     EXPECT_EQ(loaded->summary.cv_rmse, m->summary.cv_rmse);
     EXPECT_EQ(loaded->summary.temp_min_c, m->summary.temp_min_c);
+    EXPECT_EQ(loaded->summary.fit_time_s, 0.0);  // timings are not in the file
+    loaded->summary.fit_time_s = m->summary.fit_time_s;
     EXPECT_EQ(loaded->summary.BriefReport(), m->summary.BriefReport());
     EXPECT_EQ(DriftModelToJson(*loaded), DriftModelToJson(*m));
   }
@@ -196,21 +199,38 @@ TEST(DriftModelFile, RefusesOtherSchemaVersionsAndBrokenFiles) {
   auto r = DriftModelFromJson(old.dump(), "m.json");
   ASSERT_FALSE(r.ok());
   EXPECT_EQ(r.error().kind, ErrorKind::kUnsupported);
+  EXPECT_EQ(r.error().message, "m.json: model file schema version 0, this gyrocomp reads versions 1 and 2");
+  nlohmann::json newer = good;
+  newer["schema_version"] = 3;
+  r = DriftModelFromJson(newer.dump(), "m.json");
+  ASSERT_FALSE(r.ok());
   EXPECT_EQ(r.error().message,
-            "m.json: model file schema version 0, this gyrocomp reads version 1 (an older file: refit the model)");
+            "m.json: model file schema version 3, this gyrocomp reads versions 1 and 2 (a newer file: update gyrocomp)");
 
   nlohmann::json missing = good;
-  missing["model"].erase("terms");
+  missing["axes"][0]["structured"].erase("terms");
   r = DriftModelFromJson(missing.dump(), "m.json");
   ASSERT_FALSE(r.ok());
   EXPECT_EQ(r.error().kind, ErrorKind::kInvalidInput);
-  EXPECT_EQ(r.error().message, "m.json: missing field 'model.terms'");
+  EXPECT_EQ(r.error().message, "m.json: axes[0]: missing field 'structured.terms'");
 
   nlohmann::json wrong = good;
-  wrong["training"]["temp_min_c"] = "cold";
+  wrong["axes"][0]["training"]["temp_min_c"] = "cold";
   r = DriftModelFromJson(wrong.dump(), "m.json");
   ASSERT_FALSE(r.ok());
-  EXPECT_EQ(r.error().message, "m.json: field 'training.temp_min_c' must be a finite number");
+  EXPECT_EQ(r.error().message, "m.json: axes[0]: field 'training.temp_min_c' must be a finite number");
+
+  nlohmann::json mismatch = good;
+  mismatch["axes"][0]["kind"] = "hybrid";
+  r = DriftModelFromJson(mismatch.dump(), "m.json");
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error().message, "m.json: axes[0]: fields 'structured' / 'svr' do not match kind \"hybrid\"");
+
+  nlohmann::json twice = good;
+  twice["axes"].push_back(good["axes"][0]);
+  r = DriftModelFromJson(twice.dump(), "m.json");
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error().message, "m.json: axes[1]: rate_col 'rate_dps' appears twice");
 
   r = DriftModelFromJson("{\"format\": \"something-else\"}", "m.json");
   ASSERT_FALSE(r.ok());

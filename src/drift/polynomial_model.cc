@@ -7,19 +7,19 @@
 
 namespace gyrocomp {
 
+double PolynomialModel::PredictOne(double temp_c, double state) const {
+  const double t = (temp_c - input_scaler.offset[0]) / input_scaler.scale[0];
+  const double r = input_scaler.offset.size() > 1 ? (state - input_scaler.offset[1]) / input_scaler.scale[1] : 0.0;
+  double f = 0.0;
+  for (const PolynomialTerm& term : terms)
+    f += term.coefficient * std::pow(t, term.temp_power) * std::pow(r, term.dtemp_power);
+  return f;
+}
+
 std::vector<double> PolynomialModel::Predict(const std::vector<std::vector<double>>& inputs) const {
   const std::size_t n = inputs.empty() ? 0 : inputs[0].size();
   std::vector<double> out(n, 0.0);
-  for (std::size_t i = 0; i < n; ++i) {
-    const double t = (inputs[0][i] - input_scaler.offset[0]) / input_scaler.scale[0];
-    const double r = inputs.size() > 1 && input_scaler.offset.size() > 1
-                         ? (inputs[1][i] - input_scaler.offset[1]) / input_scaler.scale[1]
-                         : 0.0;
-    double f = 0.0;
-    for (const PolynomialTerm& term : terms)
-      f += term.coefficient * std::pow(t, term.temp_power) * std::pow(r, term.dtemp_power);
-    out[i] = f;
-  }
+  for (std::size_t i = 0; i < n; ++i) out[i] = PredictOne(inputs[0][i], inputs.size() > 1 ? inputs[1][i] : 0.0);
   return out;
 }
 

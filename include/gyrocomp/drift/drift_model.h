@@ -1,16 +1,26 @@
 // Temperature-drift model (paper Section 3.4, comparison in 4.3.3; method.md section 4): drift as
-// a function of temperature [and its rate], fitted on a calibration run, saved as JSON, applied to
-// later records.
+// a function of temperature and one thermal state (thermal_state.h), fitted on a calibration run,
+// saved as JSON, applied to later records.
 //
 // Models:
-//   poly      least squares (Eigen) in standardised temperature, degree 1..5, plus powers of dT/dt
-//             when the inputs include it: what calibration engineers use today;
+//   poly      least squares (Eigen) in standardised temperature, degree 1..5, plus powers of the
+//             state when the inputs include one: what calibration engineers use today;
 //   svr       epsilon-SVR (svr.h) with the parameters given (LIBSVM defaults unless set);
 //   grid-svr  SVR with C and sigma chosen by a log-spaced grid at the cuckoo search's budget;
-//   cs-svr    SVR with C and sigma (optionally epsilon) chosen by cuckoo search (the paper).
-// Parameter choice minimises the blocked cross-validation RMSE: the (decimated) record is cut into
-// `cv_folds` contiguous blocks, each predicted by a model fitted on the others. Random folds would
-// leak: the drift is strongly autocorrelated, neighbours of a held-out sample would be in training.
+//   cs-svr    SVR with C and sigma (optionally epsilon) chosen by cuckoo search (the paper);
+//   hybrid    the polynomial (structured part) plus a cuckoo-searched SVR fitted to its residual.
+//             The SVR's intercept is folded into the polynomial's constant, so far from the
+//             training support (where an RBF kernel vanishes) the model is the polynomial alone:
+//             extrapolation falls back to the physics, inside the support the kernel learns what
+//             the polynomial cannot;
+//   auto      (fit option only) fits the candidates above with each thermal state and keeps the one
+//             with the lowest cross-validation score over left-out thermal segments.
+// Parameter choice minimises a blocked cross-validation RMSE. kBlocks (poly/svr/grid-svr/cs-svr
+// by default, the paper's pipeline): the (decimated) record is cut into `cv_folds` contiguous
+// blocks, each predicted by a model fitted on the others. kThermalSegments (hybrid and auto): the
+// temperature trace is cut into ramps and holds and each fold leaves out whole segments, so the
+// score includes the extrapolation a new run demands. Random folds would leak: the drift is
+// strongly autocorrelated.
 //
 // Decimation: the drift is slow (minutes to hours), so the SVR family is trained on block means
 // over `train_period_s` (the block mean is the anti-alias filter) and predicts at the full rate.
@@ -29,19 +39,33 @@
 #include "gyrocomp/core/status.h"
 #include "gyrocomp/drift/svr.h"
 #include "gyrocomp/drift/temperature_rate.h"
+#include "gyrocomp/drift/thermal_state.h"
 
 namespace gyrocomp {
 
-enum class DriftModelKind { kPolynomial, kSvr, kGridSvr, kCsSvr };
-// "poly" | "svr" | "grid-svr" | "cs-svr".
+// kAuto is a fit option only: a fitted model has one of the other kinds.
+enum class DriftModelKind { kPolynomial, kSvr, kGridSvr, kCsSvr, kHybrid, kAuto };
+// "poly" | "svr" | "grid-svr" | "cs-svr" | "hybrid" | "auto".
 std::optional<DriftModelKind> ParseDriftModelKind(std::string_view name);
 const char* DriftModelKindName(DriftModelKind kind);
 
-// Model inputs: temperature only (the paper), or temperature and dT/dt (helps with hysteresis).
-enum class DriftInputSet { kTemp, kTempAndRate };
-// "temp" | "temp,dtemp".
-std::optional<DriftInputSet> ParseDriftInputSet(std::string_view name);
-const char* DriftInputSetName(DriftInputSet inputs);
+// What a model does with a temperature outside the range it was fitted on. One policy for
+// `apply`, the exporters (src/export/) and the generated C:
+//   kExtrapolate  evaluate the model at the temperature as it is (the default, and what every
+//                 version-1 model file did); `apply` warns with the amounts;
+//   kClamp        clamp the temperature input to [temp_min_c, temp_max_c] of the fit before the
+//                 model function; the thermal state is computed from the unclamped temperature
+//                 and never clamped (its extrapolation is what the structured part is for).
+enum class OutOfRangePolicy { kExtrapolate, kClamp };
+// "extrapolate" | "clamp".
+std::optional<OutOfRangePolicy> ParseOutOfRangePolicy(std::string_view name);
+const char* OutOfRangePolicyName(OutOfRangePolicy policy);
+
+// How the cross-validation folds are made (see the top of this file).
+enum class DriftCvScheme { kBlocks, kThermalSegments };
+// "blocks" | "segments".
+std::optional<DriftCvScheme> ParseDriftCvScheme(std::string_view name);
+const char* DriftCvSchemeName(DriftCvScheme scheme);
 
 // What a model reads: a uniformly sampled temperature record. dT/dt, when the model uses it, is
 // computed from it with the model's own TemperatureRateOptions.
@@ -53,7 +77,8 @@ struct DriftInputs {
 struct PolynomialOptions {
   // Degree in temperature, 1..5.
   int degree = 3;
-  // Degree in dT/dt (used only with DriftInputSet::kTempAndRate), 1..3. No cross terms.
+  // Degree in the thermal state (dT/dt, lag excess or memory; used only when the inputs include
+  // one), 1..3. No cross terms.
   int dtemp_degree = 1;
   bool IsValid(std::string* error) const;
 };
@@ -83,13 +108,38 @@ struct SvrSearchOptions {
   bool IsValid(std::string* error) const;
 };
 
+// --model auto: what it tries and the budget of each searched candidate.
+struct DriftAutoOptions {
+  // Cuckoo-search generations of the cs-svr and hybrid candidates (nests as in
+  // SvrSearchOptions::cuckoo). 4: on the 14.25 h paper run the CV score is within 1% of 10
+  // generations' (docs/notes/issue-5.md), and auto stays within 60 s.
+  int search_generations = 4;
+  // Also try the cs-svr and hybrid candidates (the slow ones). Off: structured candidates only.
+  bool try_svr = true;
+  // 1-D search of the lag state's tau (golden section on log tau), s, and its evaluations.
+  double lag_tau_min_s = 30.0;
+  double lag_tau_max_s = 5400.0;
+  int lag_tau_evaluations = 12;
+  bool IsValid(std::string* error) const;
+};
+
 struct DriftFitOptions {
-  DriftModelKind model = DriftModelKind::kCsSvr;
+  DriftModelKind model = DriftModelKind::kAuto;
   DriftInputSet inputs = DriftInputSet::kTemp;
   TemperatureRateOptions rate;
+  // Parameters of the lag / memory states and of the causal rate (thermal_state.h).
+  ThermalStateOptions state;
+  // kTempAndLag: fit lag_tau_s by the 1-D search of DriftAutoOptions instead of using state.lag_tau_s.
+  bool fit_lag_tau = true;
+  OutOfRangePolicy out_of_range = OutOfRangePolicy::kExtrapolate;
+  // Cross-validation folds; automatic = kThermalSegments for hybrid and auto, kBlocks otherwise
+  // (the paper's pipeline keeps its scoring).
+  std::optional<DriftCvScheme> cv_scheme;
+  DriftAutoOptions auto_select;
   // SVR family: block-mean period of the training copy, seconds (> 0; <= 1/fs means no
-  // decimation). Automatic = the larger of 30 s and duration / max_train_samples: 85.5 s for the
-  // paper's 14.25 h run. Why that is safe: a block mean of P seconds passes periods longer than
+  // decimation). Automatic: no decimation when the record has at most max_train_samples samples,
+  // otherwise the larger of 30 s and duration / max_train_samples: 85.5 s for the paper's 14.25 h
+  // run. Why that is safe: a block mean of P seconds passes periods longer than
   // about 2P (-3 dB near 0.44/P Hz) and the drift follows the sensor temperature, which lags the
   // chamber by ~10 min and ramps over tens of minutes; why it is needed: LIBSVM's cost grows
   // roughly with the square of the samples (600 samples: ~20-40 ms per fit, 1500: ~100-200 ms,
@@ -98,8 +148,8 @@ struct DriftFitOptions {
   std::size_t max_train_samples = 600;
   // Contiguous blocks for the blocked cross-validation (>= 2).
   int cv_folds = 5;
-  // Score a held-out block only where its temperature lies inside the range of the blocks it
-  // was predicted from. A calibration run sweeps each temperature only once or twice, so the
+  // kBlocks: score a held-out block only where its temperature lies inside the range of the
+  // blocks it was predicted from (kThermalSegments scores every held-out sample). A calibration run sweeps each temperature only once or twice, so the
   // first and last blocks often lie outside the others' range: scoring them measures
   // extrapolation, and the search then prefers over-smoothed models (measured in
   // docs/notes/issue-5.md). `apply` warns whenever a model is used outside its range.
@@ -116,15 +166,26 @@ struct DriftFitOptions {
 
 struct PolynomialTerm {
   int temp_power = 0;   // of the standardised temperature
-  int dtemp_power = 0;  // of the standardised dT/dt
+  int dtemp_power = 0;  // of the standardised state (dT/dt, lag excess or memory)
   double coefficient = 0.0;  // target units
 };
 
 struct PolynomialModel {
   AffineScaler input_scaler;          // (temp_c[, dtemp_c_per_s]) -> standardised
   std::vector<PolynomialTerm> terms;  // sum of coefficient * t^temp_power * r^dtemp_power
-  // inputs[j][i] raw (column 0 temperature, column 1 dT/dt if used).
+  // inputs[j][i] raw (column 0 temperature, column 1 the state if used).
   std::vector<double> Predict(const std::vector<std::vector<double>>& inputs) const;
+  // At one raw (temperature, state) pair; the state is ignored when the model has no state.
+  double PredictOne(double temp_c, double state) const;
+};
+
+// One candidate that --model auto scored.
+struct DriftCandidateScore {
+  std::string name;        // e.g. "poly(temp,lag tau=812 s)"
+  DriftModelKind kind = DriftModelKind::kPolynomial;
+  DriftInputSet inputs = DriftInputSet::kTemp;
+  double cv_rmse = 0.0;    // on the auto's CV scheme, target units; +inf when the fit failed
+  std::string note;        // why it was skipped / failed, "" otherwise
 };
 
 // What the fit did: the numbers the CLI, the report and the model file show.
@@ -151,6 +212,18 @@ struct DriftFitSummary {
   long evaluations = 0;             // parameter sets tried (each = cv_folds + ... SVR fits)
   int generations = 0;              // cuckoo search
   std::vector<double> best_cv_history;  // cs-svr: best CV RMSE after each generation
+  DriftCvScheme cv_scheme = DriftCvScheme::kBlocks;
+  int cv_segments = 0;              // thermal segments found (kThermalSegments)
+  // State range seen in the fit (lag: deg C, memory: 1); the dtemp_* fields for the rate.
+  double state_min = 0.0, state_max = 0.0;
+  std::optional<double> lag_tau_s;  // temp,lag: the tau used (fitted or given)
+  // auto: every candidate scored, and why the chosen one won.
+  std::vector<DriftCandidateScore> candidates;
+  std::string selection_reason;
+  // What this calibration run can identify (heating and cooling coverage), for the fit summary.
+  std::string identifiability;
+  // Wall time of the fit, s. Not written to the model file (two fits of the same data give
+  // byte-identical files); reported in fit --json.
   double fit_time_s = 0.0;
   std::string BriefReport() const;
 };
@@ -165,16 +238,50 @@ struct TemperatureExcursion {
 };
 
 struct DriftModel {
-  DriftModelKind kind = DriftModelKind::kPolynomial;
+  DriftModelKind kind = DriftModelKind::kPolynomial;  // never kAuto
   DriftInputSet inputs = DriftInputSet::kTemp;
-  TemperatureRateOptions rate;
-  std::variant<PolynomialModel, SvrModel> model;
+  TemperatureRateOptions rate;        // batch dT/dt (kTempAndRate)
+  ThermalStateOptions state;          // causal rate, lag and memory parameters
+  OutOfRangePolicy out_of_range = OutOfRangePolicy::kExtrapolate;
+  // The two parts; the prediction is their sum (each absent part contributes 0):
+  //   poly: structured only; svr / grid-svr / cs-svr: kernel only; hybrid: both, with the
+  //   kernel's intercept and target offset folded into the structured constant (both 0 here).
+  std::optional<PolynomialModel> structured;
+  std::optional<SvrModel> kernel;
+  // Which rate column this model compensates and the unit of its output (model file v2).
+  std::string rate_col = "rate_dps";
+  std::string unit = "deg/s";
   DriftFitSummary summary;
 
-  // Predicted drift (target units, deg/s for a rate) at every sample. Errors: empty record, or
-  // fs_hz <= 0 / fewer than 2 samples when dT/dt is needed (kInvalidArgument).
-  Result<std::vector<double>> Predict(const DriftInputs& inputs) const;
+  // ---- evaluator accessors (exporters, generated C) ----
+  // The model function at one temperature and state value (after the out-of-range policy).
+  double PredictAt(double temp_c, double state) const;
+  // Temperature range of the fit and the input the model function sees under `out_of_range`.
+  double temp_min_c() const { return summary.temp_min_c; }
+  double temp_max_c() const { return summary.temp_max_c; }
+  double EffectiveTemp(double temp_c) const;
+
+  // Predicted drift (target units, deg/s for a rate) at every sample. causal = false: the rate
+  // state is the centred slope (apply's default); causal = true: every state by its
+  // one-sample update (DriftEvaluator, what firmware does). Lag and memory are causal either
+  // way. Errors: empty record, or fs_hz <= 0 / fewer than 2 samples when a state is needed.
+  Result<std::vector<double>> Predict(const DriftInputs& inputs, bool causal = false) const;
   TemperatureExcursion CheckTemperatureRange(std::span<const double> temp_c) const;
+};
+
+// Causal evaluation, one sample at a time: the reference for firmware and generated C, and what
+// DriftModel::Predict(..., causal = true) runs. Holds a reference to the model.
+class DriftEvaluator {
+ public:
+  explicit DriftEvaluator(const DriftModel& model)
+      : model_(model), state_(model.inputs, model.state) {}
+  // Predicted drift after a sample taken dt_s after the previous one (dt_s ignored for the first).
+  double Step(double dt_s, double temp_c) { return model_.PredictAt(temp_c, state_.Step(dt_s, temp_c)); }
+  void Reset() { state_.Reset(); }
+
+ private:
+  const DriftModel& model_;
+  ThermalStateEvaluator state_;
 };
 
 // Fits a drift model of `target` (one value per sample of inputs.temp_c). Errors: length
@@ -183,17 +290,38 @@ Result<DriftModel> FitDriftModel(const DriftInputs& inputs, std::span<const doub
                                  const DriftFitOptions& options);
 
 // ---- model file (JSON) ---------------------------------------------------------------------
-// {"format": "gyrocomp-drift-model", "schema_version": 1, "kind", "inputs": [...], "units",
-//  "temperature_rate", "scaler", "model": {support vectors + coefficients | polynomial terms},
-//  "training": {parameters chosen, CV error, temperature range, data used}}
-inline constexpr int kDriftModelSchemaVersion = 1;
+// Version 2 (written): {"format": "gyrocomp-drift-model", "schema_version": 2,
+//   "axes": [ one entry per compensated rate column:
+//     {"rate_col", "unit", "target", "kind", "inputs": ["temp_c"(, state column)],
+//      "thermal_state": {type and parameters, with the update equations},
+//      "out_of_range": {"policy", "temp_min_c", "temp_max_c"},
+//      "structured": null | {"input_offset", "input_scale", "terms": [...]},
+//      "svr": null | {"input_offset", "input_scale", "target_offset", "target_scale", "gamma",
+//                     "intercept", "coefficients", "support_vectors"},
+//      "training": {parameters chosen, CV scores, candidates, ranges; no timings}} ]}
+// Reproducible: the same inputs and options give byte-identical files (no timings, shortest
+// round-trip doubles). Version 1 (gyrocomp before issue 11: one model at the top level, "kind",
+// "scaler", "model", "training") is still read, and predicts bit-identically.
+inline constexpr int kDriftModelSchemaVersion = 2;
 
-std::string DriftModelToJson(const DriftModel& model);
-// `source` names the file in messages. Another format, another schema version (older or newer),
-// or a missing / mistyped field -> error (kUnsupported for the version, kInvalidInput otherwise),
-// never a misread model.
+// Several axes in one file (fit --rate-col gx,gy,gz). Each axis names its rate column.
+struct DriftModelSet {
+  std::vector<DriftModel> axes;
+  // The model for `rate_col`, or nullptr.
+  const DriftModel* Find(std::string_view rate_col) const;
+};
+
+std::string DriftModelSetToJson(const DriftModelSet& models);
+std::string DriftModelToJson(const DriftModel& model);  // a set of one axis
+// `source` names the file in messages. Another format, an unknown schema version, or a missing /
+// mistyped field -> error (kUnsupported for the version, kInvalidInput otherwise), never a
+// misread model.
+Result<DriftModelSet> DriftModelSetFromJson(std::string_view text, const std::string& source);
+// One model: the file's only axis (an error naming the axes when it has several).
 Result<DriftModel> DriftModelFromJson(std::string_view text, const std::string& source);
-Status SaveDriftModel(const DriftModel& model, const std::string& path);  // atomic
+Status SaveDriftModelSet(const DriftModelSet& models, const std::string& path);  // atomic
+Status SaveDriftModel(const DriftModel& model, const std::string& path);          // atomic
+Result<DriftModelSet> LoadDriftModelSet(const std::string& path);
 Result<DriftModel> LoadDriftModel(const std::string& path);
 
 }  // namespace gyrocomp

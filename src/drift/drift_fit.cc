@@ -1,0 +1,227 @@
+// Fitting one drift model of a given kind and inputs (FitDriftModel; --model auto is in
+// drift_auto.cc): training data, cross-validation plan, structured / kernel / hybrid fits.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+#include "drift_model_internal.h"
+
+namespace gyrocomp {
+namespace drift_internal {
+namespace {
+
+std::string Num(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+// Range of a column.
+void MinMax(const std::vector<double>& c, double* lo, double* hi) {
+  const auto [a, b] = std::minmax_element(c.begin(), c.end());
+  *lo = *a;
+  *hi = *b;
+}
+
+FitPredict PolyFitPredict(const PolynomialOptions& p) {
+  return [p](const Columns& tx, std::span<const double> ty, const Columns& vx) -> Result<std::vector<double>> {
+    auto m = FitPolynomial(tx, ty, p);
+    if (!m.ok()) return m.error();
+    return m->Predict(vx);
+  };
+}
+
+// Hybrid fold: the polynomial on the training rows, the SVR on its residual there.
+MakeFitPredict HybridFitPredict(const PolynomialOptions& p) {
+  return [p](const SvrOptions& o) -> FitPredict {
+    return [p, o](const Columns& tx, std::span<const double> ty, const Columns& vx) -> Result<std::vector<double>> {
+      auto poly = FitPolynomial(tx, ty, p);
+      if (!poly.ok()) return poly.error();
+      std::vector<double> residual = poly->Predict(tx);
+      for (std::size_t i = 0; i < residual.size(); ++i) residual[i] = ty[i] - residual[i];
+      auto svr = FitSvr(tx, residual, o);
+      if (!svr.ok()) return svr.error();
+      std::vector<double> f = poly->Predict(vx);
+      const std::vector<double> k = svr->Predict(vx);
+      for (std::size_t i = 0; i < f.size(); ++i) f[i] += k[i];
+      return f;
+    };
+  };
+}
+
+// Folds the kernel's constant (target offset + scale * intercept) into the polynomial's constant
+// term, so the kernel part tends to 0 away from its support vectors.
+void FoldIntercept(PolynomialModel* poly, SvrModel* svr) {
+  const double constant = svr->target_offset + svr->target_scale * svr->intercept;
+  for (PolynomialTerm& t : poly->terms)
+    if (t.temp_power == 0 && t.dtemp_power == 0) t.coefficient += constant;
+  svr->target_offset = 0.0;
+  svr->intercept = 0.0;
+}
+
+// The SVR part: parameters given (svr) or searched (cs-svr, grid-svr, hybrid), then the final fit
+// on the decimated copy of `yd`.
+Status FitKernel(const FitData& d, std::span<const double> yd, DriftModelKind kind, const DriftFitOptions& o,
+                 const CvPlan& plan, DriftModel* model) {
+  DriftFitSummary& s = model->summary;
+  SvrOptions chosen = o.svr;
+  if (kind == DriftModelKind::kSvr) {
+    auto cv = CrossValidate(d.xd, yd, plan, SvrFitPredict(chosen));
+    if (!cv.ok()) return cv.error();
+    s.cv_rmse = *cv;
+  } else {
+    const MakeFitPredict make = kind == DriftModelKind::kHybrid ? HybridFitPredict(o.polynomial) : SvrFitPredict;
+    // The hybrid's search scores the whole model on the original target.
+    auto choice = kind == DriftModelKind::kGridSvr ? SearchSvrGrid(d.xd, d.yd, o, plan, make)
+                                                   : SearchSvrCuckoo(d.xd, d.yd, o, plan, make);
+    if (!choice.ok()) return choice.error();
+    chosen = choice->options;
+    s.cv_rmse = choice->cv_rmse;
+    s.evaluations = choice->evaluations;
+    s.generations = choice->generations;
+    s.best_cv_history = choice->history;
+  }
+  auto svr = FitSvr(d.xd, yd, chosen);
+  if (!svr.ok()) return svr.error();
+  s.num_train = yd.size();
+  s.C = chosen.C;
+  s.gamma = svr->gamma;
+  s.sigma = 1.0 / std::sqrt(2.0 * svr->gamma);  // Eq. (20)
+  s.epsilon = chosen.epsilon;
+  s.num_support = svr->num_support();
+  model->kernel = std::move(*svr);
+  return Status::Ok();
+}
+
+}  // namespace
+
+Result<FitData> PrepareFitData(const DriftInputs& inputs, std::span<const double> target, const DriftFitOptions& o) {
+  FitData d;
+  auto features = BuildFeatures(inputs, o.inputs, o.rate, o.state, /*causal=*/false);
+  if (!features.ok()) return features.error();
+  d.x = std::move(*features);
+  d.y.assign(target.begin(), target.end());
+  const std::size_t n = d.y.size();
+  const double duration_s = static_cast<double>(n) / inputs.fs_hz;
+  // Decimated training copy: block means over train_period_s (the mean is the anti-alias filter;
+  // the drift varies over minutes to hours). A record that fits under the cap is never averaged.
+  const double period_s = o.train_period_s.value_or(
+      n <= o.max_train_samples ? 1.0 / inputs.fs_hz
+                               : std::max(30.0, duration_s / static_cast<double>(o.max_train_samples)));
+  d.block = std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(period_s * inputs.fs_hz)));
+  for (const auto& c : d.x) d.xd.push_back(BlockMeans(c, d.block));
+  d.yd = BlockMeans(d.y, d.block);
+  d.train_period_s = static_cast<double>(d.block) / inputs.fs_hz;
+  if (d.yd.size() < 2 * static_cast<std::size_t>(o.cv_folds))
+    return InvalidInput("FitDriftModel: the record gives " + std::to_string(d.yd.size()) + " training samples of " +
+                        Num(d.train_period_s) + " s; " + std::to_string(o.cv_folds) +
+                        "-fold blocked CV needs at least " + std::to_string(2 * o.cv_folds) +
+                        " (shorter train_period_s or a longer record)");
+  // The segment plan reads the centred dT/dt whatever the model's state.
+  auto rate = TemperatureRate(inputs.temp_c, inputs.fs_hz, o.rate);
+  if (!rate.ok()) return rate.error();
+  d.rate_d = BlockMeans(*rate, d.block);
+  MinMax(*rate, &d.dtemp_min_c_per_s, &d.dtemp_max_c_per_s);
+  return d;
+}
+
+CvPlan MakeCvPlan(const FitData& d, const DriftFitOptions& o, DriftModelKind kind) {
+  const DriftCvScheme scheme = o.cv_scheme.value_or(
+      kind == DriftModelKind::kHybrid || kind == DriftModelKind::kAuto ? DriftCvScheme::kThermalSegments
+                                                                       : DriftCvScheme::kBlocks);
+  if (scheme == DriftCvScheme::kBlocks) return BlockPlan(d.yd.size(), o.cv_folds, o.cv_in_range_only);
+  return SegmentPlan(d.rate_d, o.cv_folds, kSegmentRateThreshold);
+}
+
+Result<DriftModel> FitPrepared(const FitData& d, const DriftInputs& inputs, DriftModelKind kind,
+                               const DriftFitOptions& o, const CvPlan& plan) {
+  DriftModel model;
+  model.kind = kind;
+  model.inputs = o.inputs;
+  model.rate = o.rate;
+  model.state = o.state;
+  model.out_of_range = o.out_of_range;
+  DriftFitSummary& s = model.summary;
+  s.model = kind;
+  s.inputs = o.inputs;
+  s.target_name = o.target_name;
+  s.num_samples = d.y.size();
+  s.fs_hz = inputs.fs_hz;
+  s.duration_s = static_cast<double>(d.y.size()) / inputs.fs_hz;
+  s.cv_folds = plan.folds;
+  s.cv_scheme = plan.scheme;
+  s.cv_segments = plan.segments;
+  s.cv_in_range_only = plan.in_range_only;
+  s.train_period_s = d.train_period_s;
+  MinMax(d.x[0], &s.temp_min_c, &s.temp_max_c);
+  s.dtemp_min_c_per_s = d.dtemp_min_c_per_s;  // centred dT/dt, whatever the state
+  s.dtemp_max_c_per_s = d.dtemp_max_c_per_s;
+  if (o.inputs != DriftInputSet::kTemp) MinMax(d.x[1], &s.state_min, &s.state_max);
+  if (o.inputs == DriftInputSet::kTempAndLag) s.lag_tau_s = o.state.lag_tau_s;
+
+  if (kind == DriftModelKind::kPolynomial || kind == DriftModelKind::kHybrid) {
+    // Fitted on every sample (cheap).
+    auto poly = FitPolynomial(d.x, d.y, o.polynomial);
+    if (!poly.ok()) return poly.error();
+    s.degree = o.polynomial.degree;
+    s.dtemp_degree = d.x.size() > 1 ? o.polynomial.dtemp_degree : 0;
+    model.structured = std::move(*poly);
+  }
+  if (kind == DriftModelKind::kPolynomial) {
+    auto cv = CrossValidate(d.xd, d.yd, plan, PolyFitPredict(o.polynomial));
+    if (!cv.ok()) return cv.error();
+    s.cv_rmse = *cv;
+    s.num_train = d.y.size();
+    s.train_period_s = 1.0 / inputs.fs_hz;
+  } else {
+    std::vector<double> yd = d.yd;  // hybrid: the residual of the structured part
+    if (kind == DriftModelKind::kHybrid) {
+      const std::vector<double> p = model.structured->Predict(d.xd);
+      for (std::size_t i = 0; i < yd.size(); ++i) yd[i] -= p[i];
+    }
+    if (Status st = FitKernel(d, yd, kind, o, plan, &model); !st.ok()) return st.error();
+    if (kind == DriftModelKind::kHybrid) FoldIntercept(&*model.structured, &*model.kernel);
+  }
+  auto fitted = model.Predict(inputs);
+  if (!fitted.ok()) return fitted.error();
+  s.train_rmse = Rmse(*fitted, d.y);
+  return model;
+}
+
+Status CheckFitArguments(const DriftInputs& inputs, std::span<const double> target, const DriftFitOptions& o) {
+  std::string why;
+  if (!o.IsValid(&why)) return InvalidArgument(why);
+  if (!(inputs.fs_hz > 0.0) || !std::isfinite(inputs.fs_hz))
+    return InvalidArgument("FitDriftModel: fs_hz = " + Num(inputs.fs_hz) + ": must be > 0");
+  if (target.size() != inputs.temp_c.size())
+    return InvalidInput("FitDriftModel: " + std::to_string(target.size()) + " target values for " +
+                        std::to_string(inputs.temp_c.size()) + " temperature samples");
+  for (std::size_t i = 0; i < target.size(); ++i)
+    if (!std::isfinite(target[i]))
+      return InvalidInput("FitDriftModel: non-finite target at sample " + std::to_string(i));
+  return Status::Ok();
+}
+
+}  // namespace drift_internal
+
+Result<DriftModel> FitDriftModel(const DriftInputs& inputs, std::span<const double> target,
+                                 const DriftFitOptions& options) {
+  const auto t0 = std::chrono::steady_clock::now();
+  if (Status st = drift_internal::CheckFitArguments(inputs, target, options); !st.ok()) return st.error();
+  Result<DriftModel> model = Error{};
+  if (options.model == DriftModelKind::kAuto || (options.inputs == DriftInputSet::kTempAndLag && options.fit_lag_tau)) {
+    model = drift_internal::FitSelected(inputs, target, options);
+  } else {
+    auto data = drift_internal::PrepareFitData(inputs, target, options);
+    if (!data.ok()) return data.error();
+    const drift_internal::CvPlan plan = drift_internal::MakeCvPlan(*data, options, options.model);
+    model = drift_internal::FitPrepared(*data, inputs, options.model, options, plan);
+  }
+  if (!model.ok()) return model.error();
+  model->summary.identifiability = drift_internal::DescribeIdentifiability(inputs, options);
+  model->summary.fit_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return model;
+}
+
+}  // namespace gyrocomp

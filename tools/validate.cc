@@ -1,0 +1,88 @@
+// gyrocomp validate: a saved drift model on a run it was not fitted on (docs/drift_model.md,
+// drift_validate.h): residual drift, what the model missed, ADEV at long taus, errors against
+// the truth when present, and how far the run leaves the calibration's conditions.
+#include <iostream>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "commands.h"
+#include "gyrocomp/drift/drift_model.h"
+#include "gyrocomp/drift/drift_validate.h"
+#include "result_json.h"
+
+namespace gyrocomp::cli {
+namespace {
+
+constexpr const char* kName = "validate";
+
+struct ValidateArgs {
+  LogOptions log;
+  std::string model_path;
+  std::string json_path;
+  std::string truth_col = "true_drift_dps";
+  DriftValidationOptions options;
+};
+
+int Run(const ValidateArgs& a) {
+  Result<DriftModelSet> set = LoadDriftModelSet(a.model_path);
+  if (!set.ok()) return ReportError(kName, set.error());
+  Result<LogSpec> spec = ToLogSpec(a.log);
+  if (!spec.ok()) return ReportError(kName, spec.error());
+  spec->temp_required = true;
+  Result<LoadedLog> loaded = LoadLog(kName, a.log, *spec);
+  if (!loaded.ok()) return ReportError(kName, loaded.error());
+  const GyroLog& log = loaded->log;
+  const int truth = loaded->table.Find(a.truth_col);
+  nlohmann::json axes = nlohmann::json::array();
+  for (std::size_t k = 0; k < log.axis_names.size(); ++k) {
+    const DriftModel* model = set->Find(log.axis_names[k]);
+    if (!model && set->axes.size() == 1) model = &set->axes[0];
+    if (!model)
+      return ReportError(kName, InvalidInput(a.model_path + ": no model for rate column '" + log.axis_names[k] + "'"));
+    std::vector<double> none;
+    auto v = ValidateDriftModel(*model, log.rate_dps[k], log.temp_c, log.fs_hz,
+                                truth >= 0 ? loaded->table.columns[truth] : none, a.options);
+    if (!v.ok()) return ReportError(kName, v.error());
+    if (v->excursion.outside && a.json_path != "-") Note(kName, "warning: " + v->excursion.Message());
+    if (a.json_path != "-") std::cout << log.axis_names[k] << ": " << v->BriefReport() << "\n";
+    nlohmann::json j = DriftValidationJson(*v);
+    j["rate_col"] = log.axis_names[k];
+    j["model"] = DriftSummaryJson(model->summary);
+    axes.push_back(j);
+  }
+  if (!a.json_path.empty()) {
+    nlohmann::json j = axes[0];
+    j["model_file"] = a.model_path;
+    j["input"] = loaded->table.source;
+    j["causal"] = a.options.causal;
+    j["axes"] = axes;
+    if (Status s = WriteJson(a.json_path, j); !s.ok()) return ReportError(kName, s.error());
+  }
+  return kExitOk;
+}
+
+Command Make(CLI::App& app) {
+  auto a = std::make_shared<ValidateArgs>();
+  CLI::App* sub = app.add_subcommand(kName, "Validate a saved drift model on another run (residual drift, what it missed)");
+  sub->footer(
+      "Reports, per axis: residual drift RMS (the compensated rate in --block means, about its mean)\n"
+      "beside the raw rate's; the residual's least-squares slopes against T and dT/dt (what the\n"
+      "model missed); ADEV of compensated and raw rates at tau >= --min-tau; RMSE against the truth\n"
+      "column when present; the share of samples with T and dT/dt outside the fitted ranges.\n"
+      "JSON keys: docs/cli.md (validate).\n"
+      "Example: gyrocomp validate -m model.json -i other_run.csv --json validate.json");
+  sub->add_option("-m,--model", a->model_path, "Model file written by gyrocomp fit")->required();
+  AddLogOptions(sub, &a->log);
+  sub->add_option("--json", a->json_path, "Write the validation as JSON to FILE ('-' = stdout)");
+  sub->add_option("--truth-col", a->truth_col, "Column with the true drift, scored when present")->capture_default_str();
+  sub->add_option("--block", a->options.block_s, "Block length of the residual drift, s")->capture_default_str();
+  sub->add_option("--min-tau", a->options.min_tau_s, "Smallest tau of the ADEV comparison, s")->capture_default_str();
+  sub->add_flag("--causal", a->options.causal, "Evaluate the model one sample at a time (as firmware)");
+  return {sub, [a] { return Run(*a); }};
+}
+
+const CommandRegistrar kReg(kName, 66, &Make);
+
+}  // namespace
+}  // namespace gyrocomp::cli

@@ -21,6 +21,7 @@ packages=(
   libfftw3-dev libeigen3-dev libsvm-dev zlib1g-dev
   libcli11-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  python3-dev python3-numpy python3-pytest pybind11-dev python3-distributed
 )
 command -v npm >/dev/null 2>&1 || packages+=(nodejs npm)
 if [ "$want_browser" = 1 ]; then packages+=(chromium); fi

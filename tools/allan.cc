@@ -6,6 +6,8 @@
 
 #include "commands.h"
 #include "gyrocomp/allan/allan.h"
+#include "gyrocomp/allan/deviations.h"
+#include "gyrocomp/allan/kalibr.h"
 #include "gyrocomp/io/io.h"
 #include "result_json.h"
 
@@ -19,7 +21,18 @@ struct AllanArgs {
   std::string taus = "octave";
   std::string json_path;
   std::string csv_path;
+  std::string deviation = "adev";
+  std::string kalibr_yaml_path;
+  std::string rostopic = KalibrYamlOptions{}.rostopic;
+  std::string accel_cols;  // comma-separated, m/s^2 (only for --kalibr-yaml)
   AllanOptions allan;  // library defaults
+};
+
+// Everything `allan` computed, per axis.
+struct AllanOutputs {
+  std::vector<AllanResult> results;
+  std::vector<DeviationCurve> deviations;  // one per axis when --deviation is not adev
+  std::vector<AllanResult> accel;          // --accel-col axes
 };
 
 // The curve as CSV: tau_s, m, then per axis adev, error, interval, EDF, n (column names carry the
@@ -49,6 +62,101 @@ Table CurveTable(const std::vector<AllanResult>& results) {
   return t;
 }
 
+// The chosen deviation's curve as CSV: tau_s, m, then per axis <kind>_dps, error, interval, EDF, n.
+Table DeviationTable(const std::vector<AllanResult>& results, const std::vector<DeviationCurve>& devs) {
+  Table t;
+  const DeviationCurve& first = devs.front();
+  const std::string kind = DeviationKindName(first.kind);
+  t.names = {"tau_s", "m"};
+  t.columns.push_back(first.tau_s);
+  t.columns.emplace_back(first.m.begin(), first.m.end());
+  for (std::size_t a = 0; a < devs.size(); ++a) {
+    const std::string p = (devs.size() == 1 ? "" : results[a].axis + "_") + kind;
+    const DeviationCurve& d = devs[a];
+    for (auto [suffix, column] : {std::pair{"_dps", &d.dev_dps}, std::pair{"_error_dps", &d.error_dps},
+                                  std::pair{"_lo_dps", &d.lo_dps}, std::pair{"_hi_dps", &d.hi_dps},
+                                  std::pair{"_edf", &d.edf}}) {
+      t.names.push_back(p + suffix);
+      t.columns.push_back(*column);
+    }
+    t.names.push_back(p + "_n");
+    t.columns.emplace_back(d.n.begin(), d.n.end());
+  }
+  return t;
+}
+
+// The chosen deviation in an axis's JSON: <kind>_tau_s, <kind>_dps, its error and interval arrays.
+void AddDeviationJson(const DeviationCurve& d, nlohmann::json* j) {
+  const std::string k = DeviationKindName(d.kind);
+  (*j)["deviation"] = k;
+  (*j)[k + "_tau_s"] = d.tau_s;
+  (*j)[k + "_dps"] = d.dev_dps;
+  (*j)[k + "_error_dps"] = d.error_dps;
+  (*j)[k + "_lo_dps"] = d.lo_dps;
+  (*j)[k + "_hi_dps"] = d.hi_dps;
+  (*j)[k + "_edf"] = d.edf;
+  (*j)[k + "_n"] = d.n;
+  (*j)[k + "_method"] = d.method;
+  (*j)[k + "_edf_method"] = d.edf_method;
+  (*j)[k + "_seconds"] = d.seconds;
+}
+
+// Allan analyses of the rate columns, the chosen deviation and the accelerometer columns.
+Result<AllanOutputs> Analyse(const AllanArgs& a, const AllanOptions& options, DeviationKind kind,
+                             const LoadedLog& loaded) {
+  AllanOutputs out;
+  const GyroLog& log = loaded.log;
+  Result<std::vector<AllanResult>> results = ComputeAllan(log, options);
+  if (!results.ok()) return results.error();
+  if (results->empty()) return InvalidInput(log.source + ": no rate column to analyse");
+  out.results = std::move(*results);
+  if (kind != DeviationKind::kAdev) {
+    for (std::size_t i = 0; i < log.rate_dps.size(); ++i) {
+      Result<DeviationCurve> d = ComputeDeviation(log.rate_dps[i], log.fs_hz, kind, options);
+      if (!d.ok()) {
+        Error e = d.error();
+        e.message = log.source + ": column '" + out.results[i].axis + "': " + e.message;
+        return e;
+      }
+      out.deviations.push_back(std::move(*d));
+    }
+  }
+  if (!a.accel_cols.empty()) {
+    // Accelerometer columns (m/s^2), read as they are: the Allan arithmetic does not depend on the unit.
+    Result<LogSpec> spec = ToLogSpec(a.log);
+    if (!spec.ok()) return spec.error();
+    spec->rate_cols = SplitList(a.accel_cols);
+    spec->rate_unit = RateUnit::kDegPerSec;
+    spec->resample_hz.reset();
+    spec->min_samples = 3;
+    Result<GyroLog> accel_log = LoadGyroLog(loaded.table, *spec);
+    if (!accel_log.ok()) return accel_log.error();
+    Result<std::vector<AllanResult>> accel = ComputeAllan(*accel_log, options);
+    if (!accel.ok()) return accel.error();
+    out.accel = std::move(*accel);
+  }
+  return out;
+}
+
+// imu.yaml for Kalibr from the gyro axes (and the accelerometer axes when given).
+Result<std::string> KalibrYaml(const AllanArgs& a, const AllanOutputs& out, const GyroLog& log) {
+  std::vector<KalibrAxisNoise> gyro, accel;
+  for (const AllanResult& r : out.results) {
+    Result<KalibrAxisNoise> k = KalibrNoiseFromAllan(r, KalibrSensor::kGyroscope, a.allan.min_edf_for_terms);
+    if (!k.ok()) return Error{k.error().kind, log.source + ": " + k.error().message};
+    gyro.push_back(*k);
+  }
+  for (const AllanResult& r : out.accel) {
+    Result<KalibrAxisNoise> k = KalibrNoiseFromAllan(r, KalibrSensor::kAccelerometer, a.allan.min_edf_for_terms);
+    if (!k.ok()) return Error{k.error().kind, log.source + ": " + k.error().message};
+    accel.push_back(*k);
+  }
+  KalibrYamlOptions yo;
+  yo.rostopic = a.rostopic;
+  yo.source = log.source;
+  return KalibrImuYaml(gyro, accel, log.fs_hz, yo);
+}
+
 int Run(const AllanArgs& a) {
   int ppd = a.allan.points_per_decade;
   const std::optional<TauGrid> grid = ParseTauGrid(a.taus, &ppd);
@@ -62,37 +170,64 @@ int Run(const AllanArgs& a) {
   std::string why;
   if (!options.IsValid(&why)) return ReportError(kName, InvalidArgument(why));
 
+  const std::optional<DeviationKind> kind = ParseDeviationKind(a.deviation);
+  if (!kind) {
+    return ReportError(kName, InvalidArgument("--deviation " + a.deviation + ": must be adev, mdev, hdev, ohdev or totdev"));
+  }
+  if (!a.accel_cols.empty() && a.kalibr_yaml_path.empty()) {
+    return ReportError(kName, InvalidArgument("--accel-col: only used with --kalibr-yaml"));
+  }
+
   Result<LogSpec> spec = ToLogSpec(a.log);
   if (!spec.ok()) return ReportError(kName, spec.error());
   spec->min_samples = 3;  // one tau needs 3 samples
-  Result<GyroLog> log = ReadGyroLog(a.log.input, *spec);
-  if (!log.ok()) return ReportError(kName, log.error());
-  if (log->sampling.resampled) Note(kName, log->sampling.BriefReport());
-
-  Result<std::vector<AllanResult>> results = ComputeAllan(*log, options);
-  if (!results.ok()) return ReportError(kName, results.error());
-  if (results->empty()) return ReportError(kName, InvalidInput(log->source + ": no rate column to analyse"));
+  Result<LoadedLog> loaded = LoadLog(kName, a.log, *spec);
+  if (!loaded.ok()) return ReportError(kName, loaded.error());
+  const GyroLog& log = loaded->log;
+  Result<AllanOutputs> out = Analyse(a, options, *kind, *loaded);
+  if (!out.ok()) return ReportError(kName, out.error());
+  const std::vector<AllanResult>& results = out->results;
 
   nlohmann::json j;
-  if (results->size() == 1) {
-    j = AllanJson(results->front());
+  if (results.size() == 1) {
+    j = AllanJson(results.front());
+    if (!out->deviations.empty()) AddDeviationJson(out->deviations.front(), &j);
   } else {
-    j["fs_hz"] = log->fs_hz;
-    j["n_samples"] = log->num_samples();
+    j["fs_hz"] = log.fs_hz;
+    j["n_samples"] = log.num_samples();
     j["axes"] = nlohmann::json::object();
-    for (const AllanResult& r : *results) j["axes"][r.axis] = AllanJson(r);
+    for (std::size_t i = 0; i < results.size(); ++i) {
+      j["axes"][results[i].axis] = AllanJson(results[i]);
+      if (!out->deviations.empty()) AddDeviationJson(out->deviations[i], &j["axes"][results[i].axis]);
+    }
   }
-  j["input"] = log->source;
-  j["sampling"] = log->sampling.BriefReport();
+  j["input"] = log.source;
+  j["sampling"] = log.sampling.BriefReport();
+  std::string yaml;
+  if (!a.kalibr_yaml_path.empty()) {
+    Result<std::string> y = KalibrYaml(a, *out, log);
+    if (!y.ok()) return ReportError(kName, y.error());
+    yaml = std::move(*y);
+  }
 
   if (!a.csv_path.empty()) {
-    if (Status s = WriteCsv(a.csv_path, CurveTable(*results)); !s.ok()) return ReportError(kName, s.error());
+    const Table table = out->deviations.empty() ? CurveTable(results) : DeviationTable(results, out->deviations);
+    if (Status s = WriteCsv(a.csv_path, table); !s.ok()) return ReportError(kName, s.error());
+  }
+  if (!a.kalibr_yaml_path.empty()) {
+    if (Status s = WriteText(a.kalibr_yaml_path, yaml); !s.ok()) return ReportError(kName, s.error());
   }
   if (!a.json_path.empty()) {
     if (Status s = WriteJson(a.json_path, j); !s.ok()) return ReportError(kName, s.error());
   }
-  if (a.json_path != "-") {
-    for (const AllanResult& r : *results) std::cout << r.BriefReport() << "\n";
+  if (a.json_path != "-" && a.kalibr_yaml_path != "-") {
+    for (std::size_t i = 0; i < results.size(); ++i) {
+      std::cout << results[i].BriefReport() << "\n";
+      if (!out->deviations.empty()) {
+        const DeviationCurve& d = out->deviations[i];
+        std::cout << "  " << DeviationKindName(d.kind) << ": " << d.size() << " taus in " << d.seconds << " s\n";
+      }
+    }
   }
   return kExitOk;
 }
@@ -110,7 +245,13 @@ Command Make(CLI::App& app) {
       "    all: every m (O(N^2), at most 100000 samples); N: N log-spaced taus per decade.\n"
       "    Taus with fewer than 2 terms are dropped.\n"
       "  arw_deg_per_sqrt_h: sigma(1 s) (log-log interpolated between grid points) x 60.\n"
-      "  adev_min_deg_per_h: minimum over the taus with EDF >= --min-edf; bias instability = min / 0.664.\n"
+      "  adev_min_deg_per_h: minimum of the whole curve (as allantools users and the paper read it);\n"
+      "    bias instability = min / 0.664; adev_min_at_longest_tau: the minimum is the last tau (floor\n"
+      "    not reached). adev_min_usable_deg_per_h: minimum over the taus with EDF >= --min-edf.\n"
+      "  --deviation mdev|hdev|ohdev|totdev: also that curve, exactly as allantools computes it\n"
+      "    (JSON <kind>_tau_s, <kind>_dps, <kind>_lo_dps, ...; -o writes that curve). Hadamard\n"
+      "    (hdev, ohdev) is blind to a linear rate drift (a temperature ramp).\n"
+      "  --kalibr-yaml imu.yaml: Kalibr's noise densities (rad/s/sqrt(Hz), rad/s^2/sqrt(Hz); docs/kalibr.md).\n"
       "  rrw_deg_per_h_per_sqrt_h: sigma(3 s) on the +1/2 line fitted after the minimum (null if none).\n"
       "  Error bars: adev/sqrt(n) (allantools) and a chi-square interval from the EDF of\n"
       "    NIST SP 1065 Table 5 (Howe, Allan & Barnes), noise type per tau by lag-1\n"
@@ -120,12 +261,20 @@ Command Make(CLI::App& app) {
   AddLogOptions(sub, &args->log);
   sub->add_option("--taus", args->taus, "Tau grid: octave | decade | all | N (taus per decade)")->capture_default_str();
   AddOutputOption(sub, "--json", &args->json_path, "Write the results as JSON to FILE ('-' = stdout)");
-  AddOutputOption(sub, "-o,--output", &args->csv_path, "Write the ADEV curve as CSV to FILE");
+  AddOutputOption(sub, "-o,--output", &args->csv_path,
+                  "Write the ADEV curve (or the --deviation curve) as CSV to FILE");
   sub->add_option("--confidence", args->allan.confidence, "Two-sided confidence level of the chi-square interval")
       ->check(CLI::Range(1e-6, 1.0 - 1e-6))
       ->capture_default_str();
+  sub->add_option("--deviation", args->deviation, "Also compute: adev | mdev | hdev | ohdev | totdev")
+      ->capture_default_str();
+  AddOutputOption(sub, "--kalibr-yaml", &args->kalibr_yaml_path, "Write Kalibr's IMU noise file (imu.yaml) to FILE");
+  sub->add_option("--rostopic", args->rostopic, "rostopic written in the Kalibr file")->capture_default_str();
+  sub->add_option("--accel-col", args->accel_cols,
+                  "Accelerometer column(s), m/s^2, for the Kalibr file's accelerometer keys (comma-separated)");
   sub->add_option("--min-edf", args->allan.min_edf_for_terms,
-                  "Noise terms use only taus with at least this many equivalent degrees of freedom")
+                  "The usable minimum and the ARW/RRW fits use only taus with at least this many "
+                  "equivalent degrees of freedom")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   return {sub, [args] { return Run(*args); }};

@@ -4,13 +4,16 @@
 #include <cstdio>
 #include <iostream>
 
+#include "gyrocomp/io/flight_log.h"
 #include "gyrocomp/io/io.h"
 #include "gyrocomp/core/units.h"
 
 namespace gyrocomp::cli {
 
 void AddLogOptions(CLI::App* app, LogOptions* o, bool input_required) {
-  auto* in = AddInputOption(app, "-i,--input", &o->input, "Input CSV (header row; .gz read directly; '-' = stdin)");
+  auto* in = AddInputOption(app, "-i,--input", &o->input,
+                            "Input log: CSV (header row; .gz read directly; '-' = stdin), PX4 ULog or ArduPilot "
+                            "DataFlash (recognised by their first bytes)");
   if (input_required) in->required();
   app->add_option("--time-col", o->time_col, "Time column, seconds")->capture_default_str();
   app->add_option("--rate-col", o->rate_col, "Rate column(s), comma-separated for several axes")
@@ -18,9 +21,13 @@ void AddLogOptions(CLI::App* app, LogOptions* o, bool input_required) {
   app->add_option("--temp-col", o->temp_col, "Temperature column, deg C")->capture_default_str();
   app->add_option("--fs", o->fs_hz, "Sample rate in Hz when the file has no time column")
       ->check(CLI::PositiveNumber);
-  app->add_option("--rate-unit", o->rate_unit, "Unit of the rate column(s)")
+  app->add_option("--rate-unit", o->rate_unit, "Unit of the rate column(s) (ULog, DataFlash: rads, from the log)")
       ->check(CLI::IsMember({"dps", "rads", "dph"}))
+      ->each([o](const std::string&) { o->rate_unit_given = true; })
       ->capture_default_str();
+  app->add_option("--instance", o->instance,
+                  "ULog / DataFlash: gyro instance (sensor_gyro multi_id, IMU instance); default: the only one")
+      ->check(CLI::NonNegativeNumber);
   app->add_option("--resample", o->resample_hz,
                   "Resample an irregularly sampled log onto this uniform rate (Hz, linear interpolation)")
       ->check(CLI::PositiveNumber);
@@ -53,15 +60,23 @@ Result<LogSpec> ToLogSpec(const LogOptions& o) {
   const auto unit = ParseRateUnit(o.rate_unit);
   if (!unit) return InvalidArgument("--rate-unit " + o.rate_unit + ": must be dps, rads or dph");
   spec.rate_unit = *unit;
+  spec.instance = o.instance;
+  spec.on_warning = [](const std::string& w) { std::cerr << "gyrocomp: " << w << "\n"; };
   return spec;
 }
 
 Result<LoadedLog> LoadLog(const std::string& command, const LogOptions& options, LogSpec spec) {
-  Result<Table> table = ReadCsv(options.input);
-  if (!table) return table.error();
-  Result<GyroLog> log = LoadGyroLog(*table, spec);
+  if (options.rate_unit_given && options.rate_unit != "rads" && DetectLogFormat(options.input) != LogFormat::kCsv) {
+    return InvalidArgument("--rate-unit " + options.rate_unit + ": " + options.input +
+                           " is a flight-controller log, whose rates are rad/s (drop --rate-unit)");
+  }
+  Result<LogTableRead> read = ReadLogTable(options.input, spec);
+  if (!read) return read.error();
+  spec = read->spec;
+  Result<GyroLog> log = LoadGyroLog(read->table, spec);
   if (!log) return log.error();
-  LoadedLog out{std::move(*table), std::move(*log)};
+  AttachFlightLogInfo(*read, &*log);
+  LoadedLog out{std::move(read->table), std::move(*log)};
   if (out.log.sampling.resampled) {
     Result<Table> resampled = ResampleTable(out.table, spec.time_col, out.log.fs_hz);
     if (!resampled) return resampled.error();

@@ -45,12 +45,17 @@ struct LogOptions {
   std::optional<double> fs_hz;
   std::string rate_unit = "dps";
   std::optional<double> resample_hz;
+  // ULog / DataFlash: gyro instance (sensor_gyro multi_id, IMU instance); nullopt = the only one.
+  std::optional<int> instance;
+  bool rate_unit_given = false;  // --rate-unit was on the command line
 };
 
-// Adds -i/--input, --time-col, --rate-col, --temp-col, --fs, --rate-unit, --resample to `app`.
+// Adds -i/--input, --time-col, --rate-col, --temp-col, --fs, --rate-unit, --resample, --instance
+// to `app`.
 void AddLogOptions(CLI::App* app, LogOptions* options, bool input_required = true);
 
 // Converts the CLI options to a LogSpec (rate columns split on ','), or an kInvalidArgument error.
+// Flight-log reader warnings are printed to stderr as "gyrocomp: <warning>".
 Result<LogSpec> ToLogSpec(const LogOptions& options);
 
 // A log read for a command whose output is "the input columns plus ...": the table (resampled
@@ -59,7 +64,9 @@ struct LoadedLog {
   Table table;
   GyroLog log;
 };
-// ReadCsv + (ResampleTable) + LoadGyroLog. Prints what resampling did, as a note, when it did.
+// ReadLogTable (CSV, ULog or DataFlash by magic bytes) + (ResampleTable) + LoadGyroLog. Prints
+// what resampling did, as a note, when it did. A --rate-unit other than rads given for a ULog or
+// DataFlash log is an error (their rates are rad/s).
 Result<LoadedLog> LoadLog(const std::string& command, const LogOptions& options, LogSpec spec);
 
 // Prints "gyrocomp <command>: error: <message>" (one line) to stderr and returns the exit status

@@ -1,5 +1,6 @@
 // gyrocomp decompose: VMD of the rate column(s), then sample entropy and the drift / mixed /
 // noise class of every mode (steps 1-2 of the pipeline; method.md sections 1-2).
+#include <algorithm>
 #include <cmath>
 #include <iomanip>
 #include <iostream>
@@ -57,14 +58,16 @@ nlohmann::json AxisJson(const AxisResult& r, const GyroLog& log, const SampleEnt
   j["modes"] = nlohmann::json::array();
   for (const ModeClassification& m : r.classes.modes) {
     const std::vector<double>& u = r.vmd.modes[m.index - 1];
-    double ss = 0;
-    for (double v : u) ss += v * v;
+    // RMS scaled by the largest |value| (no overflow of the squares for values near 1e308).
+    double peak = 0, ss = 0;
+    for (double v : u) peak = std::max(peak, std::abs(v));
+    for (double v : u) ss += peak > 0 ? (v / peak) * (v / peak) : 0.0;
     j["modes"].push_back({{"index", m.index},
                           {"center_frequency_hz", m.center_frequency_hz},
                           {"center_frequency_cycles_per_sample", m.center_frequency_cycles_per_sample},
                           {"sample_entropy", Finite(m.sample_entropy)},
                           {"class", FeatureClassName(m.feature)},
-                          {"rms_dps", u.empty() ? 0.0 : std::sqrt(ss / u.size())}});
+                          {"rms_dps", u.empty() ? 0.0 : peak * std::sqrt(ss / u.size())}});
   }
   j["classification"] = {{"rule", r.classes.rule.rule_name},
                          {"description", r.classes.rule_text},

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "commands.h"
+#include "gyrocomp/io/flight_log.h"
 #include "gyrocomp/allan/allan.h"
 #include "gyrocomp/denoise/bandwidth.h"
 #include "gyrocomp/denoise/flp.h"
@@ -126,9 +127,10 @@ int Run(const DenoiseArgs& a) {
   if (!method.ok()) return ReportError(kName, method.error());
   Result<LogSpec> spec = ToLogSpec(a.log);
   if (!spec.ok()) return ReportError(kName, spec.error());
-  Result<Table> table = ReadCsv(a.log.input);
-  if (!table.ok()) return ReportError(kName, table.error());
-  Result<GyroLog> log = LoadGyroLog(*table, *spec);
+  Result<LogTableRead> read = ReadLogTable(a.log.input, *spec);  // CSV, ULog or DataFlash (issue 12)
+  if (!read.ok()) return ReportError(kName, read.error());
+  Result<Table> table = std::move(read->table);
+  Result<GyroLog> log = LoadGyroLog(*table, read->spec);
   if (!log.ok()) return ReportError(kName, log.error());
   if (log->sampling.resampled) Note(kName, log->sampling.BriefReport());
 

@@ -9,6 +9,7 @@
 
 #include "gyrocomp/core/units.h"
 #include "result_json.h"
+#include "table_printer.h"
 
 namespace gyrocomp::cli {
 namespace {
@@ -89,6 +90,12 @@ std::vector<std::string> HonestyNotes(const PipelineResult& r) {
                        "and the +1/2 region that 'RRW after' is fitted on is made by the filter, not by a rate "
                        "random walk.");
   }
+  for (const auto& [when, terms] : {std::pair{"before", &r.allan_before.terms}, std::pair{"after", &r.allan_after.terms}}) {
+    if (terms->min_at_longest_tau) {
+      notes.push_back(std::string("The ADEV minimum ") + when + " processing is at the longest tau: the floor was "
+                      "not reached and the figure is an upper bound (a point with few degrees of freedom).");
+    }
+  }
   return notes;
 }
 
@@ -99,6 +106,8 @@ std::vector<SummaryRow> BeforeAfterRows(const PipelineResult& r) {
       {"ARW", b.arw_deg_per_sqrt_h, a.arw_deg_per_sqrt_h, "deg/sqrt(h)"},
       {"ADEV minimum (bias stability)", b.adev_min_deg_per_h, a.adev_min_deg_per_h, "deg/h"},
       {"bias instability (min / 0.664)", b.bias_instability_deg_per_h, a.bias_instability_deg_per_h, "deg/h"},
+      {"ADEV minimum over taus with EDF >= " + FormatNumber(b.min_edf, 3), b.adev_min_usable_deg_per_h,
+       a.adev_min_usable_deg_per_h, "deg/h"},
       {"ADEV minimum over tau >= 10 s", AdevMinAbove(r.allan_before.curve, 10.0),
        AdevMinAbove(r.allan_after.curve, 10.0), "deg/h"},
       {"RRW", b.rrw_deg_per_h_per_sqrt_h, a.rrw_deg_per_h_per_sqrt_h, "deg/h/sqrt(h)"},

@@ -16,13 +16,18 @@ nlohmann::json AllanTermsJson(const AllanResult& r) {
   j["adev_min_deg_per_h"] = Num(t.adev_min_deg_per_h);
   j["tau_at_min_s"] = Num(t.tau_at_min_s);
   j["adev_min_at_longest_tau"] = t.min_at_longest_tau;
+  j["adev_min_usable_deg_per_h"] = Num(t.adev_min_usable_deg_per_h);
+  j["tau_at_min_usable_s"] = Num(t.tau_at_min_usable_s);
+  j["adev_min_usable_at_longest_usable_tau"] = t.min_usable_at_longest_usable_tau;
+  j["min_edf"] = Num(t.min_edf);
   j["num_taus_used"] = t.num_taus_used;
   j["rrw_fit_tau_range_s"] = {Num(t.rrw_fit_tau_min_s), Num(t.rrw_fit_tau_max_s)};
   j["bias_instability_deg_per_h"] = Num(t.bias_instability_deg_per_h);
   j["rrw_deg_per_h_per_sqrt_h"] = Num(t.rrw_deg_per_h_per_sqrt_h);
   j["conventions"] = {
       {"arw", "N = sigma(tau = 1 s) x sqrt(1 s), deg/sqrt(h) (IEEE 952; x 60 from deg/s*sqrt(s))"},
-      {"adev_min", "minimum of the overlapping ADEV over the taus with EDF >= 10, deg/h (the paper's 'bias stability')"},
+      {"adev_min", "minimum of the whole overlapping ADEV curve, deg/h (the paper's 'bias stability', as allantools users read it)"},
+      {"adev_min_usable", "minimum of the overlapping ADEV over the taus with EDF >= min_edf, deg/h"},
       {"bias_instability", "B = adev_min / 0.664 (IEEE 952 flicker floor), deg/h"},
       {"rrw", "K = sigma(tau = 3 s) on the fitted +1/2 line, deg/h/sqrt(h) (IEEE 952)"}};
   return j;

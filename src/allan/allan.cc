@@ -10,10 +10,13 @@
 #include <limits>
 #include <sstream>
 
+#include "blocked_sum.h"
 #include "gyrocomp/core/units.h"
 
 namespace gyrocomp {
 namespace {
+
+using allan_internal::BlockedSum;
 
 // Fewest m-averages for the lag-1 autocorrelation noise identification (Riley & Greenhall ask
 // for about 30).
@@ -59,29 +62,6 @@ std::optional<PowerLawNoise> Lag1NoiseFromPhase(const std::vector<double>& x, st
     z.pop_back();
   }
 }
-
-// Sum of a long series of squares with bounded rounding error: block partial sums (the error
-// grows with the block count, not with N), close to numpy's pairwise summation.
-class BlockedSum {
- public:
-  void Add(double v) {
-    block_ += v;
-    if (++count_ == 1024) Flush();
-  }
-  double Total() {
-    Flush();
-    return total_;
-  }
-
- private:
-  void Flush() {
-    total_ += block_;
-    block_ = 0.0;
-    count_ = 0;
-  }
-  double total_ = 0.0, block_ = 0.0;
-  int count_ = 0;
-};
 
 // Regularized lower incomplete gamma P(a, x) (Numerical Recipes 6.2: series for x < a + 1,
 // Lentz continued fraction otherwise).
@@ -192,12 +172,12 @@ bool AllanOptions::IsValid(std::string* error) const {
   return false;
 }
 
-Result<std::vector<std::int64_t>> AllanAveragingFactors(std::size_t n_samples,
-                                                        const AllanOptions& options) {
+Result<std::vector<std::int64_t>> CandidateAveragingFactors(std::size_t n_samples,
+                                                            const AllanOptions& options) {
   std::string why;
   if (!options.IsValid(&why)) return InvalidArgument(why);
   // allantools works on the phase record, one point longer than the rate record, and keeps
-  // 0 < m < len(phase) before dropping taus with n = len(phase) - 2m <= 1.
+  // 0 < m < len(phase); each deviation then drops the taus with n <= 1 terms.
   const auto num_phase = static_cast<std::int64_t>(n_samples) + 1;
   std::vector<std::int64_t> m;
   switch (options.grid) {
@@ -228,11 +208,50 @@ Result<std::vector<std::int64_t>> AllanAveragingFactors(std::size_t n_samples,
   }
   std::vector<std::int64_t> out;
   for (std::int64_t v : m) {
-    if (v > 0 && v < num_phase && num_phase - 2 * v > 1) out.push_back(v);
+    if (v > 0 && v < num_phase) out.push_back(v);
   }
   std::sort(out.begin(), out.end());
   out.erase(std::unique(out.begin(), out.end()), out.end());
   return out;
+}
+
+Result<std::vector<std::int64_t>> AllanAveragingFactors(std::size_t n_samples,
+                                                        const AllanOptions& options) {
+  Result<std::vector<std::int64_t>> m = CandidateAveragingFactors(n_samples, options);
+  if (!m.ok()) return m;
+  const auto num_phase = static_cast<std::int64_t>(n_samples) + 1;
+  std::erase_if(*m, [&](std::int64_t v) { return num_phase - 2 * v <= 1; });  // n = N_p - 2m
+  return m;
+}
+
+Result<std::vector<double>> PhaseFromRate(std::span<const double> y, double fs_hz, double* scale) {
+  const std::size_t n = y.size();
+  // Scale first: every deviation is scale-equivariant, dev(s y) = |s| dev(y), so the record is
+  // built from y / s with s = max |y| and the caller multiplies back by s. Squares then neither
+  // overflow (|y| near 1e300) nor underflow (|y| near 1e-300); for ordinary data s only rounds
+  // the last bit.
+  double s = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!std::isfinite(y[i])) {
+      return InvalidInput("Allan deviation: sample " + std::to_string(i) + " is not finite");
+    }
+    s = std::max(s, std::abs(y[i]));
+  }
+  if (s == 0.0) s = 1.0;
+  if (scale != nullptr) *scale = s;
+  BlockedSum sum;
+  for (std::size_t i = 0; i < n; ++i) sum.Add(y[i] / s);
+  const double mean = n > 0 ? sum.Total() / static_cast<double>(n) : 0.0;
+  // x_0 = 0, x_{i+1} = dt * cumsum(y / s - mean), as allantools frequency2phase.
+  const double dt = 1.0 / fs_hz;
+  std::vector<double> x(n + 1);
+  x[0] = 0.0;
+  double acc = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    acc += y[i] / s - mean;
+    x[i + 1] = acc * dt;
+  }
+  return x;
 }
 
 std::optional<PowerLawNoise> IdentifyNoiseLag1(std::span<const double> rate, std::int64_t m) {
@@ -292,10 +311,20 @@ AllanNoiseTerms ExtractNoiseTerms(const AllanCurve& c, const AllanOptions& optio
   if (c.size() == 0) return t;
   const double tol = options.slope_tolerance;
 
-  // Minimum ("bias stability") and B = min / 0.664 (IEEE 952 flicker floor).
-  // Only taus with at least min_edf_for_terms degrees of freedom are used for the minimum and the
-  // fits (all taus when none qualifies, or when the curve carries no EDFs): the last octaves of a
-  // record have a handful of degrees of freedom and their random dips would pass for a minimum.
+  // Minimum ("bias stability") of the whole curve, and B = min / 0.664 (IEEE 952 flicker floor).
+  std::size_t jall = 0;
+  for (std::size_t j = 1; j < c.size(); ++j) {
+    if (c.adev_dps[j] < c.adev_dps[jall]) jall = j;
+  }
+  t.adev_min_deg_per_h = units::DpsToDph(c.adev_dps[jall]);
+  t.tau_at_min_s = c.tau_s[jall];
+  t.min_at_longest_tau = jall + 1 == c.size();
+  t.bias_instability_deg_per_h = t.adev_min_deg_per_h / 0.664;
+
+  // The EDF-qualified minimum, which also anchors the fits: only taus with at least min_edf
+  // degrees of freedom (all taus when none qualifies, or when the curve carries no EDFs). The
+  // last octaves of a record have a handful of degrees of freedom and their random dips would
+  // pass for a minimum or bend a fit.
   const bool have_edf = c.edf.size() == c.size();
   std::vector<std::size_t> usable;
   for (std::size_t j = 0; j < c.size(); ++j) {
@@ -308,11 +337,11 @@ AllanNoiseTerms ExtractNoiseTerms(const AllanCurve& c, const AllanOptions& optio
   for (std::size_t j : usable) {
     if (c.adev_dps[j] < c.adev_dps[jmin]) jmin = j;
   }
+  t.min_edf = options.min_edf_for_terms;
   t.num_taus_used = usable.size();
-  t.adev_min_deg_per_h = units::DpsToDph(c.adev_dps[jmin]);
-  t.tau_at_min_s = c.tau_s[jmin];
-  t.min_at_longest_tau = jmin == usable.back();
-  t.bias_instability_deg_per_h = t.adev_min_deg_per_h / 0.664;
+  t.adev_min_usable_deg_per_h = units::DpsToDph(c.adev_dps[jmin]);
+  t.tau_at_min_usable_s = c.tau_s[jmin];
+  t.min_usable_at_longest_usable_tau = jmin == usable.back();
 
   // ARW: sigma(arw_tau) read off the curve, N = sigma(tau) sqrt(tau) (method.md 6).
   const double ta = options.arw_tau_s;
@@ -378,26 +407,10 @@ Result<AllanResult> ComputeAllan(std::span<const double> y, double fs_hz, const 
   }
   const auto t0 = std::chrono::steady_clock::now();
   const std::size_t n = y.size();
-  double mean = 0.0;
-  {
-    BlockedSum s;
-    for (std::size_t i = 0; i < n; ++i) {
-      if (!std::isfinite(y[i])) {
-        return InvalidInput("Allan deviation: sample " + std::to_string(i) + " is not finite");
-      }
-      s.Add(y[i]);
-    }
-    mean = s.Total() / static_cast<double>(n);
-  }
-  // Phase (angle) record x_0 = 0, x_{i+1} = dt * cumsum(y - mean), as allantools frequency2phase.
-  const double dt = 1.0 / fs_hz;
-  std::vector<double> x(n + 1);
-  x[0] = 0.0;
-  double acc = 0.0;
-  for (std::size_t i = 0; i < n; ++i) {
-    acc += y[i] - mean;
-    x[i + 1] = acc * dt;
-  }
+  double scale = 1.0;
+  Result<std::vector<double>> phase = PhaseFromRate(y, fs_hz, &scale);
+  if (!phase.ok()) return phase.error();
+  const std::vector<double>& x = *phase;
 
   Result<std::vector<std::int64_t>> ms = AllanAveragingFactors(n, options);
   if (!ms.ok()) return ms.error();
@@ -420,7 +433,13 @@ Result<AllanResult> ComputeAllan(std::span<const double> y, double fs_hz, const 
       const double d = (x2[i] - 2.0 * x1[i]) + x0[i];
       s.Add(d * d);
     }
-    const double adev = std::sqrt(s.Total() / (2.0 * static_cast<double>(count))) / static_cast<double>(m) * fs_hz;
+    const double adev =
+        std::sqrt(s.Total() / (2.0 * static_cast<double>(count))) / static_cast<double>(m) * fs_hz * scale;
+    if (!std::isfinite(adev)) {
+      return InvalidInput("Allan deviation: rate values up to " + std::to_string(scale) +
+                          " deg/s give a deviation beyond the range of a double at tau = " +
+                          std::to_string(static_cast<double>(m) / fs_hz) + " s");
+    }
     c.m.push_back(m);
     c.tau_s.push_back(static_cast<double>(m) / fs_hz);
     c.adev_dps.push_back(adev);
@@ -490,7 +509,9 @@ std::string AllanResult::BriefReport() const {
     os << "n/a";
   }
   os << "; ADEV min " << terms.adev_min_deg_per_h << " deg/h at tau " << terms.tau_at_min_s << " s"
-     << (terms.min_at_longest_tau ? " (longest usable tau: floor not reached)" : "")
+     << (terms.min_at_longest_tau ? " (longest tau: floor not reached)" : "") << " (EDF >= "
+     << terms.min_edf << ": " << terms.adev_min_usable_deg_per_h << " deg/h at " << terms.tau_at_min_usable_s
+     << " s" << (terms.min_usable_at_longest_usable_tau ? ", longest usable tau" : "") << ")"
      << "; B = min/0.664 = " << terms.bias_instability_deg_per_h << " deg/h; RRW ";
   if (terms.rrw_deg_per_h_per_sqrt_h) {
     os << *terms.rrw_deg_per_h_per_sqrt_h << " deg/h/sqrt(h) (+1/2 fit, sigma(3 s))";

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "gyrocomp/allan/allan.h"
+#include "gyrocomp/allan/deviations.h"
 #include "gyrocomp/sim/simulator.h"
 
 namespace {
@@ -39,6 +40,21 @@ void BM_AllanPerDecade10(benchmark::State& state) { RunAllan(state, gyrocomp::Ta
 BENCHMARK(BM_AllanOctave)->Arg(200000)->Arg(1000000)->Arg(5000000)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_AllanDecade)->Arg(5000000)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_AllanPerDecade10)->Arg(5000000)->Unit(benchmark::kMillisecond);
+
+// Each deviation kind at N = 1 M, octave taus (issue 14: each well under a second).
+void BM_Deviation(benchmark::State& state) {
+  const auto kind = static_cast<gyrocomp::DeviationKind>(state.range(0));
+  const auto y = WhiteNoise(1000000);
+  std::size_t taus = 0;
+  for (auto _ : state) {
+    auto r = gyrocomp::ComputeDeviation(y, 100.0, kind);
+    taus = r.ok() ? r->size() : 0;
+    benchmark::DoNotOptimize(taus);
+  }
+  state.SetLabel(gyrocomp::DeviationKindName(kind));
+  state.counters["taus"] = static_cast<double>(taus);
+}
+BENCHMARK(BM_Deviation)->DenseRange(0, 4)->Unit(benchmark::kMillisecond);
 
 // The default paper run: 14.25 h at 100 Hz = 5.13 million samples, every term on.
 void BM_SimulatePaperRun(benchmark::State& state) {

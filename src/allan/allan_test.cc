@@ -242,10 +242,42 @@ TEST(AllanNoiseTerms, MinimumBiasInstabilityAndRrwConvention) {
   EXPECT_NEAR(t.adev_min_deg_per_h, 36.0, 1e-9);
   EXPECT_EQ(t.tau_at_min_s, 100.0);
   EXPECT_FALSE(t.min_at_longest_tau);
+  // No EDFs on this curve: every tau is usable, both minima agree.
+  EXPECT_EQ(t.num_taus_used, tau.size());
+  EXPECT_NEAR(t.adev_min_usable_deg_per_h, 36.0, 1e-9);
+  EXPECT_EQ(t.tau_at_min_usable_s, 100.0);
   EXPECT_NEAR(t.bias_instability_deg_per_h, 36.0 / 0.664, 1e-9);
   ASSERT_TRUE(t.rrw_deg_per_h_per_sqrt_h.has_value());
   EXPECT_NEAR(*t.rrw_deg_per_h_per_sqrt_h, 216.0, 1e-9);  // exact on an exact +1/2 line
   EXPECT_EQ(*t.rrw_fit_tau_max_s, 8000.0);
+}
+
+TEST(AllanNoiseTerms, WholeCurveMinimumBesideTheEdfQualifiedOne) {
+  // A floor of 0.01 deg/s (36 deg/h) at tau = 100 s, then a dip to 0.008 deg/s (28.8 deg/h) at
+  // the last tau, which has 3 degrees of freedom. The default minimum is the whole curve's (as
+  // allantools users and the paper read it): the dip, flagged as the longest tau. The EDF >= 10
+  // minimum ignores it.
+  AllanCurve c = MakeCurve({1, 10, 100, 1000, 2000}, {0.05, 0.02, 0.01, 0.012, 0.008});
+  c.edf = {5000, 500, 50, 12, 3};
+  AllanOptions o;
+  const AllanNoiseTerms t = ExtractNoiseTerms(c, o);
+  EXPECT_NEAR(t.adev_min_deg_per_h, 28.8, 1e-9);
+  EXPECT_EQ(t.tau_at_min_s, 2000.0);
+  EXPECT_TRUE(t.min_at_longest_tau);
+  EXPECT_NEAR(t.bias_instability_deg_per_h, 28.8 / 0.664, 1e-9);
+  EXPECT_EQ(t.min_edf, 10.0);
+  EXPECT_EQ(t.num_taus_used, 4u);
+  EXPECT_NEAR(t.adev_min_usable_deg_per_h, 36.0, 1e-9);
+  EXPECT_EQ(t.tau_at_min_usable_s, 100.0);
+  EXPECT_FALSE(t.min_usable_at_longest_usable_tau);
+  // A stricter threshold (EDF >= 100) leaves taus 1, 10: the usable minimum is then at the
+  // longest usable tau.
+  o.min_edf_for_terms = 100.0;
+  const AllanNoiseTerms s = ExtractNoiseTerms(c, o);
+  EXPECT_EQ(s.num_taus_used, 2u);
+  EXPECT_NEAR(s.adev_min_usable_deg_per_h, 72.0, 1e-9);
+  EXPECT_TRUE(s.min_usable_at_longest_usable_tau);
+  EXPECT_NEAR(s.adev_min_deg_per_h, 28.8, 1e-9);  // the default figure does not move
 }
 
 // ---- EDF and chi-square -----------------------------------------------------------------------

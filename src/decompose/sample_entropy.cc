@@ -294,6 +294,16 @@ double PairwiseSum(const double* x, std::size_t n) {
   return PairwiseSum(x, h) + PairwiseSum(x + h, n - h);
 }
 
+// 0 for ordinary data; otherwise the exponent e with max |x| in [2^e, 2^(e+1)), when max |x| is
+// outside [2^-256, 2^256] (there the squares of the SD or the differences may leave the range).
+int NormalisingExponent(std::span<const double> x) {
+  double max_abs = 0.0;
+  for (double v : x) max_abs = std::max(max_abs, std::abs(v));
+  if (max_abs == 0.0) return 0;
+  const int e = std::ilogb(max_abs);
+  return (e > 256 || e < -256) ? e : 0;
+}
+
 }  // namespace
 
 bool SampleEntropyOptions::IsValid(std::string* error) const {
@@ -381,20 +391,33 @@ Result<SampleEntropyResult> SampleEntropy(std::span<const double> x, const Sampl
   for (std::size_t i = 0; i < x.size(); ++i) {
     if (!std::isfinite(x[i])) return InvalidInput("sample entropy: value " + std::to_string(i) + " is not finite");
   }
-  double r = 0.0;
+  // Extreme but finite values (|x| near 1e308: differences and squares overflow; near 1e-300:
+  // squares underflow and the SD reads 0): work on x / 2^e. A power of two commutes exactly with
+  // every difference and comparison |x_i - x_j| < r, so the counts are those of the definition.
+  const int e = NormalisingExponent(x);
+  std::vector<double> scaled;
+  if (e != 0) {
+    scaled.resize(x.size());
+    for (std::size_t i = 0; i < x.size(); ++i) scaled[i] = std::ldexp(x[i], -e);
+  }
+  const std::span<const double> xs = e != 0 ? std::span<const double>(scaled) : x;
+  double r = 0.0;  // in the units of xs
   if (opt.r_absolute) {
-    r = *opt.r_absolute;
+    r = std::ldexp(*opt.r_absolute, -e);
   } else {
-    r = opt.r_factor * (opt.reference_sd ? *opt.reference_sd : PopulationSd(x));
+    r = opt.r_factor * (opt.reference_sd ? std::ldexp(*opt.reference_sd, -e) : PopulationSd(xs));
   }
   if (!(r > 0)) {
     return InvalidInput("sample entropy: tolerance r = 0 (the series is constant), SampEn is undefined");
   }
   SampleEntropyResult res;
   res.m = opt.m;
-  res.r = r;
+  res.r = std::ldexp(r, e);
+  if (!std::isfinite(res.r)) {
+    return InvalidArgument("sample entropy: tolerance r = r_factor x SD exceeds the double range");
+  }
   res.n = x.size();
-  const TemplateMatchCounts counts = CountTemplateMatches(x, opt.m, r, opt.algorithm, opt.num_threads.value_or(0));
+  const TemplateMatchCounts counts = CountTemplateMatches(xs, opt.m, r, opt.algorithm, opt.num_threads.value_or(0));
   res.a_matches = counts.a;
   res.b_matches = counts.b;
   res.defined = counts.b > 0;

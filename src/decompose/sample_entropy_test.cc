@@ -172,6 +172,59 @@ std::vector<Case> Inputs(std::size_t n, unsigned seed) {
   return cases;
 }
 
+// ---- extreme but finite values (issue 15 part 2) -------------------------------------------
+
+TEST(SampleEntropy, ExtremeScalesGiveTheCountsOfTheUnscaledSeries) {
+  // A golden series scaled by 2^e: the counts must be those of the series itself (a power of two
+  // commutes with every difference and comparison) and r scales by 2^e. Unnormalised, at 2^1000
+  // (~1e301) the SD's squares overflow, and at 2^-1000 (~1e-301) they underflow to an SD of 0.
+  const auto signals = ReadGoldenCsv(GoldenPath("sample_entropy/signals.csv"));
+  for (const auto& [name, x] : signals) {
+    SCOPED_TRACE(name);
+    auto ref = SampleEntropy(x, SampleEntropyOptions{});
+    ASSERT_TRUE(ref.ok());
+    for (int e : {1000, -1000, 300}) {
+      SCOPED_TRACE("scale 2^" + std::to_string(e));
+      std::vector<double> y(x.size());
+      for (std::size_t i = 0; i < x.size(); ++i) y[i] = std::ldexp(x[i], e);
+      for (auto algo : {SampleEntropyAlgorithm::kFast, SampleEntropyAlgorithm::kBruteForce}) {
+        SampleEntropyOptions opt;
+        opt.algorithm = algo;
+        auto r = SampleEntropy(y, opt);
+        ASSERT_TRUE(r.ok()) << r.error().message;
+        EXPECT_EQ(r->a_matches, ref->a_matches);
+        EXPECT_EQ(r->b_matches, ref->b_matches);
+        EXPECT_EQ(r->r, std::ldexp(ref->r, e));
+        EXPECT_EQ(r->sample_entropy, ref->sample_entropy);
+      }
+      SampleEntropyOptions opt;  // a tolerance given in the series' unit scales with it too
+      opt.r_absolute = std::ldexp(ref->r, e);
+      auto r = SampleEntropy(y, opt);
+      ASSERT_TRUE(r.ok()) << r.error().message;
+      EXPECT_EQ(r->sample_entropy, ref->sample_entropy);
+    }
+  }
+}
+
+TEST(SampleEntropy, AlternatingPlusMinus1e308IsCountedExactly) {
+  // x_i = +-1e308 alternating with period 3 (+, -, -): differences of 2e308 overflow unless
+  // normalised. Templates of length 2 match exactly when they start at the same phase: N - m = 298
+  // templates in phases of sizes 100, 99, 99; the same for length 3.
+  std::vector<double> x(300);
+  for (std::size_t i = 0; i < x.size(); ++i) x[i] = (i % 3 == 0) ? 1e308 : -1e308;
+  for (auto algo : {SampleEntropyAlgorithm::kFast, SampleEntropyAlgorithm::kBruteForce}) {
+    SampleEntropyOptions opt;
+    opt.algorithm = algo;
+    auto r = SampleEntropy(x, opt);
+    ASSERT_TRUE(r.ok()) << r.error().message;
+    const std::uint64_t pairs = 100 * 99 / 2 + 2 * (99 * 98 / 2);
+    EXPECT_EQ(r->b_matches, pairs);
+    EXPECT_EQ(r->a_matches, pairs);
+    EXPECT_EQ(r->sample_entropy, 0.0);
+    EXPECT_TRUE(std::isfinite(r->r));
+  }
+}
+
 TEST(SampleEntropy, FastCountsEqualBruteForce) {
   for (unsigned seed : {1u, 2u}) {
     for (std::size_t n : {30u, 257u, 1000u}) {

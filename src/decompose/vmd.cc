@@ -19,6 +19,8 @@
 // ReconstructModes (inverse FFT, unmirror) -> the summary.
 #include "gyrocomp/decompose/vmd.h"
 
+#include "vmd_kernel.h"
+
 #include <fftw3.h>
 
 #include <algorithm>
@@ -64,16 +66,12 @@ using Plan = std::unique_ptr<fftw_plan_s, PlanDeleter>;
 
 // Bins per reduction block: fixed, so that sums do not depend on the thread count.
 constexpr std::size_t kBlockBins = 2048;
+// Bins per chunk within a block (all modes of a chunk before the next; a multiple of
+// vmd_internal::kLanes so that a bin's lane does not depend on the chunking).
+constexpr std::size_t kChunkBins = 256;
+static_assert(kBlockBins % kChunkBins == 0 && kChunkBins % vmd_internal::kLanes == 0);
 // Below this many bin-mode updates per iteration, one thread is faster.
 constexpr std::size_t kMinWorkForThreads = 1u << 16;
-
-// Partial sums of one block, per mode.
-struct BlockSums {
-  std::vector<double> freq_power;  // sum freq_j |u_kj|^2 (Eq. 5 numerator)
-  std::vector<double> power;       // sum |u_kj|^2         (Eq. 5 denominator)
-  std::vector<double> diff;        // sum |u_kj^new - u_kj^old|^2 (stopping rule)
-  std::vector<double> old_power;   // sum |u_kj^old|^2 (Eq. 7 relative rule)
-};
 
 // Runs fn(t) for t = 0..threads-1, fn(0) on the calling thread.
 template <class Fn>
@@ -139,43 +137,6 @@ std::vector<double> NumpyRand(std::uint32_t seed, int count) {
   return out;
 }
 
-// Eq. (4) for one mode on bins [j0, j1): the accumulator update
-//   sum_uk = u_{k-1} + sum_uk - u_k^{old}      (vmdpy's order of operations)
-// and the Wiener filter of the residual around omega_k
-//   u_k = (f - sum_uk - lambda/2) / (1 + alpha (freq - omega_k)^2).
-// Separate restrict-qualified arrays so that the loop vectorises.
-void UpdateMode(std::size_t j0, std::size_t j1, double wk, double alpha, const double* __restrict freq,
-                const double* __restrict f_re, const double* __restrict f_im,
-                const double* __restrict l_re, const double* __restrict l_im,
-                const double* __restrict prev_re, const double* __restrict prev_im,
-                const double* __restrict o_re, const double* __restrict o_im,
-                double* __restrict s_re, double* __restrict s_im, double* __restrict u_re,
-                double* __restrict u_im) {
-  if (l_re == nullptr) {
-    for (std::size_t j = j0; j < j1; ++j) {
-      const double sr = (prev_re[j] + s_re[j]) - o_re[j];
-      const double si = (prev_im[j] + s_im[j]) - o_im[j];
-      s_re[j] = sr;
-      s_im[j] = si;
-      const double d = freq[j] - wk;
-      const double den = 1.0 + alpha * (d * d);
-      u_re[j] = (f_re[j] - sr) / den;
-      u_im[j] = (f_im[j] - si) / den;
-    }
-  } else {
-    for (std::size_t j = j0; j < j1; ++j) {
-      const double sr = (prev_re[j] + s_re[j]) - o_re[j];
-      const double si = (prev_im[j] + s_im[j]) - o_im[j];
-      s_re[j] = sr;
-      s_im[j] = si;
-      const double d = freq[j] - wk;
-      const double den = 1.0 + alpha * (d * d);
-      u_re[j] = ((f_re[j] - sr) - l_re[j] / 2) / den;
-      u_im[j] = ((f_im[j] - si) - l_im[j] / 2) / den;
-    }
-  }
-}
-
 // The mirror-extended, even-length signal's one-sided spectrum (f_hat_plus), its frequency grid
 // and the FFT plans and buffers (reused for the inverse transforms).
 struct VmdSpectrum {
@@ -183,6 +144,7 @@ struct VmdSpectrum {
   std::size_t offset = 0;  // mirrored samples before the signal (ltemp)
   std::size_t T = 0;       // extended length
   std::size_t H = 0;       // one-sided bins 0..H-1
+  int scale_exp = 0;       // the working signal is signal / 2^scale_exp (max |x| in [1, 2))
   double inv_T = 0.0;
   RealBuffer time_buf;
   ComplexBuffer spec_buf;
@@ -196,7 +158,14 @@ struct VmdSpectrum {
 Result<VmdSpectrum> MirrorAndTransform(std::span<const double> signal, bool mirror_extension) {
   VmdSpectrum sp;
   // Even working length (odd input: repeat the last sample; the reference drops it).
-  std::vector<double> f(signal.begin(), signal.end());
+  // Normalise by a power of two (exact: every later operation commutes with it bit for bit, so
+  // results are unchanged) so that extreme but finite inputs (|x| near 1e308 or 1e-300) neither
+  // overflow in the transforms and squared sums nor lose precision to underflow.
+  double max_abs = 0.0;
+  for (double v : signal) max_abs = std::max(max_abs, std::abs(v));
+  sp.scale_exp = max_abs > 0 ? std::ilogb(max_abs) : 0;
+  std::vector<double> f(signal.size());
+  for (std::size_t i = 0; i < f.size(); ++i) f[i] = std::ldexp(signal[i], -sp.scale_exp);
   if (f.size() % 2) f.push_back(f.back());
   sp.n_even = f.size();
 
@@ -253,6 +222,7 @@ std::vector<double> InitialCenterFrequencies(const VmdOptions& opt, std::size_t 
     for (int k = 0; k < K; ++k) omega[k] = std::exp(std::log(fs) + (std::log(0.5) - std::log(fs)) * u[k]);
     std::sort(omega.begin(), omega.end());
   }
+  if (opt.initial_center_frequencies) omega = *opt.initial_center_frequencies;
   if (opt.dc) omega[0] = 0.0;
   return omega;
 }
@@ -282,13 +252,7 @@ struct AdmmState {
     l_re.assign(use_lambda ? H : 0, 0.0);
     l_im.assign(use_lambda ? H : 0, 0.0);
     num_blocks = (H + kBlockBins - 1) / kBlockBins;
-    sums.resize(num_blocks);
-    for (auto& b : sums) {
-      b.freq_power.assign(K, 0.0);
-      b.power.assign(K, 0.0);
-      b.diff.assign(K, 0.0);
-      b.old_power.assign(K, 0.0);
-    }
+    sums.resize(num_blocks * static_cast<std::size_t>(K));
     old_re = ua_re.data();
     old_im = ua_im.data();
     new_re = ub_re.data();
@@ -307,7 +271,14 @@ struct AdmmState {
   std::vector<double> s_re, s_im;                  // accumulator
   std::vector<double> l_re, l_im;                  // lambda (empty when tau = 0)
   std::size_t num_blocks = 0;
-  std::vector<BlockSums> sums;
+  std::vector<vmd_internal::LaneSums> sums;  // sums[block * K + k]: mode k over the block's bins
+  // The stopping rule in the normalised units of the working signal (signal / 2^scale_exp):
+  // tol of the absolute rule is in squared signal units, so it scales by 2^(-2 scale_exp)
+  // (exactly: a power of two), which keeps every comparison, and so the iteration count, exact
+  // for a scaled copy of a signal.
+  int scale_exp = 0;
+  double tol_norm = 0.0;
+  double eps_norm = 0.0;
   double* old_re = nullptr;  // the previous iterate (update n-1 during update n)
   double* old_im = nullptr;
   double* new_re = nullptr;  // the iterate being computed
@@ -317,33 +288,6 @@ struct AdmmState {
   int n = 0;                       // updates run
   double u_diff = 0.0;             // the stopping rule's value after update n
 };
-
-// Partial sums of mode k over bins [j0, j1) for Eq. (5) and the stopping rule, in 4 interleaved
-// lanes (fixed order: deterministic, and free of the loop-carried dependency of a single
-// accumulator).
-void AccumulateModeSums(std::size_t j0, std::size_t j1, int k, const double* freq, const double* u_re,
-                        const double* u_im, const double* o_re, const double* o_im, bool relative,
-                        BlockSums& bs) {
-  double fp4[4] = {0, 0, 0, 0}, p4[4] = {0, 0, 0, 0}, df4[4] = {0, 0, 0, 0}, op4[4] = {0, 0, 0, 0};
-  auto accumulate = [&](std::size_t q, std::size_t l) {
-    const double pw = u_re[q] * u_re[q] + u_im[q] * u_im[q];
-    fp4[l] += freq[q] * pw;
-    p4[l] += pw;
-    const double dr = u_re[q] - o_re[q];
-    const double di = u_im[q] - o_im[q];
-    df4[l] += dr * dr + di * di;
-    if (relative) op4[l] += o_re[q] * o_re[q] + o_im[q] * o_im[q];
-  };
-  std::size_t j = j0;
-  for (; j + 4 <= j1; j += 4) {
-    for (std::size_t l = 0; l < 4; ++l) accumulate(j + l, l);
-  }
-  for (std::size_t l = 0; j < j1; ++j, ++l) accumulate(j, l);
-  bs.freq_power[k] = (fp4[0] + fp4[1]) + (fp4[2] + fp4[3]);
-  bs.power[k] = (p4[0] + p4[1]) + (p4[2] + p4[3]);
-  bs.diff[k] = (df4[0] + df4[1]) + (df4[2] + df4[3]);
-  bs.old_power[k] = (op4[0] + op4[1]) + (op4[2] + op4[3]);
-}
 
 // Eq. (6) on bins [j0, j1): lambda += tau (sum_k u_k - f).
 void DualAscent(AdmmState& st, std::size_t j0, std::size_t j1) {
@@ -362,44 +306,57 @@ void DualAscent(AdmmState& st, std::size_t j0, std::size_t j1) {
 }
 
 // One update of every mode on the bins of `block`, Gauss-Seidel over k (Eq. 4), then Eq. (6).
+// The block is walked in chunks of kChunkBins bins, all K modes per chunk, so that the
+// accumulator, the spectrum, lambda and mode k-1 stay in the L1 cache: per bin-update only the
+// previous iterate of mode k is read from and the new one written to memory.
 void UpdateBlock(AdmmState& st, std::size_t block, const std::vector<double>& om) {
   const std::size_t H = st.H;
   const int K = st.K;
   const VmdSpectrum& sp = st.spectrum;
   const std::size_t j0 = block * kBlockBins;
   const std::size_t j1 = std::min(H, j0 + kBlockBins);
-  BlockSums& bs = st.sums[block];
-  for (int k = 0; k < K; ++k) {
-    const double* prev_re = (k == 0) ? st.old_re + static_cast<std::size_t>(K - 1) * H
-                                     : st.new_re + static_cast<std::size_t>(k - 1) * H;
-    const double* prev_im = (k == 0) ? st.old_im + static_cast<std::size_t>(K - 1) * H
-                                     : st.new_im + static_cast<std::size_t>(k - 1) * H;
-    const double* o_re = st.old_re + static_cast<std::size_t>(k) * H;
-    const double* o_im = st.old_im + static_cast<std::size_t>(k) * H;
-    double* u_re = st.new_re + static_cast<std::size_t>(k) * H;
-    double* u_im = st.new_im + static_cast<std::size_t>(k) * H;
-    // Eq. (4)
-    UpdateMode(j0, j1, om[k], st.opt.alpha, sp.freq.data(), sp.f_re.data(), sp.f_im.data(),
-               st.use_lambda ? st.l_re.data() : nullptr, st.use_lambda ? st.l_im.data() : nullptr, prev_re,
-               prev_im, o_re, o_im, st.s_re.data(), st.s_im.data(), u_re, u_im);
-    AccumulateModeSums(j0, j1, k, sp.freq.data(), u_re, u_im, o_re, o_im, st.relative, bs);
+  vmd_internal::LaneSums* bs = &st.sums[block * static_cast<std::size_t>(K)];
+  for (int k = 0; k < K; ++k) bs[k].Clear();
+  for (std::size_t c0 = j0; c0 < j1; c0 += kChunkBins) {
+    const std::size_t c1 = std::min(j1, c0 + kChunkBins);
+    for (int k = 0; k < K; ++k) {
+      const std::size_t kk = static_cast<std::size_t>(k) * H + c0;
+      const std::size_t prev = (k == 0) ? static_cast<std::size_t>(K - 1) * H + c0 : kk - H;
+      vmd_internal::ModeChunk c;
+      c.freq = sp.freq.data() + c0;
+      c.f_re = sp.f_re.data() + c0;
+      c.f_im = sp.f_im.data() + c0;
+      c.l_re = st.use_lambda ? st.l_re.data() + c0 : nullptr;
+      c.l_im = st.use_lambda ? st.l_im.data() + c0 : nullptr;
+      c.prev_re = (k == 0 ? st.old_re : st.new_re) + prev;
+      c.prev_im = (k == 0 ? st.old_im : st.new_im) + prev;
+      c.old_re = st.old_re + kk;
+      c.old_im = st.old_im + kk;
+      c.s_re = st.s_re.data() + c0;
+      c.s_im = st.s_im.data() + c0;
+      c.u_re = st.new_re + kk;
+      c.u_im = st.new_im + kk;
+      vmd_internal::UpdateModeChunk(c, c1 - c0, om[k], st.opt.alpha, bs[k]);  // Eq. (4)
+    }
+    if (st.use_lambda) DualAscent(st, c0, c1);  // Eq. (6)
   }
-  if (st.use_lambda) DualAscent(st, j0, j1);
 }
 
 // Adds the block sums in block order: Eq. (5) centre frequencies (into st.omega) and the value
-// of the stopping rule (reference absolute, or Eq. 7 relative).
+// of the stopping rule (reference absolute, or Eq. 7 relative), in normalised units.
 double UpdateCenterFrequencies(AdmmState& st) {
+  using vmd_internal::LaneTotal;
   const VmdOptions& opt = st.opt;
-  const double eps = std::numeric_limits<double>::epsilon();  // np.spacing(1)
+  const std::size_t K = static_cast<std::size_t>(st.K);
   double total = 0.0;
-  for (int k = 0; k < st.K; ++k) {
+  for (std::size_t k = 0; k < K; ++k) {
     double fp = 0, p = 0, df = 0, op = 0;
-    for (const BlockSums& b : st.sums) {
-      fp += b.freq_power[k];
-      p += b.power[k];
-      df += b.diff[k];
-      op += b.old_power[k];
+    for (std::size_t b = 0; b < st.num_blocks; ++b) {
+      const vmd_internal::LaneSums& ls = st.sums[b * K + k];
+      fp += LaneTotal(ls.freq_power);
+      p += LaneTotal(ls.power);
+      df += LaneTotal(ls.diff);
+      op += LaneTotal(ls.old_power);
     }
     // Eq. (5)
     if (!(opt.dc && k == 0) && p > 0) st.omega[k] = fp / p;
@@ -411,15 +368,25 @@ double UpdateCenterFrequencies(AdmmState& st) {
       total = std::numeric_limits<double>::infinity();  // from zero: not converged
     }
   }
-  return opt.stopping_rule == VmdStoppingRule::kAbsolute ? std::abs(eps + total) : total;
+  // The reference adds np.spacing(1) (squared signal units) to the absolute rule.
+  return opt.stopping_rule == VmdStoppingRule::kAbsolute ? std::abs(st.eps_norm + total) : total;
+}
+
+// A value of the stopping rule back in its own units: squared signal units for the absolute
+// rule (saturating at the largest double when the signal's square is not representable, |x| >
+// ~1e154), dimensionless for the relative one.
+double SignalUnits(const AdmmState& st, double u) {
+  if (st.opt.stopping_rule != VmdStoppingRule::kAbsolute) return u;
+  return std::min(std::ldexp(u, 2 * st.scale_exp), std::numeric_limits<double>::max());
 }
 
 // The ADMM loop: updates until the stopping rule holds or max_iterations - 1 updates were run
 // (vmdpy's Niter convention). Afterwards `old_*` hold update n and `new_*` update n-1.
 void RunAdmm(AdmmState& st, int threads) {
   const VmdOptions& opt = st.opt;
-  const double eps = std::numeric_limits<double>::epsilon();  // np.spacing(1)
-  st.u_diff = opt.tol + eps;
+  // vmdpy starts from uDiff = tol + eps to enter the loop; with tol >= 1 squared signal units eps
+  // is absorbed and it returns its all-zero initial modes. Here the first update always runs.
+  st.u_diff = std::numeric_limits<double>::infinity();
   st.n = 0;
   st.omega_prev = st.omega;
   std::vector<double> om_snapshot;
@@ -430,7 +397,7 @@ void RunAdmm(AdmmState& st, int threads) {
     const std::size_t b1 = num_blocks * (t + 1) / threads;
     for (std::size_t b = b0; b < b1; ++b) UpdateBlock(st, b, om_snapshot);
   };
-  while (st.u_diff > opt.tol && st.n < opt.max_iterations - 1) {
+  while (st.u_diff > st.tol_norm && st.n < opt.max_iterations - 1) {
     om_snapshot = st.omega;
     pool.Run(round);
     st.omega_prev = st.omega;
@@ -438,7 +405,7 @@ void RunAdmm(AdmmState& st, int threads) {
     ++st.n;
     std::swap(st.old_re, st.new_re);
     std::swap(st.old_im, st.new_im);
-    if (opt.on_iteration) opt.on_iteration(st.n, st.u_diff);
+    if (opt.on_iteration) opt.on_iteration(st.n, SignalUnits(st, st.u_diff));
   }
 }
 
@@ -461,6 +428,7 @@ Result<std::vector<std::vector<double>>> ReconstructModes(VmdSpectrum& sp, const
     s_bufs.push_back(AllocComplex(H + 1));
     if (!t_bufs.back() || !s_bufs.back()) return InternalError("VMD: out of memory for FFT buffers");
   }
+  const double scale = std::ldexp(1.0, sp.scale_exp);
   RunThreads(ifft_threads, [&](int t) {
     fftw_complex* X = s_bufs[t].get();
     double* y = t_bufs[t].get();
@@ -476,7 +444,8 @@ Result<std::vector<std::vector<double>>> ReconstructModes(VmdSpectrum& sp, const
       X[H][1] = 0.0;
       fftw_execute_dft_c2r(sp.inverse.get(), X, y);
       std::vector<double>& mode = modes[k];
-      for (std::size_t i = 0; i < n_in; ++i) mode[i] = y[sp.offset + i] * sp.inv_T;
+      // Undo the normalisation: a multiplication by a power of two (exact).
+      for (std::size_t i = 0; i < n_in; ++i) mode[i] = (y[sp.offset + i] * sp.inv_T) * scale;
     }
   });
   return modes;
@@ -498,6 +467,15 @@ bool VmdOptions::IsValid(std::string* error) const {
   if (!(alpha > 0) || !std::isfinite(alpha)) return fail("alpha", str(alpha), "must be > 0 and finite");
   if (!(tau >= 0) || !std::isfinite(tau)) return fail("tau", str(tau), "must be >= 0 and finite");
   if (!(tol > 0) || !std::isfinite(tol)) return fail("tol", str(tol), "must be > 0 and finite");
+  if (initial_center_frequencies) {
+    if (initial_center_frequencies->size() != static_cast<std::size_t>(num_modes)) {
+      return fail("initial_center_frequencies", std::to_string(initial_center_frequencies->size()) + " values",
+                  "must hold num_modes values");
+    }
+    for (double w : *initial_center_frequencies) {
+      if (!(w >= 0 && w <= 0.5)) return fail("initial_center_frequencies", str(w), "must be in [0, 0.5] cycles per sample");
+    }
+  }
   if (max_iterations < 2) return fail("max_iterations", std::to_string(max_iterations), "must be >= 2");
   if (!(fs_hz > 0) || !std::isfinite(fs_hz)) return fail("fs_hz", str(fs_hz), "must be > 0 and finite");
   if (num_threads && *num_threads < 1) {
@@ -537,6 +515,13 @@ Result<VmdResult> DecomposeVmd(std::span<const double> signal, const VmdOptions&
   VmdSpectrum& sp = *spectrum;
 
   AdmmState st(sp, opt);
+  st.scale_exp = sp.scale_exp;
+  const bool absolute = opt.stopping_rule == VmdStoppingRule::kAbsolute;
+  st.tol_norm = absolute ? std::ldexp(opt.tol, -2 * sp.scale_exp) : opt.tol;
+  // vmdpy's np.spacing(1) guard of the absolute rule, taken in the normalised units (i.e. relative
+  // to the signal's scale) so that the rule is scale-free: for a signal with max |x| in [1, 2) it
+  // is vmdpy's; otherwise it differs from vmdpy's by less than eps * max|x|^2 squared units.
+  st.eps_norm = std::numeric_limits<double>::epsilon();
   st.omega = InitialCenterFrequencies(opt, sp.n_even);
   const int threads = ChooseThreads(opt, static_cast<std::size_t>(K) * sp.H, st.num_blocks);
   RunAdmm(st, threads);
@@ -552,14 +537,22 @@ Result<VmdResult> DecomposeVmd(std::span<const double> signal, const VmdOptions&
   Result<std::vector<std::vector<double>>> modes = ReconstructModes(sp, out_re, out_im, K, n_in, threads);
   if (!modes.ok()) return modes.error();
   result.modes = std::move(*modes);
+  for (int k = 0; k < K; ++k) {
+    for (double v : result.modes[k]) {
+      if (!std::isfinite(v)) {
+        return InvalidInput("VMD: mode " + std::to_string(k + 1) +
+                            " exceeds the double range (the input is within a factor 2 of the largest double)");
+      }
+    }
+  }
 
   VmdSummary& s = result.summary;
   s.num_modes = K;
   s.num_samples = n_in;
   s.extended_length = sp.T;
   s.iterations = st.n;
-  s.converged = st.u_diff <= opt.tol;
-  s.final_update = st.u_diff;
+  s.converged = st.u_diff <= st.tol_norm;
+  s.final_update = SignalUnits(st, st.u_diff);
   s.center_frequency_cycles_per_sample = out_omega;
   s.fs_hz = opt.fs_hz;
   for (double w : out_omega) s.center_frequency_hz.push_back(w * opt.fs_hz);

@@ -155,6 +155,139 @@ TEST(Vmd, ThreadCountDoesNotChangeResults) {
   EXPECT_EQ(a->summary.iterations, 19);  // max_iterations - 1 updates (reference Niter)
 }
 
+// ---- extreme but finite inputs (issue 15 part 2) --------------------------------------------
+// DecomposeVmd normalises the signal by a power of two, which commutes exactly with every
+// floating-point operation of the algorithm; the absolute tolerance (squared signal units) is
+// scaled by the square of that power. So a signal scaled by 2^e with tol scaled by 2^(2e) must
+// give the same iteration count and exactly the scaled modes and the same centre frequencies.
+
+VmdOptions GoldenOptions(const nlohmann::json& p) {
+  VmdOptions opt;
+  opt.num_modes = p.at("K").get<int>();
+  opt.alpha = p.at("alpha").get<double>();
+  opt.tau = p.at("tau").get<double>();
+  opt.tol = p.at("tol").get<double>();
+  opt.dc = p.at("DC").get<int>() != 0;
+  opt.max_iterations = p.at("max_iterations").get<int>();
+  return opt;
+}
+
+TEST(VmdExtremeValues, ScaledGoldenInputGivesExactlyScaledModesAndTheGoldenIterationCount) {
+  const auto meta = ReadJsonFile(GoldenPath("vmd/gyro_like_K6.json"));
+  const auto input = ReadGoldenCsv(GoldenPath("vmd/gyro_like_K6.input.csv")).at("x");
+  const VmdOptions base = GoldenOptions(meta.at("params"));
+  auto ref = DecomposeVmd(input, base);
+  ASSERT_TRUE(ref.ok());
+  ASSERT_EQ(ref->summary.iterations, meta.at("iterations").get<int>());
+  // 2^400 ~ 2.6e120 and 2^-400 ~ 3.9e-121: tol * 2^(+-800) stays a normal double.
+  for (int e : {400, -400}) {
+    SCOPED_TRACE("scale 2^" + std::to_string(e));
+    std::vector<double> x(input.size());
+    for (std::size_t i = 0; i < x.size(); ++i) x[i] = std::ldexp(input[i], e);
+    VmdOptions opt = base;
+    opt.tol = std::ldexp(base.tol, 2 * e);
+    auto r = DecomposeVmd(x, opt);
+    ASSERT_TRUE(r.ok()) << r.error().message;
+    EXPECT_EQ(r->summary.iterations, meta.at("iterations").get<int>());
+    EXPECT_TRUE(r->summary.converged);
+    EXPECT_EQ(r->summary.center_frequency_cycles_per_sample, ref->summary.center_frequency_cycles_per_sample);
+    EXPECT_EQ(r->summary.final_update, std::ldexp(ref->summary.final_update, 2 * e));
+    for (int k = 0; k < opt.num_modes; ++k) {
+      for (std::size_t i = 0; i < x.size(); ++i) {
+        ASSERT_EQ(r->modes[k][i], std::ldexp(ref->modes[k][i], e)) << "mode " << k + 1 << " sample " << i;
+      }
+    }
+  }
+}
+
+TEST(VmdExtremeValues, NearTheEdgesOfTheDoubleRangeTheRelativeRuleIsScaleFree) {
+  const auto input = ReadGoldenCsv(GoldenPath("vmd/gyro_like_K6.input.csv")).at("x");
+  VmdOptions opt;
+  opt.stopping_rule = VmdStoppingRule::kRelative;
+  opt.tol = 1e-6;
+  auto ref = DecomposeVmd(input, opt);
+  ASSERT_TRUE(ref.ok());
+  // Peaks of the input ~0.3: 2^1000 x ~ 3e300, 2^-1000 x ~ 3e-302 (both still normal).
+  for (int e : {1000, -1000}) {
+    SCOPED_TRACE("scale 2^" + std::to_string(e));
+    std::vector<double> x(input.size());
+    for (std::size_t i = 0; i < x.size(); ++i) x[i] = std::ldexp(input[i], e);
+    auto r = DecomposeVmd(x, opt);
+    ASSERT_TRUE(r.ok()) << r.error().message;
+    EXPECT_EQ(r->summary.iterations, ref->summary.iterations);
+    EXPECT_EQ(r->summary.final_update, ref->summary.final_update);
+    for (int k = 0; k < opt.num_modes; ++k) {
+      for (std::size_t i = 0; i < x.size(); ++i) {
+        ASSERT_EQ(r->modes[k][i], std::ldexp(ref->modes[k][i], e)) << "mode " << k + 1 << " sample " << i;
+      }
+    }
+  }
+}
+
+TEST(VmdExtremeValues, AlternatingPlusMinus1e308GivesFiniteModesExactlyScaledFromASmallCopy) {
+  // A square wave of amplitude 1e308: unnormalised, its spectrum and squared sums overflow (the
+  // modes came out NaN). Normalised, the modes are finite and exactly 2^1023 times those of the
+  // same wave scaled down by 2^1023 (same relative rule, same number of updates).
+  std::vector<double> x(512), small(512);
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    x[i] = (i % 3 ? -1e308 : 1e308);
+    small[i] = std::ldexp(x[i], -1023);
+  }
+  VmdOptions opt;
+  opt.num_modes = 3;
+  opt.max_iterations = 50;
+  // Default (absolute) rule: 1e-7 squared signal units cannot be met by such a signal (vmdpy on
+  // it would not stop either), but every number is finite.
+  auto a = DecomposeVmd(x, opt);
+  ASSERT_TRUE(a.ok()) << a.error().message;
+  EXPECT_FALSE(a->summary.converged);
+  EXPECT_TRUE(std::isfinite(a->summary.final_update));  // saturates at the largest double
+  for (const auto& mode : a->modes) {
+    for (double v : mode) ASSERT_TRUE(std::isfinite(v));
+  }
+  opt.stopping_rule = VmdStoppingRule::kRelative;
+  auto big = DecomposeVmd(x, opt);
+  auto ref = DecomposeVmd(small, opt);
+  ASSERT_TRUE(big.ok() && ref.ok());
+  EXPECT_EQ(big->summary.iterations, ref->summary.iterations);
+  for (int k = 0; k < opt.num_modes; ++k) {
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      ASSERT_EQ(big->modes[k][i], std::ldexp(ref->modes[k][i], 1023)) << "mode " << k + 1 << " sample " << i;
+    }
+  }
+  EXPECT_EQ(big->summary.center_frequency_cycles_per_sample, ref->summary.center_frequency_cycles_per_sample);
+}
+
+TEST(Vmd, WarmStartFromCenterFrequencies) {
+  // Started at the centre frequencies a full run ends at, the same tolerance is met in fewer
+  // updates, and the modes are those of the full run within the accuracy the rule allows.
+  const auto input = ReadGoldenCsv(GoldenPath("vmd/gyro_like_K6.input.csv")).at("x");
+  const VmdOptions base = GoldenOptions(ReadJsonFile(GoldenPath("vmd/gyro_like_K6.json")).at("params"));
+  auto cold = DecomposeVmd(input, base);
+  ASSERT_TRUE(cold.ok());
+  VmdOptions opt = base;
+  opt.initial_center_frequencies = cold->summary.center_frequency_cycles_per_sample;
+  auto warm = DecomposeVmd(input, opt);
+  ASSERT_TRUE(warm.ok());
+  EXPECT_TRUE(warm->summary.converged);
+  EXPECT_LT(warm->summary.iterations, cold->summary.iterations * 3 / 4);
+  for (int k = 0; k < base.num_modes; ++k) {
+    EXPECT_NEAR(warm->summary.center_frequency_cycles_per_sample[k], cold->summary.center_frequency_cycles_per_sample[k], 2e-3);
+    double err = 0, ref = 0;
+    for (std::size_t i = 0; i < input.size(); ++i) {
+      err += std::pow(warm->modes[k][i] - cold->modes[k][i], 2);
+      ref += input[i] * input[i];
+    }
+    EXPECT_LT(std::sqrt(err / ref), 2e-2) << "mode " << k + 1;  // both stop at ||du||^2/T ~ 1e-7
+  }
+  std::string why;
+  opt.initial_center_frequencies = std::vector<double>{0.1, 0.2};
+  EXPECT_FALSE(opt.IsValid(&why));
+  EXPECT_NE(why.find("initial_center_frequencies"), std::string::npos);
+  opt.initial_center_frequencies = std::vector<double>(6, 0.7);
+  EXPECT_FALSE(DecomposeVmd(input, opt).ok());
+}
+
 TEST(Vmd, OddLengthKeepsEverySample) {
   auto x = Tone(1001, 0.02, 1.0);
   VmdOptions opt;

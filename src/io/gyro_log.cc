@@ -1,6 +1,8 @@
 // GyroLog extraction and sampling checks (include/gyrocomp/gyro_log.h).
 #include "gyrocomp/io/gyro_log.h"
 
+#include "gyrocomp/io/flight_log.h"
+
 #include <algorithm>
 #include <cctype>
 #include <charconv>
@@ -404,9 +406,13 @@ Result<GyroLog> LoadGyroLog(const Table& table, const LogSpec& spec) {
 Result<GyroLog> ReadGyroLog(const std::string& path, const LogSpec& spec) {
   std::string why;
   if (!spec.IsValid(&why)) return InvalidArgument(why);
-  Result<Table> table = ReadCsv(path);
-  if (!table) return table.error();
-  return LoadGyroLog(*table, spec);
+  // CSV, PX4 ULog or ArduPilot DataFlash, by the file's first bytes (flight_log.h).
+  Result<LogTableRead> read = ReadLogTable(path, spec);
+  if (!read) return read.error();
+  Result<GyroLog> log = LoadGyroLog(read->table, read->spec);
+  if (!log) return log.error();
+  AttachFlightLogInfo(*read, &*log);
+  return log;
 }
 
 }  // namespace gyrocomp

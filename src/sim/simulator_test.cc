@@ -326,14 +326,24 @@ TEST(SimulatorRoundTrip, BiasInstabilityFlickerFloor) {
   }
   ASSERT_GE(count, 5);
   EXPECT_NEAR(sum / wsum, 0.0, 3.0 * se / count) << "bound " << se / count;
-  // And the reported bias instability (min / 0.664) lands near the injected B. The minimum of
-  // noisy points is biased low, by up to a few standard errors of the point where it falls
-  // (observed over seeds 1-8: -22% .. 0%, the worst with the minimum at 16384 s, EDF ~10):
-  // tolerance 3 / sqrt(2 EDF) at that point, plus the 2% ripple of the flicker model.
+  // And the reported bias instability lands near the injected B. Two conventions (issue 14):
+  // - the default, the minimum of the whole curve (as allantools users and the paper read it),
+  //   falls on this flicker-only record at one of the last taus in 8 of seeds 1-12 (16384 s ..
+  //   65536 s, EDF 1 .. 6), at 0.19 .. 0.98 of the floor: a random dip of a point with one or
+  //   two degrees of freedom, not a property of the simulator. Its tolerance would be
+  //   3 / sqrt(2 EDF) ~ 2 in ln at EDF 1, a check that cannot fail, so it is not checked here;
+  // - the EDF-qualified minimum (EDF >= 10) is: it is biased low by up to a few standard errors
+  //   of the point where it falls (observed over seeds 1-12: -10% .. +2% of 0.664 B, at 256 s ..
+  //   8192 s): tolerance 3 / sqrt(2 EDF) at that point, plus the 2% ripple of the flicker model.
+  const AllanNoiseTerms& t = a->terms;
   std::size_t jmin = 0;
-  while (a->curve.tau_s[jmin] != a->terms.tau_at_min_s) ++jmin;
+  while (a->curve.tau_s[jmin] != t.tau_at_min_usable_s) ++jmin;
+  ASSERT_GE(a->curve.edf[jmin], t.min_edf);
   const double tol = 3.0 * LogSe(a->curve, jmin) + 0.02;
-  EXPECT_NEAR(std::log(a->terms.bias_instability_deg_per_h / 30.0), 0.0, tol) << a->BriefReport();
+  EXPECT_NEAR(std::log(t.adev_min_usable_deg_per_h / 0.664 / 30.0), 0.0, tol) << a->BriefReport();
+  // The whole-curve figure is the minimum over a superset of taus, and its flag says where it is.
+  EXPECT_LE(t.adev_min_deg_per_h, t.adev_min_usable_deg_per_h);
+  EXPECT_EQ(t.min_at_longest_tau, t.tau_at_min_s == a->curve.tau_s.back());
 }
 
 TEST(SimulatorRoundTrip, RateRandomWalk) {
@@ -384,7 +394,10 @@ TEST(SimulatorRoundTrip, DefaultsReproduceThePapersRawFigures) {
   // default run at 20 Hz (the noise terms are specified per second, so the figures do not depend
   // on fs; 20 Hz keeps the test fast): ARW within 3% (0.7% standard error + ~0.5% flicker
   // leakage at 1 s), ADEV minimum within 10% (observed 29.1 .. 30.6 deg/h over seeds 1-6 at
-  // 100 Hz; one point's standard error near tau = 100 s is ~3%).
+  // 100 Hz; one point's standard error near tau = 100 s is ~3%). Re-derived for the whole-curve
+  // minimum (issue 14): the drift makes the curve rise after ~200 s, so the minimum of the whole
+  // curve is the EDF-qualified one on this run: 29.35 .. 30.26 deg/h at 51 .. 205 s over seeds
+  // 1-6 at 20 Hz (`gyrocomp simulate --fs 20 --seed S`, then `gyrocomp allan --json -`).
   SimulatorOptions o;
   o.fs_hz = 20.0;
   auto run = Simulate(o);
@@ -395,6 +408,7 @@ TEST(SimulatorRoundTrip, DefaultsReproduceThePapersRawFigures) {
   EXPECT_NEAR(*a->terms.arw_deg_per_sqrt_h, 1.667, 0.03 * 1.667) << a->BriefReport();
   EXPECT_NEAR(a->terms.adev_min_deg_per_h, 30.0, 3.0) << a->BriefReport();
   EXPECT_FALSE(a->terms.min_at_longest_tau);
+  EXPECT_EQ(a->terms.tau_at_min_s, a->terms.tau_at_min_usable_s) << a->BriefReport();
 }
 
 // ---- the CLI, end to end ----------------------------------------------------------------------

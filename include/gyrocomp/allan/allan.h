@@ -68,8 +68,9 @@ struct AllanOptions {
   // Slope band (log-log) for classifying a segment as white rate (-1/2 +- tol), flicker (0 +- tol)
   // or random walk (+1/2 +- tol). Must be in (0, 0.25].
   double slope_tolerance = 0.2;
-  // The minimum and the -1/2 / +1/2 fits use only taus with at least this many equivalent degrees
-  // of freedom (10: ~22% one-sigma relative error of sigma). The curve itself keeps every tau.
+  // The EDF-qualified minimum (AllanNoiseTerms::adev_min_usable_deg_per_h) and the -1/2 / +1/2
+  // fits use only taus with at least this many equivalent degrees of freedom (10: ~22% one-sigma
+  // relative error of sigma). The curve and the default minimum keep every tau. CLI: --min-edf.
   double min_edf_for_terms = 10.0;
   bool IsValid(std::string* error) const;
 };
@@ -102,16 +103,25 @@ struct AllanNoiseTerms {
   // inverse variance of ln sigma) over the usable taus up to the minimum whose local slope is within tol
   // of -1/2 (IEEE 952 -1/2 line), evaluated at tau = 1 s. nullopt if no such region.
   std::optional<double> arw_fit_deg_per_sqrt_h;
-  // Number of taus with EDF >= AllanOptions::min_edf_for_terms ("usable"), used below.
-  std::size_t num_taus_used = 0;
-  // Minimum of the ADEV curve over the usable taus, deg/h ("bias stability" in the paper), and
-  // its tau.
+  // Minimum of the whole ADEV curve, deg/h, and its tau: the "bias stability" as the paper,
+  // allantools users, MATLAB's examples and allan_variance_ros read it. The last taus carry few
+  // degrees of freedom and a random dip there can set it: compare adev_min_usable_deg_per_h.
   double adev_min_deg_per_h = 0.0;
   double tau_at_min_s = 0.0;
-  // True when the minimum is at the largest usable tau: the floor was not reached, min is an
-  // upper bound.
+  // True when that minimum is at the longest tau of the curve: the floor was not reached and the
+  // minimum is an upper bound ("adev_min_at_longest_tau" in JSON).
   bool min_at_longest_tau = false;
-  // Bias instability B = adev_min / 0.664 (IEEE 952 flicker floor sigma = 0.664 B), deg/h.
+  // The EDF-qualified minimum: over the taus with EDF >= min_edf ("usable"; all taus when none
+  // qualifies or the curve has no EDFs), deg/h, and its tau. The -1/2 and +1/2 fits are anchored
+  // on this one.
+  double adev_min_usable_deg_per_h = 0.0;
+  double tau_at_min_usable_s = 0.0;
+  // True when the usable minimum is at the largest usable tau.
+  bool min_usable_at_longest_usable_tau = false;
+  // The threshold used (AllanOptions::min_edf_for_terms) and the number of usable taus.
+  double min_edf = 0.0;
+  std::size_t num_taus_used = 0;
+  // Bias instability B = adev_min_deg_per_h / 0.664 (IEEE 952 flicker floor sigma = 0.664 B), deg/h.
   double bias_instability_deg_per_h = 0.0;
   // Rate random walk K from the +1/2 region: least-squares fit of sigma = K sqrt(tau / 3) (slope
   // fixed at +1/2, weights 2 EDF) over the usable taus after the minimum whose local slope is within tol
@@ -139,6 +149,17 @@ struct AllanResult {
 // already dropped (as allantools does after computing). Empty when n_samples < 3.
 Result<std::vector<std::int64_t>> AllanAveragingFactors(std::size_t n_samples,
                                                         const AllanOptions& options);
+
+// Every m in (0, n_samples + 1) of the grid, sorted and unique, before any deviation drops the
+// taus with too few terms (each kind has its own count; deviations.h).
+Result<std::vector<std::int64_t>> CandidateAveragingFactors(std::size_t n_samples,
+                                                            const AllanOptions& options);
+
+// Phase (angle) record of a rate series as allantools' frequency2phase, of y / s with
+// s = max |y| (*scale, 1 for an all-zero record): x_0 = 0, x_{i+1} = x_i + (y_i / s - mean) / fs.
+// Deviations computed on it are multiplied back by s (they are scale-equivariant; this keeps
+// squares of |y| near 1e+-300 in range). Error (kInvalidInput) naming the first non-finite sample.
+Result<std::vector<double>> PhaseFromRate(std::span<const double> rate_dps, double fs_hz, double* scale);
 
 // Overlapping ADEV of one rate series (deg/s) at fs_hz, with confidence intervals and noise
 // terms. Errors: fs_hz <= 0 or non-finite, fewer than 3 samples, non-finite values

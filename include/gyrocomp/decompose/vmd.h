@@ -10,9 +10,17 @@
 //   - Eq. (6) dual ascent with step tau (tau = 0: no Lagrangian update);
 //   - stop when sum_k ||u_k^{n} - u_k^{n-1}||^2 / T (+ machine epsilon) <= tol, or after
 //     max_iterations - 1 updates (the reference's Niter convention);
+//   - the first update always runs (vmdpy runs none when tol >= ~1 squared signal unit absorbs
+//     its eps, and returns all-zero modes);
 //   - like the reference, the modes and centre frequencies returned are those of update n-1
 //     (the iterate *before* the one that met the criterion); VmdOptions::return_last_iterate
 //     returns update n instead.
+// Extreme but finite inputs: the signal is normalised internally by a power of two 2^e (max |x|
+// in [1, 2); exact, so results are those of the unnormalised arithmetic wherever that does not
+// overflow or underflow), tol of the absolute rule is scaled by 2^-2e and the machine epsilon of
+// the rule is taken relative to the signal's scale (eps 2^2e squared units; vmdpy's eps for
+// max |x| in [1, 2)). A signal scaled by 2^k with tol scaled by 2^2k gives the same iterations
+// and exactly the scaled modes, up to |x| ~ 1e308 and down to subnormal values.
 // Unlike vmdpy, memory is O(K x N) (no per-iteration history), FFTs are FFTW real transforms,
 // and the per-bin work is split over threads (bit-identical results for any thread count).
 #pragma once
@@ -63,6 +71,9 @@ struct VmdOptions {
   bool dc = false;
   // Initial centre frequencies.
   VmdInit init = VmdInit::kUniform;
+  // Warm start: the initial centre frequencies themselves (cycles per sample, K values in
+  // [0, 0.5]), e.g. those of a VMD of an excerpt of the record. Set: overrides `init`.
+  std::optional<std::vector<double>> initial_center_frequencies;
   // Seed of the MT19937 stream for VmdInit::kRandom (numpy np.random.seed semantics, 32 bits).
   std::uint32_t seed = 0;
   // The reference's Niter: at most max_iterations - 1 updates are run. >= 2.
@@ -96,7 +107,9 @@ struct VmdSummary {
   int iterations = 0;
   // True when the stopping rule was met before max_iterations.
   bool converged = false;
-  // The last value of the stopping quantity (the one compared with tol).
+  // The last value of the stopping quantity (the one compared with tol), in tol's units; for the
+  // absolute rule it saturates at the largest double when the squared signal scale is not
+  // representable (|x| above ~1e154).
   double final_update = 0.0;
   // Centre frequency of each returned mode, in the algorithm's order (mode k started from the
   // k-th initial frequency): cycles per sample (0 .. 0.5) and Hz (= cycles per sample * fs_hz).

@@ -12,6 +12,8 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -27,7 +29,8 @@ struct LogSpec {
   std::string time_col = "time_s";
   // Rate column(s): one per axis.
   std::vector<std::string> rate_cols = {"rate_dps"};
-  // Unit of the rate columns; converted to deg/s on load.
+  // Unit of the rate columns; converted to deg/s on load. For ULog / DataFlash input the unit
+  // is the log's own (rad/s): ReadGyroLog sets it.
   RateUnit rate_unit = RateUnit::kDegPerSec;
   // Temperature column (deg C). Required only when temp_required.
   std::string temp_col = "temp_c";
@@ -48,6 +51,12 @@ struct LogSpec {
   double jitter_tolerance = 0.1;
   double max_irregular_fraction = 0.001;
   double gap_factor = 1.5;
+  // Flight-controller logs (ULog, DataFlash; gyrocomp/io/flight_log.h): which gyro instance to
+  // read. nullopt: the only one; with several, reading fails and lists them. Ignored for CSV.
+  std::optional<int> instance;
+  // Called with each warning of a flight-log reader as it is found (may be empty: the warnings
+  // are also in GyroLog::warnings). The CLI prints them.
+  std::function<void(const std::string&)> on_warning;
 
   // "LogSpec::fs_hz = -1: must be > 0 (Hz)" style message on failure.
   bool IsValid(std::string* error) const;
@@ -80,6 +89,16 @@ struct GyroLog {
   std::vector<std::vector<double>> rate_dps;    // one vector per axis
   std::vector<double> temp_c;                   // empty when the file has no temperature
   SamplingReport sampling;
+  // Flight-controller logs only (gyrocomp/io/flight_log.h). The gyro's device id as logged in
+  // PX4 ULog sensor_gyro.device_id (what PX4's TC_G{i}_ID holds); empty for CSV, DataFlash and
+  // ULog sensor_combined, which do not log one.
+  std::optional<std::uint32_t> device_id;
+  // Where the rows came from in a flight log, e.g. "ULog sensor_gyro multi_id 1" or
+  // "DataFlash IMU I=0"; empty for CSV.
+  std::string origin;
+  // What the flight-log reader warned about (truncated last record, rates that may already be
+  // compensated); also passed to LogSpec::on_warning as they happen.
+  std::vector<std::string> warnings;
   std::size_t num_samples() const { return time_s.size(); }
   bool has_temperature() const { return !temp_c.empty(); }
 };

@@ -1,0 +1,71 @@
+// ArduPilot DataFlash (.bin) logs: a compact reader of the IMU gyro rows and the parameters.
+//
+// Format (ArduPilot libraries/AP_Logger/LogStructure.h; reference parser: ArduPilot/pymavlink
+// DFReader.py, DFReader_binary): no file header; every record is A3 95 <uint8 msg type> followed
+// by a packed little-endian payload whose layout a FMT record (type 128, 89 bytes: uint8 type,
+// uint8 length incl. the 3 header bytes, char name[4], char format[16], char labels[64]) defines;
+// FMT defines itself. Format characters (DFReader FORMAT_TO_STRUCT): b B h H i I f d q Q, n
+// (char[4]), N (char[16]), Z (char[64]), a (int16[32]), c/C (int16/uint16 x 0.01), e/E
+// (int32/uint32 x 0.01), L (int32 x 1e-7), M (uint8 mode), g (half float).
+//
+// Gyro rows: message IMU with fields TimeUS (us), GyrX, GyrY, GyrZ (rad/s, offset-corrected and
+// rotated to the board frame by ArduPilot), T (deg C), and in newer logs an instance field I;
+// older logs have separate messages IMU, IMU2, IMU3 (instances 0, 1, 2).
+//
+// Strictness: a record that does not start with A3 95 and a known message type, a FMT whose
+// length disagrees with its format string, or a message whose length is shorter than its FMT
+// says is an error naming the byte offset (DFReader would skip the bad bytes; this reader does
+// not guess). A last record cut by the end of the file is dropped with a warning giving its
+// offset, as DFReader does.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "gyrocomp/core/status.h"
+
+namespace gyrocomp {
+
+struct DataFlashFormat {
+  int type = 0;
+  int length = 0;  // bytes, including the 3-byte record header
+  std::string name;
+  std::string format;
+  std::vector<std::string> labels;
+};
+
+// The IMU gyro rows of one instance, values as logged (float32 widened to double, so they
+// compare exactly with pymavlink's extracts).
+struct DataFlashImuSeries {
+  int instance = 0;
+  std::string message;  // "IMU" (with field I) or "IMU", "IMU2", "IMU3" (old logs)
+  std::vector<std::uint64_t> time_us;
+  std::vector<double> gyr_x_rad_s, gyr_y_rad_s, gyr_z_rad_s;
+  std::vector<double> temp_c;  // field T
+};
+
+struct DataFlashContents {
+  std::string source;
+  std::vector<DataFlashFormat> formats;             // in file order (FMT records)
+  std::map<std::string, std::size_t> message_counts; // records per message name
+  std::map<std::string, double> parameters;          // PARM Name -> Value (last value wins)
+  std::vector<DataFlashImuSeries> imus;              // sorted by instance
+  std::size_t num_records = 0;
+  std::vector<std::string> warnings;  // truncated last record
+  std::string BriefReport() const;
+};
+
+// Reads a whole DataFlash file (errors: cannot open -> kIo; malformed -> kInvalidInput,
+// "<file>: byte <offset>: <what>").
+Result<DataFlashContents> ReadDataFlash(const std::string& path);
+
+// The same on bytes in memory (`source` names them in messages); for tests and fuzzing.
+Result<DataFlashContents> ParseDataFlash(const std::uint8_t* data, std::size_t size, const std::string& source);
+
+// True when the bytes start like a DataFlash log: A3 95 80 (a FMT record first).
+bool HasDataFlashMagic(const std::uint8_t* data, std::size_t size);
+
+}  // namespace gyrocomp

@@ -1,0 +1,103 @@
+// PX4 ULog: a compact reader (gyro topics, parameters, structure) and a writer of sensor_gyro.
+//
+// Format: "ULog File Format", PX4 User Guide, https://docs.px4.io/main/en/dev_log/ulog_file_format
+// (reference parser: PX4/pyulog, pyulog/core.py). All integers little-endian:
+//   header (16 bytes): magic 55 4C 6F 67 01 12 35, uint8 version, uint64 start timestamp (us);
+//   then messages: uint16 msg_size (payload bytes), uint8 msg_type, payload.
+//   Definitions: 'B' flag bits (first message; incompat bit 0 = data appended at up to three
+//   offsets), 'F' format "name:type field;...", 'I' info, 'M' multi info, 'P' parameter,
+//   'Q' default parameter. Data: 'A' subscription (uint8 multi_id, uint16 msg_id, name),
+//   'R' unsubscription, 'D' data (uint16 msg_id + packed fields, trailing _padding may be
+//   omitted), 'L' / 'C' log strings, 'S' sync, 'O' dropout (uint16 ms).
+//
+// Strictness: every length is checked against the message and the file. A message that does not
+// fit in what is left of its segment (the file, or up to the next appended-data offset) is a
+// truncated last record: dropped, with a warning giving its offset, as pyulog does. Anything
+// else malformed (bad magic, unknown incompat flag, a format that does not parse, data for an
+// unknown subscription, a data size outside the format's) is an error naming the byte offset.
+// Unknown message types are skipped (the spec asks readers to).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "gyrocomp/core/status.h"
+
+namespace gyrocomp {
+
+// One 'A' subscription: a topic instance and how many 'D' rows it has.
+struct ULogTopic {
+  std::string name;
+  int multi_id = 0;
+  int msg_id = 0;
+  std::size_t rows = 0;
+};
+
+// The gyro rows of one subscription of sensor_gyro (x, y, z in rad/s, temperature in deg C,
+// device_id) or sensor_combined (gyro_rad[0..2]; no temperature, no device id). Values as logged
+// (float32 widened to double, so they compare exactly with pyulog's extracts).
+struct ULogGyroSeries {
+  std::string topic;  // "sensor_gyro" or "sensor_combined"
+  int multi_id = 0;
+  std::vector<std::uint64_t> timestamp_us;  // field 'timestamp'
+  std::vector<double> x_rad_s, y_rad_s, z_rad_s;
+  std::vector<double> temperature_c;  // empty for sensor_combined
+  // sensor_gyro.device_id of the first row (PX4's TC_G{i}_ID); a change of device id inside the
+  // series is a warning.
+  std::optional<std::uint32_t> device_id;
+};
+
+struct ULogDropout {
+  std::size_t offset = 0;       // byte offset of the 'O' message
+  std::uint16_t duration_ms = 0;
+};
+
+// What ReadULog found.
+struct ULogContents {
+  std::string source;
+  int version = 0;
+  std::uint64_t start_timestamp_us = 0;
+  std::vector<std::uint64_t> appended_offsets;  // from the 'B' message, zeros dropped
+  std::vector<ULogTopic> topics;                // in subscription order
+  // Parameters: the initial value ('P' in the definitions), overwritten by later changes ('P' in
+  // the data section). int32 parameters widened to double.
+  std::map<std::string, double> parameters;
+  std::map<std::string, std::string> info;  // 'I' string values (sys_name, ver_hw, ...)
+  std::vector<ULogDropout> dropouts;
+  std::vector<ULogGyroSeries> gyros;     // every sensor_gyro subscription with rows
+  std::vector<ULogGyroSeries> combined;  // every sensor_combined subscription with rows
+  std::size_t num_messages = 0;
+  std::vector<std::string> warnings;  // truncated last record(s), device-id changes
+  std::string BriefReport() const;
+};
+
+// Reads a whole ULog file (errors: cannot open -> kIo; malformed -> kInvalidInput,
+// "<file>: byte <offset>: <what>").
+Result<ULogContents> ReadULog(const std::string& path);
+
+// The same on bytes in memory (`source` names them in messages); for tests and fuzzing.
+Result<ULogContents> ParseULog(const std::uint8_t* data, std::size_t size, const std::string& source);
+
+// True when the first bytes are the ULog magic (at least 7 bytes needed).
+bool HasULogMagic(const std::uint8_t* data, std::size_t size);
+
+// A sensor_gyro series to write as a ULog (one subscription, multi_id 0).
+struct ULogGyroWriteInput {
+  std::vector<std::uint64_t> timestamp_us;  // strictly increasing
+  std::vector<float> x_rad_s, y_rad_s, z_rad_s, temperature_c;  // same length as timestamp_us
+  std::uint32_t device_id = 0;
+  std::string sys_name = "gyrocomp";  // 'I' char[] sys_name
+  // Parameters written as 'P' int32 entries (e.g. TC_G_ENABLE = 0).
+  std::map<std::string, std::int32_t> int_parameters = {{"TC_G_ENABLE", 0}};
+};
+
+// The bytes of a version-1 ULog holding `input` as sensor_gyro (fields of PX4's sensor_gyro
+// message: timestamp, timestamp_sample, device_id, x, y, z, temperature, error_count). Errors:
+// lengths differ, time not increasing (kInvalidArgument).
+Result<std::string> EncodeULogGyro(const ULogGyroWriteInput& input);
+
+}  // namespace gyrocomp

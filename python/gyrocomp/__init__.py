@@ -1,0 +1,76 @@
+"""gyrocomp: remove noise and temperature drift from MEMS gyro output (docs/python.md).
+
+Every function takes numpy arrays (float64, used in place when contiguous) and options as keyword
+arguments named as the C++ Options fields, with the C++ defaults. Results are objects with named
+attributes (units in the names, as in C++) and ``to_dict()``. Bad input or options raise
+``ValueError`` with the library's message; I/O and internal failures ``RuntimeError``. Long calls
+(vmd, fit_drift_model, run_parallel_model) release the GIL and accept ``progress(stage,
+fraction)`` and ``cancel=CancellationToken()``; Ctrl-C interrupts them at the next progress point.
+"""
+
+import functools as _functools
+
+from . import _core
+from ._core import CancellationToken, Cancelled, DriftModel, load_drift_model, drift_model_from_json
+
+__version__ = _core.__version__
+
+
+class Result:
+    """A result: named attributes (nested results for nested parts) and to_dict()."""
+
+    def __init__(self, name, values):
+        self._name = name
+        for key, value in values.items():
+            setattr(self, key, _wrap(key, value))
+
+    def to_dict(self):
+        return {k: _unwrap(v) for k, v in self.__dict__.items() if not k.startswith("_")}
+
+    def __repr__(self):
+        brief = getattr(self, "brief_report", None)
+        return f"<gyrocomp.{self._name} {brief}>" if brief else f"<gyrocomp.{self._name}>"
+
+
+def _wrap(name, value):
+    if isinstance(value, dict):
+        return Result(name, value)
+    if isinstance(value, list) and value and all(isinstance(v, dict) for v in value):
+        return [Result(name, v) for v in value]
+    return value
+
+
+def _unwrap(value):
+    if isinstance(value, Result):
+        return value.to_dict()
+    if isinstance(value, list):
+        return [_unwrap(v) for v in value]
+    return value
+
+
+def _returns(name):
+    def decorate(fn):
+        @_functools.wraps(fn)
+        def wrapper(*args, **kwargs):
+            return Result(name, fn(*args, **kwargs))
+        return wrapper
+    return decorate
+
+
+compute_allan = _returns("AllanResult")(_core.compute_allan)
+compute_deviation = _returns("DeviationCurve")(_core.compute_deviation)
+kalibr_imu_yaml = _core.kalibr_imu_yaml
+simulate = _returns("SimulatedRun")(_core.simulate)
+vmd = _returns("VmdResult")(_core.vmd)
+sample_entropy = _returns("SampleEntropyResult")(_core.sample_entropy)
+wavelet_denoise = _returns("WaveletDenoiseResult")(_core.wavelet_denoise)
+flp_denoise = _returns("FlpResult")(_core.flp_denoise)
+wflp_denoise = _returns("WflpResult")(_core.wflp_denoise)
+fit_drift_model = _core.fit_drift_model
+run_parallel_model = _returns("PipelineResult")(_core.run_parallel_model)
+
+__all__ = [
+    "CancellationToken", "Cancelled", "DriftModel", "Result", "compute_allan", "compute_deviation",
+    "drift_model_from_json", "fit_drift_model", "flp_denoise", "kalibr_imu_yaml", "load_drift_model",
+    "run_parallel_model", "sample_entropy", "simulate", "vmd", "wavelet_denoise", "wflp_denoise",
+]

@@ -1,0 +1,138 @@
+// gyrocomp.compute_allan, compute_deviation, kalibr_imu_yaml.
+#include "bindings.h"
+
+#include "gyrocomp/allan/allan.h"
+#include "gyrocomp/allan/deviations.h"
+#include "gyrocomp/allan/kalibr.h"
+
+namespace gyrocomp::python {
+namespace {
+
+py::dict TermsDict(const AllanNoiseTerms& t) {
+  py::dict d;
+  d["arw_deg_per_sqrt_h"] = t.arw_deg_per_sqrt_h;
+  d["arw_method"] = t.arw_method;
+  d["arw_fit_deg_per_sqrt_h"] = t.arw_fit_deg_per_sqrt_h;
+  d["adev_min_deg_per_h"] = t.adev_min_deg_per_h;
+  d["tau_at_min_s"] = t.tau_at_min_s;
+  d["min_at_longest_tau"] = t.min_at_longest_tau;
+  d["adev_min_usable_deg_per_h"] = t.adev_min_usable_deg_per_h;
+  d["tau_at_min_usable_s"] = t.tau_at_min_usable_s;
+  d["min_usable_at_longest_usable_tau"] = t.min_usable_at_longest_usable_tau;
+  d["min_edf"] = t.min_edf;
+  d["num_taus_used"] = t.num_taus_used;
+  d["bias_instability_deg_per_h"] = t.bias_instability_deg_per_h;
+  d["rrw_deg_per_h_per_sqrt_h"] = t.rrw_deg_per_h_per_sqrt_h;
+  d["rrw_fit_tau_min_s"] = t.rrw_fit_tau_min_s;
+  d["rrw_fit_tau_max_s"] = t.rrw_fit_tau_max_s;
+  return d;
+}
+
+}  // namespace
+
+AllanOptions ReadAllanOptions(Kwargs& kw) {
+  AllanOptions o;
+  py::object taus = kw.Take("taus");
+  if (!taus.is_none()) {
+    const std::string text = py::str(taus);
+    const std::optional<TauGrid> grid = ParseTauGrid(text, &o.points_per_decade);
+    if (!grid) throw py::value_error("taus=" + text + ": must be octave, decade, all or a number of taus per decade (1-1000)");
+    o.grid = *grid;
+  }
+  kw.Get("confidence", &o.confidence);
+  kw.Get("arw_tau_s", &o.arw_tau_s);
+  kw.Get("rrw_tau_s", &o.rrw_tau_s);
+  kw.Get("slope_tolerance", &o.slope_tolerance);
+  kw.Get("min_edf_for_terms", &o.min_edf_for_terms);
+  return o;
+}
+
+py::dict AllanDict(AllanResult&& r) {
+  py::dict d;
+  d["brief_report"] = r.BriefReport();  // before the curve is moved out
+  AllanCurve& c = r.curve;
+  d["axis"] = r.axis;
+  d["fs_hz"] = r.fs_hz;
+  d["n_samples"] = r.n_samples;
+  d["m"] = ToNumpy(std::move(c.m));
+  d["tau_s"] = ToNumpy(std::move(c.tau_s));
+  d["adev_dps"] = ToNumpy(std::move(c.adev_dps));
+  d["adev_error_dps"] = ToNumpy(std::move(c.adev_error_dps));
+  d["n_clusters"] = ToNumpy(std::move(c.n_clusters));
+  d["slope"] = ToNumpy(std::move(c.slope));
+  d["edf"] = ToNumpy(std::move(c.edf));
+  d["adev_lo_dps"] = ToNumpy(std::move(c.adev_lo_dps));
+  d["adev_hi_dps"] = ToNumpy(std::move(c.adev_hi_dps));
+  py::list noise;
+  for (PowerLawNoise n : c.noise) noise.append(PowerLawNoiseName(n));
+  d["noise"] = noise;
+  d["terms"] = TermsDict(r.terms);
+  d["confidence"] = r.confidence;
+  d["deviation_method"] = r.deviation_method;
+  d["edf_method"] = r.edf_method;
+  d["seconds"] = r.seconds;
+  return d;
+}
+
+void BindAllan(py::module_& m) {
+  m.def(
+      "compute_allan",
+      [](const DoubleArray& rate_dps, double fs_hz, const py::kwargs& kwargs) {
+        Kwargs kw(kwargs, "compute_allan");
+        const AllanOptions o = ReadAllanOptions(kw);
+        kw.Done();
+        const std::span<const double> y = AsSpan(rate_dps, "rate_dps");
+        Result<AllanResult> r = WithoutGil([&] { return ComputeAllan(y, fs_hz, o); });
+        return AllanDict(Unwrap(std::move(r)));
+      },
+      py::arg("rate_dps"), py::arg("fs_hz"),
+      "Overlapping Allan deviation and noise terms (AllanOptions as keywords: taus, confidence, "
+      "arw_tau_s, rrw_tau_s, slope_tolerance, min_edf_for_terms).");
+
+  m.def(
+      "compute_deviation",
+      [](const DoubleArray& rate_dps, double fs_hz, const std::string& kind, const py::kwargs& kwargs) {
+        Kwargs kw(kwargs, "compute_deviation");
+        const AllanOptions o = ReadAllanOptions(kw);
+        kw.Done();
+        const std::optional<DeviationKind> k = ParseDeviationKind(kind);
+        if (!k) throw py::value_error("kind=" + kind + ": must be adev, mdev, hdev, ohdev or totdev");
+        const std::span<const double> y = AsSpan(rate_dps, "rate_dps");
+        DeviationCurve c = Unwrap(WithoutGil([&] { return ComputeDeviation(y, fs_hz, *k, o); }));
+        py::dict d;
+        d["kind"] = DeviationKindName(c.kind);
+        d["m"] = ToNumpy(std::move(c.m));
+        d["tau_s"] = ToNumpy(std::move(c.tau_s));
+        d["dev_dps"] = ToNumpy(std::move(c.dev_dps));
+        d["error_dps"] = ToNumpy(std::move(c.error_dps));
+        d["n"] = ToNumpy(std::move(c.n));
+        d["edf"] = ToNumpy(std::move(c.edf));
+        d["lo_dps"] = ToNumpy(std::move(c.lo_dps));
+        d["hi_dps"] = ToNumpy(std::move(c.hi_dps));
+        d["confidence"] = c.confidence;
+        d["method"] = c.method;
+        d["edf_method"] = c.edf_method;
+        d["seconds"] = c.seconds;
+        return d;
+      },
+      py::arg("rate_dps"), py::arg("fs_hz"), py::arg("kind") = "adev",
+      "One deviation curve (adev, mdev, hdev, ohdev, totdev) as allantools computes it.");
+
+  m.def(
+      "kalibr_imu_yaml",
+      [](const DoubleArray& rate_dps, double fs_hz, const std::string& rostopic, const py::kwargs& kwargs) {
+        Kwargs kw(kwargs, "kalibr_imu_yaml");
+        const AllanOptions o = ReadAllanOptions(kw);
+        kw.Done();
+        const std::span<const double> y = AsSpan(rate_dps, "rate_dps");
+        AllanResult r = Unwrap(WithoutGil([&] { return ComputeAllan(y, fs_hz, o); }));
+        KalibrAxisNoise g = Unwrap(KalibrNoiseFromAllan(r, KalibrSensor::kGyroscope, o.min_edf_for_terms));
+        KalibrYamlOptions yo;
+        yo.rostopic = rostopic;
+        return KalibrImuYaml({g}, {}, fs_hz, yo);
+      },
+      py::arg("rate_dps"), py::arg("fs_hz"), py::arg("rostopic") = KalibrYamlOptions{}.rostopic,
+      "Kalibr imu.yaml text for one gyro axis (docs/kalibr.md).");
+}
+
+}  // namespace gyrocomp::python

@@ -1,0 +1,117 @@
+// gyrocomp.fit_drift_model, load_drift_model, drift_model_from_json and the DriftModel class
+// (predict, save, to_json, summary).
+#include "bindings.h"
+
+#include "gyrocomp/drift/drift_model.h"
+
+namespace gyrocomp::python {
+namespace {
+
+std::vector<double> Predict(const DriftModel& model, const DoubleArray& temp_c, double fs_hz) {
+  const DriftInputs inputs{AsSpan(temp_c, "temp_c"), fs_hz};
+  return Unwrap(WithoutGil([&] { return model.Predict(inputs); }));
+}
+
+}  // namespace
+
+py::dict FitSummaryDict(const DriftFitSummary& s) {
+  py::dict d;
+  d["model"] = DriftModelKindName(s.model);
+  d["inputs"] = DriftInputSetName(s.inputs);
+  d["target_name"] = s.target_name;
+  d["num_samples"] = s.num_samples;
+  d["fs_hz"] = s.fs_hz;
+  d["duration_s"] = s.duration_s;
+  d["num_train"] = s.num_train;
+  d["train_period_s"] = s.train_period_s;
+  d["temp_min_c"] = s.temp_min_c;
+  d["temp_max_c"] = s.temp_max_c;
+  d["C"] = s.C;
+  d["gamma"] = s.gamma;
+  d["sigma"] = s.sigma;
+  d["epsilon"] = s.epsilon;
+  d["num_support"] = s.num_support;
+  d["degree"] = s.degree;
+  d["cv_folds"] = s.cv_folds;
+  d["cv_rmse"] = s.cv_rmse;
+  d["train_rmse"] = s.train_rmse;
+  d["evaluations"] = s.evaluations;
+  d["generations"] = s.generations;
+  d["best_cv_history"] = s.best_cv_history;
+  d["fit_time_s"] = s.fit_time_s;
+  d["brief_report"] = s.BriefReport();
+  return d;
+}
+
+DriftFitOptions ReadFitOptions(Kwargs& kw) {
+  DriftFitOptions o;
+  py::object model = kw.Take("model");
+  if (!model.is_none()) {
+    const std::string name = py::str(model);
+    const auto k = ParseDriftModelKind(name);
+    if (!k) throw py::value_error("fit_drift_model(): model=" + name + ": not a drift model kind (docs/drift_model.md)");
+    o.model = *k;
+  }
+  py::object inputs = kw.Take("inputs");
+  if (!inputs.is_none()) {
+    const std::string name = py::str(inputs);
+    const auto k = ParseDriftInputSet(name);
+    if (!k) throw py::value_error("fit_drift_model(): inputs=" + name + ": not an input set (docs/drift_model.md)");
+    o.inputs = *k;
+  }
+  kw.Get("train_period_s", &o.train_period_s);
+  kw.Get("max_train_samples", &o.max_train_samples);
+  kw.Get("cv_folds", &o.cv_folds);
+  kw.Get("cv_in_range_only", &o.cv_in_range_only);
+  kw.Get("target_name", &o.target_name);
+  kw.Get("degree", &o.polynomial.degree);
+  kw.Get("dtemp_degree", &o.polynomial.dtemp_degree);
+  kw.Get("num_nests", &o.search.cuckoo.num_nests);
+  kw.Get("max_generations", &o.search.cuckoo.max_generations);
+  kw.Get("seed", &o.search.cuckoo.seed);
+  return o;
+}
+
+void BindDrift(py::module_& m) {
+  py::class_<DriftModel>(m, "DriftModel", "A fitted temperature-drift model (docs/drift_model.md).")
+      .def(
+          "predict",
+          [](const DriftModel& model, const DoubleArray& temp_c, double fs_hz) {
+            return ToNumpy(Predict(model, temp_c, fs_hz));
+          },
+          py::arg("temp_c"), py::arg("fs_hz"), "Predicted drift (target units, deg/s) for a temperature record.")
+      .def("save", [](const DriftModel& model, const std::string& path) { Check(SaveDriftModel(model, path)); },
+           py::arg("path"), "Writes the model file (JSON, atomic).")
+      .def("to_json", &DriftModelToJson)
+      .def_property_readonly("kind", [](const DriftModel& model) { return DriftModelKindName(model.kind); })
+      .def_property_readonly("summary", [](const DriftModel& model) { return FitSummaryDict(model.summary); })
+      .def("__repr__", [](const DriftModel& model) { return "<gyrocomp.DriftModel " + model.summary.BriefReport() + ">"; });
+
+  m.def(
+      "fit_drift_model",
+      [](const DoubleArray& temp_c, const DoubleArray& target_dps, double fs_hz, py::object progress,
+         const CancellationToken* cancel, const py::kwargs& kwargs) {
+        Kwargs kw(kwargs, "fit_drift_model");
+        DriftFitOptions o = ReadFitOptions(kw);
+        kw.Done();
+        const Hooks hooks(std::move(progress), cancel);
+        const int generations = o.search.cuckoo.max_generations;
+        o.search.cuckoo.on_generation = [&hooks, generations](int generation, double) {
+          hooks.Poll("drift-fit (cuckoo search)", static_cast<double>(generation) / generations);
+        };
+        const DriftInputs inputs{AsSpan(temp_c, "temp_c"), fs_hz};
+        const std::span<const double> target = AsSpan(target_dps, "target_dps");
+        return Unwrap(WithoutGil([&] { return FitDriftModel(inputs, target, o); }));
+      },
+      py::arg("temp_c"), py::arg("target_dps"), py::arg("fs_hz"), py::kw_only(), py::arg("progress") = py::none(),
+      py::arg("cancel") = nullptr,
+      "Fits a drift model of target_dps against temperature (DriftFitOptions as keywords: model, inputs, "
+      "max_train_samples, cv_folds, degree, num_nests, max_generations, seed, ...).");
+
+  m.def("load_drift_model", [](const std::string& path) { return Unwrap(LoadDriftModel(path)); }, py::arg("path"));
+  m.def(
+      "drift_model_from_json",
+      [](const std::string& text) { return Unwrap(DriftModelFromJson(text, "<string>")); }, py::arg("text"));
+}
+
+}  // namespace gyrocomp::python

@@ -1,0 +1,109 @@
+// gyrocomp.simulate: SimulatorOptions as keywords; nested structs as dicts
+// (profile={...}, bias={...}, noise={...}, true_rate={...}).
+#include "bindings.h"
+
+#include "gyrocomp/sim/simulator.h"
+
+namespace gyrocomp::python {
+namespace {
+
+void ReadProfile(py::dict d, ThermalProfileOptions* p) {
+  Kwargs kw(d, "simulate(profile=...)");
+  py::object kind = kw.Take("kind");
+  if (!kind.is_none()) {
+    const std::string name = py::str(kind);
+    const auto k = ParseThermalProfileKind(name);
+    if (!k) throw py::value_error("profile kind=" + name + ": must be paper, soak, ramp or cycle");
+    p->kind = *k;
+  }
+  kw.Get("room_temp_c", &p->room_temp_c);
+  kw.Get("room_hold_s", &p->room_hold_s);
+  kw.Get("hot_temp_c", &p->hot_temp_c);
+  kw.Get("cold_temp_c", &p->cold_temp_c);
+  kw.Get("step_c", &p->step_c);
+  kw.Get("hold_s", &p->hold_s);
+  kw.Get("ramp_rate_c_per_min", &p->ramp_rate_c_per_min);
+  kw.Get("soak_temp_c", &p->soak_temp_c);
+  kw.Get("soak_duration_s", &p->soak_duration_s);
+  kw.Get("ramp_end_c", &p->ramp_end_c);
+  kw.Get("num_cycles", &p->num_cycles);
+  kw.Done();
+}
+
+void ReadBias(py::dict d, BiasModelOptions* b) {
+  Kwargs kw(d, "simulate(bias=...)");
+  kw.Get("reference_temp_c", &b->reference_temp_c);
+  kw.Get("poly_dps", &b->poly_dps);
+  kw.Get("dtemp_coeff_dps_per_c_per_s", &b->dtemp_coeff_dps_per_c_per_s);
+  kw.Get("hysteresis_width_c", &b->hysteresis_width_c);
+  kw.Get("hysteresis_coeff_dps_per_c", &b->hysteresis_coeff_dps_per_c);
+  kw.Done();
+}
+
+void ReadNoise(py::dict d, NoiseOptions* n) {
+  Kwargs kw(d, "simulate(noise=...)");
+  kw.Get("arw_deg_per_sqrt_h", &n->arw_deg_per_sqrt_h);
+  kw.Get("bias_instability_deg_per_h", &n->bias_instability_deg_per_h);
+  kw.Get("flicker_min_corr_s", &n->flicker_min_corr_s);
+  kw.Get("flicker_max_corr_s", &n->flicker_max_corr_s);
+  kw.Get("flicker_per_decade", &n->flicker_per_decade);
+  kw.Get("rrw_deg_per_h_per_sqrt_h", &n->rrw_deg_per_h_per_sqrt_h);
+  kw.Get("quantization_deg", &n->quantization_deg);
+  kw.Get("resolution_dps", &n->resolution_dps);
+  kw.Done();
+}
+
+void ReadTrueRate(py::dict d, TrueRateOptions* t) {
+  Kwargs kw(d, "simulate(true_rate=...)");
+  kw.Get("constant_dps", &t->constant_dps);
+  kw.Get("step_amplitude_dps", &t->step_amplitude_dps);
+  kw.Get("step_period_s", &t->step_period_s);
+  kw.Get("sine_amplitude_dps", &t->sine_amplitude_dps);
+  kw.Get("sine_frequency_hz", &t->sine_frequency_hz);
+  kw.Done();
+}
+
+}  // namespace
+
+void BindSimulator(py::module_& m) {
+  m.def(
+      "simulate",
+      [](const py::kwargs& kwargs) {
+        Kwargs kw(kwargs, "simulate");
+        SimulatorOptions o;
+        kw.Get("fs_hz", &o.fs_hz);
+        kw.Get("seed", &o.seed);
+        kw.Get("duration_s", &o.duration_s);
+        kw.Get("thermal_lag_s", &o.thermal_lag_s);
+        kw.Get("temp_noise_c", &o.temp_noise_c);
+        ReadProfile(kw.Nested("profile"), &o.profile);
+        ReadBias(kw.Nested("bias"), &o.bias);
+        ReadNoise(kw.Nested("noise"), &o.noise);
+        ReadTrueRate(kw.Nested("true_rate"), &o.true_rate);
+        kw.Done();
+        SimulatedRun r = Unwrap(WithoutGil([&] { return Simulate(o); }));
+        py::dict d;
+        d["fs_hz"] = r.fs_hz;
+        d["time_s"] = ToNumpy(std::move(r.time_s));
+        d["rate_dps"] = ToNumpy(std::move(r.rate_dps));
+        d["temp_c"] = ToNumpy(std::move(r.temp_c));
+        d["chamber_temp_c"] = ToNumpy(std::move(r.chamber_temp_c));
+        d["sensor_temp_c"] = ToNumpy(std::move(r.sensor_temp_c));
+        d["true_rate_dps"] = ToNumpy(std::move(r.true_rate_dps));
+        d["true_drift_dps"] = ToNumpy(std::move(r.true_drift_dps));
+        d["true_noise_dps"] = ToNumpy(std::move(r.true_noise_dps));
+        const SimulationSummary& s = r.summary;
+        d["summary"] = py::dict(py::arg("num_samples") = s.num_samples, py::arg("duration_s") = s.duration_s,
+                                py::arg("seconds") = s.seconds, py::arg("min_temp_c") = s.min_temp_c,
+                                py::arg("max_temp_c") = s.max_temp_c, py::arg("min_drift_dps") = s.min_drift_dps,
+                                py::arg("max_drift_dps") = s.max_drift_dps,
+                                py::arg("flicker_process_sigma_dps") = s.flicker_process_sigma_dps,
+                                py::arg("num_flicker_processes") = s.num_flicker_processes,
+                                py::arg("brief_report") = s.BriefReport());
+        return d;
+      },
+      "Simulated gyro in a temperature chamber, with ground truth (SimulatorOptions as keywords; "
+      "profile=, bias=, noise=, true_rate= as dicts of their fields).");
+}
+
+}  // namespace gyrocomp::python

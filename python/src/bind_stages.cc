@@ -1,0 +1,177 @@
+// gyrocomp.vmd, sample_entropy, wavelet_denoise, flp_denoise, wflp_denoise.
+#include "bindings.h"
+
+#include "gyrocomp/decompose/sample_entropy.h"
+#include "gyrocomp/decompose/vmd.h"
+#include "gyrocomp/denoise/flp.h"
+#include "gyrocomp/denoise/wavelet_denoise.h"
+#include "gyrocomp/denoise/wflp.h"
+
+namespace gyrocomp::python {
+namespace {
+
+template <class T, class Parse>
+void GetEnum(Kwargs& kw, const char* name, T* field, Parse parse, const char* allowed) {
+  py::object v = kw.Take(name);
+  if (v.is_none()) return;
+  const std::string text = py::str(v);
+  const std::optional<T> parsed = parse(text);
+  if (!parsed) throw py::value_error(kw.function() + "(): " + name + "=" + text + ": must be " + allowed);
+  *field = *parsed;
+}
+
+void ReadWaveletFields(Kwargs& kw, std::string* wavelet, std::optional<int>* level, ExtensionMode* extension,
+                       ThresholdRule* rule, ThresholdMode* mode, std::optional<double>* noise_sigma) {
+  kw.Get("wavelet", wavelet);
+  kw.Get("level", level);
+  GetEnum(kw, "extension", extension, ParseExtensionMode, "symmetric, periodization, periodic or zero");
+  GetEnum(kw, "threshold", rule, ParseThresholdRule, "a threshold rule name (docs/denoising.md)");
+  GetEnum(kw, "threshold_mode", mode, ParseThresholdMode, "soft or hard");
+  kw.Get("noise_sigma", noise_sigma);
+}
+
+FlpOptions ReadFlp(py::dict d, const char* fn) {
+  Kwargs kw(d, fn);
+  FlpOptions o;
+  kw.Get("order", &o.order);
+  kw.Get("beta", &o.beta);
+  kw.Get("alpha", &o.alpha);
+  kw.Get("power_forgetting", &o.power_forgetting);
+  kw.Get("regularization", &o.regularization);
+  GetEnum(kw, "initial_weights", &o.initial_weights, ParseFlpInitialWeights, "an FlpInitialWeights name");
+  kw.Done();
+  return o;
+}
+
+py::dict FlpSummaryDict(const FlpSummary& s) {
+  return py::dict(py::arg("num_samples") = s.num_samples, py::arg("order") = s.order, py::arg("beta") = s.beta,
+                  py::arg("alpha") = s.alpha, py::arg("final_weights") = s.final_weights,
+                  py::arg("mean_step") = s.mean_step, py::arg("final_step") = s.final_step,
+                  py::arg("rms_error") = s.rms_error, py::arg("rms_error_second_half") = s.rms_error_second_half,
+                  py::arg("brief_report") = s.BriefReport());
+}
+
+py::dict ThresholdsDict(const WaveletDenoiseSummary& s) {
+  return py::dict(py::arg("wavelet") = s.wavelet, py::arg("level") = s.level, py::arg("sigma") = s.sigma,
+                  py::arg("threshold") = s.threshold, py::arg("fraction_zeroed") = s.fraction_zeroed,
+                  py::arg("brief_report") = s.BriefReport());
+}
+
+py::dict Vmd(const DoubleArray& signal, py::object progress, const CancellationToken* cancel, const py::kwargs& kwargs) {
+  Kwargs kw(kwargs, "vmd");
+  VmdOptions o = ReadVmdOptions(kw);
+  kw.Done();
+  const Hooks hooks(std::move(progress), cancel);
+  const int max_iterations = o.max_iterations;
+  o.on_iteration = [&hooks, max_iterations](int iteration, double) {
+    hooks.Poll("vmd", static_cast<double>(iteration) / max_iterations);
+  };
+  const std::span<const double> x = AsSpan(signal, "signal");
+  VmdResult r = Unwrap(WithoutGil([&] { return DecomposeVmd(x, o); }));
+  const VmdSummary& s = r.summary;
+  py::dict d;
+  d["modes"] = ToNumpy2d(r.modes);
+  d["num_modes"] = s.num_modes;
+  d["num_samples"] = s.num_samples;
+  d["iterations"] = s.iterations;
+  d["converged"] = s.converged;
+  d["final_update"] = s.final_update;
+  d["center_frequency_cycles_per_sample"] = s.center_frequency_cycles_per_sample;
+  d["center_frequency_hz"] = s.center_frequency_hz;
+  d["fs_hz"] = s.fs_hz;
+  d["threads_used"] = s.threads_used;
+  d["elapsed_s"] = s.elapsed_s;
+  d["brief_report"] = s.BriefReport();
+  return d;
+}
+
+}  // namespace
+
+VmdOptions ReadVmdOptions(Kwargs& kw) {
+  VmdOptions o;
+  kw.Get("num_modes", &o.num_modes);
+  kw.Get("alpha", &o.alpha);
+  kw.Get("tau", &o.tau);
+  kw.Get("tol", &o.tol);
+  kw.Get("dc", &o.dc);
+  kw.Get("seed", &o.seed);
+  kw.Get("max_iterations", &o.max_iterations);
+  kw.Get("mirror_extension", &o.mirror_extension);
+  kw.Get("return_last_iterate", &o.return_last_iterate);
+  kw.Get("fs_hz", &o.fs_hz);
+  kw.Get("num_threads", &o.num_threads);
+  return o;
+}
+
+void BindStages(py::module_& m) {
+  m.def("vmd", &Vmd, py::arg("signal"), py::kw_only(), py::arg("progress") = py::none(),
+        py::arg("cancel") = nullptr,
+        "Variational mode decomposition (VmdOptions as keywords). progress(stage, fraction) is called "
+        "every iteration; cancel: a CancellationToken.");
+
+  m.def(
+      "sample_entropy",
+      [](const DoubleArray& x, const py::kwargs& kwargs) {
+        Kwargs kw(kwargs, "sample_entropy");
+        SampleEntropyOptions o;
+        kw.Get("m", &o.m);
+        kw.Get("r_factor", &o.r_factor);
+        kw.Get("reference_sd", &o.reference_sd);
+        kw.Get("r_absolute", &o.r_absolute);
+        kw.Get("num_threads", &o.num_threads);
+        kw.Done();
+        const std::span<const double> s = AsSpan(x, "x");
+        SampleEntropyResult r = Unwrap(WithoutGil([&] { return SampleEntropy(s, o); }));
+        return py::dict(py::arg("sample_entropy") = r.defined ? py::cast(r.sample_entropy) : py::none(),
+                        py::arg("defined") = r.defined, py::arg("m") = r.m, py::arg("r") = r.r, py::arg("n") = r.n,
+                        py::arg("a_matches") = r.a_matches, py::arg("b_matches") = r.b_matches,
+                        py::arg("elapsed_s") = r.elapsed_s, py::arg("brief_report") = r.BriefReport());
+      },
+      py::arg("x"), "Sample entropy (SampleEntropyOptions as keywords: m, r_factor, r_absolute, ...).");
+
+  m.def(
+      "wavelet_denoise",
+      [](const DoubleArray& x, const py::kwargs& kwargs) {
+        Kwargs kw(kwargs, "wavelet_denoise");
+        WaveletDenoiseOptions o;
+        ReadWaveletFields(kw, &o.wavelet, &o.level, &o.extension, &o.threshold, &o.threshold_mode, &o.noise_sigma);
+        kw.Done();
+        const std::span<const double> s = AsSpan(x, "x");
+        WaveletDenoiseResult r = Unwrap(WithoutGil([&] { return RunWaveletDenoise(s, o); }));
+        return py::dict(py::arg("denoised") = ToNumpy(std::move(r.denoised)),
+                        py::arg("summary") = ThresholdsDict(r.summary));
+      },
+      py::arg("x"), "Wavelet threshold denoising (WaveletDenoiseOptions as keywords).");
+
+  m.def(
+      "flp_denoise",
+      [](const DoubleArray& x, const py::kwargs& kwargs) {
+        const FlpOptions o = ReadFlp(kwargs, "flp_denoise");
+        const std::span<const double> s = AsSpan(x, "x");
+        FlpResult r = Unwrap(WithoutGil([&] { return RunFlp(s, o); }));
+        return py::dict(py::arg("denoised") = ToNumpy(std::move(r.filtered)),
+                        py::arg("summary") = FlpSummaryDict(r.summary));
+      },
+      py::arg("x"), "Fuzzy linear prediction (FlpOptions as keywords).");
+
+  m.def(
+      "wflp_denoise",
+      [](const DoubleArray& x, const py::kwargs& kwargs) {
+        Kwargs kw(kwargs, "wflp_denoise");
+        WflpOptions o;
+        ReadWaveletFields(kw, &o.wavelet, &o.level, &o.extension, &o.threshold, &o.threshold_mode, &o.noise_sigma);
+        o.flp = ReadFlp(kw.Nested("flp"), "wflp_denoise(flp=...)");
+        GetEnum(kw, "details", &o.details, ParseDetailHandling, "a DetailHandling name");
+        kw.Done();
+        const std::span<const double> s = AsSpan(x, "x");
+        WflpResult r = Unwrap(WithoutGil([&] { return RunWflp(s, o); }));
+        py::dict summary = py::dict(py::arg("wavelet") = r.summary.wavelet, py::arg("level") = r.summary.level,
+                                    py::arg("flp") = FlpSummaryDict(r.summary.flp),
+                                    py::arg("thresholds") = ThresholdsDict(r.summary.thresholds),
+                                    py::arg("brief_report") = r.summary.BriefReport());
+        return py::dict(py::arg("denoised") = ToNumpy(std::move(r.denoised)), py::arg("summary") = summary);
+      },
+      py::arg("x"), "Wavelet + FLP denoising of the paper (WflpOptions as keywords; flp={...}).");
+}
+
+}  // namespace gyrocomp::python

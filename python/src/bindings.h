@@ -1,0 +1,26 @@
+// One Bind* function per binding file; module.cc calls them all.
+#pragma once
+
+#include "convert.h"
+#include "gyrocomp/allan/allan.h"
+#include "gyrocomp/decompose/vmd.h"
+#include "gyrocomp/drift/drift_model.h"
+
+namespace gyrocomp::python {
+
+void BindAllan(py::module_& m);
+void BindSimulator(py::module_& m);
+void BindStages(py::module_& m);    // VMD, sample entropy, wavelet / FLP / WFLP
+void BindDrift(py::module_& m);
+void BindPipeline(py::module_& m);
+
+// Options structs from keyword arguments (each reads its own fields; the caller calls Done()).
+AllanOptions ReadAllanOptions(Kwargs& kw);
+VmdOptions ReadVmdOptions(Kwargs& kw);
+DriftFitOptions ReadFitOptions(Kwargs& kw);
+py::dict FitSummaryDict(const DriftFitSummary& s);
+
+// An AllanResult as a dict of numpy arrays and figures (shared by compute_allan and the pipeline).
+py::dict AllanDict(AllanResult&& r);
+
+}  // namespace gyrocomp::python

@@ -1,0 +1,101 @@
+// Helpers shared by the binding files: numpy <-> span / vector without copies, keyword arguments
+// onto Options structs (defaults stay the library's), library errors -> Python exceptions, and
+// the progress / cancellation hook of the long calls.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <set>
+#include <span>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include "gyrocomp/core/cancel.h"
+#include "gyrocomp/core/status.h"
+
+namespace gyrocomp::python {
+
+namespace py = pybind11;
+
+// A 1-D float64 array; other dtypes / strides are converted once by numpy (forcecast), a
+// contiguous float64 array is used in place.
+using DoubleArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
+
+// The array's data as a span (no copy). ValueError when it is not 1-D.
+std::span<const double> AsSpan(const DoubleArray& a, const char* name);
+
+// A numpy array that takes over the vector's buffer (no copy).
+py::array_t<double> ToNumpy(std::vector<double>&& v);
+py::array_t<std::int64_t> ToNumpy(std::vector<std::int64_t>&& v);
+// Rows of equal length as one 2-D array (one copy: the rows are separate buffers).
+py::array_t<double> ToNumpy2d(const std::vector<std::vector<double>>& rows);
+
+// Raises the library's error: ValueError for bad input / arguments / unsupported content,
+// RuntimeError for I/O, did-not-converge and internal errors. The message is the library's.
+[[noreturn]] void Raise(const Error& error);
+
+template <class T>
+T Unwrap(Result<T>&& r) {
+  if (!r.ok()) Raise(r.error());
+  return std::move(r).value();
+}
+inline void Check(const Status& s) {
+  if (!s.ok()) Raise(s.error());
+}
+
+// Keyword arguments onto an Options struct: Get() only overwrites a field that was passed, so the
+// defaults are the struct's own; Done() raises TypeError naming any keyword nobody read.
+class Kwargs {
+ public:
+  Kwargs(py::dict kwargs, std::string function) : kw_(std::move(kwargs)), fn_(std::move(function)) {}
+  template <class T>
+  void Get(const char* name, T* field) {
+    if (!kw_.contains(name)) return;
+    used_.insert(name);
+    try {
+      *field = kw_[name].template cast<T>();
+    } catch (const py::cast_error&) {
+      throw py::type_error(fn_ + "(): keyword '" + name + "' has the wrong type (" +
+                           std::string(py::str(py::type::of(kw_[name]))) + ")");
+    }
+  }
+  // The raw value (None when absent), marked as read.
+  py::object Take(const char* name);
+  // A nested options dict (e.g. noise={...}); empty when absent.
+  py::dict Nested(const char* name);
+  void Done() const;
+  const std::string& function() const { return fn_; }
+
+ private:
+  py::dict kw_;
+  std::string fn_;
+  std::set<std::string> used_;
+};
+
+// progress(stage: str, fraction: float) and a CancellationToken, polled from the library's hooks.
+// Poll(): raises Cancelled when the token is set, runs Python's signal handlers (Ctrl-C ->
+// KeyboardInterrupt) and calls the progress callable; called with the GIL released.
+class Hooks {
+ public:
+  Hooks(py::object progress, const CancellationToken* token) : progress_(std::move(progress)), token_(token) {}
+  void Poll(const std::string& stage, double fraction) const;
+  bool active() const { return true; }
+
+ private:
+  py::object progress_;
+  const CancellationToken* token_;
+};
+
+// Runs fn with the GIL released; Cancelled becomes gyrocomp.Cancelled in Python.
+template <class F>
+auto WithoutGil(F&& fn) {
+  py::gil_scoped_release release;
+  return fn();
+}
+
+}  // namespace gyrocomp::python

@@ -1,0 +1,66 @@
+// The VMD inner kernel (internal to src/decompose/): one fused pass of Eq. (4) over a chunk of
+// bins of one mode, with the partial sums that Eq. (5) and the stopping rule need.
+//
+// Determinism: the sums are kept in kLanes fixed lanes (bin j of a block goes to lane
+// j mod kLanes, added in increasing j) and combined in a fixed tree, so every code path (the
+// run-time dispatched SIMD clones and the scalar tail) performs the same IEEE operations in the
+// same order. vmd_kernel.cc is compiled with -ffp-contract=off: no path fuses a multiply-add.
+#pragma once
+
+#include <cstddef>
+
+namespace gyrocomp::vmd_internal {
+
+// Lanes of the partial sums (one 512-bit vector, two 256-bit or four 128-bit ones).
+constexpr std::size_t kLanes = 8;
+
+// Partial sums of one mode over the bins of one block, per lane.
+struct LaneSums {
+  alignas(64) double freq_power[kLanes];  // sum freq_j |u_kj|^2 (Eq. 5 numerator)
+  alignas(64) double power[kLanes];       // sum |u_kj|^2         (Eq. 5 denominator)
+  alignas(64) double diff[kLanes];        // sum |u_kj^new - u_kj^old|^2 (stopping rule)
+  alignas(64) double old_power[kLanes];   // sum |u_kj^old|^2 (Eq. 7 relative rule)
+  void Clear();
+};
+
+// Fixed-order total of the lanes: ((l0 + l1) + (l2 + l3)) + ((l4 + l5) + (l6 + l7)).
+double LaneTotal(const double (&lanes)[kLanes]);
+
+// The arrays of one chunk of bins [0, n) of mode k (pointers already offset to the chunk start).
+struct ModeChunk {
+  const double* freq;     // bin frequency, cycles per sample
+  const double* f_re;     // f_hat_plus
+  const double* f_im;
+  const double* l_re;     // lambda / 2 is subtracted; nullptr when tau = 0 (lambda stays 0)
+  const double* l_im;
+  const double* prev_re;  // mode k-1 of this update (mode K-1 of the previous one for k = 0)
+  const double* prev_im;
+  const double* old_re;   // mode k of the previous update
+  const double* old_im;
+  double* s_re;           // the accumulator sum_uk (updated in place)
+  double* s_im;
+  double* u_re;           // mode k of this update (written)
+  double* u_im;
+};
+
+// Eq. (4) on n bins of one mode, Gauss-Seidel order of vmdpy:
+//   sum_uk = (u_{k-1} + sum_uk) - u_k^{old}
+//   u_k    = ((f - sum_uk) - lambda / 2) * rcp,  rcp = 1 / (1 + alpha (freq - omega_k)^2)
+// (one reciprocal per bin shared by the real and imaginary parts), and adds the bins to `sums`:
+// bin i of the chunk goes to lane i mod kLanes (chunks start at multiples of kLanes from the
+// block start, so this is the block's lane). The SIMD width is chosen at run time (AVX-512F,
+// AVX2 or the x86-64 baseline); all give the same bits.
+void UpdateModeChunk(const ModeChunk& c, std::size_t n, double omega_k, double alpha, LaneSums& sums);
+
+// The instruction set the dispatcher picks on this machine ("avx512f", "avx2", "baseline"), for
+// benchmark and log output.
+const char* KernelIsa();
+
+// The compiled paths, for tests that check they agree bit for bit.
+enum class KernelPath { kBaseline, kAvx2, kAvx512f };
+bool KernelPathSupported(KernelPath path);
+// UpdateModeChunk on the given path (which must be supported by this CPU).
+void UpdateModeChunkOn(KernelPath path, const ModeChunk& c, std::size_t n, double omega_k, double alpha,
+                       LaneSums& sums);
+
+}  // namespace gyrocomp::vmd_internal

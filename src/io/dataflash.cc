@@ -1,0 +1,266 @@
+// ArduPilot DataFlash reader (include/gyrocomp/io/dataflash.h). Record layout and format
+// characters: ArduPilot libraries/AP_Logger/LogStructure.h; edge behaviour: pymavlink DFReader.py.
+#include "gyrocomp/io/dataflash.h"
+
+#include <algorithm>
+#include <cstring>
+#include <fstream>
+#include <optional>
+#include <utility>
+
+namespace gyrocomp {
+
+namespace {
+
+constexpr std::uint8_t kHead1 = 0xA3;
+constexpr std::uint8_t kHead2 = 0x95;
+constexpr int kFmtType = 0x80;     // FMT: "BBnNZ" Type,Length,Name,Format,Columns
+constexpr int kFmtLength = 89;     // 3 + 1 + 1 + 4 + 16 + 64
+constexpr std::size_t kHeaderBytes = 3;
+
+// Bytes of one format character (DFReader FORMAT_TO_STRUCT), 0 if unknown.
+std::size_t CharSize(char c) {
+  switch (c) {
+    case 'b': case 'B': case 'M': return 1;
+    case 'h': case 'H': case 'c': case 'C': case 'g': return 2;
+    case 'i': case 'I': case 'f': case 'e': case 'E': case 'L': case 'n': return 4;
+    case 'd': case 'q': case 'Q': return 8;
+    case 'N': return 16;
+    case 'Z': case 'a': return 64;
+    default: return 0;
+  }
+}
+
+std::uint64_t ULe(const std::uint8_t* p, std::size_t bytes) {
+  std::uint64_t v = 0;
+  for (std::size_t i = 0; i < bytes; ++i) v |= static_cast<std::uint64_t>(p[i]) << (8 * i);
+  return v;
+}
+
+// A numeric field as a double (float32 widened exactly; the x0.01 / x1e-7 kinds scaled as
+// DFReader does); nullopt for strings and arrays.
+std::optional<double> Numeric(char c, const std::uint8_t* p) {
+  switch (c) {
+    case 'b': return static_cast<double>(static_cast<std::int8_t>(p[0]));
+    case 'B': case 'M': return static_cast<double>(p[0]);
+    case 'h': return static_cast<double>(static_cast<std::int16_t>(ULe(p, 2)));
+    case 'H': return static_cast<double>(ULe(p, 2));
+    case 'i': return static_cast<double>(static_cast<std::int32_t>(ULe(p, 4)));
+    case 'I': return static_cast<double>(ULe(p, 4));
+    case 'q': return static_cast<double>(static_cast<std::int64_t>(ULe(p, 8)));
+    case 'Q': return static_cast<double>(ULe(p, 8));
+    case 'c': return static_cast<double>(static_cast<std::int16_t>(ULe(p, 2))) * 0.01;
+    case 'C': return static_cast<double>(ULe(p, 2)) * 0.01;
+    case 'e': return static_cast<double>(static_cast<std::int32_t>(ULe(p, 4))) * 0.01;
+    case 'E': return static_cast<double>(ULe(p, 4)) * 0.01;
+    case 'L': return static_cast<double>(static_cast<std::int32_t>(ULe(p, 4))) * 1.0e-7;
+    case 'f': {
+      const auto bits = static_cast<std::uint32_t>(ULe(p, 4));
+      float f;
+      std::memcpy(&f, &bits, sizeof f);
+      return static_cast<double>(f);
+    }
+    case 'd': {
+      const std::uint64_t bits = ULe(p, 8);
+      double d;
+      std::memcpy(&d, &bits, sizeof d);
+      return d;
+    }
+    default: return std::nullopt;
+  }
+}
+
+// A NUL-terminated char array field.
+std::string Text(const std::uint8_t* p, std::size_t n) {
+  std::size_t len = 0;
+  while (len < n && p[len] != 0) ++len;
+  return std::string(reinterpret_cast<const char*>(p), len);
+}
+
+std::vector<std::string> SplitComma(const std::string& s) {
+  std::vector<std::string> out;
+  if (s.empty()) return out;
+  std::size_t b = 0;
+  while (true) {
+    const auto e = s.find(',', b);
+    out.push_back(s.substr(b, e == std::string::npos ? std::string::npos : e - b));
+    if (e == std::string::npos) break;
+    b = e + 1;
+  }
+  return out;
+}
+
+// A known message type: its FMT and the byte offset of each field within the payload.
+struct Layout {
+  DataFlashFormat fmt;
+  std::vector<std::size_t> offsets;  // one per format character
+  bool decodable = true;             // every format character known and sizes add up
+};
+
+std::optional<std::size_t> FieldIndex(const Layout& l, const std::string& label) {
+  for (std::size_t i = 0; i < l.fmt.labels.size() && i < l.fmt.format.size(); ++i) {
+    if (l.fmt.labels[i] == label) return i;
+  }
+  return std::nullopt;
+}
+
+class Parser {
+ public:
+  Parser(const std::uint8_t* d, std::size_t n, std::string source) : d_(d), n_(n) { out_.source = std::move(source); }
+  Result<DataFlashContents> Run();
+
+ private:
+  Error Bad(std::size_t at, const std::string& what) const {
+    return InvalidInput(out_.source + ": byte " + std::to_string(at) + ": " + what);
+  }
+  std::optional<Error> AddFormat(std::size_t at, const std::uint8_t* p);
+  void TakeImu(const Layout& l, const std::uint8_t* p);
+  void TakeParameter(const Layout& l, const std::uint8_t* p);
+
+  const std::uint8_t* d_;
+  std::size_t n_;
+  DataFlashContents out_;
+  std::map<int, Layout> layouts_;
+  std::map<int, std::size_t> imu_index_;  // instance -> index in out_.imus
+};
+
+Result<DataFlashContents> Parser::Run() {
+  Layout fmt;
+  fmt.fmt = {kFmtType, kFmtLength, "FMT", "BBnNZ", {"Type", "Length", "Name", "Format", "Columns"}};
+  fmt.offsets = {0, 1, 2, 6, 22};
+  layouts_[kFmtType] = fmt;
+  std::size_t pos = 0;
+  while (pos < n_) {
+    if (n_ - pos < kHeaderBytes) {
+      out_.warnings.push_back(out_.source + ": byte " + std::to_string(pos) + ": truncated last record (" +
+                              std::to_string(n_ - pos) + " of 3 header bytes) dropped");
+      break;
+    }
+    if (d_[pos] != kHead1 || d_[pos + 1] != kHead2) {
+      return Bad(pos, "no record header (A3 95) here: the file is corrupt or not a DataFlash log");
+    }
+    const int type = d_[pos + 2];
+    const auto it = layouts_.find(type);
+    if (it == layouts_.end()) return Bad(pos, "record of message type " + std::to_string(type) + " that no FMT defined");
+    const Layout& l = it->second;
+    const std::size_t len = static_cast<std::size_t>(l.fmt.length);
+    if (len > n_ - pos) {
+      out_.warnings.push_back(out_.source + ": byte " + std::to_string(pos) + ": truncated last record (" + l.fmt.name +
+                              ", " + std::to_string(n_ - pos) + " of " + std::to_string(len) + " bytes) dropped");
+      break;
+    }
+    const std::uint8_t* p = d_ + pos + kHeaderBytes;
+    ++out_.num_records;
+    ++out_.message_counts[l.fmt.name];
+    if (type == kFmtType) {
+      if (auto e = AddFormat(pos, p)) return *e;
+    } else if (l.decodable && l.fmt.name == "PARM") {
+      TakeParameter(l, p);
+    } else if (l.decodable && (l.fmt.name == "IMU" || l.fmt.name == "IMU2" || l.fmt.name == "IMU3")) {
+      TakeImu(l, p);
+    }
+    pos += len;
+  }
+  std::sort(out_.imus.begin(), out_.imus.end(),
+            [](const DataFlashImuSeries& a, const DataFlashImuSeries& b) { return a.instance < b.instance; });
+  return std::move(out_);
+}
+
+std::optional<Error> Parser::AddFormat(std::size_t at, const std::uint8_t* p) {
+  Layout l;
+  l.fmt.type = p[0];
+  l.fmt.length = p[1];
+  l.fmt.name = Text(p + 2, 4);
+  l.fmt.format = Text(p + 6, 16);
+  l.fmt.labels = SplitComma(Text(p + 22, 64));
+  if (l.fmt.type == kFmtType) {
+    if (l.fmt.length != kFmtLength || l.fmt.format != "BBnNZ") {
+      return Bad(at, "FMT redefines FMT as length " + std::to_string(l.fmt.length) + " format '" + l.fmt.format + "'");
+    }
+    out_.formats.push_back(l.fmt);
+    return std::nullopt;
+  }
+  if (l.fmt.length < static_cast<int>(kHeaderBytes)) {
+    return Bad(at, "FMT for '" + l.fmt.name + "' gives length " + std::to_string(l.fmt.length) + " < 3");
+  }
+  std::size_t size = 0;
+  for (char c : l.fmt.format) {
+    const std::size_t b = CharSize(c);
+    if (b == 0) l.decodable = false;
+    l.offsets.push_back(size);
+    size += b;
+  }
+  if (l.decodable && size + kHeaderBytes != static_cast<std::size_t>(l.fmt.length)) {
+    return Bad(at, "FMT for '" + l.fmt.name + "': format '" + l.fmt.format + "' needs " +
+                       std::to_string(size + kHeaderBytes) + " bytes, its length says " + std::to_string(l.fmt.length));
+  }
+  out_.formats.push_back(l.fmt);
+  layouts_[l.fmt.type] = std::move(l);
+  return std::nullopt;
+}
+
+void Parser::TakeParameter(const Layout& l, const std::uint8_t* p) {
+  const auto name = FieldIndex(l, "Name");
+  const auto value = FieldIndex(l, "Value");
+  if (!name || !value || l.fmt.format[*name] != 'N') return;
+  const auto v = Numeric(l.fmt.format[*value], p + l.offsets[*value]);
+  if (v) out_.parameters[Text(p + l.offsets[*name], 16)] = *v;
+}
+
+void Parser::TakeImu(const Layout& l, const std::uint8_t* p) {
+  auto get = [&](const char* label) -> std::optional<double> {
+    const auto i = FieldIndex(l, label);
+    return i ? Numeric(l.fmt.format[*i], p + l.offsets[*i]) : std::nullopt;
+  };
+  const auto gx = get("GyrX"), gy = get("GyrY"), gz = get("GyrZ"), t = get("T");
+  std::optional<double> time_us = get("TimeUS");
+  if (!time_us) {
+    if (const auto ms = get("TimeMS")) time_us = *ms * 1000.0;  // logs before TimeUS
+  }
+  if (!gx || !gy || !gz || !time_us) return;
+  int instance = l.fmt.name == "IMU2" ? 1 : (l.fmt.name == "IMU3" ? 2 : 0);
+  if (const auto i = get("I")) instance = static_cast<int>(*i);
+  auto [it, added] = imu_index_.try_emplace(instance, out_.imus.size());
+  if (added) {
+    out_.imus.push_back({});
+    out_.imus.back().instance = instance;
+    out_.imus.back().message = l.fmt.name;
+  }
+  DataFlashImuSeries& s = out_.imus[it->second];
+  s.time_us.push_back(static_cast<std::uint64_t>(*time_us));
+  s.gyr_x_rad_s.push_back(*gx);
+  s.gyr_y_rad_s.push_back(*gy);
+  s.gyr_z_rad_s.push_back(*gz);
+  if (t) s.temp_c.push_back(*t);
+}
+
+}  // namespace
+
+bool HasDataFlashMagic(const std::uint8_t* data, std::size_t size) {
+  return size >= 3 && data[0] == kHead1 && data[1] == kHead2 && data[2] == kFmtType;
+}
+
+Result<DataFlashContents> ParseDataFlash(const std::uint8_t* data, std::size_t size, const std::string& source) {
+  return Parser(data, size, source).Run();
+}
+
+Result<DataFlashContents> ReadDataFlash(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return IoError(path + ": cannot open");
+  in.seekg(0, std::ios::end);
+  const std::streamoff size = in.tellg();
+  in.seekg(0, std::ios::beg);
+  if (size < 0) return IoError(path + ": cannot tell its size (not a regular file?)");
+  std::string bytes(static_cast<std::size_t>(size), '\0');
+  if (!in.read(bytes.data(), size)) return IoError(path + ": read error");
+  return ParseDataFlash(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size(), path);
+}
+
+std::string DataFlashContents::BriefReport() const {
+  std::string s = source + ": DataFlash, " + std::to_string(num_records) + " records, " +
+                  std::to_string(formats.size()) + " FMT, " + std::to_string(parameters.size()) + " parameters, " +
+                  std::to_string(imus.size()) + " IMU instances with data";
+  return s;
+}
+
+}  // namespace gyrocomp

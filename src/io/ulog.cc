@@ -1,0 +1,440 @@
+// PX4 ULog reader (include/gyrocomp/io/ulog.h). Section numbers ("spec: ...") refer to the
+// PX4 User Guide page "ULog File Format"; behaviour at the edges follows PX4/pyulog core.py.
+#include "gyrocomp/io/ulog.h"
+
+#include <cstring>
+#include <fstream>
+#include <memory>
+#include <string_view>
+#include <utility>
+
+namespace gyrocomp {
+
+namespace {
+
+// spec "File Header": 'U' 'L' 'o' 'g' 0x01 0x12 0x35, then version and timestamp.
+constexpr std::uint8_t kMagic[7] = {0x55, 0x4C, 0x6F, 0x67, 0x01, 0x12, 0x35};
+constexpr std::size_t kHeaderBytes = 16;
+constexpr std::size_t kMessageHeaderBytes = 3;  // uint16 msg_size, uint8 msg_type
+// Nested formats are flattened; a deeper nesting than this is taken for a format loop.
+constexpr int kMaxNestingDepth = 16;
+// Flattening steps per subscription (fields and nested elements visited); a format whose arrays
+// of empty nested types would take longer than this is refused instead of hanging.
+constexpr std::size_t kMaxFlattenSteps = 1u << 20;
+
+std::uint16_t U16(const std::uint8_t* p) { return static_cast<std::uint16_t>(p[0] | (p[1] << 8)); }
+std::uint32_t U32(const std::uint8_t* p) {
+  return static_cast<std::uint32_t>(p[0]) | (static_cast<std::uint32_t>(p[1]) << 8) |
+         (static_cast<std::uint32_t>(p[2]) << 16) | (static_cast<std::uint32_t>(p[3]) << 24);
+}
+std::uint64_t U64(const std::uint8_t* p) {
+  return static_cast<std::uint64_t>(U32(p)) | (static_cast<std::uint64_t>(U32(p + 4)) << 32);
+}
+float F32(const std::uint8_t* p) {
+  const std::uint32_t bits = U32(p);
+  float f;
+  std::memcpy(&f, &bits, sizeof f);
+  return f;
+}
+
+// Size of a basic ULog type (spec "Definitions Section", format message), 0 if not basic.
+std::size_t BasicSize(std::string_view t) {
+  if (t == "int8_t" || t == "uint8_t" || t == "bool" || t == "char") return 1;
+  if (t == "int16_t" || t == "uint16_t") return 2;
+  if (t == "int32_t" || t == "uint32_t" || t == "float") return 4;
+  if (t == "int64_t" || t == "uint64_t" || t == "double") return 8;
+  return 0;
+}
+
+struct FieldDef {
+  std::string type;
+  std::size_t array_size = 0;  // 0: not an array
+  std::string name;
+};
+
+// A basic field of a flattened message: "gyro_rad[1]", "float", offset in the data payload.
+struct FlatField {
+  std::string name;
+  std::string type;
+  std::size_t offset = 0;
+};
+
+// Which gyro fields a subscription decodes (offsets into the 'D' payload after msg_id).
+struct GyroFields {
+  std::size_t timestamp = 0, x = 0, y = 0, z = 0, temperature = 0, device_id = 0;
+  bool has_temperature = false, has_device_id = false;
+};
+
+struct Subscription {
+  std::size_t topic = 0;           // index into ULogContents::topics
+  std::size_t min_size = 0;        // data bytes without trailing _padding fields
+  std::size_t max_size = 0;        // with them
+  int series = -1;                 // index into gyros (kind 1) or combined (kind 2)
+  int kind = 0;                    // 0 other, 1 sensor_gyro, 2 sensor_combined
+  GyroFields g;
+  bool device_id_change_reported = false;
+};
+
+class Parser {
+ public:
+  Parser(const std::uint8_t* data, std::size_t size, std::string source) : d_(data), n_(size) {
+    out_.source = std::move(source);
+  }
+  Result<ULogContents> Run();
+
+ private:
+  Error Bad(std::size_t offset, const std::string& what) const {
+    return InvalidInput(out_.source + ": byte " + std::to_string(offset) + ": " + what);
+  }
+  void Warn(std::size_t offset, const std::string& what) {
+    out_.warnings.push_back(out_.source + ": byte " + std::to_string(offset) + ": " + what);
+  }
+  std::optional<Error> ParseAll();
+  std::optional<Error> ParseMessage(char type, std::size_t at, const std::uint8_t* p, std::size_t len);
+  std::optional<Error> ParseFlagBits(std::size_t at, const std::uint8_t* p, std::size_t len);
+  std::optional<Error> ParseFormat(std::size_t at, const std::uint8_t* p, std::size_t len);
+  std::optional<Error> ParseKeyValue(char type, std::size_t at, const std::uint8_t* p, std::size_t len);
+  std::optional<Error> ParseSubscription(std::size_t at, const std::uint8_t* p, std::size_t len);
+  std::optional<Error> ParseData(std::size_t at, const std::uint8_t* p, std::size_t len);
+  std::optional<Error> Flatten(std::size_t at, const std::string& type, const std::string& prefix, int depth,
+                               std::vector<FlatField>* fields, std::size_t* size, std::size_t* padding_tail);
+  void DecodeRow(Subscription& s, const std::uint8_t* row);
+
+  const std::uint8_t* d_;
+  std::size_t n_;
+  ULogContents out_;
+  std::map<std::string, std::vector<FieldDef>> formats_;
+  std::map<int, Subscription> subs_;  // active subscriptions by msg_id
+  bool first_message_ = true;
+  std::size_t flatten_steps_ = 0;
+};
+
+Result<ULogContents> Parser::Run() {
+  if (n_ < kHeaderBytes) {
+    return Bad(n_, "file too short for the 16-byte ULog header (" + std::to_string(n_) + " bytes)");
+  }
+  if (!HasULogMagic(d_, n_)) return Bad(0, "not a ULog file (bad magic bytes)");
+  out_.version = d_[7];
+  out_.start_timestamp_us = U64(d_ + 8);
+  if (auto e = ParseAll()) return *e;
+  return std::move(out_);
+}
+
+// Messages from the header to the end of the file. spec "Flag Bits Message": with
+// DATA_APPENDED, the main data ends at the first appended offset and each appended segment runs
+// to the next one (pyulog _load_file does the same); a message that crosses the end of its
+// segment is a truncated last record.
+std::optional<Error> Parser::ParseAll() {
+  std::size_t pos = kHeaderBytes;
+  std::size_t end = n_;
+  std::vector<std::size_t> segment_ends;  // set once the flag bits message was read
+  std::size_t next_segment = 0;
+  bool segments_known = false;
+  while (true) {
+    if (!segments_known && !first_message_) {
+      segments_known = true;
+      if (!out_.appended_offsets.empty()) {
+        for (std::size_t i = 1; i < out_.appended_offsets.size(); ++i) {
+          segment_ends.push_back(static_cast<std::size_t>(out_.appended_offsets[i]));
+        }
+        segment_ends.push_back(n_);
+        end = static_cast<std::size_t>(out_.appended_offsets[0]);
+      }
+    }
+    if (pos >= end) {
+      if (next_segment >= segment_ends.size()) break;
+      pos = end;
+      end = segment_ends[next_segment++];
+      continue;
+    }
+    if (end - pos < kMessageHeaderBytes) {
+      Warn(pos, "truncated last record (" + std::to_string(end - pos) + " of 3 header bytes) dropped");
+      pos = end;
+      continue;
+    }
+    const std::size_t len = U16(d_ + pos);
+    const char type = static_cast<char>(d_[pos + 2]);
+    if (len > end - pos - kMessageHeaderBytes) {
+      Warn(pos, "truncated last record (type '" + std::string(1, type) + "', " +
+                    std::to_string(end - pos - kMessageHeaderBytes) + " of " + std::to_string(len) +
+                    " payload bytes) dropped");
+      pos = end;
+      continue;
+    }
+    if (auto e = ParseMessage(type, pos, d_ + pos + kMessageHeaderBytes, len)) return e;
+    ++out_.num_messages;
+    first_message_ = false;
+    pos += kMessageHeaderBytes + len;
+  }
+  return std::nullopt;
+}
+
+std::optional<Error> Parser::ParseMessage(char type, std::size_t at, const std::uint8_t* p, std::size_t len) {
+  switch (type) {
+    case 'B': return ParseFlagBits(at, p, len);
+    case 'F': return ParseFormat(at, p, len);
+    case 'I': case 'M': case 'P': case 'Q': return ParseKeyValue(type, at, p, len);
+    case 'A': return ParseSubscription(at, p, len);
+    case 'D': return ParseData(at, p, len);
+    case 'R':
+      if (len < 2) return Bad(at, "unsubscription ('R') of " + std::to_string(len) + " bytes, needs 2");
+      subs_.erase(U16(p));
+      return std::nullopt;
+    case 'O':
+      if (len < 2) return Bad(at, "dropout ('O') of " + std::to_string(len) + " bytes, needs 2");
+      out_.dropouts.push_back({at, U16(p)});
+      return std::nullopt;
+    default:
+      return std::nullopt;  // 'L', 'C', 'S' and message types added after this reader: skipped
+  }
+}
+
+std::optional<Error> Parser::ParseFlagBits(std::size_t at, const std::uint8_t* p, std::size_t len) {
+  // spec "Flag Bits Message": uint8 compat_flags[8], uint8 incompat_flags[8],
+  // uint64 appended_offsets[3]; must be the first message.
+  if (!first_message_) return Bad(at, "flag bits message ('B') is not the first message");
+  if (len < 40) return Bad(at, "flag bits message ('B') of " + std::to_string(len) + " bytes, needs 40");
+  const std::uint8_t* incompat = p + 8;
+  if ((incompat[0] & ~1u) != 0) return Bad(at, "unknown incompatible flag bits set: cannot parse the log");
+  for (int i = 1; i < 8; ++i) {
+    if (incompat[i] != 0) return Bad(at, "unknown incompatible flag bits set: cannot parse the log");
+  }
+  if ((incompat[0] & 1u) == 0) return std::nullopt;
+  std::size_t after = at + kMessageHeaderBytes + len;
+  for (int i = 0; i < 3; ++i) {
+    const std::uint64_t off = U64(p + 16 + 8 * i);
+    if (off == 0) continue;
+    if (off < after || off > n_) {
+      return Bad(at, "appended-data offset " + std::to_string(off) + " outside [" + std::to_string(after) + ", " +
+                         std::to_string(n_) + "] (file size or not increasing)");
+    }
+    out_.appended_offsets.push_back(off);
+    after = static_cast<std::size_t>(off);
+  }
+  return std::nullopt;
+}
+
+std::optional<Error> Parser::ParseFormat(std::size_t at, const std::uint8_t* p, std::size_t len) {
+  // spec "Format Message": char format[] = "message_name:field0;field1;", field = "type name".
+  const std::string text(reinterpret_cast<const char*>(p), len);
+  const auto colon = text.find(':');
+  if (colon == std::string::npos || colon == 0) return Bad(at, "format message ('F') without 'name:'");
+  const std::string name = text.substr(0, colon);
+  std::vector<FieldDef> fields;
+  std::size_t i = colon + 1;
+  while (i < text.size()) {
+    std::size_t semi = text.find(';', i);
+    if (semi == std::string::npos) semi = text.size();
+    const std::string item = text.substr(i, semi - i);
+    i = semi + 1;
+    if (item.empty()) continue;
+    const auto space = item.find(' ');
+    if (space == std::string::npos || space == 0 || space + 1 == item.size()) {
+      return Bad(at, "format '" + name + "': field '" + item + "' is not 'type name'");
+    }
+    FieldDef f;
+    f.type = item.substr(0, space);
+    f.name = item.substr(space + 1);
+    const auto lb = f.type.find('[');
+    if (lb != std::string::npos) {
+      const auto rb = f.type.find(']', lb);
+      const std::string count = rb == std::string::npos ? "" : f.type.substr(lb + 1, rb - lb - 1);
+      if (count.empty() || count.size() > 5 || count.find_first_not_of("0123456789") != std::string::npos ||
+          rb + 1 != f.type.size() || std::stoul(count) == 0) {
+        return Bad(at, "format '" + name + "': bad array size in '" + f.type + "'");
+      }
+      f.array_size = std::stoul(count);
+      f.type = f.type.substr(0, lb);
+    }
+    fields.push_back(std::move(f));
+  }
+  formats_[name] = std::move(fields);
+  return std::nullopt;
+}
+
+std::optional<Error> Parser::ParseKeyValue(char type, std::size_t at, const std::uint8_t* p, std::size_t len) {
+  // spec: 'I' = uint8 key_len, char key[key_len] ("type name"), value; 'M' has a leading uint8
+  // is_continued, 'Q' a leading uint8 default_types.
+  std::size_t skip = (type == 'M' || type == 'Q') ? 1 : 0;
+  if (len < skip + 1) return Bad(at, std::string("'") + type + "' message too short");
+  const std::size_t key_len = p[skip];
+  if (key_len > len - skip - 1) {
+    return Bad(at, std::string("'") + type + "' key length " + std::to_string(key_len) + " exceeds the message");
+  }
+  const std::string key(reinterpret_cast<const char*>(p + skip + 1), key_len);
+  const auto space = key.find(' ');
+  if (space == std::string::npos) return Bad(at, std::string("'") + type + "' key '" + key + "' is not 'type name'");
+  const std::string vtype = key.substr(0, space);
+  const std::string name = key.substr(space + 1);
+  const std::uint8_t* v = p + skip + 1 + key_len;
+  const std::size_t vlen = len - skip - 1 - key_len;
+  if (type == 'I' && vtype.rfind("char[", 0) == 0) {
+    out_.info[name] = std::string(reinterpret_cast<const char*>(v), vlen);
+  } else if (type == 'P') {
+    if (vlen != 4 || (vtype != "int32_t" && vtype != "float")) {
+      return Bad(at, "parameter '" + name + "' of type " + vtype + " with " + std::to_string(vlen) +
+                         " value bytes (int32_t or float, 4 bytes)");
+    }
+    out_.parameters[name] = vtype == "float" ? static_cast<double>(F32(v)) : static_cast<double>(static_cast<std::int32_t>(U32(v)));
+  }
+  return std::nullopt;
+}
+
+std::optional<Error> Parser::Flatten(std::size_t at, const std::string& type, const std::string& prefix, int depth,
+                                     std::vector<FlatField>* fields, std::size_t* size, std::size_t* padding_tail) {
+  if (depth > kMaxNestingDepth) return Bad(at, "formats nested deeper than " + std::to_string(kMaxNestingDepth));
+  if (depth == 0) flatten_steps_ = 0;
+  const auto it = formats_.find(type);
+  if (it == formats_.end()) return Bad(at, "no format ('F') for type '" + type + "'");
+  for (const FieldDef& f : it->second) {
+    const std::size_t count = f.array_size == 0 ? 1 : f.array_size;
+    for (std::size_t k = 0; k < count; ++k) {
+      if (++flatten_steps_ > kMaxFlattenSteps) return Bad(at, "format '" + type + "' has too many (nested) fields");
+      const std::string name = prefix + f.name + (f.array_size ? "[" + std::to_string(k) + "]" : "");
+      if (const std::size_t b = BasicSize(f.type); b > 0) {
+        fields->push_back({name, f.type, *size});
+        *size += b;
+        // pyulog _parse_format: trailing _padding fields may be left out of 'D' messages.
+        *padding_tail = f.name.rfind("_padding", 0) == 0 && depth == 0 ? *padding_tail + b : 0;
+      } else {
+        if (auto e = Flatten(at, f.type, name + ".", depth + 1, fields, size, padding_tail)) return e;
+        *padding_tail = 0;
+      }
+      if (*size > 65535) return Bad(at, "format '" + type + "' is larger than a ULog message can be");
+    }
+  }
+  return std::nullopt;
+}
+
+std::optional<Error> Parser::ParseSubscription(std::size_t at, const std::uint8_t* p, std::size_t len) {
+  // spec "Subscription Message": uint8 multi_id, uint16 msg_id, char message_name[].
+  if (len < 4) return Bad(at, "subscription ('A') of " + std::to_string(len) + " bytes, needs at least 4");
+  ULogTopic topic;
+  topic.multi_id = p[0];
+  topic.msg_id = U16(p + 1);
+  topic.name.assign(reinterpret_cast<const char*>(p + 3), len - 3);
+  std::vector<FlatField> fields;
+  Subscription s;
+  std::size_t padding_tail = 0;
+  if (auto e = Flatten(at, topic.name, "", 0, &fields, &s.max_size, &padding_tail)) return e;
+  s.min_size = s.max_size - padding_tail;
+  auto find = [&](const std::string& name, const char* type) -> std::optional<std::size_t> {
+    for (const FlatField& f : fields) {
+      if (f.name == name) return f.type == type ? std::optional<std::size_t>(f.offset) : std::nullopt;
+    }
+    return std::nullopt;
+  };
+  const bool gyro = topic.name == "sensor_gyro";
+  const auto ts = find("timestamp", "uint64_t");
+  const auto x = find(gyro ? "x" : "gyro_rad[0]", "float");
+  const auto y = find(gyro ? "y" : "gyro_rad[1]", "float");
+  const auto z = find(gyro ? "z" : "gyro_rad[2]", "float");
+  if (gyro || topic.name == "sensor_combined") {
+    if (ts && x && y && z && *ts + 8 <= s.min_size && *x + 4 <= s.min_size && *y + 4 <= s.min_size && *z + 4 <= s.min_size) {
+      s.kind = gyro ? 1 : 2;
+      s.g.timestamp = *ts; s.g.x = *x; s.g.y = *y; s.g.z = *z;
+      if (const auto t = find("temperature", "float"); gyro && t && *t + 4 <= s.min_size) {
+        s.g.temperature = *t;
+        s.g.has_temperature = true;
+      }
+      if (const auto id = find("device_id", "uint32_t"); gyro && id && *id + 4 <= s.min_size) {
+        s.g.device_id = *id;
+        s.g.has_device_id = true;
+      }
+      auto& list = gyro ? out_.gyros : out_.combined;
+      s.series = static_cast<int>(list.size());
+      list.push_back(ULogGyroSeries{});
+      list.back().topic = topic.name;
+      list.back().multi_id = topic.multi_id;
+    } else {
+      Warn(at, topic.name + " has no uint64 timestamp and float rate fields this reader knows; not read");
+    }
+  }
+  s.topic = out_.topics.size();
+  out_.topics.push_back(topic);
+  subs_[topic.msg_id] = std::move(s);
+  return std::nullopt;
+}
+
+std::optional<Error> Parser::ParseData(std::size_t at, const std::uint8_t* p, std::size_t len) {
+  // spec "Logged Data Message": uint16 msg_id, uint8 data[] (the format's fields, packed).
+  if (len < 2) return Bad(at, "data message ('D') of " + std::to_string(len) + " bytes, needs at least 2");
+  const int msg_id = U16(p);
+  const auto it = subs_.find(msg_id);
+  if (it == subs_.end()) return Bad(at, "data ('D') for msg_id " + std::to_string(msg_id) + " without a subscription ('A')");
+  Subscription& s = it->second;
+  const std::size_t size = len - 2;
+  if (size < s.min_size || size > s.max_size) {
+    return Bad(at, "data ('D') for '" + out_.topics[s.topic].name + "' has " + std::to_string(size) +
+                       " bytes; its format has " + std::to_string(s.min_size) +
+                       (s.min_size == s.max_size ? "" : " to " + std::to_string(s.max_size)));
+  }
+  ++out_.topics[s.topic].rows;
+  if (s.kind != 0) DecodeRow(s, p + 2);
+  return std::nullopt;
+}
+
+void Parser::DecodeRow(Subscription& s, const std::uint8_t* row) {
+  ULogGyroSeries& g = (s.kind == 1 ? out_.gyros : out_.combined)[static_cast<std::size_t>(s.series)];
+  g.timestamp_us.push_back(U64(row + s.g.timestamp));
+  g.x_rad_s.push_back(F32(row + s.g.x));
+  g.y_rad_s.push_back(F32(row + s.g.y));
+  g.z_rad_s.push_back(F32(row + s.g.z));
+  if (s.g.has_temperature) g.temperature_c.push_back(F32(row + s.g.temperature));
+  if (s.g.has_device_id) {
+    const std::uint32_t id = U32(row + s.g.device_id);
+    if (!g.device_id) {
+      g.device_id = id;
+    } else if (*g.device_id != id && !s.device_id_change_reported) {
+      s.device_id_change_reported = true;
+      out_.warnings.push_back(out_.source + ": " + g.topic + " multi_id " + std::to_string(g.multi_id) +
+                              ": device_id changes from " + std::to_string(*g.device_id) + " to " +
+                              std::to_string(id) + " at row " + std::to_string(g.timestamp_us.size()) +
+                              " (the first is reported)");
+    }
+  }
+}
+
+}  // namespace
+
+bool HasULogMagic(const std::uint8_t* data, std::size_t size) {
+  return size >= sizeof kMagic && std::memcmp(data, kMagic, sizeof kMagic) == 0;
+}
+
+Result<ULogContents> ParseULog(const std::uint8_t* data, std::size_t size, const std::string& source) {
+  Parser parser(data, size, source);
+  Result<ULogContents> r = parser.Run();
+  if (!r) return r;
+  // Drop subscriptions without rows (pyulog keeps only data it saw).
+  for (auto* list : {&r->gyros, &r->combined}) {
+    std::vector<ULogGyroSeries> kept;
+    for (auto& g : *list) {
+      if (!g.timestamp_us.empty()) kept.push_back(std::move(g));
+    }
+    *list = std::move(kept);
+  }
+  return r;
+}
+
+Result<ULogContents> ReadULog(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return IoError(path + ": cannot open");
+  in.seekg(0, std::ios::end);
+  const std::streamoff size = in.tellg();
+  in.seekg(0, std::ios::beg);
+  if (size < 0) return IoError(path + ": cannot tell its size (not a regular file?)");
+  std::string bytes(static_cast<std::size_t>(size), '\0');
+  if (!in.read(bytes.data(), size)) return IoError(path + ": read error");
+  return ParseULog(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size(), path);
+}
+
+std::string ULogContents::BriefReport() const {
+  std::string s = source + ": ULog v" + std::to_string(version) + ", " + std::to_string(num_messages) + " messages, " +
+                  std::to_string(topics.size()) + " subscriptions, " + std::to_string(gyros.size()) +
+                  " sensor_gyro and " + std::to_string(combined.size()) + " sensor_combined instances with data, " +
+                  std::to_string(dropouts.size()) + " dropouts";
+  if (!appended_offsets.empty()) s += ", " + std::to_string(appended_offsets.size()) + " appended segments";
+  return s;
+}
+
+}  // namespace gyrocomp

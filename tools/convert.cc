@@ -1,0 +1,69 @@
+// gyrocomp convert: what the ULog / DataFlash reader sees, as a CSV (time_s, x_rad_s, y_rad_s,
+// z_rad_s, temp_c), so users can check it and tests can compare it with reference extracts.
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "commands.h"
+#include "gyrocomp/io/flight_log.h"
+#include "gyrocomp/io/io.h"
+
+namespace gyrocomp::cli {
+namespace {
+
+constexpr const char* kName = "convert";
+
+struct ConvertArgs {
+  std::string input;
+  std::optional<int> instance;
+  std::string output;
+  std::string json_path;
+};
+
+int Run(const ConvertArgs& a) {
+  if (DetectLogFormat(a.input) == LogFormat::kCsv) {
+    return ReportError(kName, InvalidInput(a.input + ": not a PX4 ULog or ArduPilot DataFlash log (by its first "
+                                                     "bytes); convert reads flight-controller logs"));
+  }
+  Result<FlightLogTable> log = ReadFlightLog(a.input, a.instance);
+  if (!log.ok()) return ReportError(kName, log.error());
+  for (const std::string& w : log->warnings) Note(kName, w);
+  const std::size_t rows = log->table.num_rows();
+  if (Status s = WriteCsv(a.output, log->table); !s.ok()) return ReportError(kName, s.error());
+  if (!a.json_path.empty()) {
+    nlohmann::json j;
+    j["input"] = a.input;
+    j["format"] = std::string(LogFormatName(log->format));
+    j["origin"] = log->origin;
+    j["instance"] = log->instance;
+    j["device_id"] = log->device_id ? nlohmann::json(*log->device_id) : nlohmann::json();
+    j["rows"] = rows;
+    j["columns"] = log->table.names;
+    j["output"] = a.output;
+    j["warnings"] = log->warnings;
+    if (Status s = WriteJson(a.json_path, j); !s.ok()) return ReportError(kName, s.error());
+  }
+  Note(kName, log->origin + ": " + std::to_string(rows) + " rows -> " + a.output);
+  return kExitOk;
+}
+
+Command Make(CLI::App& app) {
+  auto a = std::make_shared<ConvertArgs>();
+  CLI::App* sub = app.add_subcommand(kName, "Write the gyro rows of a PX4 ULog or ArduPilot DataFlash log as CSV");
+  sub->footer(
+      "Columns: time_s (log timestamps / 1e6), x_rad_s, y_rad_s, z_rad_s (as logged), temp_c (absent\n"
+      "for ULog sensor_combined). ULog: sensor_gyro multi_id N (sensor_combined when there is no\n"
+      "sensor_gyro); DataFlash: IMU instance N (old logs: IMU, IMU2, IMU3). No sampling checks: the\n"
+      "rows are what the reader sees. Example: gyrocomp convert -i log.ulg --instance 0 -o gyro0.csv");
+  AddInputOption(sub, "-i,--input", &a->input, "Input log (ULog or DataFlash, recognised by its first bytes)")->required();
+  sub->add_option("--instance", a->instance, "Gyro instance (default: the only one; several are listed)")
+      ->check(CLI::NonNegativeNumber);
+  AddOutputOption(sub, "-o,--output", &a->output, "Output CSV (.gz: gzip; '-' = stdout)")->required();
+  AddOutputOption(sub, "--json", &a->json_path, "Write what was converted as JSON ('-' = stdout)");
+  return {sub, [a] { return Run(*a); }};
+}
+
+const CommandRegistrar kReg(kName, 24, &Make);
+
+}  // namespace
+}  // namespace gyrocomp::cli

@@ -3,13 +3,11 @@
 #include <cmath>
 #include <iostream>
 #include <memory>
-#include <optional>
 #include <string>
 #include <vector>
 
 #include "commands.h"
 #include "gyrocomp/drift/drift_model.h"
-#include "gyrocomp/export/causal_drift.h"
 #include "gyrocomp/io/io.h"
 #include "result_json.h"
 
@@ -24,9 +22,8 @@ struct ApplyArgs {
   std::string output;
   std::string json_path;
   std::string truth_col = "true_drift_dps";
-  bool causal = false;           // issue 12: firmware-equivalent prediction
-  std::optional<double> tau_s;   // causal dT/dt lag time constant
-  std::string out_of_range;      // "" = the model file's policy
+  bool causal = false;
+  std::string out_of_range;  // "" = the model file's policy
 };
 
 double Rmse(const std::vector<double>& a, const std::vector<double>& b) {
@@ -73,21 +70,14 @@ int Run(const ApplyArgs& a) {
   const bool one = log.axis_names.size() == 1;
   const int truth = out.Find(a.truth_col);
   nlohmann::json axes = nlohmann::json::array();
+  std::vector<double> first_prediction;
   for (std::size_t k = 0; k < log.axis_names.size(); ++k) {
     const DriftModel* model = ModelFor(*set, log.axis_names[k]);
     if (!model)
       return ReportError(kName, InvalidInput(a.model_path + ": no model for rate column '" + log.axis_names[k] + "'"));
-    // --causal: the exporters' evaluator (causal_drift.h, equal to the generated C) for the
-    // models they export; DriftEvaluator (thermal_state.h) for the issue-11 states and hybrid.
-    const bool export_form = a.causal && model->kind != DriftModelKind::kHybrid &&
-                             (model->inputs == DriftInputSet::kTemp || model->inputs == DriftInputSet::kTempAndRate);
-    CausalPredictionSummary causal;
-    Result<std::vector<double>> predicted = export_form
-                                                ? PredictDriftCausal(*model, inputs, CausalRateOptions{a.tau_s}, &causal)
-                                                : model->Predict(inputs, a.causal);
+    Result<std::vector<double>> predicted = model->Predict(inputs, a.causal);
     if (!predicted.ok()) return ReportError(kName, predicted.error());
     if (Status s = CheckPlausibleDrift(a.model_path, log, *predicted); !s.ok()) return ReportError(kName, s.error());
-    if (export_form && k == 0) Note(kName, causal.BriefReport());
     const TemperatureExcursion range = model->CheckTemperatureRange(log.temp_c);
     if (range.outside && k == 0) Note(kName, "warning: " + range.Message());
     std::vector<double> comp(log.num_samples());
@@ -96,10 +86,6 @@ int Run(const ApplyArgs& a) {
     j["rate_col"] = log.axis_names[k];
     j["model"] = DriftSummaryJson(model->summary);
     j["out_of_range"] = OutOfRangePolicyName(model->out_of_range);
-    if (export_form)
-      j["causal"] = {{"tau_s", causal.tau_s}, {"delay_s", causal.delay_s}, {"samples_clamped", causal.num_clamped}};
-    else if (a.causal)
-      j["causal"] = {{"method", "DriftEvaluator::Step (thermal_state.h)"}};
     j["temp_outside_fitted_range"] = range.outside;
     j["temp_below_fitted_c"] = range.below_c;
     j["temp_above_fitted_c"] = range.above_c;
@@ -115,11 +101,11 @@ int Run(const ApplyArgs& a) {
   // The first axis's keys at the top level (as before), every axis under "axes".
   nlohmann::json j = axes[0];
   j.erase("rate_col");
-  if (!a.causal) j["causal"] = false;
   j["model_file"] = a.model_path;
   j["input"] = out.source;
   j["n_samples"] = log.num_samples();
   j["fs_hz"] = log.fs_hz;
+  j["causal"] = a.causal;
   j["axes"] = axes;
   if (!a.json_path.empty()) {
     if (Status s = WriteJson(a.json_path, j); !s.ok()) return ReportError(kName, s.error());
@@ -152,10 +138,8 @@ Command Make(CLI::App& app) {
   AddOutputOption(sub, "-o,--output", &a->output, "Output CSV")->required();
   AddOutputOption(sub, "--json", &a->json_path, "Write a summary as JSON to FILE ('-' = stdout)");
   sub->add_flag("--causal", a->causal,
-                "Firmware form, one sample at a time: for poly/svr models on temp or temp,dtemp what the C of "
-                "'export --format c' computes (causal dT/dt by a double lag, delay 2 tau, inputs clamped to the "
-                "fitted range); for thermal states lag/memory and hybrid models, DriftEvaluator::Step");
-  sub->add_option("--tau", a->tau_s, "With --causal: dT/dt lag time constant, s (default: model window / 48^(1/3))");
+                "Evaluate thermal states one sample at a time as firmware does (dT/dt by two lags instead of the "
+                "centred slope; lag and memory are causal either way)");
   sub->add_option("--out-of-range", a->out_of_range, "Override the model's policy: extrapolate | clamp")
       ->check(CLI::IsMember({"extrapolate", "clamp"}));
   sub->add_option("--truth-col", a->truth_col, "Column with the true drift, scored when present")->capture_default_str();

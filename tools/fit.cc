@@ -200,6 +200,7 @@ int Run(FitArgs a) {
     if (!v.ok()) return ReportError(kName, v.error());
     validation = std::move(*v);
   }
+  // Through the run's output transaction (issue 15) the model set of issue 11.
   if (Status s = WriteText(a.model_path, DriftModelSetToJson(set)); !s.ok()) return ReportError(kName, s.error());
   if (!a.json_path.empty()) {
     // One axis: its summary at the top level (as before); always: "axes" with one entry per axis.

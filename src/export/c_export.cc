@@ -34,23 +34,31 @@ bool IsCIdentifier(const std::string& s) {
   return true;
 }
 
-bool UsesRate(const DriftModel& m) { return m.inputs == DriftInputSet::kTempAndRate; }
+bool UsesRate(const DriftModel& m) {
+  return m.inputs == DriftInputSet::kTempAndRate || m.inputs == DriftInputSet::kTempAndMemory;
+}
+bool UsesState(const DriftModel& m) { return m.inputs != DriftInputSet::kTemp; }
 bool IsSvr(const DriftModel& m) { return m.kernel.has_value(); }
 
 Status CheckFinite(const AxisDriftModel& a) {
   auto bad = [&](double v) { return !std::isfinite(v); };
   const DriftFitSummary& s = a.model.summary;
   bool any = bad(s.temp_min_c) || bad(s.temp_max_c) || bad(s.dtemp_min_c_per_s) || bad(s.dtemp_max_c_per_s);
-  if (const PolynomialModel* p = a.model.structured ? &*a.model.structured : nullptr) {
+  if (const auto& p = a.model.structured) {
     for (const auto& t : p->terms) any = any || bad(t.coefficient);
     for (double v : p->input_scaler.offset) any = any || bad(v);
     for (double v : p->input_scaler.scale) any = any || bad(v);
-  } else {
-    const SvrModel& m = *a.model.kernel;
-    for (double v : m.support_vectors) any = any || bad(v);
-    for (double v : m.coefficients) any = any || bad(v);
-    any = any || bad(m.gamma) || bad(m.intercept) || bad(m.target_offset) || bad(m.target_scale);
   }
+  if (const auto& m = a.model.kernel) {
+    for (double v : m->support_vectors) any = any || bad(v);
+    for (double v : m->coefficients) any = any || bad(v);
+    any = any || bad(m->gamma) || bad(m->intercept) || bad(m->target_offset) || bad(m->target_scale);
+  }
+  const ThermalStateOptions& st = a.model.state;
+  any = any || bad(st.causal_rate_tau_s) || bad(st.lag_tau_s) || bad(st.memory_width_c) ||
+        bad(st.memory_deadband_c_per_s);
+  if (!a.model.structured && !a.model.kernel)
+    return InvalidInput("C export: axis '" + a.axis + "' has neither a structured nor a kernel part");
   if (any) return InvalidInput("C export: axis '" + a.axis + "' has a non-finite number in its model");
   return Status::Ok();
 }
@@ -63,7 +71,7 @@ void EmitPolynomial(std::ostringstream& s, const Names& n, int k, const Polynomi
     max_r = std::max(max_r, t.dtemp_power);
   }
   const std::string a = n.p + "_a" + std::to_string(k);
-  s << "static " << n.real << " " << a << "_eval(" << n.real << " temp_c, " << n.real << " dtemp) {\n";
+  s << "static " << n.real << " " << a << "_poly(" << n.real << " temp_c, " << n.real << " dtemp) {\n";
   s << "  " << n.real << " tp[" << max_t + 1 << "], rp[" << max_r + 1 << "];\n  " << n.real << " f = "
     << n.R(0.0) << ";\n  int i;\n";
   s << "  const " << n.real << " t = (temp_c - " << n.R(m.input_scaler.offset[0]) << ") / "
@@ -93,7 +101,7 @@ void EmitSvr(std::ostringstream& s, const Names& n, int k, const SvrModel& m) {
     for (std::size_t i = 0; i < nsv; ++i) s << (i % 4 ? " " : "\n  ") << Num(m.coefficients[i]) << ",";
     s << "\n};\n\n";
   }
-  s << "static " << n.real << " " << a << "_eval(" << n.real << " temp_c, " << n.real << " dtemp) {\n";
+  s << "static " << n.real << " " << a << "_svr(" << n.real << " temp_c, " << n.real << " dtemp) {\n";
   s << "  " << n.real << " z[" << nin << "];\n  " << n.real << " f = " << n.R(m.intercept) << ";\n";
   s << "  z[0] = (temp_c - " << n.R(m.input_scaler.offset[0]) << ") / " << n.R(m.input_scaler.scale[0]) << ";\n";
   if (nin > 1)
@@ -127,12 +135,15 @@ std::string Header(const std::vector<AxisDriftModel>& axes, const CExportOptions
   s << "/* Axes, in rate_in / rate_out order:\n";
   for (std::size_t k = 0; k < axes.size(); ++k)
     s << " *   " << k << " = " << axes[k].axis << " (" << DriftModelKindName(axes[k].model.kind) << ", "
-      << DriftInputSetName(axes[k].model.inputs) << ", T clamped to [" << axes[k].model.summary.temp_min_c << ", "
-      << axes[k].model.summary.temp_max_c << "] C)\n";
+      << DriftInputSetName(axes[k].model.inputs) << ", fitted on T in [" << axes[k].model.summary.temp_min_c << ", "
+      << axes[k].model.summary.temp_max_c << "] C, out of range: " << OutOfRangePolicyName(axes[k].model.out_of_range)
+      << ")\n";
   s << " */\ntypedef struct {\n  int initialized;\n"
-    << "  " << n.real << " prev_c[" << axes.size() << "];  /* causal dT/dt: previous temperature, deg C */\n"
-    << "  " << n.real << " err_c[" << axes.size() << "];   /* T minus the first lag L, deg C */\n"
-    << "  " << n.real << " diff_c[" << axes.size() << "];  /* L minus the second lag, deg C */\n"
+    << "  " << n.real << " prev_c[" << axes.size() << "];  /* previous temperature, deg C */\n"
+    << "  " << n.real << " e1_c[" << axes.size() << "];    /* T minus the first rate lag L1, deg C */\n"
+    << "  " << n.real << " d_c[" << axes.size() << "];     /* L1 minus the second rate lag L2, deg C */\n"
+    << "  " << n.real << " lag_c[" << axes.size() << "];   /* T minus the die lag T_lag, deg C */\n"
+    << "  " << n.real << " mem[" << axes.size() << "];     /* heating (+1) / cooling (-1) memory */\n"
     << "  " << n.real << " drift[" << axes.size() << "];   /* last drift subtracted, " << o.output_unit << " */\n"
     << "} " << n.p << "_state;\n\n";
   s << "void " << n.p << "_init(" << n.p << "_state *state);\n";
@@ -143,56 +154,107 @@ std::string Header(const std::vector<AxisDriftModel>& axes, const CExportOptions
   return s.str();
 }
 
-void EmitPrelude(std::ostringstream& s, const std::vector<AxisDriftModel>& axes, const Names& n, bool any_rate) {
-  bool any_svr = false;
-  for (const auto& a : axes) any_svr = any_svr || IsSvr(a.model);
+void EmitPrelude(std::ostringstream& s, const std::vector<AxisDriftModel>& axes, const Names& n) {
+  bool any_exp = false, any_rate = false, any_lag = false;
+  for (const auto& a : axes) {
+    any_exp = any_exp || IsSvr(a.model) || UsesState(a.model);
+    any_rate = any_rate || UsesRate(a.model);
+    any_lag = any_lag || a.model.inputs == DriftInputSet::kTempAndLag;
+  }
   s << "/* " << n.p << ".c: generated by gyrocomp export --format c (see " << n.p << ".h). */\n";
   s << "#include \"" << n.p << ".h\"\n\n";
-  if (any_svr)
+  if (any_exp)
     s << "#include <math.h>\n\n#ifdef " << n.P << "_USE_FLOAT\n#define " << n.P << "_EXP expf\n#else\n#define "
       << n.P << "_EXP exp\n#endif\n\n";
-  if (!any_rate) return;
-  // CausalRateStep of causal_drift.cc.
-  s << "/* Causal dT/dt: two first-order lags (backward Euler), estimate (L - M) / tau, delay 2 tau. */\n";
-  s << "static " << n.real << " " << n.p << "_rate_step(" << n.real << " *prev, " << n.real << " *err, " << n.real
-    << " *diff, int initialized, " << n.real << " dt_s, " << n.real << " temp_c, " << n.real << " tau_s) {\n";
-  s << "  " << n.real << " a, b, x;\n  if (!initialized) {\n    *prev = temp_c;\n    *err = " << n.R(0.0)
-    << ";\n    *diff = " << n.R(0.0) << ";\n    return " << n.R(0.0) << ";\n  }\n";
-  s << "  if (!(dt_s > " << n.R(0.0) << ")) return *diff / tau_s;\n"
-    << "  b = tau_s / (tau_s + dt_s);\n  a = " << n.R(1.0) << " - b;\n"
-    << "  x = (temp_c - *prev) + *err;  /* T_k - L_{k-1}, small numbers only */\n"
-    << "  *prev = temp_c;\n  *err = b * x;\n  *diff = b * (*diff + a * x);\n"
-    << "  /* D a / (b dt) = D / tau, unbiased by the rounding of a and b */\n"
-    << "  return *diff * a / (b * dt_s);\n}\n\n";
+  const std::string& r = n.real;
+  if (any_rate) {
+    // Eq. TS-1 of thermal_state.h, carried as small numbers (T_{k-1}, T - L1, L1 - L2).
+    s << "/* Causal dT/dt (thermal_state.h Eq. TS-1): two lags, a = 1 - exp(-dt/tau), estimate\n"
+         " * (L1 - L2) / d, d = dt / (exp(dt/tau) - 1), carried as T_{k-1}, T - L1 and L1 - L2. */\n";
+    s << "static " << r << " " << n.p << "_rate_step(" << r << " *prev, " << r << " *e1, " << r
+      << " *d, int initialized, " << r << " dt_s, " << r << " temp_c, " << r << " tau_s) {\n";
+    s << "  " << r << " b, a, x;\n  if (!initialized) {\n    *prev = temp_c;\n    *e1 = " << n.R(0.0)
+      << ";\n    *d = " << n.R(0.0) << ";\n    return " << n.R(0.0) << ";\n  }\n";
+    s << "  if (!(dt_s > " << n.R(0.0) << ")) return *d / tau_s;\n"
+      << "  b = " << n.P << "_EXP(-dt_s / tau_s);\n  a = " << n.R(1.0) << " - b;\n"
+      << "  x = (temp_c - *prev) + *e1;\n  *prev = temp_c;\n  *e1 = b * x;\n  *d = b * (*d + a * x);\n"
+      << "  /* (L1 - L2) / d written as D a / (b dt): unbiased by the rounding of a and b */\n"
+      << "  return *d * a / (b * dt_s);\n}\n\n";
+  }
+  if (any_lag) {
+    s << "/* Lag state (Eq. TS-2): s = T - T_lag, carried as T_{k-1} and s. */\n";
+    s << "static " << r << " " << n.p << "_lag_step(" << r << " *prev, " << r << " *lag, int initialized, " << r
+      << " dt_s, " << r << " temp_c, " << r << " tau_s) {\n";
+    s << "  if (!initialized) {\n    *prev = temp_c;\n    *lag = " << n.R(0.0) << ";\n    return " << n.R(0.0)
+      << ";\n  }\n  *lag = " << n.P << "_EXP(-dt_s / tau_s) * ((temp_c - *prev) + *lag);\n"
+      << "  *prev = temp_c;\n  return *lag;\n}\n\n";
+  }
+}
+
+// The axis's model function: structured part + kernel part (DriftModel::PredictAt's order).
+void EmitAxisEval(std::ostringstream& s, const Names& n, int k, const DriftModel& m) {
+  const std::string a = n.p + "_a" + std::to_string(k);
+  s << "static " << n.real << " " << a << "_eval(" << n.real << " temp_c, " << n.real << " state) {\n";
+  s << "  " << n.real << " f = " << n.R(0.0) << ";\n";
+  if (m.structured) s << "  f += " << a << "_poly(temp_c, state);\n";
+  if (m.kernel) s << "  f += " << a << "_svr(temp_c, state);\n";
+  s << "  return f;\n}\n\n";
+}
+
+// The thermal state of axis k after this sample (ThermalStateEvaluator::Step), into `st`.
+void EmitState(std::ostringstream& s, const Names& n, std::size_t k, const DriftModel& m) {
+  const ThermalStateOptions& o = m.state;
+  const std::string K = std::to_string(k);
+  const std::string rate_call = n.p + "_rate_step(&state->prev_c[" + K + "], &state->e1_c[" + K +
+                                "], &state->d_c[" + K + "], state->initialized, dt_s, temp_c, " +
+                                n.R(o.causal_rate_tau_s) + ")";
+  switch (m.inputs) {
+    case DriftInputSet::kTemp:
+      s << "  st = " << n.R(0.0) << ";\n";
+      break;
+    case DriftInputSet::kTempAndRate:
+      s << "  st = " << rate_call << ";\n";
+      break;
+    case DriftInputSet::kTempAndLag:
+      s << "  st = " << n.p << "_lag_step(&state->prev_c[" << K << "], &state->lag_c[" << K
+        << "], state->initialized, dt_s, temp_c, " << n.R(o.lag_tau_s) << ");\n";
+      break;
+    case DriftInputSet::kTempAndMemory:  // Eq. TS-3 on the rate of Eq. TS-1
+      s << "  r = " << rate_call << ";\n  if (!state->initialized) {\n    state->mem[" << K << "] = " << n.R(0.0)
+        << ";\n  } else if ((r < " << n.R(0.0) << " ? -r : r) > " << n.R(o.memory_deadband_c_per_s) << ") {\n"
+        << "    " << n.real << " g = (r < " << n.R(0.0) << " ? -r : r) * dt_s / " << n.R(o.memory_width_c) << ";\n"
+        << "    if (g > " << n.R(1.0) << ") g = " << n.R(1.0) << ";\n"
+        << "    state->mem[" << K << "] += g * ((r > " << n.R(0.0) << " ? " << n.R(1.0) << " : " << n.R(-1.0)
+        << ") - state->mem[" << K << "]);\n  }\n  st = state->mem[" << K << "];\n";
+      break;
+  }
 }
 
 void EmitStep(std::ostringstream& s, const std::vector<AxisDriftModel>& axes, const CExportOptions& o, const Names& n) {
   s << "void " << n.p << "_init(" << n.p << "_state *state) {\n  int a;\n  state->initialized = 0;\n"
-    << "  for (a = 0; a < " << n.P << "_NUM_AXES; ++a) {\n    state->prev_c[a] = " << n.R(0.0)
-    << ";\n    state->err_c[a] = " << n.R(0.0) << ";\n    state->diff_c[a] = " << n.R(0.0) << ";\n    state->drift[a] = " << n.R(0.0) << ";\n  }\n}\n\n";
+    << "  for (a = 0; a < " << n.P << "_NUM_AXES; ++a) {\n";
+  for (const char* f : {"prev_c", "e1_c", "d_c", "lag_c", "mem", "drift"}) s << "    state->" << f << "[a] = " << n.R(0.0) << ";\n";
+  s << "  }\n}\n\n";
   s << "void " << n.p << "_step(" << n.p << "_state *state, " << n.real << " dt_s, " << n.real << " temp_c,\n"
     << "    const " << n.real << " *rate_in, " << n.real << " *rate_out) {\n";
-  s << "  " << n.real << " t, r;\n";
-  bool any_rate = false;
-  for (const auto& a : axes) any_rate = any_rate || UsesRate(a.model);
-  if (!any_rate) s << "  (void)dt_s;\n";
+  bool any_state = false, any_memory = false;
+  for (const auto& a : axes) {
+    any_state = any_state || UsesState(a.model);
+    any_memory = any_memory || a.model.inputs == DriftInputSet::kTempAndMemory;
+  }
+  s << "  " << n.real << " t, st;\n";
+  if (any_memory) s << "  " << n.real << " r;\n";
+  if (!any_state) s << "  (void)dt_s;\n";
   for (std::size_t k = 0; k < axes.size(); ++k) {
     const DriftModel& m = axes[k].model;
-    const DriftFitSummary& f = m.summary;
     s << "  /* axis " << k << ": " << axes[k].axis << " (" << DriftModelKindName(m.kind) << ", "
-      << DriftInputSetName(m.inputs) << ") */\n";
-    s << "  t = temp_c;\n  if (t < " << n.R(f.temp_min_c) << ") t = " << n.R(f.temp_min_c) << ";\n  else if (t > "
-      << n.R(f.temp_max_c) << ") t = " << n.R(f.temp_max_c) << ";\n";
-    if (UsesRate(m)) {
-      const double tau = ResolvedCausalTau(o.causal, m.rate);
-      s << "  r = " << n.p << "_rate_step(&state->prev_c[" << k << "], &state->err_c[" << k << "], &state->diff_c[" << k
-        << "], state->initialized, dt_s, temp_c, " << n.R(tau) << ");  /* delay " << CausalRateDelay(tau) << " s */\n";
-      s << "  if (r < " << n.R(f.dtemp_min_c_per_s) << ") r = " << n.R(f.dtemp_min_c_per_s) << ";\n  else if (r > "
-        << n.R(f.dtemp_max_c_per_s) << ") r = " << n.R(f.dtemp_max_c_per_s) << ";\n";
-    } else {
-      s << "  r = " << n.R(0.0) << ";\n";
-    }
-    s << "  state->drift[" << k << "] = " << n.R(o.output_scale) << " * " << n.p << "_a" << k << "_eval(t, r);\n";
+      << DriftInputSetName(m.inputs) << ", out of range: " << OutOfRangePolicyName(m.out_of_range) << ") */\n";
+    EmitState(s, n, k, m);
+    s << "  t = temp_c;\n";
+    if (m.out_of_range == OutOfRangePolicy::kClamp)  // DriftModel::EffectiveTemp; the state is never clamped
+      s << "  if (t < " << n.R(m.temp_min_c()) << ") t = " << n.R(m.temp_min_c()) << ";\n  else if (t > "
+        << n.R(m.temp_max_c()) << ") t = " << n.R(m.temp_max_c()) << ";\n";
+    s << "  state->drift[" << k << "] = " << n.R(o.output_scale) << " * " << n.p << "_a" << k << "_eval(t, st);\n";
     s << "  rate_out[" << k << "] = rate_in[" << k << "] - state->drift[" << k << "];\n";
   }
   s << "  state->initialized = 1;\n}\n";
@@ -209,18 +271,15 @@ bool CExportOptions::IsValid(std::string* error) const {
     if (error) *error = "CExportOptions::output_scale must be > 0";
     return false;
   }
-  return causal.IsValid(error);
+  return true;
 }
 
 Result<GeneratedC> GenerateCEvaluator(const std::vector<AxisDriftModel>& axes, const CExportOptions& o) {
   std::string why;
   if (!o.IsValid(&why)) return InvalidArgument(why);
   if (axes.empty()) return InvalidArgument("C export: no axis model given");
-  bool any_rate = false;
-  for (const auto& a : axes) {
+  for (const auto& a : axes)
     if (Status st = CheckFinite(a); !st.ok()) return st.error();
-    any_rate = any_rate || UsesRate(a.model);
-  }
   Names n;
   n.p = o.prefix;
   for (char c : o.prefix) n.P += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
@@ -230,13 +289,12 @@ Result<GeneratedC> GenerateCEvaluator(const std::vector<AxisDriftModel>& axes, c
   out.source_name = n.p + ".c";
   out.header = Header(axes, o, n);
   std::ostringstream s;
-  EmitPrelude(s, axes, n, any_rate);
+  EmitPrelude(s, axes, n);
   for (std::size_t k = 0; k < axes.size(); ++k) {
     const DriftModel& m = axes[k].model;
-    if (const PolynomialModel* p = m.structured ? &*m.structured : nullptr)
-      EmitPolynomial(s, n, static_cast<int>(k), *p, UsesRate(m));
-    else
-      EmitSvr(s, n, static_cast<int>(k), *m.kernel);
+    if (m.structured) EmitPolynomial(s, n, static_cast<int>(k), *m.structured, UsesState(m));
+    if (m.kernel) EmitSvr(s, n, static_cast<int>(k), *m.kernel);
+    EmitAxisEval(s, n, static_cast<int>(k), m);
   }
   EmitStep(s, axes, o, n);
   out.source = s.str();

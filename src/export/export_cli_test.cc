@@ -1,4 +1,5 @@
 // `gyrocomp export` end to end (cli.md contract: files, JSON, one-line errors with exit 2).
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -61,6 +62,30 @@ TEST_F(ExportCli, Px4FileAndCostOnTheCalibrationRun) {
     EXPECT_NEAR(j["axes"][a]["cost_calibration"]["rms_dps"].get<double>(), cost->rms, 1e-12);
     EXPECT_TRUE(j["axes"][a]["cost_validation"].is_null());
   }
+}
+
+// Model file schema 2: one file holding the three axes (fit --rate-col gx,gy,gz) is enough, and
+// gives the same parameters as three one-axis files.
+TEST_F(ExportCli, OneThreeAxisFileEqualsThreeFiles) {
+  DriftModelSet set;
+  const char* cols[3] = {"gx", "gy", "gz"};
+  for (int a = 0; a < 3; ++a) {
+    set.axes.push_back(models_[a]);
+    set.axes.back().rate_col = cols[a];
+  }
+  ASSERT_TRUE(SaveDriftModelSet(set, dir_ + "/xyz.json").ok());
+  std::string one, three;
+  ASSERT_EQ(Run("export -m " + dir_ + "/xyz.json --format ardupilot", &one), 0) << one;
+  ASSERT_EQ(Run("export" + Models() + " --format ardupilot", &three), 0) << three;
+  auto params = [](const std::string& text) {  // the parameter lines, comments dropped
+    std::istringstream in(text);
+    std::string line, out;
+    while (std::getline(in, line))
+      if (!line.empty() && line[0] != '#') out += line + "\n";
+    return out;
+  };
+  EXPECT_EQ(params(one), params(three));
+  EXPECT_NE(one.find("x: gx of"), std::string::npos) << one;
 }
 
 TEST_F(ExportCli, ArduPilotToStdout) {

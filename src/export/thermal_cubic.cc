@@ -62,8 +62,7 @@ Result<TemperatureCubic> ProjectOntoCubic(const DriftModel& model, const CubicPr
     return InvalidInput(s.str());
   }
   cubic.ref_temp_c = options.ref_temp_c.value_or(0.5 * (cubic.temp_min_c + cubic.temp_max_c));
-  // Static curve (dT/dt = 0, clamped into the fitted dT/dt range like every evaluation).
-  const double r0 = std::clamp(0.0, model.summary.dtemp_min_c_per_s, model.summary.dtemp_max_c_per_s);
+  // Static curve: thermal state 0 (dT/dt = 0, the lag settled, no heating/cooling memory).
   const int n = options.grid_points;
   // Columns in dT scaled by the half-range h (conditioning), coefficients rescaled after.
   const double h = 0.5 * (cubic.temp_max_c - cubic.temp_min_c);
@@ -77,7 +76,7 @@ Result<TemperatureCubic> ProjectOntoCubic(const DriftModel& model, const CubicPr
     a(i, 1) = u;
     a(i, 2) = u * u;
     a(i, 3) = u * u * u;
-    y(i) = EvaluateDriftModel(model, t_model, r0);
+    y(i) = EvaluateDriftModel(model, t_model, 0.0);
   }
   const Eigen::Vector4d c = a.colPivHouseholderQr().solve(y);
   for (int k = 0; k < 4; ++k) cubic.coeff[k] = c(k) / std::pow(h, k);

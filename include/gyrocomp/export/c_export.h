@@ -6,14 +6,16 @@
 //     void <prefix>_step(<prefix>_state *state, <prefix>_real dt_s, <prefix>_real temp_c,
 //                        const <prefix>_real rate_in[<PREFIX>_NUM_AXES],
 //                        <prefix>_real rate_out[<PREFIX>_NUM_AXES]);
-// step() runs the causal dT/dt estimator (causal_drift.h: the double lag, one per axis), clamps
-// the model inputs to the fitted range, evaluates each axis's model (polynomial or RBF SVR) and
-// returns rate_out = rate_in - drift; state->drift[a] keeps the last drift. No allocation, no
-// globals written, no libm except exp (expf in the float build) when a model is an SVR.
+// step() runs each axis's thermal state update (thermal_state.h Eqs. TS-1..3: rate, lag or
+// memory), applies the model's out-of-range policy to the temperature, evaluates the model
+// (structured polynomial + RBF SVR kernel, either or both: poly, svr, hybrid) and returns
+// rate_out = rate_in - drift; state->drift[a] keeps the last drift. No allocation, no globals
+// written, no libm except exp (expf in the float build) for the SVR and the state updates.
 // Compile with -D<PREFIX>_USE_FLOAT for MCUs without double: then every constant and every
 // operation is float (no double promotion).
 //
-// It computes exactly what PredictDriftCausal computes (same formulas, same order of operations):
+// It computes what DriftModel::Predict(inputs, causal = true) computes (same formulas; the states
+// carried as small numbers, see docs/export.md):
 // in double within rounding (tests: 1e-12 of the drift span); in float within 1e-5 of the span
 // plus the model's own conditioning (an SVR whose terms cancel: its sum is compensated, Kahan,
 // but each term keeps its float rounding; docs/export.md gives the measured figures).
@@ -41,7 +43,6 @@ struct CExportOptions {
   // (1: the model's deg/s; pi/180 for rad/s).
   double output_scale = 1.0;
   std::string output_unit = "deg/s";
-  CausalRateOptions causal;
   // Free text for the header comment (where the model came from).
   std::vector<std::string> comments;
   bool IsValid(std::string* error) const;

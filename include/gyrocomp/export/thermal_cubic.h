@@ -3,7 +3,8 @@
 //
 // Projection: the model is evaluated on a uniform grid of `grid_points` temperatures over the
 // range [temp_min_c, temp_max_c] (the calibrated range: clamped outside, as the firmware does),
-// with dT/dt = 0 for models that read it (the static curve: the firmware forms have no dT/dt),
+// with the thermal state 0 for models that read one (dT/dt = 0, lag settled, no memory: the static
+// curve; the firmware forms have no state),
 // and the cubic in dT = T - ref_temp_c that minimises the squared error over the grid is kept.
 // A grid uniform in T weighs every temperature alike, as PX4's own process_sensor_caldata.py does
 // with its temperature bins, whatever time the run spent at each temperature.

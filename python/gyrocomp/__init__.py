@@ -27,6 +27,14 @@ class Result:
     def to_dict(self):
         return {k: _unwrap(v) for k, v in self.__dict__.items() if not k.startswith("_")}
 
+    def keys(self):
+        return [k for k in self.__dict__ if not k.startswith("_")]
+
+    def __getitem__(self, key):  # result["gx_dps"] as well as result.gx_dps (names that are not identifiers)
+        if key.startswith("_") or key not in self.__dict__:
+            raise KeyError(key)
+        return self.__dict__[key]
+
     def __repr__(self):
         brief = getattr(self, "brief_report", None)
         return f"<gyrocomp.{self._name} {brief}>" if brief else f"<gyrocomp.{self._name}>"
@@ -73,6 +81,7 @@ flp_denoise = _returns("FlpResult")(_core.flp_denoise)
 wflp_denoise = _returns("WflpResult")(_core.wflp_denoise)
 fit_drift_model = _core.fit_drift_model
 run_parallel_model = _returns("PipelineResult")(_core.run_parallel_model)
+read_log = _returns("GyroLog")(_core.read_log)
 project_onto_cubic = _returns("TemperatureCubic")(_core.project_onto_cubic)
 px4_thermal_params = _core.px4_thermal_params
 ardupilot_thermal_params = _core.ardupilot_thermal_params
@@ -99,7 +108,7 @@ def export_params(models, format, **options):
 
 __all__ = [
     "CancellationToken", "Cancelled", "DriftModel", "Result", "ardupilot_thermal_params", "compute_allan",
-    "compute_deviation", "export_params", "project_onto_cubic", "px4_thermal_params",
+    "compute_deviation", "export_params", "project_onto_cubic", "px4_thermal_params", "read_log",
     "drift_model_from_json", "fit_drift_model", "flp_denoise", "kalibr_imu_yaml", "load_drift_model",
     "run_parallel_model", "sample_entropy", "simulate", "vmd", "wavelet_denoise", "wflp_denoise",
 ]

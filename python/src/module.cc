@@ -29,6 +29,7 @@ PYBIND11_MODULE(_core, m) {
   BindDrift(m);
   BindPipeline(m);
   BindExport(m);
+  BindIo(m);
 }
 
 }  // namespace gyrocomp::python

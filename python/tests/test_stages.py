@@ -138,3 +138,28 @@ def test_export_cubic_projection_and_autopilot_files():
         gyrocomp.export_params(models[:2], "px4")
     with pytest.raises(ValueError, match="device_id|TC_G|ID"):
         gyrocomp.export_params(models, "px4")  # PX4 needs the sensor's device id
+
+
+def test_read_log_csv_and_ulog(golden_dir):
+    log = gyrocomp.read_log(str(golden_dir / "allan_kinds" / "rate.csv"))
+    assert log.axis_names == ["rate_dps"] and log.fs_hz == pytest.approx(10.0, rel=1e-9)
+    data = np.loadtxt(golden_dir / "allan_kinds" / "rate.csv", delimiter=",", skiprows=1)
+    assert log.rate_dps["rate_dps"].tolist() == data[:, 1].tolist()
+    assert log.temp_c is None
+    with pytest.raises(ValueError, match="rate_unit=furlongs"):
+        gyrocomp.read_log(str(golden_dir / "allan_kinds" / "rate.csv"), rate_unit="furlongs")
+    with pytest.raises(ValueError, match="no_such_column|not found|column"):
+        gyrocomp.read_log(str(golden_dir / "allan_kinds" / "rate.csv"), rate_cols="no_such_column")
+
+
+def test_read_log_px4_ulog_matches_pyulog_extraction(golden_dir):
+    fieldlogs = golden_dir.parent / "fieldlogs"
+    ulg = fieldlogs / "sample_log_small.ulg"
+    if not ulg.exists():
+        pytest.skip("tests/fieldlogs/ absent")
+    ref = np.loadtxt(fieldlogs / "sample_log_small.ulg.sensor_gyro_0.csv", delimiter=",", skiprows=1, ndmin=2)
+    log = gyrocomp.read_log(str(ulg), instance=0)
+    assert log.device_id == 2424842 and log.axis_names == ["x_rad_s", "y_rad_s", "z_rad_s"]
+    x = log.rate_dps[log.axis_names[0]]
+    # pyulog's float32 values widened to double, in rad/s; ours in deg/s (x 180/pi, one rounding).
+    np.testing.assert_allclose(x, ref[: len(x), 1] * 180.0 / np.pi, rtol=1e-15)

@@ -1,0 +1,77 @@
+// gyrocomp.read_log: CSV, PX4 ULog or ArduPilot DataFlash (issue 12's readers) as a GyroLog.
+#include "bindings.h"
+
+#include "gyrocomp/core/units.h"
+#include "gyrocomp/io/gyro_log.h"
+
+namespace gyrocomp::python {
+namespace {
+
+LogSpec ReadLogSpec(Kwargs& kw) {
+  LogSpec s;
+  kw.Get("time_col", &s.time_col);
+  py::object rate_cols = kw.Take("rate_cols");
+  if (!rate_cols.is_none()) {
+    s.rate_cols = py::isinstance<py::str>(rate_cols) ? std::vector<std::string>{rate_cols.cast<std::string>()}
+                                                     : rate_cols.cast<std::vector<std::string>>();
+  }
+  py::object unit = kw.Take("rate_unit");
+  if (!unit.is_none()) {
+    const std::string name = py::str(unit);
+    const auto u = ParseRateUnit(name);
+    if (!u) throw py::value_error("read_log(): rate_unit=" + name + ": must be dps, rads or dph");
+    s.rate_unit = *u;
+  }
+  kw.Get("temp_col", &s.temp_col);
+  kw.Get("temp_required", &s.temp_required);
+  kw.Get("rates_required", &s.rates_required);
+  kw.Get("fs_hz", &s.fs_hz);
+  kw.Get("resample_hz", &s.resample_hz);
+  kw.Get("min_samples", &s.min_samples);
+  kw.Get("jitter_tolerance", &s.jitter_tolerance);
+  kw.Get("max_irregular_fraction", &s.max_irregular_fraction);
+  kw.Get("gap_factor", &s.gap_factor);
+  kw.Get("instance", &s.instance);
+  return s;
+}
+
+py::dict SamplingDict(const SamplingReport& r) {
+  return py::dict(py::arg("fs_hz") = r.fs_hz, py::arg("median_dt_s") = r.median_dt_s, py::arg("min_dt_s") = r.min_dt_s,
+                  py::arg("max_dt_s") = r.max_dt_s, py::arg("num_intervals") = r.num_intervals,
+                  py::arg("num_irregular") = r.num_irregular, py::arg("num_gaps") = r.num_gaps,
+                  py::arg("longest_gap_s") = r.longest_gap_s, py::arg("irregular") = r.irregular,
+                  py::arg("resampled") = r.resampled, py::arg("rows_in") = r.rows_in, py::arg("rows_out") = r.rows_out,
+                  py::arg("brief_report") = r.BriefReport());
+}
+
+}  // namespace
+
+void BindIo(py::module_& m) {
+  m.def(
+      "read_log",
+      [](const std::string& path, const py::kwargs& kwargs) {
+        Kwargs kw(kwargs, "read_log");
+        const LogSpec spec = ReadLogSpec(kw);
+        kw.Done();
+        GyroLog log = Unwrap(WithoutGil([&] { return ReadGyroLog(path, spec); }));
+        py::dict d;
+        d["source"] = log.source;
+        d["fs_hz"] = log.fs_hz;
+        d["time_s"] = ToNumpy(std::move(log.time_s));
+        d["axis_names"] = log.axis_names;
+        py::dict rates;  // axis name -> deg/s
+        for (std::size_t a = 0; a < log.rate_dps.size(); ++a) rates[py::str(log.axis_names[a])] = ToNumpy(std::move(log.rate_dps[a]));
+        d["rate_dps"] = rates;
+        d["temp_c"] = log.temp_c.empty() ? py::object(py::none()) : py::object(ToNumpy(std::move(log.temp_c)));
+        d["sampling"] = SamplingDict(log.sampling);
+        d["device_id"] = log.device_id;
+        d["origin"] = log.origin;
+        d["warnings"] = log.warnings;
+        return d;
+      },
+      py::arg("path"),
+      "A gyro log (CSV, .csv.gz, PX4 ULog, ArduPilot DataFlash; LogSpec as keywords: time_col, rate_cols, "
+      "rate_unit, temp_col, fs_hz, resample_hz, instance, ...). rate_dps: {axis name: array in deg/s}.");
+}
+
+}  // namespace gyrocomp::python

@@ -3,6 +3,7 @@
 // or a generated C99 evaluator of the full model with the causal dT/dt estimator inside.
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -40,11 +41,18 @@ struct ExportArgs {
 
 // Every -m file holds one or more axes (model file v2: one model per rate column); the axes are
 // taken in the order given (x, y, z for the autopilots).
-Result<std::vector<AxisDriftModel>> LoadAxes(const std::vector<std::string>& paths, std::vector<std::string>* sources) {
+// `device_id` receives the gyro's device id recorded in the files (fitted on a PX4 ULog), when
+// they record one; files that disagree are an error.
+Result<std::vector<AxisDriftModel>> LoadAxes(const std::vector<std::string>& paths, std::vector<std::string>* sources,
+                                             std::optional<std::uint32_t>* device_id) {
   std::vector<AxisDriftModel> axes;
   for (const std::string& p : paths) {
     Result<DriftModelSet> set = LoadDriftModelSet(p);
     if (!set.ok()) return set.error();
+    if (set->device_id && *device_id && **device_id != *set->device_id)
+      return InvalidInput(p + ": device_id " + std::to_string(*set->device_id) + " differs from " +
+                          std::to_string(**device_id) + " of " + paths.front() + ": models of different gyros");
+    if (set->device_id) *device_id = set->device_id;
     for (DriftModel& m : set->axes) {
       if (m.unit != "deg/s")
         return InvalidInput(p + ": axis '" + m.rate_col + "' predicts '" + m.unit + "', not deg/s; export needs "
@@ -210,10 +218,13 @@ int RunC(const ExportArgs& a, const std::vector<AxisDriftModel>& axes, const std
   return kExitOk;
 }
 
-int Run(const ExportArgs& a) {
+int Run(const ExportArgs& args) {
   std::vector<std::string> src;
-  auto axes = LoadAxes(a.model_paths, &src);
+  std::optional<std::uint32_t> file_device_id;
+  auto axes = LoadAxes(args.model_paths, &src, &file_device_id);
   if (!axes.ok()) return ReportError(kName, axes.error());
+  ExportArgs a = args;  // --device-id, else the id the model file carries (fitted on a ULog)
+  if (!a.device_id && file_device_id) a.device_id = *file_device_id;
   nlohmann::json j;
   j["format"] = a.format;
   j["output"] = a.output.empty() ? "-" : a.output;
@@ -229,7 +240,7 @@ Command Make(CLI::App& app) {
   CLI::App* sub = app.add_subcommand(kName, "Export drift models for a flight controller: PX4 / ArduPilot parameters or C code");
   sub->footer(
       "px4: QGroundControl parameter file (TC_G_ENABLE, TC_G<i>_ID/TREF/TMIN/TMAX/X0..X3_0..2, rad/s);\n"
-      "  needs --device-id (the gyro's device_id) and three axes: one file (fit --rate-col gx,gy,gz)\n"
+      "  needs the gyro's device_id (from the model file when it was fitted on a ULog, else --device-id) and three axes: one file (fit --rate-col gx,gy,gz)\n"
       "  or -m x -m y -m z.\n"
       "ardupilot: .param file (INS_TCAL<n>_ENABLE/TMIN/TMAX/GYR1..3_X/Y/Z: x1e6, rad/s, about 35 C).\n"
       "  Both are cubics in T: each model is projected onto one; with -i CAL (and --validation RUN,\n"
@@ -243,7 +254,7 @@ Command Make(CLI::App& app) {
   // For c, -o is a stem: NAME.h and NAME.c are declared when written (WriteText).
   sub->add_option("-o,--output", a->output, "Output file ('-' or none: stdout); for c: DIR/NAME");
   AddOutputOption(sub, "--json", &a->json_path, "Write a summary as JSON to FILE ('-' = stdout)");
-  sub->add_option("--device-id", a->device_id, "px4: TC_G<i>_ID, the gyro's device_id (sensor_gyro.device_id)");
+  sub->add_option("--device-id", a->device_id, "px4: TC_G<i>_ID, the gyro's device_id (sensor_gyro.device_id); default: the one the model file carries when it was fitted on a PX4 ULog");
   sub->add_option("--index", a->index, "px4: slot i of TC_G<i> (0..3, default 0); ardupilot: IMU n of INS_TCAL<n> (1..3, default 1)");
   sub->add_option("--c-unit", a->c_unit, "c: unit of rate_in/rate_out, dps or rads")->capture_default_str();
   AddLogOptions(sub, &a->log, /*input_required=*/false);

@@ -180,6 +180,7 @@ int Run(FitArgs a) {
 
   // One model per axis (--rate-col gx,gy,gz), all in one model file.
   DriftModelSet set;
+  set.device_id = log.device_id;  // PX4 ULog: for export --format px4 (TC_G<i>_ID)
   std::string feature_report;
   const std::size_t axes = target_is_column ? 1 : log.rate_dps.size();
   for (std::size_t k = 0; k < axes; ++k) {

@@ -253,6 +253,7 @@ std::string DriftModelSetToJson(const DriftModelSet& models) {
   j["schema_version"] = kDriftModelSchemaVersion;
   j["axes"] = json::array();
   for (const DriftModel& m : models.axes) j["axes"].push_back(AxisJson(m));
+  if (models.device_id) j["device_id"] = *models.device_id;
   return j.dump(1) + "\n";
 }
 
@@ -272,6 +273,12 @@ Result<DriftModelSet> DriftModelSetFromJson(std::string_view text, const std::st
   }
   if (!j.contains("axes") || !j["axes"].is_array() || j["axes"].empty())
     return InvalidInput(source + ": field 'axes' must be a non-empty array");
+  if (j.contains("device_id")) {
+    const json& id = j["device_id"];
+    if (!id.is_number_unsigned() || id.get<std::uint64_t>() == 0 || id.get<std::uint64_t>() > 0xFFFFFFFFull)
+      return InvalidInput(source + ": field 'device_id' must be an integer in 1..4294967295");
+    set.device_id = static_cast<std::uint32_t>(id.get<std::uint64_t>());
+  }
   for (std::size_t k = 0; k < j["axes"].size(); ++k) {
     auto m = ReadAxis(j["axes"][k], source + ": axes[" + std::to_string(k) + "]");
     if (!m.ok()) return m.error();

@@ -117,5 +117,28 @@ TEST_F(ExportCli, BadRequestsAreOneLineErrors) {
   EXPECT_FALSE(std::ifstream(dir_ + "/x.params").good());  // no partial output
 }
 
+// The headline: a PX4 ULog in, a parameter file out, with no --device-id: fit keeps the
+// log's sensor_gyro.device_id in the model file and export writes it as TC_G<i>_ID.
+TEST_F(ExportCli, UlogFitThenPx4ExportCarriesTheDeviceId) {
+  std::string out;
+  const std::string ulg = dir_ + "/chamber.ulg";
+  ASSERT_EQ(Run("simulate --profile ramp --ramp-end 40 --fs 10 --seed 7 -o " + ulg, &out), 0) << out;
+  ASSERT_EQ(Run("fit -i " + ulg + " --instance 0 --model poly -o " + dir_ + "/m.json", &out), 0) << out;
+  const nlohmann::json m = testing::ReadJsonFile(dir_ + "/m.json");
+  ASSERT_EQ(m["axes"].size(), 3u);
+  const std::uint32_t id = m.at("device_id").get<std::uint32_t>();  // what simulate writes into the ULog
+  EXPECT_EQ(id, 1u);
+  ASSERT_EQ(Run("export -m " + dir_ + "/m.json --format px4 -o " + dir_ + "/tc.params", &out), 0) << out;
+  std::ifstream f(dir_ + "/tc.params");
+  const std::string text((std::istreambuf_iterator<char>(f)), {});
+  EXPECT_NE(text.find("1\t1\tTC_G0_ID\t" + std::to_string(id) + "\t6\n"), std::string::npos) << text;
+  // --device-id still overrides the file's.
+  ASSERT_EQ(Run("export -m " + dir_ + "/m.json --format px4 --device-id 2293768 -o " + dir_ + "/tc2.params", &out), 0)
+      << out;
+  std::ifstream f2(dir_ + "/tc2.params");
+  const std::string text2((std::istreambuf_iterator<char>(f2)), {});
+  EXPECT_NE(text2.find("1\t1\tTC_G0_ID\t2293768\t6\n"), std::string::npos) << text2;
+}
+
 }  // namespace
 }  // namespace gyrocomp

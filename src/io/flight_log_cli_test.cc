@@ -132,8 +132,10 @@ TEST_F(FlightLogCliTest, SimulatedULogFitsLikeTheCsv) {
   ASSERT_EQ(Run("fit -i '" + dir_ + "/run.csv' --model poly -o '" + dir_ + "/mc.json'", &log), 0) << log;
   const auto mu = testing::ReadJsonFile(dir_ + "/mu.json");
   const auto mc = testing::ReadJsonFile(dir_ + "/mc.json");
-  const auto& tu = mu["model"]["terms"];
-  const auto& tc = mc["model"]["terms"];
+  // Model file schema 2: one entry per axis, the polynomial in "structured".
+  const auto& tu = mu["axes"][0]["structured"]["terms"];
+  const auto& tc = mc["axes"][0]["structured"]["terms"];
+  ASSERT_GT(tc.size(), 1u) << mc.dump();
   ASSERT_EQ(tu.size(), tc.size());
   for (std::size_t k = 0; k < tu.size(); ++k) {
     // float32 keeps ~7 digits of each sample; the least-squares coefficients of 46 000 such

@@ -28,6 +28,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <optional>
 #include <span>
 #include <string>
@@ -307,6 +308,9 @@ inline constexpr int kDriftModelSchemaVersion = 2;
 // Several axes in one file (fit --rate-col gx,gy,gz). Each axis names its rate column.
 struct DriftModelSet {
   std::vector<DriftModel> axes;
+  // The gyro's device id when the calibration run was a PX4 ULog (sensor_gyro.device_id, what
+  // PX4's TC_G<i>_ID must hold); written as the optional top-level key "device_id".
+  std::optional<std::uint32_t> device_id;
   // The model for `rate_col`, or nullptr.
   const DriftModel* Find(std::string_view rate_col) const;
 };

@@ -15,7 +15,7 @@ cmake --build "$build" -j"$(nproc)"
 # Seeds: small CSVs (plain and gzip) from tests/ and the field logs' IMU extracts (first 200
 # lines), model files from tests/golden, and the fuzzer's own corpus kept between runs.
 seeds=$build/seeds
-mkdir -p "$seeds"/csv "$seeds"/gz "$seeds"/model
+mkdir -p "$seeds"/csv "$seeds"/gz "$seeds"/model "$seeds"/ulog "$seeds"/dataflash
 if [ ! -e "$seeds/.done" ]; then
   i=0
   while IFS= read -r f; do
@@ -31,12 +31,19 @@ if [ ! -e "$seeds/.done" ]; then
   # gz seeds carry the mode byte of fuzz_gz.cc (even: raw gzip bytes follow).
   for f in "$seeds"/gz/*.gz; do { printf '\0'; cat "$f"; } > "$f.seed" && mv "$f.seed" "$f"; done
   cp fuzz/seeds/model/*.json "$seeds/model/"  # made by gyrocomp fit (poly, poly in T and dT/dt, svr)
+  # Flight logs: the first 64 KiB of each (-max_len), which keeps the headers and formats.
+  for f in ../shared/fieldlogs/px4/*.ulg tests/fieldlogs/*.ulg; do
+    [ -e "$f" ] && head -c 65536 "$f" > "$seeds/ulog/$(basename "$f")"
+  done
+  for f in ../shared/fieldlogs/ardupilot/*.bin ../shared/fieldlogs/ardupilot/*.BIN; do
+    [ -e "$f" ] && head -c 65536 "$f" > "$seeds/dataflash/$(basename "$f")"
+  done
   touch "$seeds/.done"
 fi
 
-declare -A corpus_of=([fuzz_csv]=csv [fuzz_gz]=gz [fuzz_model]=model)
+declare -A corpus_of=([fuzz_csv]=csv [fuzz_gz]=gz [fuzz_ulog]=ulog [fuzz_dataflash]=dataflash [fuzz_model]=model)
 fuzzers=("$@")
-[ ${#fuzzers[@]} -eq 0 ] && fuzzers=(fuzz_csv fuzz_gz fuzz_model)
+[ ${#fuzzers[@]} -eq 0 ] && fuzzers=(fuzz_csv fuzz_gz fuzz_ulog fuzz_dataflash fuzz_model)
 status=0
 for fz in "${fuzzers[@]}"; do
   corpus=$build/corpus/$fz

@@ -138,6 +138,7 @@ struct FileOption {
   CLI::Option* option;
   std::string* path;
   bool output;
+  std::vector<std::string>* paths = nullptr;  // an input option that takes several files
 };
 
 std::vector<FileOption>& FileOptions() {
@@ -211,6 +212,13 @@ CLI::Option* AddInputOption(CLI::App* app, const std::string& flags, std::string
   return option;
 }
 
+CLI::Option* AddInputOption(CLI::App* app, const std::string& flags, std::vector<std::string>* paths,
+                            const std::string& help) {
+  CLI::Option* option = app->add_option(flags, *paths, help);
+  FileOptions().push_back({app, option, nullptr, false, paths});
+  return option;
+}
+
 CLI::Option* AddOutputOption(CLI::App* app, const std::string& flags, std::string* path, const std::string& help) {
   CLI::Option* option = app->add_option(flags, *path, help);
   FileOptions().push_back({app, option, path, true});
@@ -224,7 +232,12 @@ OutputSet& Outputs() {
 
 Status PrepareFiles(const CLI::App* app) {
   for (const FileOption& f : FileOptions()) {
-    if (f.app == app && !f.output) Outputs().AddInput(*f.path);
+    if (f.app != app || f.output) continue;
+    if (f.paths != nullptr) {
+      for (const std::string& p : *f.paths) Outputs().AddInput(p);
+    } else {
+      Outputs().AddInput(*f.path);
+    }
   }
   for (const FileOption& f : FileOptions()) {
     if (f.app != app || !f.output || (f.option->count() == 0 && f.path->empty())) continue;

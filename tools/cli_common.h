@@ -81,6 +81,10 @@ void Note(const std::string& command, const std::string& message);
 // Adds an option naming a file the command reads (never written, see above).
 CLI::Option* AddInputOption(CLI::App* app, const std::string& flags, std::string* path, const std::string& help);
 
+// The same for an option that takes several files (-m x.json -m y.json).
+CLI::Option* AddInputOption(CLI::App* app, const std::string& flags, std::vector<std::string>* paths,
+                            const std::string& help);
+
 // Adds an option naming a file the command writes (checked before the command runs, see above).
 CLI::Option* AddOutputOption(CLI::App* app, const std::string& flags, std::string* path, const std::string& help);
 

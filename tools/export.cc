@@ -248,7 +248,7 @@ Command Make(CLI::App& app) {
       "c: -o DIR/NAME writes NAME.h and NAME.c (C99, no allocation, -DNAME_USE_FLOAT for float):\n"
       "  the full model per axis with its causal thermal state; same numbers as apply --causal.\n"
       "Example: gyrocomp export -m x.json -m y.json -m z.json --format px4 --device-id 2293768 -o tc.params");
-  sub->add_option("-m,--model", a->model_paths, "Model file(s) written by gyrocomp fit: their axes in order (x, y, z)")
+  AddInputOption(sub, "-m,--model", &a->model_paths, "Model file(s) written by gyrocomp fit: their axes in order (x, y, z)")
       ->required();
   sub->add_option("--format", a->format, "px4 | ardupilot | c")->required()->check(CLI::IsMember({"px4", "ardupilot", "c"}));
   // For c, -o is a stem: NAME.h and NAME.c are declared when written (WriteText).

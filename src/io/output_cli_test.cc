@@ -88,6 +88,11 @@ TEST_F(OutputCliTest, AnOutputNamingAnInputIsRefusedBeforeAnyWork) {
   EXPECT_EQ(Run("apply -i '" + sim + "' -m '" + model + "' -o '" + model + "'", &out), 2) << out;
   EXPECT_NE(out.find("same file as input"), std::string::npos) << out;
   EXPECT_EQ(Get(model), model_text);
+  // export: every one of its several -m files is an input too.
+  EXPECT_EQ(Run("export -m '" + model + "' -m '" + model + "' -m '" + model + "' --format px4 --device-id 5 -o '" +
+                    model + "'", &out), 2) << out;
+  EXPECT_NE(out.find("same file as input"), std::string::npos) << out;
+  EXPECT_EQ(Get(model), model_text);
 }
 
 TEST_F(OutputCliTest, AnEmptyOutputNameIsRefused) {

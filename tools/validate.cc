@@ -72,9 +72,9 @@ Command Make(CLI::App& app) {
       "column when present; the share of samples with T and dT/dt outside the fitted ranges.\n"
       "JSON keys: docs/cli.md (validate).\n"
       "Example: gyrocomp validate -m model.json -i other_run.csv --json validate.json");
-  sub->add_option("-m,--model", a->model_path, "Model file written by gyrocomp fit")->required();
+  AddInputOption(sub, "-m,--model", &a->model_path, "Model file written by gyrocomp fit")->required();
   AddLogOptions(sub, &a->log);
-  sub->add_option("--json", a->json_path, "Write the validation as JSON to FILE ('-' = stdout)");
+  AddOutputOption(sub, "--json", &a->json_path, "Write the validation as JSON to FILE ('-' = stdout)");
   sub->add_option("--truth-col", a->truth_col, "Column with the true drift, scored when present")->capture_default_str();
   sub->add_option("--block", a->options.block_s, "Block length of the residual drift, s")->capture_default_str();
   sub->add_option("--min-tau", a->options.min_tau_s, "Smallest tau of the ADEV comparison, s")->capture_default_str();

@@ -93,6 +93,10 @@ TEST_F(OutputCliTest, AnOutputNamingAnInputIsRefusedBeforeAnyWork) {
                     model + "'", &out), 2) << out;
   EXPECT_NE(out.find("same file as input"), std::string::npos) << out;
   EXPECT_EQ(Get(model), model_text);
+  // validate: its model file is an input, its --json an output.
+  EXPECT_EQ(Run("validate -i '" + sim + "' -m '" + model + "' --json '" + model + "'", &out), 2) << out;
+  EXPECT_NE(out.find("same file as input"), std::string::npos) << out;
+  EXPECT_EQ(Get(model), model_text);
 }
 
 TEST_F(OutputCliTest, AnEmptyOutputNameIsRefused) {

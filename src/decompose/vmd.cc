@@ -495,6 +495,30 @@ std::string VmdSummary::BriefReport() const {
   return os.str();
 }
 
+namespace {
+
+// Bounds K by what the record can support, before anything is allocated: a mode needs frequency
+// bins to live on (the one-sided spectrum holds about N of them, so K <= N / 2 leaves each mode
+// two bins at least), and the working set (two complex iterates and the accumulator per mode and
+// bin, plus the K x N modes returned: ~56 K N bytes) must fit `max_memory_bytes`.
+Status CheckProblemSize(const VmdOptions& opt, std::size_t n) {
+  const auto K = static_cast<std::size_t>(opt.num_modes);
+  if (K > n / 2)
+    return InvalidArgument("VmdOptions::num_modes = " + std::to_string(K) + ": a record of " + std::to_string(n) +
+                           " samples holds at most " + std::to_string(n / 2) + " modes (N / 2)");
+  const double bytes = 56.0 * static_cast<double>(K) * static_cast<double>(n);
+  if (bytes > static_cast<double>(opt.max_memory_bytes)) {
+    std::ostringstream os;
+    os.precision(3);
+    os << "VMD of K = " << K << " modes on " << n << " samples needs " << bytes / (1u << 30) << " GB; at most "
+       << static_cast<double>(opt.max_memory_bytes) / (1u << 30) << " allowed (VmdOptions::max_memory_bytes)";
+    return InvalidArgument(os.str());
+  }
+  return {};
+}
+
+}  // namespace
+
 Result<VmdResult> DecomposeVmd(std::span<const double> signal, const VmdOptions& opt) {
   const auto start = std::chrono::steady_clock::now();
   std::string why;
@@ -509,6 +533,7 @@ Result<VmdResult> DecomposeVmd(std::span<const double> signal, const VmdOptions&
     }
   }
   const int K = opt.num_modes;
+  if (Status s = CheckProblemSize(opt, n_in); !s.ok()) return s.error();
 
   Result<VmdSpectrum> spectrum = MirrorAndTransform(signal, opt.mirror_extension);
   if (!spectrum.ok()) return spectrum.error();

@@ -371,5 +371,28 @@ TEST(Vmd, RejectsBadOptionsAndInput) {
   EXPECT_FALSE(r3.ok());
 }
 
+// K is bounded by what the record supports, before any allocation (issue 15: `--modes 100000`
+// ran for minutes; a huge K x N ends in std::bad_alloc).
+TEST(Vmd, RefusesMoreModesThanTheRecordHoldsOrMemoryAllows) {
+  const std::vector<double> x(100, 1.0);
+  VmdOptions opt;
+  opt.num_modes = 51;  // N / 2 = 50
+  auto r = DecomposeVmd(x, opt);
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error().kind, ErrorKind::kInvalidArgument);
+  EXPECT_NE(r.error().message.find("at most 50 modes"), std::string::npos) << r.error().message;
+  opt.num_modes = 50;
+  opt.max_iterations = 3;
+  EXPECT_TRUE(DecomposeVmd(x, opt).ok());
+  // 56 x 6 x 100 = 33,600 bytes needed: refused under a 32 KiB cap, with the estimate.
+  opt.num_modes = 6;
+  opt.max_memory_bytes = 32 * 1024;
+  auto m = DecomposeVmd(x, opt);
+  ASSERT_FALSE(m.ok());
+  EXPECT_NE(m.error().message.find("max_memory_bytes"), std::string::npos) << m.error().message;
+  opt.max_memory_bytes = 34 * 1024;
+  EXPECT_TRUE(DecomposeVmd(x, opt).ok());
+}
+
 }  // namespace
 }  // namespace gyrocomp

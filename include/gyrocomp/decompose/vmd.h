@@ -93,6 +93,10 @@ struct VmdOptions {
   // Called after every update with the update count and the stopping quantity (for progress
   // displays). Empty: not called. Does not change the result.
   std::function<void(int iteration, double update)> on_iteration;
+  // Largest working set DecomposeVmd may allocate, bytes (K modes x N bins x two complex iterates
+  // and the accumulator, ~48 K N bytes, plus the modes returned). Checked before allocating: a
+  // larger problem is refused with the estimate, never a std::bad_alloc. 8 GiB.
+  std::size_t max_memory_bytes = std::size_t{8} << 30;
 
   // Returns false and a message naming the field ("VmdOptions::alpha = -1: must be > 0").
   bool IsValid(std::string* error) const;

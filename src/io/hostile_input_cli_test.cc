@@ -110,10 +110,12 @@ TEST_F(HostileInputCliTest, ModelValuesAreBoundedAtLoad) {
   ASSERT_EQ(Run("simulate --fs 1 --duration 7200 -o '" + sim + "'", &out), 0) << out;
   ASSERT_EQ(Run("fit -i '" + sim + "' --model poly --degree 2 -o '" + model + "'", &out), 0) << out;
   nlohmann::json j = testing::ReadJsonFile(model);
-  j["model"]["terms"][1]["coefficient"] = 1e308;
+  // Model file schema 2: the polynomial of axis 0 is "structured".
+  ASSERT_TRUE(j["axes"][0]["structured"]["terms"].size() > 1) << j.dump();
+  j["axes"][0]["structured"]["terms"][1]["coefficient"] = 1e308;
   std::ofstream(dir_ + "/huge.json") << j.dump(1);
   ExpectRefused("apply -i '" + sim + "' -m '" + dir_ + "/huge.json' -o '" + dir_ + "/a.csv'",
-                "model.terms[].coefficient' = 1e+308: must be a finite number of magnitude <= 1e100");
+                "axes[0]: field 'structured.terms[].coefficient' = 1e+308: must be a finite number of magnitude <= 1e100");
   EXPECT_FALSE(fs::exists(dir_ + "/a.csv"));
 }
 

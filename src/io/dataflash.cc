@@ -1,6 +1,7 @@
 // ArduPilot DataFlash reader (include/gyrocomp/io/dataflash.h). Record layout and format
 // characters: ArduPilot libraries/AP_Logger/LogStructure.h; edge behaviour: pymavlink DFReader.py.
 #include "gyrocomp/io/dataflash.h"
+#include "gyrocomp/io/io.h"
 
 #include <algorithm>
 #include <cstring>
@@ -245,15 +246,9 @@ Result<DataFlashContents> ParseDataFlash(const std::uint8_t* data, std::size_t s
 }
 
 Result<DataFlashContents> ReadDataFlash(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return IoError(path + ": cannot open");
-  in.seekg(0, std::ios::end);
-  const std::streamoff size = in.tellg();
-  in.seekg(0, std::ios::beg);
-  if (size < 0) return IoError(path + ": cannot tell its size (not a regular file?)");
-  std::string bytes(static_cast<std::size_t>(size), '\0');
-  if (!in.read(bytes.data(), size)) return IoError(path + ": read error");
-  return ParseDataFlash(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size(), path);
+  Result<std::string> bytes = ReadFileBytes(path);
+  if (!bytes.ok()) return bytes.error();
+  return ParseDataFlash(reinterpret_cast<const std::uint8_t*>(bytes->data()), bytes->size(), path);
 }
 
 std::string DataFlashContents::BriefReport() const {

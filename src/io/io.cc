@@ -18,6 +18,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <fstream>
 #include <optional>
 #include <string_view>
 #include <system_error>
@@ -472,6 +473,18 @@ Result<Table> ReadCsv(const std::string& path, const CsvReadOptions& options) {
   Result<Table> result = parser.Run(in, plain_size);
   gzclose(in);
   return result;
+}
+
+Result<std::string> ReadFileBytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return IoError(path + ": cannot open");
+  in.seekg(0, std::ios::end);
+  const std::streamoff size = in.tellg();
+  in.seekg(0, std::ios::beg);
+  if (size < 0) return IoError(path + ": cannot tell its size (not a regular file?)");
+  std::string bytes(static_cast<std::size_t>(size), '\0');
+  if (!in.read(bytes.data(), size)) return IoError(path + ": read error");
+  return bytes;
 }
 
 }  // namespace gyrocomp

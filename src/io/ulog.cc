@@ -1,6 +1,7 @@
 // PX4 ULog reader (include/gyrocomp/io/ulog.h). Section numbers ("spec: ...") refer to the
 // PX4 User Guide page "ULog File Format"; behaviour at the edges follows PX4/pyulog core.py.
 #include "gyrocomp/io/ulog.h"
+#include "gyrocomp/io/io.h"
 
 #include <cstring>
 #include <fstream>
@@ -417,15 +418,9 @@ Result<ULogContents> ParseULog(const std::uint8_t* data, std::size_t size, const
 }
 
 Result<ULogContents> ReadULog(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return IoError(path + ": cannot open");
-  in.seekg(0, std::ios::end);
-  const std::streamoff size = in.tellg();
-  in.seekg(0, std::ios::beg);
-  if (size < 0) return IoError(path + ": cannot tell its size (not a regular file?)");
-  std::string bytes(static_cast<std::size_t>(size), '\0');
-  if (!in.read(bytes.data(), size)) return IoError(path + ": read error");
-  return ParseULog(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size(), path);
+  Result<std::string> bytes = ReadFileBytes(path);
+  if (!bytes.ok()) return bytes.error();
+  return ParseULog(reinterpret_cast<const std::uint8_t*>(bytes->data()), bytes->size(), path);
 }
 
 std::string ULogContents::BriefReport() const {

@@ -52,6 +52,10 @@ struct CsvReadOptions {
 // (NUL bytes or invalid UTF-8 in the header) (kInvalidInput).
 Result<Table> ReadCsv(const std::string& path, const CsvReadOptions& options = {});
 
+// The whole of a regular file, as bytes (the binary log readers parse it in memory). Errors
+// (kIo): cannot open, size unknown (not a regular file), read error.
+Result<std::string> ReadFileBytes(const std::string& path);
+
 // Writes `table` as CSV with shortest round-trip formatting of every double (std::to_chars), so
 // reading it back gives bit-identical values. ".gz" suffix -> gzip. Atomic (temp + rename).
 Status WriteCsvAtomic(const std::string& path, const Table& table);

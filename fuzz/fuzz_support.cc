@@ -4,7 +4,9 @@
 #include <unistd.h>
 
 #include <cstdlib>
+#include <optional>
 
+#include "gyrocomp/io/flight_log.h"
 #include "gyrocomp/io/gyro_log.h"
 #include "gyrocomp/io/io.h"
 
@@ -46,6 +48,16 @@ void ReadAndLoad(const std::string& path) {
     if (table->names.size() >= 3) axes.temp_col = table->names[2];
     axes.max_memory_bytes = std::size_t{4} << 20;
     (void)LoadGyroLog(*table, axes);
+  }
+}
+
+void ReadFlightLog(const std::string& path) {
+  for (const std::optional<int> instance : {std::optional<int>(), std::optional<int>(0), std::optional<int>(1)}) {
+    LogSpec spec;
+    spec.instance = instance;
+    spec.max_memory_bytes = std::size_t{4} << 20;
+    Result<LogTableRead> read = ReadLogTable(path, spec);
+    if (read) (void)LoadGyroLog(read->table, read->spec);
   }
 }
 

@@ -24,4 +24,8 @@ class MemoryFile {
 // column, --fs, --resample, several axes): what every subcommand does with -i.
 void ReadAndLoad(const std::string& path);
 
+// What every -i command does with a flight log at `path`: ReadLogTable (format by the first
+// bytes, instance choice: none, 0, 1) and, when it reads, LoadGyroLog on the table.
+void ReadFlightLog(const std::string& path);
+
 }  // namespace gyrocomp::fuzz

@@ -32,13 +32,6 @@ double Rmse(const std::vector<double>& a, const std::vector<double>& b) {
   return a.empty() ? 0.0 : std::sqrt(ss / static_cast<double>(a.size()));
 }
 
-// The model for axis k: the file's axis with that rate column, else its only axis (version 1
-// files and single-axis models apply to every axis given, as before).
-const DriftModel* ModelFor(const DriftModelSet& set, const std::string& axis) {
-  if (const DriftModel* m = set.Find(axis)) return m;
-  return set.axes.size() == 1 ? &set.axes[0] : nullptr;
-}
-
 // Issue 15: never an absurd or non-finite drift (a model far outside its range, coefficients at
 // the edge of double): refused with the row and temperature, never written with exit 0.
 Status CheckPlausibleDrift(const std::string& model_path, const GyroLog& log, const std::vector<double>& predicted) {
@@ -72,7 +65,7 @@ int Run(const ApplyArgs& a) {
   nlohmann::json axes = nlohmann::json::array();
   std::vector<double> first_prediction;
   for (std::size_t k = 0; k < log.axis_names.size(); ++k) {
-    const DriftModel* model = ModelFor(*set, log.axis_names[k]);
+    const DriftModel* model = set->ForAxis(log.axis_names[k]);
     if (!model)
       return ReportError(kName, InvalidInput(a.model_path + ": no model for rate column '" + log.axis_names[k] + "'"));
     Result<std::vector<double>> predicted = model->Predict(inputs, a.causal);

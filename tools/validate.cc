@@ -36,8 +36,7 @@ int Run(const ValidateArgs& a) {
   const int truth = loaded->table.Find(a.truth_col);
   nlohmann::json axes = nlohmann::json::array();
   for (std::size_t k = 0; k < log.axis_names.size(); ++k) {
-    const DriftModel* model = set->Find(log.axis_names[k]);
-    if (!model && set->axes.size() == 1) model = &set->axes[0];
+    const DriftModel* model = set->ForAxis(log.axis_names[k]);
     if (!model)
       return ReportError(kName, InvalidInput(a.model_path + ": no model for rate column '" + log.axis_names[k] + "'"));
     std::vector<double> none;

@@ -247,6 +247,11 @@ const DriftModel* DriftModelSet::Find(std::string_view rate_col) const {
   return nullptr;
 }
 
+const DriftModel* DriftModelSet::ForAxis(std::string_view rate_col) const {
+  if (const DriftModel* m = Find(rate_col)) return m;
+  return axes.size() == 1 ? &axes[0] : nullptr;
+}
+
 std::string DriftModelSetToJson(const DriftModelSet& models) {
   json j;
   j["format"] = kModelFormat;

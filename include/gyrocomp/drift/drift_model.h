@@ -313,6 +313,10 @@ struct DriftModelSet {
   std::optional<std::uint32_t> device_id;
   // The model for `rate_col`, or nullptr.
   const DriftModel* Find(std::string_view rate_col) const;
+  // The model `apply` / `validate` use for a record's axis `rate_col`: the one fitted on that
+  // column, else the file's only model (version-1 and single-axis files apply to every axis), else
+  // nullptr.
+  const DriftModel* ForAxis(std::string_view rate_col) const;
 };
 
 std::string DriftModelSetToJson(const DriftModelSet& models);

@@ -258,8 +258,42 @@ Result<ComparisonResult> Compare(const SimulatedRun& run, const PipelineInput& i
   return CompareMethods(input, paper, {run.true_rate_dps, run.true_drift_dps}, co);
 }
 
+// processed.csv.gz, report.html and summary.json (staged; main() commits them together).
+int WriteDemoFiles(const DemoArgs& a, const SimulatedRun& run, const PipelineResult& r, const PipelineResult& paper,
+                   const HeldOut& held_out, const SideBySideTable& table, const ComparisonResult* comparison,
+                   nlohmann::json params, const std::string& budget, PhaseClock* clock) {
+  Table processed = run.ToTable();
+  processed.Add("compensated_dps", r.compensated_dps);
+  processed.Add("paper_compensated_dps", paper.compensated_dps);
+  processed.Add("drift_feature_dps", r.features.drift);
+  processed.Add("mixed_feature_dps", r.features.mixed);
+  processed.Add("noise_feature_dps", r.features.noise);
+  processed.Add("predicted_drift_dps", r.predicted_drift_dps);
+  processed.Add("paper_predicted_drift_dps", paper.predicted_drift_dps);
+  const std::filesystem::path dir(a.out_dir);
+  const std::string csv = (dir / "processed.csv.gz").string();
+  if (Status s = WriteCsv(csv, processed); !s) return ReportError(kName, s.error());
+  clock->Mark("csv");
+  params["simulator"] = {{"profile", "paper"}, {"fs_hz", a.fs_hz}, {"seed", a.seed},
+                         {"summary", run.summary.BriefReport()}};
+  params["demo_budget"] = budget;
+  const std::string report_path = (dir / "report.html").string();
+  const std::string html = ReportHtml(a, run, r, paper, held_out, table, comparison, params);
+  if (Status s = WriteText(report_path, html); !s) return ReportError(kName, s.error());
+  clock->Mark("report");
+  nlohmann::json summary = SummaryJson(a, r, paper, held_out, table, params);
+  summary["demo_phases"] = clock->Json();
+  const std::string json_path = (dir / "summary.json").string();
+  if (Status s = WriteJson(json_path, summary); !s) return ReportError(kName, s.error());
+  std::printf("\n  time by phase (CPU s, all threads / wall s):");
+  for (const auto& [phase, cpu] : summary["demo_phases"]["cpu_s"].items()) {
+    std::printf(" %s %.1f/%.1f;", phase.c_str(), cpu.get<double>(), summary["demo_phases"]["wall_s"][phase].get<double>());
+  }
+  std::printf("\n  wrote %s, %s, %s\n", report_path.c_str(), json_path.c_str(), csv.c_str());
+  return kExitOk;
+}
+
 int Run(const DemoArgs& a) {
-  const auto start = std::chrono::steady_clock::now();
   PhaseClock clock;
   PipelineCliOptions pipe = a.pipeline;
   if (Status s = ResolvePipelineOptions(&pipe); !s) return ReportError(kName, s.error());
@@ -308,37 +342,8 @@ int Run(const DemoArgs& a) {
   const SideBySideTable table = MakeDemoTable(*run, *paper, *r, *held_out);
   PrintConsole(*r, *paper, table, budget);
 
-  Table processed = run->ToTable();
-  processed.Add("compensated_dps", r->compensated_dps);
-  processed.Add("paper_compensated_dps", paper->compensated_dps);
-  processed.Add("drift_feature_dps", r->features.drift);
-  processed.Add("mixed_feature_dps", r->features.mixed);
-  processed.Add("noise_feature_dps", r->features.noise);
-  processed.Add("predicted_drift_dps", r->predicted_drift_dps);
-  processed.Add("paper_predicted_drift_dps", paper->predicted_drift_dps);
-  const std::string csv = (dir / "processed.csv.gz").string();
-  if (Status s = WriteCsv(csv, processed); !s) return ReportError(kName, s.error());
-
-  clock.Mark("csv");
-  nlohmann::json params = PipelineOptionsJson(pipe.options);
-  params["simulator"] = {{"profile", "paper"}, {"fs_hz", a.fs_hz}, {"seed", a.seed},
-                         {"summary", run->summary.BriefReport()}};
-  params["demo_budget"] = budget;
-  const std::string report_path = (dir / "report.html").string();
-  const std::string html = ReportHtml(a, *run, *r, *paper, *held_out, table, comparison ? &*comparison : nullptr, params);
-  if (Status s = WriteText(report_path, html); !s) return ReportError(kName, s.error());
-  clock.Mark("report");
-  nlohmann::json summary = SummaryJson(a, *r, *paper, *held_out, table, params);
-  summary["demo_phases"] = clock.Json();
-  const std::string json_path = (dir / "summary.json").string();
-  if (Status s = WriteJson(json_path, summary); !s) return ReportError(kName, s.error());
-  std::printf("\n  time by phase (CPU s, all threads / wall s):");
-  for (const auto& [phase, cpu] : summary["demo_phases"]["cpu_s"].items()) {
-    std::printf(" %s %.1f/%.1f;", phase.c_str(), cpu.get<double>(), summary["demo_phases"]["wall_s"][phase].get<double>());
-  }
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  std::printf("\n  wrote %s, %s, %s (%.1f s)\n", report_path.c_str(), json_path.c_str(), csv.c_str(), seconds);
-  return kExitOk;
+  return WriteDemoFiles(a, *run, *r, *paper, *held_out, table, comparison ? &*comparison : nullptr,
+                        PipelineOptionsJson(pipe.options), budget, &clock);
 }
 
 Command Make(CLI::App& app) {

@@ -24,8 +24,8 @@ TermApplicability Check(const AllanCurve& curve, std::optional<double> bandwidth
     return t;
   }
   if (tau_lo < 1.0 / *bandwidth_hz) {
-    t.reason = std::string(term) + Format(" is read at tau = %.3g s, below 1/bandwidth = %.3g s (bandwidth %.3g Hz): "
-                                          "there the ADEV shows the processing's low-pass, not the sensor",
+    t.reason = std::string(term) + Format(" is read over taus from %.3g s, below 1/bandwidth = %.3g s (bandwidth "
+                                          "%.3g Hz): there the ADEV shows the processing's low-pass, not the sensor",
                                           tau_lo, 1.0 / *bandwidth_hz, *bandwidth_hz);
     return t;
   }

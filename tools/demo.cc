@@ -215,7 +215,7 @@ nlohmann::json SummaryJson(const DemoArgs& a, const PipelineResult& ours, const 
                    {"paper_pipeline", DriftValidationJson(h.paper)}};
   j["side_by_side"] = SideBySideJson(table);
   j["budget"] = {{"full", a.full_budget}, {"nests", params["drift_model"]["nests"]},
-                 {"auto_generations", ours.drift_model->summary.generations},
+                 {"auto_generations", a.full_budget ? DriftAutoOptions{}.search_generations : kDemoAutoGenerations},
                  {"paper_cs_svr_generations", paper.drift_model->summary.generations}};
   return j;
 }

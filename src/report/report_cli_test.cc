@@ -144,6 +144,8 @@ TEST_F(ReportCli, DemoTableRowsPresentAndFinite) {
   EXPECT_NE(out.find("reduced budgets for the demo"), std::string::npos) << out;
   EXPECT_NE(out.find("not applicable"), std::string::npos) << out;
   const nlohmann::json j = testing::ReadJsonFile(dir_ + "/demo/summary.json");
+  EXPECT_EQ(j["budget"]["auto_generations"], 1);
+  EXPECT_EQ(j["budget"]["paper_cs_svr_generations"], 2);
   const nlohmann::json& t = j["side_by_side"];
   std::map<std::string, nlohmann::json> rows;
   for (const auto& r : t["rows"]) rows[r["key"].get<std::string>()] = r;

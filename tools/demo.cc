@@ -69,9 +69,13 @@ class PhaseClock {
   std::map<std::string, double> cpu_s_, wall_s_;
 };
 
+// RMS of a - b (b empty: of a).
 double Rms(std::span<const double> a, std::span<const double> b) {
   double s = 0.0;
-  for (std::size_t i = 0; i < a.size(); ++i) s += (a[i] - (b.empty() ? 0.0 : b[i])) * (a[i] - (b.empty() ? 0.0 : b[i]));
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const double d = a[i] - (b.empty() ? 0.0 : b[i]);
+    s += d * d;
+  }
   return a.empty() ? 0.0 : std::sqrt(s / static_cast<double>(a.size()));
 }
 
@@ -159,7 +163,7 @@ Result<HeldOut> ValidateOnHeldOut(const DemoArgs& a, const DriftModel& paper, co
 }
 
 SideBySideTable MakeDemoTable(const SimulatedRun& run, const PipelineResult& paper, const PipelineResult& ours,
-                      const HeldOut& h) {
+                              const HeldOut& h) {
   const DemoVariant raw{"raw", "raw", &ours.allan_before, ours.fs_hz / 2.0, Rms(run.true_drift_dps, {}),
                         Rms(h.run.true_drift_dps, {}), Rms(run.rate_dps, run.true_rate_dps)};
   auto variant = [&](const std::string& key, const std::string& name, const PipelineResult& p, const DriftValidation& v) {

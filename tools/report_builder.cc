@@ -21,21 +21,22 @@ std::vector<double> Hours(const std::vector<double>& t_s) {
   return h;
 }
 
-// The ADEV curve with its confidence band and the fitted noise-term lines.
-nlohmann::json AllanCurveJson(const AllanResult& a, const std::string& name) {
+// The ADEV curve with its confidence band and the fitted noise-term lines (ARW and RRW only where
+// the not-applicable rule accepts them: a line the processing made would contradict the table).
+nlohmann::json AllanCurveJson(const AllanResult& a, const std::string& name, std::optional<double> bandwidth_hz) {
   const AllanCurve& c = a.curve;
   nlohmann::json j = {{"name", name}, {"tau_s", c.tau_s}, {"adev_dps", c.adev_dps},
                       {"lo_dps", c.adev_lo_dps}, {"hi_dps", c.adev_hi_dps}};
   nlohmann::json lines = nlohmann::json::array();
   if (!c.tau_s.empty()) {
     const double t0 = c.tau_s.front(), t1 = c.tau_s.back();
-    if (a.terms.arw_deg_per_sqrt_h) {  // sigma = N / sqrt(tau), N in deg/sqrt(s)
+    if (a.terms.arw_deg_per_sqrt_h && ArwApplicability(a, bandwidth_hz).applicable) {  // sigma = N / sqrt(tau)
       const double n_dps = units::DegPerSqrtHourToDegPerSqrtSec(*a.terms.arw_deg_per_sqrt_h);
       lines.push_back({{"name", "ARW"}, {"tau_s", {t0, t1}}, {"adev_dps", {n_dps / std::sqrt(t0), n_dps / std::sqrt(t1)}}});
     }
     const double floor_dps = units::DphToDps(a.terms.adev_min_deg_per_h);
     lines.push_back({{"name", "ADEV min"}, {"tau_s", {t0, t1}}, {"adev_dps", {floor_dps, floor_dps}}});
-    if (a.terms.rrw_deg_per_h_per_sqrt_h) {  // sigma = K sqrt(tau / 3), K in deg/s/sqrt(s)
+    if (a.terms.rrw_deg_per_h_per_sqrt_h && RrwApplicability(a, bandwidth_hz).applicable) {  // K sqrt(tau / 3)
       const double k = units::DphPerSqrtHourToDpsPerSqrtSec(*a.terms.rrw_deg_per_h_per_sqrt_h);
       lines.push_back({{"name", "RRW"}, {"tau_s", {t0, t1}}, {"adev_dps", {k * std::sqrt(t0 / 3.0), k * std::sqrt(t1 / 3.0)}}});
     }
@@ -307,7 +308,8 @@ ReportData BuildPipelineReport(const PipelineResult& r, const ReportContext& ctx
                                  {{"name", "compensated (deg/s)"}, {"y", env[1].y}, {"axis", "rate"}},
                                  {{"name", "temperature (deg C)"}, {"y", env[2].y}, {"axis", "temp"}}}}};
   c["modes"] = ModesJson(r, hours);
-  c["allan"] = {AllanCurveJson(r.allan_before, "raw"), AllanCurveJson(r.allan_after, "compensated")};
+  c["allan"] = {AllanCurveJson(r.allan_before, "raw", r.fs_hz / 2.0),
+                AllanCurveJson(r.allan_after, "compensated", ProcessedBandwidth(r))};
   c["drift"] = DriftVsTemperatureJson(r, ctx);
   c["tables"] = TablesJson(r, ctx);
   c["parameters"] = ctx.parameters;

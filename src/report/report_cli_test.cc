@@ -184,14 +184,24 @@ TEST_F(ReportCli, DemoTableRowsPresentAndFinite) {
   // The report has the side-by-side and held-out tables, "not applicable" in the same cells.
   const std::string report = dir_ + "/demo/report.html";
   const nlohmann::json data = ReportData(ReadText(report));
-  const nlohmann::json* side = FindTable(data, "Side by side");
-  ASSERT_NE(side, nullptr);
+  const nlohmann::json* side = &data["summary"];  // the headline table
+  ASSERT_EQ((*side)["title"].get<std::string>().rfind("Side by side", 0), 0u);
+  EXPECT_NE(FindTable(data, "Before and after"), nullptr);
   bool rrw_na = false;
   for (const auto& r : (*side)["rows"]) {
     if (r[0].get<std::string>().rfind("RRW", 0) == 0) rrw_na = r[3] == "not applicable";
   }
   EXPECT_TRUE(rrw_na);
   EXPECT_NE(FindTable(data, "Held-out run"), nullptr);
+  // The Allan chart draws no ARW / RRW line the rule rejects (compensated), keeps the raw's.
+  ASSERT_EQ(data["allan"].size(), 2u);
+  auto lines = [&](int k) {
+    std::string names;
+    for (const auto& l : data["allan"][k]["lines"]) names += l["name"].get<std::string>() + ";";
+    return names;
+  };
+  EXPECT_EQ(lines(0), "ARW;ADEV min;RRW;");
+  EXPECT_EQ(lines(1), "ADEV min;");
   ExpectRendersInChromium(report, dir_);
 }
 

@@ -162,16 +162,21 @@ Result<HeldOut> ValidateOnHeldOut(const DemoArgs& a, const DriftModel& paper, co
   return h;
 }
 
+// `requested`: the --model of the default branch (auto unless given).
 SideBySideTable MakeDemoTable(const SimulatedRun& run, const PipelineResult& paper, const PipelineResult& ours,
-                              const HeldOut& h) {
+                              const HeldOut& h, DriftModelKind requested) {
   const DemoVariant raw{"raw", "raw", &ours.allan_before, ours.fs_hz / 2.0, Rms(run.true_drift_dps, {}),
                         Rms(h.run.true_drift_dps, {}), Rms(run.rate_dps, run.true_rate_dps)};
   auto variant = [&](const std::string& key, const std::string& name, const PipelineResult& p, const DriftValidation& v) {
     return DemoVariant{key, name, &p.allan_after, ProcessedBandwidth(p), Rms(p.predicted_drift_dps, run.true_drift_dps),
                        v.rmse_vs_true_drift, Rms(p.compensated_dps, run.true_rate_dps)};
   };
-  const std::string ours_name = "gyrocomp default (auto: " + std::string(DriftModelKindName(ours.drift_model->kind)) +
-                                "(" + DriftInputSetName(ours.drift_model->summary.inputs) + "))";
+  const std::string chosen = std::string(DriftModelKindName(ours.drift_model->kind)) + "(" +
+                             DriftInputSetName(ours.drift_model->summary.inputs) + ")";
+  const std::string ours_name = requested == DriftModelKind::kAuto
+                                    ? "gyrocomp default (auto: " + chosen + ")"
+                                    : "gyrocomp with --model " + std::string(DriftModelKindName(requested)) + " (" +
+                                          chosen + ")";
   return DemoTable({raw, variant("paper_pipeline", "paper pipeline (cs-svr)", paper, h.paper),
                     variant("default", ours_name, ours, h.ours)},
                    HeldOutLabel(h.options));
@@ -348,7 +353,7 @@ int Run(const DemoArgs& a) {
     clock.Mark("comparisons");
   }
 
-  const SideBySideTable table = MakeDemoTable(*run, *paper, *r, *held_out);
+  const SideBySideTable table = MakeDemoTable(*run, *paper, *r, *held_out, pipe.options.drift.model);
   PrintConsole(*r, *paper, table, budget);
 
   return WriteDemoFiles(a, *run, *r, *paper, *held_out, table, comparison ? &*comparison : nullptr,

@@ -193,7 +193,7 @@ nlohmann::json SummaryJson(const PipelineResult& r) {
   std::string note = "Bandwidth 'before' is the Nyquist frequency of the raw record. A lower ARW "
                      "obtained by narrowing the bandwidth is low-pass filtering: read the two together.";
   if (!na_note.empty()) {
-    note += " Not applicable (rule: bandwidth known, taus >= 1/bandwidth, ADEV slope within 0.2 of "
+    note += " Not applicable (rule: bandwidth known, taus >= 1/(2 bandwidth), ADEV slope within 0.2 of "
             "-1/2 for ARW, +1/2 for RRW):" + na_note;
   }
   for (const std::string& s : HonestyNotes(r)) note += " " + s;

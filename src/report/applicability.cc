@@ -23,10 +23,11 @@ TermApplicability Check(const AllanCurve& curve, std::optional<double> bandwidth
     t.reason = std::string(term) + " without the record's bandwidth is not comparable (bandwidth not measured)";
     return t;
   }
-  if (tau_lo < 1.0 / *bandwidth_hz) {
-    t.reason = std::string(term) + Format(" is read over taus from %.3g s, below 1/bandwidth = %.3g s (bandwidth "
+  const double band_period_s = 1.0 / (2.0 * *bandwidth_hz);  // clause 2: the band's sampling period
+  if (tau_lo < band_period_s * (1.0 - 1e-9)) {  // 1e-9: tau grids are m / fs, rounding at equality
+    t.reason = std::string(term) + Format(" is read over taus from %.3g s, below 1/(2 bandwidth) = %.3g s (bandwidth "
                                           "%.3g Hz): there the ADEV shows the processing's low-pass, not the sensor",
-                                          tau_lo, 1.0 / *bandwidth_hz, *bandwidth_hz);
+                                          tau_lo, band_period_s, *bandwidth_hz);
     return t;
   }
   if (!t.fitted_slope) {

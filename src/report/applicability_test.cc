@@ -58,13 +58,15 @@ TEST(ArwApplicability, NeedsTheBandwidthAndTausAboveItsInverse) {
   const TermApplicability none = ArwApplicability(PowerLaw(-0.5), std::nullopt);
   EXPECT_FALSE(none.applicable);
   EXPECT_NE(none.reason.find("bandwidth not measured"), std::string::npos);
-  // Read over [0.5, 2] s: 1/B = 0.5 s is the boundary.
-  EXPECT_TRUE(ArwApplicability(PowerLaw(-0.5), 2.0).applicable);
-  EXPECT_FALSE(ArwApplicability(PowerLaw(-0.5), 1.9).applicable);
-  // A white curve low-passed to 0.175 Hz: read at 1 s < 1/B = 5.7 s.
+  // Read over [0.5, 2] s: 1/(2B) = 0.5 s at B = 1 Hz is the boundary.
+  EXPECT_TRUE(ArwApplicability(PowerLaw(-0.5), 1.0).applicable);
+  EXPECT_FALSE(ArwApplicability(PowerLaw(-0.5), 0.99).applicable);
+  // A raw record at any rate: 1/(2 x Nyquist) = its sample period, the shortest tau (2 Hz: 0.5 s).
+  EXPECT_TRUE(ArwApplicability(PowerLaw(-0.5), 2.0 / 2.0).applicable);
+  // A white curve low-passed to 0.175 Hz: read from 0.5 s < 1/(2B) = 2.86 s.
   const TermApplicability lp = ArwApplicability(PowerLaw(-0.5), 0.175);
   EXPECT_FALSE(lp.applicable);
-  EXPECT_NE(lp.reason.find("1/bandwidth"), std::string::npos) << lp.reason;
+  EXPECT_NE(lp.reason.find("1/(2 bandwidth) = 2.86 s"), std::string::npos) << lp.reason;
 }
 
 AllanResult WithRrwRegion(double slope, double lo, double hi) {
@@ -88,11 +90,11 @@ TEST(RrwApplicability, RegionMadeByTheLowPassIsNotApplicable) {
   const TermApplicability t = RrwApplicability(WithRrwRegion(0.52, 1.6, 3.2), 0.175);
   EXPECT_FALSE(t.applicable);
   EXPECT_NEAR(*t.fitted_slope, 0.52, 1e-12);
-  EXPECT_NE(t.reason.find("1/bandwidth"), std::string::npos) << t.reason;
-  // The same region at the raw Nyquist bandwidth is fine, and 1/B equal to its start too.
+  EXPECT_NE(t.reason.find("1/(2 bandwidth)"), std::string::npos) << t.reason;
+  // The same region at the raw Nyquist bandwidth is fine, and 1/(2B) equal to its start too.
   EXPECT_TRUE(RrwApplicability(WithRrwRegion(0.52, 1.6, 3.2), 2.5).applicable);
-  EXPECT_TRUE(RrwApplicability(WithRrwRegion(0.52, 1.6, 3.2), 1.0 / 1.6).applicable);
-  EXPECT_FALSE(RrwApplicability(WithRrwRegion(0.52, 1.6, 3.2), 0.99 / 1.6).applicable);
+  EXPECT_TRUE(RrwApplicability(WithRrwRegion(0.52, 1.6, 3.2), 1.0 / 3.2).applicable);
+  EXPECT_FALSE(RrwApplicability(WithRrwRegion(0.52, 1.6, 3.2), 0.99 / 3.2).applicable);
 }
 
 TEST(RrwApplicability, NoRegionIsNotApplicable) {

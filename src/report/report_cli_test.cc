@@ -130,6 +130,31 @@ TEST_F(ReportCli, ValidateReportWritesNothingOnBadInput) {
   EXPECT_EQ(Run("validate -m " + dir_ + "/m.json -i " + dir_ + "/cal.csv --report " + dir_ + "/cal.csv", &out), 2) << out;
 }
 
+// `process`: the same rule in its JSON (null + reason key) and its report's before/after table.
+TEST_F(ReportCli, ProcessMarksNotApplicableTermsAlike) {
+  std::string out;
+  ASSERT_EQ(Run("simulate --fs 2 --seed 5 --room-hold 1200 --hold 1200 --step 25 --ramp-rate 2 --thermal-lag 300 -o " +
+                dir_ + "/run.csv", &out), 0) << out;
+  ASSERT_EQ(Run("process -i " + dir_ + "/run.csv --json " + dir_ + "/p.json --report " + dir_ + "/p.html --model poly "
+                "--bandwidth-segment 4096 -q", &out), 0) << out;
+  const nlohmann::json j = testing::ReadJsonFile(dir_ + "/p.json");
+  const double bw = j["bandwidth_hz"].get<double>();
+  ASSERT_LT(bw, 1.0) << "the test needs a processed bandwidth below 1 Hz (ARW read from 0.5 s = 1/(2 x 1 Hz))";
+  // Raw: Nyquist 1 Hz, 1/(2B) = 0.5 s = the sample period, white: a number. Processed: read
+  // below 1/(2 bandwidth): null + reason.
+  EXPECT_TRUE(j["before"]["arw_deg_per_sqrt_h"].is_number());
+  EXPECT_FALSE(j["before"].contains("arw_not_applicable"));
+  EXPECT_TRUE(j["after"]["arw_deg_per_sqrt_h"].is_null());
+  EXPECT_NE(j["after"]["arw_not_applicable"].get<std::string>().find("1/(2 bandwidth)"), std::string::npos);
+  const nlohmann::json data = ReportData(ReadText(dir_ + "/p.html"));
+  bool arw_na = false;
+  for (const auto& r : data["summary"]["rows"]) {
+    if (r[0].get<std::string>().rfind("ARW", 0) == 0) arw_na = r[1].is_number() && r[2] == "not applicable";
+  }
+  EXPECT_TRUE(arw_na) << data["summary"].dump();
+  EXPECT_NE(data["summary"]["note"].get<std::string>().find("After: ARW"), std::string::npos);
+}
+
 // The demo's side-by-side table: every row present, the drift rows finite for raw, the paper's
 // pipeline and the default, non-numbers only with a reason; the same in console, JSON, report.
 TEST_F(ReportCli, DemoTableRowsPresentAndFinite) {

@@ -1,6 +1,7 @@
 // Whether a noise term read off an Allan deviation curve means what its name says (issue 11
-// section 6). A processed record's ADEV is shaped by the processing: after a low-pass of -3 dB
-// bandwidth B the output is correlated over about 1/B seconds, so sigma(1 s) of a 0.17 Hz output
+// section 6). A processed record's ADEV is shaped by the processing: a record band-limited to B
+// carries 2B independent values per second (the sampling theorem), so averages over less than
+// 1/(2B) seconds are not independent and their ADEV shows the filter: sigma(1 s) of a 0.17 Hz output
 // is not an angle random walk coefficient, and a "+1/2 region" just after the filter's minimum is
 // the filter's roll-off, not a rate random walk. The report, the console tables and the JSON of
 // `process` and `demo` all use this one rule to print such a figure as "not applicable" with the
@@ -9,8 +10,9 @@
 // Rule (each clause must hold; the first that fails is the reason):
 //   1. the record's bandwidth B is known (a raw record: its Nyquist frequency fs/2). An ARW
 //      without its bandwidth cannot be compared with another.
-//   2. the taus the term is read from lie at tau >= 1/B, where the processing no longer shapes
-//      the curve (a raw 5 Hz record: 0.4 s);
+//   2. the taus the term is read from lie at tau >= 1/(2B), the sampling period of the band (a raw
+//      record: 1/fs, its own sample period, so a raw record always passes this clause; the demo's
+//      0.175 Hz output: 2.86 s);
 //   3. the free least-squares slope of ln(adev) on ln(tau) over those taus is within
 //      slope_tolerance of the term's nominal slope: -1/2 for ARW (white rate noise), +1/2 for RRW.
 // The taus: ARW, [arw_tau / arw_tau_span, arw_tau * arw_tau_span] around AllanOptions::arw_tau_s

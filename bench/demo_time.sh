@@ -8,5 +8,5 @@ G=${G:-gyrocomp}
 D=${D:-/tmp/gyrocomp-demo-time}
 echo "load before: $(cut -d' ' -f1-3 /proc/loadavg) ($(nproc) cores)"
 /usr/bin/time -f "demo $*: %e s wall, %U s user, %S s sys, %M KB peak" $G demo --out "$D" -q "$@" |
-  grep -E "time by phase|reduced budgets|full search budgets"
+  grep -E "time by phase|reduced budgets|full search budgets" | awk '!seen[$0]++'
 echo "load after: $(cut -d' ' -f1-3 /proc/loadavg)"

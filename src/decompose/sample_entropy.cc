@@ -18,12 +18,21 @@
 //   - otherwise split S in halves: Self(left) + Self(right) + Cross(left, right), and Cross by
 //     halving the larger side after trimming both to the values within r of the other.
 // Bipartite counts (pairs with different labels) reuse Self with a label bit on each item.
+//
+// Cost (issue 13): the values are ranked once per series (RankValues), so every re-sort of a
+// subset by another coordinate is an integer sort of packed (rank, item) keys (a radix sort from
+// kRadixMin items), and the top-level order is a filter of the ranked order. The window counts of
+// the two-coordinate sweep use a bitset (popcounts over the run's words) up to kBitsetMax items,
+// where most leaves are, and a Fenwick tree above. Tie order never matters: every count is
+// symmetric in equal values.
 #include "gyrocomp/decompose/sample_entropy.h"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <atomic>
+#include <bit>
+#include <utility>
 #include <functional>
 #include <thread>
 #include <limits>
@@ -38,10 +47,50 @@ constexpr Item kLabel = 0x80000000u;
 constexpr Item kIndex = 0x7fffffffu;
 constexpr std::size_t kBruteSelf = 24;    // pairs checked directly below this many items
 constexpr std::size_t kBruteCross = 512;  // |L| * |R| checked directly below this
+constexpr std::size_t kRadixMin = 512;    // radix sort from this many keys, std::sort below
+constexpr int kDigitBits = 11;            // radix digit
+constexpr std::size_t kDigits = std::size_t{1} << kDigitBits;
+constexpr std::size_t kBitsetMax = 2048;  // window counts in a bitset up to this many items
+
+// The series' values ranked once (equal values, equal ranks), so that every later sort of
+// templates by a coordinate is an integer sort; `order` is the start indices 0..N-1 by value.
+struct RankedSeries {
+  std::vector<std::uint32_t> rank;
+  std::vector<Item> order;
+  int rank_bits = 0;
+};
+
+RankedSeries RankValues(std::span<const double> x) {
+  std::vector<std::pair<double, Item>> v(x.size());
+  for (std::size_t i = 0; i < x.size(); ++i) v[i] = {x[i], static_cast<Item>(i)};
+  std::sort(v.begin(), v.end());
+  RankedSeries out;
+  out.rank.resize(x.size());
+  out.order.resize(x.size());
+  std::uint32_t rank = 0;
+  for (std::size_t k = 0; k < v.size(); ++k) {
+    if (k > 0 && v[k].first != v[k - 1].first) ++rank;
+    out.rank[v[k].second] = rank;
+    out.order[k] = v[k].second;
+  }
+  out.rank_bits = std::max(1, static_cast<int>(std::bit_width(rank)));
+  return out;
+}
+
+// Template start points 0 .. templates-1 sorted by their first coordinate: `order` filtered.
+std::vector<Item> SortedTemplates(const RankedSeries& ranked, std::size_t templates) {
+  std::vector<Item> s;
+  s.reserve(templates);
+  for (Item i : ranked.order) {
+    if (i < templates) s.push_back(i);
+  }
+  return s;
+}
 
 class PairCounter {
  public:
-  PairCounter(const double* x, int d, double r) : x_(x), d_(d), r_(r) {}
+  PairCounter(const double* x, const RankedSeries& ranked, int d, double r)
+      : x_(x), rank_of_(ranked.rank.data()), rank_bits_(ranked.rank_bits), d_(d), r_(r) {}
 
   // All templates sorted by coordinate 0, as a list of independent counting tasks whose sum
   // is the pair count: the recursion of Self unrolled `depth` levels (Self of 2^depth pieces
@@ -64,13 +113,6 @@ class PairCounter {
 
   std::uint64_t CountSorted(std::span<Item> sorted) { return Self(sorted, 0, false); }
 
-  std::vector<Item> SortedTemplates(std::size_t num_templates) {
-    std::vector<Item> s(num_templates);
-    for (std::size_t i = 0; i < num_templates; ++i) s[i] = static_cast<Item>(i);
-    SortBy(s, 0);
-    return s;
-  }
-
  private:
   double V(Item it, int c) const { return x_[(it & kIndex) + c]; }
   bool Close(double a, double b) const { return std::abs(a - b) < r_; }  // the brute predicate
@@ -78,12 +120,39 @@ class PairCounter {
   bool Within(double lo, double hi) const { return hi - lo < r_; }
   static bool Label(Item it) { return (it & kLabel) != 0; }
 
-  // Sorts items by coordinate c (keys gathered first: direct comparisons, no indirection).
+  // Sorts items by coordinate c: by the precomputed rank of the value (equal values, equal
+  // ranks), ties by item, so the order is the values' order and does not depend on the input
+  // order. Keys packed as (rank << 32 | item): integer sorts, no indirection in the comparisons.
   void SortBy(std::vector<Item>& s, int c) {
-    keyed_.resize(s.size());
-    for (std::size_t i = 0; i < s.size(); ++i) keyed_[i] = {V(s[i], c), s[i]};
-    std::sort(keyed_.begin(), keyed_.end(), [](const Keyed& a, const Keyed& b) { return a.key < b.key; });
-    for (std::size_t i = 0; i < s.size(); ++i) s[i] = keyed_[i].item;
+    keys_.resize(s.size());
+    for (std::size_t i = 0; i < s.size(); ++i) keys_[i] = Key(rank_of_[(s[i] & kIndex) + c], s[i]);
+    SortKeys(keys_);
+    for (std::size_t i = 0; i < s.size(); ++i) s[i] = static_cast<Item>(keys_[i]);
+  }
+
+  static std::uint64_t Key(std::uint32_t rank, std::uint32_t low) {
+    return (static_cast<std::uint64_t>(rank) << 32) | low;
+  }
+
+  // Sorts packed keys by their rank (the high word): std::sort for short lists, else a stable
+  // LSD radix sort of the rank's bits only (ties may end in any order: the counts do not depend
+  // on how equal values are ordered).
+  void SortKeys(std::vector<std::uint64_t>& k) {
+    if (k.size() < kRadixMin) {
+      std::sort(k.begin(), k.end());
+      return;
+    }
+    radix_tmp_.resize(k.size());
+    std::uint64_t* from = k.data();
+    std::uint64_t* to = radix_tmp_.data();
+    for (int shift = 32; shift < 32 + rank_bits_; shift += kDigitBits) {
+      std::uint32_t counts[kDigits + 1] = {};
+      for (std::size_t i = 0; i < k.size(); ++i) ++counts[((from[i] >> shift) & (kDigits - 1)) + 1];
+      for (std::size_t d = 1; d <= kDigits; ++d) counts[d] += counts[d - 1];
+      for (std::size_t i = 0; i < k.size(); ++i) to[counts[(from[i] >> shift) & (kDigits - 1)]++] = from[i];
+      std::swap(from, to);
+    }
+    if (from != k.data()) std::copy(from, from + k.size(), k.data());
   }
 
   bool MatchFrom(Item a, Item b, int c) const {
@@ -145,54 +214,100 @@ class PairCounter {
     return count;
   }
 
-  // Two coordinates left: window along c, Fenwick tree over the ranks of coordinate c+1.
+  // Two coordinates left: a window along c; the items of the window are counted over their
+  // positions in the order of coordinate c+1 (a bitset for short lists, a Fenwick tree above
+  // kBitsetMax). Each item's matches in c+1 form the run [lo, hi) of positions, found by two
+  // pointers with the brute-force predicate (monotone in the value).
   std::uint64_t Sweep2(std::span<const Item> s, int c, bool bi) {
     const std::size_t n = s.size();
-    // Sorted values of coordinate c+1 with their owners; each item's rank is its position, and
-    // the values matching it form the run [lo, hi) of positions, found by two pointers with
-    // the brute-force predicate (monotone in the value).
-    keyed_.resize(n);
-    for (std::size_t i = 0; i < n; ++i) keyed_[i] = {V(s[i], c + 1), static_cast<Item>(i)};
-    std::sort(keyed_.begin(), keyed_.end(), [](const Keyed& a, const Keyed& b) { return a.key < b.key; });
-    rank_.resize(n);
-    lo_rank_.resize(n);
-    hi_rank_.resize(n);
+    keys_.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      keys_[i] = Key(rank_of_[(s[i] & kIndex) + c + 1], static_cast<std::uint32_t>(i));
+    }
+    SortKeys(keys_);
+    values_.resize(n);
+    for (std::size_t k = 0; k < n; ++k) values_[k] = V(s[static_cast<std::uint32_t>(keys_[k])], c + 1);
+    pos_.resize(n);
+    lo_pos_.resize(n);
+    hi_pos_.resize(n);
     std::size_t lo = 0, hi = 0;
     for (std::size_t k = 0; k < n; ++k) {
-      const double y = keyed_[k].key;
-      while (!Within(keyed_[lo].key, y)) ++lo;
+      const double y = values_[k];
+      while (!Within(values_[lo], y)) ++lo;
       if (hi < k) hi = k;
-      while (hi < n && Within(y, keyed_[hi].key)) ++hi;
-      const Item i = keyed_[k].item;
-      rank_[i] = static_cast<std::uint32_t>(k);
-      lo_rank_[i] = static_cast<std::uint32_t>(lo);
-      hi_rank_[i] = static_cast<std::uint32_t>(hi);
+      while (hi < n && Within(y, values_[hi])) ++hi;
+      const std::uint32_t i = static_cast<std::uint32_t>(keys_[k]);
+      pos_[i] = static_cast<std::uint32_t>(k);
+      lo_pos_[i] = static_cast<std::uint32_t>(lo);
+      hi_pos_[i] = static_cast<std::uint32_t>(hi);
     }
-    tree_.assign(bi ? 2 * (n + 1) : n + 1, 0);
-    auto add = [&](int label, std::size_t pos, std::uint32_t delta) {
-      std::uint32_t* t = tree_.data() + label * (n + 1);
-      for (std::size_t i = pos + 1; i <= n; i += i & (~i + 1)) t[i] += delta;
-    };
-    auto prefix = [&](int label, std::size_t pos) {  // items with rank < pos
-      const std::uint32_t* t = tree_.data() + label * (n + 1);
-      std::uint32_t sum = 0;
-      for (std::size_t i = pos; i > 0; i -= i & (~i + 1)) sum += t[i];
-      return sum;
-    };
+    return n <= kBitsetMax ? WindowCount(s, c, bi, BitsetCounter(n, bi, &bits_))
+                           : WindowCount(s, c, bi, FenwickCounter(n, bi, &tree_));
+  }
+
+  // Sliding window along coordinate c over s; for each p, the earlier items of the window whose
+  // position in the c+1 order is in [lo_pos_[p], hi_pos_[p]) (and of the other label when bi).
+  template <typename Counter>
+  std::uint64_t WindowCount(std::span<const Item> s, int c, bool bi, Counter counter) const {
     std::uint64_t count = 0;
     std::size_t w = 0;
-    for (std::size_t p = 0; p < n; ++p) {
+    for (std::size_t p = 0; p < s.size(); ++p) {
       const double vp = V(s[p], c);
       while (!Within(V(s[w], c), vp)) {
-        add(bi ? Label(s[w]) : 0, rank_[w], ~0u);  // -1
+        counter.Remove(bi ? Label(s[w]) : 0, pos_[w]);
         ++w;
       }
-      const int query = bi ? !Label(s[p]) : 0;
-      count += prefix(query, hi_rank_[p]) - prefix(query, lo_rank_[p]);
-      add(bi ? Label(s[p]) : 0, rank_[p], 1u);
+      count += counter.Count(bi ? !Label(s[p]) : 0, lo_pos_[p], hi_pos_[p]);
+      counter.Insert(bi ? Label(s[p]) : 0, pos_[p]);
     }
     return count;
   }
+
+  // Set of positions 0..n-1 per label as bits: O(1) updates, (hi - lo) / 64 words per count.
+  struct BitsetCounter {
+    BitsetCounter(std::size_t n, bool bi, std::vector<std::uint64_t>* store)
+        : words((n + 63) / 64) {
+      store->assign(bi ? 2 * words : words, 0);
+      bits = store->data();
+    }
+    void Insert(int label, std::size_t pos) { bits[label * words + pos / 64] ^= std::uint64_t{1} << (pos % 64); }
+    void Remove(int label, std::size_t pos) { Insert(label, pos); }
+    std::uint64_t Count(int label, std::size_t lo, std::size_t hi) const {  // lo < hi
+      const std::uint64_t* b = bits + label * words;
+      const std::size_t wl = lo / 64, wh = (hi - 1) / 64;
+      const std::uint64_t mlo = ~std::uint64_t{0} << (lo % 64);
+      const std::uint64_t mhi = ~std::uint64_t{0} >> (63 - (hi - 1) % 64);
+      if (wl == wh) return std::popcount(b[wl] & mlo & mhi);
+      std::uint64_t count = std::popcount(b[wl] & mlo) + std::popcount(b[wh] & mhi);
+      for (std::size_t i = wl + 1; i < wh; ++i) count += std::popcount(b[i]);
+      return count;
+    }
+    std::size_t words;
+    std::uint64_t* bits;
+  };
+
+  // Fenwick tree over positions 0..n-1 per label.
+  struct FenwickCounter {
+    FenwickCounter(std::size_t n_in, bool bi, std::vector<std::uint32_t>* store) : n(n_in) {
+      store->assign(bi ? 2 * (n + 1) : n + 1, 0);
+      tree = store->data();
+    }
+    void Add(int label, std::size_t pos, std::uint32_t delta) {
+      std::uint32_t* t = tree + label * (n + 1);
+      for (std::size_t i = pos + 1; i <= n; i += i & (~i + 1)) t[i] += delta;
+    }
+    void Insert(int label, std::size_t pos) { Add(label, pos, 1u); }
+    void Remove(int label, std::size_t pos) { Add(label, pos, ~0u); }  // -1
+    std::uint32_t Prefix(int label, std::size_t pos) const {  // positions < pos
+      const std::uint32_t* t = tree + label * (n + 1);
+      std::uint32_t sum = 0;
+      for (std::size_t i = pos; i > 0; i -= i & (~i + 1)) sum += t[i];
+      return sum;
+    }
+    std::uint64_t Count(int label, std::size_t lo, std::size_t hi) const { return Prefix(label, hi) - Prefix(label, lo); }
+    std::size_t n;
+    std::uint32_t* tree;
+  };
 
   // Pairs (q in l, p in r) that match in coordinates c..d-1 (and differ in label when bi), no
   // order relation between l and r.
@@ -260,16 +375,15 @@ class PairCounter {
     return Cross(l, r.subspan(0, h), c, bi) + Cross(l, r.subspan(h), c, bi);
   }
 
-  struct Keyed {
-    double key;
-    Item item;
-  };
   const double* x_;
+  const std::uint32_t* rank_of_;  // rank_of_[i]: rank of x_[i] among the series' values
+  int rank_bits_;                 // bits of the largest rank
   int d_;
   double r_;
   // Scratch reused across calls (Sweep2 runs only at the leaves of the recursion).
-  std::vector<Keyed> keyed_;
-  std::vector<std::uint32_t> rank_, lo_rank_, hi_rank_, tree_;
+  std::vector<std::uint64_t> keys_, radix_tmp_, bits_;
+  std::vector<double> values_;
+  std::vector<std::uint32_t> pos_, lo_pos_, hi_pos_, tree_;
 };
 
 std::uint64_t CountBrute(std::span<const double> x, int d, double r, std::size_t templates) {
@@ -359,16 +473,16 @@ TemplateMatchCounts CountTemplateMatches(std::span<const double> x, int m, doubl
   // `threads` workers take tasks in order (largest first). Each worker has its own scratch.
   const int threads = num_threads > 0 ? num_threads
                                       : std::max(1, std::min(2, static_cast<int>(std::thread::hardware_concurrency())));
-  PairCounter a_sorter(x.data(), m + 1, r);
-  std::vector<Item> sorted = a_sorter.SortedTemplates(templates);
+  const RankedSeries ranked = RankValues(x);
+  std::vector<Item> sorted = SortedTemplates(ranked, templates);
   auto tasks = PairCounter::Tasks(sorted, threads > 1 ? 3 : 0);
   std::vector<int> is_b(tasks.size(), 0);
-  tasks.push_back([&](PairCounter&) { return PairCounter(x.data(), m, r).CountSorted(sorted); });
+  tasks.push_back([&](PairCounter&) { return PairCounter(x.data(), ranked, m, r).CountSorted(sorted); });
   is_b.push_back(1);
   std::vector<std::uint64_t> results(tasks.size(), 0);
   std::atomic<std::size_t> next{0};
   auto worker = [&] {
-    PairCounter pc(x.data(), m + 1, r);
+    PairCounter pc(x.data(), ranked, m + 1, r);
     for (std::size_t t; (t = next.fetch_add(1)) < tasks.size();) results[t] = tasks[t](pc);
   };
   std::vector<std::thread> pool;

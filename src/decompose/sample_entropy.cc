@@ -48,9 +48,34 @@ constexpr Item kIndex = 0x7fffffffu;
 constexpr std::size_t kBruteSelf = 24;    // pairs checked directly below this many items
 constexpr std::size_t kBruteCross = 512;  // |L| * |R| checked directly below this
 constexpr std::size_t kRadixMin = 512;    // radix sort from this many keys, std::sort below
-constexpr int kDigitBits = 11;            // radix digit
+constexpr int kDigitBits = 11;            // radix digit from kWideDigitsMin keys, 8 bits below
+constexpr std::size_t kWideDigitsMin = 8192;
 constexpr std::size_t kDigits = std::size_t{1} << kDigitBits;
 constexpr std::size_t kBitsetMax = 2048;  // window counts in a bitset up to this many items
+
+// Set bits of b in positions [lo, hi), lo < hi. Inlined into the two entry points below, so the
+// popcounts compile to the popcnt instruction in the first and to the baseline's library call in
+// the second (the x86-64 baseline has no popcnt; every x86-64 CPU since 2008 has it).
+[[gnu::always_inline]] inline std::uint64_t RangeBits(const std::uint64_t* b, std::size_t lo, std::size_t hi) {
+  const std::size_t wl = lo / 64, wh = (hi - 1) / 64;
+  const std::uint64_t mlo = ~std::uint64_t{0} << (lo % 64);
+  const std::uint64_t mhi = ~std::uint64_t{0} >> (63 - (hi - 1) % 64);
+  if (wl == wh) return std::popcount(b[wl] & mlo & mhi);
+  std::uint64_t count = std::popcount(b[wl] & mlo) + std::popcount(b[wh] & mhi);
+  for (std::size_t i = wl + 1; i < wh; ++i) count += std::popcount(b[i]);
+  return count;
+}
+using RangeBitsFn = std::uint64_t (*)(const std::uint64_t*, std::size_t, std::size_t);
+std::uint64_t RangeBitsBaseline(const std::uint64_t* b, std::size_t lo, std::size_t hi) { return RangeBits(b, lo, hi); }
+#if defined(__x86_64__) && defined(__GNUC__)
+__attribute__((target("popcnt"))) std::uint64_t RangeBitsPopcnt(const std::uint64_t* b, std::size_t lo, std::size_t hi) {
+  return RangeBits(b, lo, hi);
+}
+RangeBitsFn ChooseRangeBits() { return __builtin_cpu_supports("popcnt") ? &RangeBitsPopcnt : &RangeBitsBaseline; }
+#else
+RangeBitsFn ChooseRangeBits() { return &RangeBitsBaseline; }
+#endif
+const RangeBitsFn kRangeBits = ChooseRangeBits();  // the same count either way
 
 // The series' values ranked once (equal values, equal ranks), so that every later sort of
 // templates by a coordinate is an integer sort; `order` is the start indices 0..N-1 by value.
@@ -155,11 +180,15 @@ class PairCounter {
     radix_tmp_.resize(k.size());
     std::uint64_t* from = k.data();
     std::uint64_t* to = radix_tmp_.data();
-    for (int shift = 32; shift < 32 + rank_bits_; shift += kDigitBits) {
-      std::uint32_t counts[kDigits + 1] = {};
-      for (std::size_t i = 0; i < k.size(); ++i) ++counts[((from[i] >> shift) & (kDigits - 1)) + 1];
-      for (std::size_t d = 1; d <= kDigits; ++d) counts[d] += counts[d - 1];
-      for (std::size_t i = 0; i < k.size(); ++i) to[counts[(from[i] >> shift) & (kDigits - 1)]++] = from[i];
+    // Short lists: 8-bit digits (the counts cost as much as the keys otherwise).
+    const int digit_bits = k.size() < kWideDigitsMin ? 8 : kDigitBits;
+    const std::size_t digits = std::size_t{1} << digit_bits;
+    for (int shift = 32; shift < 32 + rank_bits_; shift += digit_bits) {
+      std::uint32_t counts[kDigits + 1];
+      std::fill(counts, counts + digits + 1, 0u);
+      for (std::size_t i = 0; i < k.size(); ++i) ++counts[((from[i] >> shift) & (digits - 1)) + 1];
+      for (std::size_t d = 1; d <= digits; ++d) counts[d] += counts[d - 1];
+      for (std::size_t i = 0; i < k.size(); ++i) to[counts[(from[i] >> shift) & (digits - 1)]++] = from[i];
       std::swap(from, to);
     }
     if (from != k.data()) std::copy(from, from + k.size(), k.data());
@@ -311,14 +340,7 @@ class PairCounter {
     void Insert(int label, std::size_t pos) { bits[label * words + pos / 64] ^= std::uint64_t{1} << (pos % 64); }
     void Remove(int label, std::size_t pos) { Insert(label, pos); }
     std::uint64_t Count(int label, std::size_t lo, std::size_t hi) const {  // lo < hi
-      const std::uint64_t* b = bits + label * words;
-      const std::size_t wl = lo / 64, wh = (hi - 1) / 64;
-      const std::uint64_t mlo = ~std::uint64_t{0} << (lo % 64);
-      const std::uint64_t mhi = ~std::uint64_t{0} >> (63 - (hi - 1) % 64);
-      if (wl == wh) return std::popcount(b[wl] & mlo & mhi);
-      std::uint64_t count = std::popcount(b[wl] & mlo) + std::popcount(b[wh] & mhi);
-      for (std::size_t i = wl + 1; i < wh; ++i) count += std::popcount(b[i]);
-      return count;
+      return kRangeBits(bits + label * words, lo, hi);
     }
     std::size_t words;
     std::uint64_t* bits;

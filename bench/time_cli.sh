@@ -39,7 +39,8 @@ t "entropy N=100k (paper 10 Hz rate_dps)" "$bin" entropy -i "$work/se100k.csv" -
 if "$bin" process --help >/dev/null 2>&1; then
   t "process paper 10 Hz"               "$bin" process -i "$work/p10.csv" -o "$work/o10.csv" --json "$work/o10.json"
   stages "$work/o10.json"
-  if "$bin" process --help 2>/dev/null | grep -q -- --threads; then
+  help=$("$bin" process --help 2>&1 || true)  # (grep -q in a pipe would SIGPIPE it under pipefail)
+  if [[ "$help" == *--threads* ]]; then
     t "process paper 10 Hz, --threads 1"  "$bin" process -i "$work/p10.csv" -o "$work/o10t1.csv" --json "$work/o10t1.json" --threads 1
     stages "$work/o10t1.json"
     cmp -s "$work/o10.csv" "$work/o10t1.csv" || echo "    WARNING: --threads 1 output differs"

@@ -30,6 +30,53 @@ std::string Column(const std::string& base, const std::string& axis, std::size_t
   return num_axes == 1 ? base + "_dps" : axis + "_" + base;
 }
 
+// --known-rate-col in deg/s; empty without the option.
+Result<std::vector<double>> KnownRate(const ProcessCli& c, const Table& table, const std::string& source) {
+  if (c.known_rate_col.empty()) return std::vector<double>{};
+  const int j = table.Find(c.known_rate_col);
+  if (j < 0) return InvalidInput(source + ": no column '" + c.known_rate_col + "' (--known-rate-col)");
+  std::vector<double> known = table.columns[j];
+  const double to_dps = units::ToDegPerSec(*ParseRateUnit(c.log.rate_unit));
+  for (double& v : known) v *= to_dps;
+  return known;
+}
+
+using NamedColumns = std::vector<std::pair<std::string, std::vector<double>>>;
+
+// The output CSV's columns of one axis, moved out of the result (not copied: 6 x N doubles).
+void TakeResultColumns(PipelineResult* r, const std::string& axis, std::size_t num_axes, NamedColumns* out) {
+  out->emplace_back(Column("compensated", axis, num_axes), std::move(r->compensated_dps));
+  out->emplace_back(Column("drift_feature", axis, num_axes), std::move(r->features.drift));
+  out->emplace_back(Column("mixed_feature", axis, num_axes), std::move(r->features.mixed));
+  out->emplace_back(Column("noise_feature", axis, num_axes), std::move(r->features.noise));
+  out->emplace_back(Column("mixed_denoised", axis, num_axes), std::move(r->mixed_denoised));
+  out->emplace_back(Column("predicted_drift", axis, num_axes), std::move(r->predicted_drift_dps));
+}
+
+// The JSON of one axis (cli.md, process).
+nlohmann::json AxisJson(const PipelineResult& r, const std::optional<ComparisonResult>& comparison) {
+  nlohmann::json j;
+  j["before"] = AllanJson(r.allan_before);
+  j["after"] = AllanJson(r.allan_after);
+  j["modes"] = ModesJson(r.mode_reports);
+  j["classification_rule"] = r.classification_rule;
+  j["drift_mode_forced"] = r.drift_mode_forced;
+  j["vmd"] = {{"iterations", r.vmd.iterations}, {"converged", r.vmd.converged},
+              {"final_update", r.vmd.final_update}};
+  j["drift_model"] = r.drift_model ? DriftSummaryJson(r.drift_model->summary) : nlohmann::json();
+  j["bandwidth_hz"] = r.bandwidth ? Num(r.bandwidth->bandwidth_hz) : nlohmann::json();
+  if (r.bandwidth) j["bandwidth"] = BandwidthJson(*r.bandwidth);
+  j["timings_s"] = r.timings_s;
+  if (comparison) {
+    nlohmann::json rows = nlohmann::json::array();
+    for (const MethodRow& m : comparison->rows) rows.push_back(MethodRowJson(m));
+    j["comparison"] = rows;
+  }
+  j["warnings"] = r.warnings;
+  j["notes"] = HonestyNotes(r);
+  return j;
+}
+
 // The input table is needed only for the output CSV (its columns come first). A 5 M-sample
 // record holds 330 MB of input columns; while the VMD runs (1.7 GB at 5 M) they are dropped and
 // read again for the output when the input can be read again: a CSV file (not stdin), not
@@ -56,22 +103,13 @@ int Run(const ProcessCli& c) {
   if (!loaded) return ReportError(cmd, loaded.error());
   const GyroLog& log = loaded->log;
   WarnIfTemperatureFlat(cmd, log);
-  std::vector<double> known;
-  if (!c.known_rate_col.empty()) {
-    const int j = loaded->table.Find(c.known_rate_col);
-    if (j < 0) {
-      return ReportError(cmd, InvalidInput(log.source + ": no column '" + c.known_rate_col +
-                                           "' (--known-rate-col)"));
-    }
-    known = loaded->table.columns[j];
-    const double to_dps = units::ToDegPerSec(*ParseRateUnit(c.log.rate_unit));
-    for (double& v : known) v *= to_dps;
-  }
+  Result<std::vector<double>> known = KnownRate(c, loaded->table, log.source);
+  if (!known) return ReportError(cmd, known.error());
   const bool read_again = !c.output.empty() && CanReadAgain(c.log, log);
   Table out;  // the output CSV: the input's columns, then time_s (if absent) and the results
   if (!c.output.empty() && !read_again) out = std::move(loaded->table);
   loaded->table = Table{};  // freed before the VMD
-  std::vector<std::pair<std::string, std::vector<double>>> result_columns;
+  NamedColumns result_columns;
 
   nlohmann::json json;
   json["input"] = log.source;
@@ -84,7 +122,7 @@ int Run(const ProcessCli& c) {
   const ProgressCallback progress = TerminalProgress(cmd, c.quiet);
   for (std::size_t a = 0; a < log.axis_names.size(); ++a) {
     const std::string& axis = log.axis_names[a];
-    const PipelineInput input{log.rate_dps[a], log.temp_c, log.fs_hz, known};
+    const PipelineInput input{log.rate_dps[a], log.temp_c, log.fs_hz, *known};
     Result<PipelineResult> r = RunParallelModel(input, pipe.options, progress);
     EndProgress();
     if (!r) return ReportError(cmd, r.error());
@@ -98,26 +136,7 @@ int Run(const ProcessCli& c) {
       comparison = std::move(*cr);
     }
 
-    nlohmann::json j;
-    j["before"] = AllanJson(r->allan_before);
-    j["after"] = AllanJson(r->allan_after);
-    j["modes"] = ModesJson(r->mode_reports);
-    j["classification_rule"] = r->classification_rule;
-    j["drift_mode_forced"] = r->drift_mode_forced;
-    j["vmd"] = {{"iterations", r->vmd.iterations}, {"converged", r->vmd.converged},
-                {"final_update", r->vmd.final_update}};
-    j["drift_model"] = r->drift_model ? DriftSummaryJson(r->drift_model->summary) : nlohmann::json();
-    j["bandwidth_hz"] = r->bandwidth ? Num(r->bandwidth->bandwidth_hz) : nlohmann::json();
-    if (r->bandwidth) j["bandwidth"] = BandwidthJson(*r->bandwidth);
-    j["timings_s"] = r->timings_s;
-    if (comparison) {
-      nlohmann::json rows = nlohmann::json::array();
-      for (const MethodRow& m : comparison->rows) rows.push_back(MethodRowJson(m));
-      j["comparison"] = rows;
-    }
-    j["warnings"] = r->warnings;
-    j["notes"] = HonestyNotes(*r);
-    axes[axis] = j;
+    axes[axis] = AxisJson(*r, comparison);
     if (!c.quiet) std::cerr << "gyrocomp process: " << axis << ": " << r->BriefReport() << "\n";
     if (!c.report.empty() && a == 0) {
       ReportContext ctx;
@@ -131,15 +150,7 @@ int Run(const ProcessCli& c) {
       ctx.comparison = comparison ? &*comparison : nullptr;
       report = BuildPipelineReport(*r, ctx);
     }
-    if (!c.output.empty()) {  // last use of r: moved, not copied
-      const std::size_t na = log.axis_names.size();
-      result_columns.emplace_back(Column("compensated", axis, na), std::move(r->compensated_dps));
-      result_columns.emplace_back(Column("drift_feature", axis, na), std::move(r->features.drift));
-      result_columns.emplace_back(Column("mixed_feature", axis, na), std::move(r->features.mixed));
-      result_columns.emplace_back(Column("noise_feature", axis, na), std::move(r->features.noise));
-      result_columns.emplace_back(Column("mixed_denoised", axis, na), std::move(r->mixed_denoised));
-      result_columns.emplace_back(Column("predicted_drift", axis, na), std::move(r->predicted_drift_dps));
-    }
+    if (!c.output.empty()) TakeResultColumns(&*r, axis, log.axis_names.size(), &result_columns);  // last use of r
   }
   if (log.axis_names.size() == 1) {
     for (auto& [key, value] : axes.begin().value().items()) json[key] = value;

@@ -27,6 +27,8 @@
 // symmetric in equal values.
 #include "gyrocomp/decompose/sample_entropy.h"
 
+#include "sample_entropy_counters.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -53,29 +55,6 @@ constexpr std::size_t kWideDigitsMin = 8192;
 constexpr std::size_t kDigits = std::size_t{1} << kDigitBits;
 constexpr std::size_t kBitsetMax = 2048;  // window counts in a bitset up to this many items
 
-// Set bits of b in positions [lo, hi), lo < hi. Inlined into the two entry points below, so the
-// popcounts compile to the popcnt instruction in the first and to the baseline's library call in
-// the second (the x86-64 baseline has no popcnt; every x86-64 CPU since 2008 has it).
-[[gnu::always_inline]] inline std::uint64_t RangeBits(const std::uint64_t* b, std::size_t lo, std::size_t hi) {
-  const std::size_t wl = lo / 64, wh = (hi - 1) / 64;
-  const std::uint64_t mlo = ~std::uint64_t{0} << (lo % 64);
-  const std::uint64_t mhi = ~std::uint64_t{0} >> (63 - (hi - 1) % 64);
-  if (wl == wh) return std::popcount(b[wl] & mlo & mhi);
-  std::uint64_t count = std::popcount(b[wl] & mlo) + std::popcount(b[wh] & mhi);
-  for (std::size_t i = wl + 1; i < wh; ++i) count += std::popcount(b[i]);
-  return count;
-}
-using RangeBitsFn = std::uint64_t (*)(const std::uint64_t*, std::size_t, std::size_t);
-std::uint64_t RangeBitsBaseline(const std::uint64_t* b, std::size_t lo, std::size_t hi) { return RangeBits(b, lo, hi); }
-#if defined(__x86_64__) && defined(__GNUC__)
-__attribute__((target("popcnt"))) std::uint64_t RangeBitsPopcnt(const std::uint64_t* b, std::size_t lo, std::size_t hi) {
-  return RangeBits(b, lo, hi);
-}
-RangeBitsFn ChooseRangeBits() { return __builtin_cpu_supports("popcnt") ? &RangeBitsPopcnt : &RangeBitsBaseline; }
-#else
-RangeBitsFn ChooseRangeBits() { return &RangeBitsBaseline; }
-#endif
-const RangeBitsFn kRangeBits = ChooseRangeBits();  // the same count either way
 
 // The series' values ranked once (equal values, equal ranks), so that every later sort of
 // templates by a coordinate is an integer sort; `order` is the start indices 0..N-1 by value.
@@ -308,8 +287,8 @@ class PairCounter {
       lo_pos_[i] = static_cast<std::uint32_t>(lo);
       hi_pos_[i] = static_cast<std::uint32_t>(hi);
     }
-    return n <= kBitsetMax ? WindowCount(s, c, bi, BitsetCounter(n, bi, &bits_))
-                           : WindowCount(s, c, bi, FenwickCounter(n, bi, &tree_));
+    return n <= kBitsetMax ? WindowCount(s, c, bi, se_detail::BitsetCounter(n, bi, &bits_))
+                           : WindowCount(s, c, bi, se_detail::FenwickCounter(n, bi, &tree_));
   }
 
   // Sliding window along coordinate c over s; for each p, the earlier items of the window whose
@@ -329,45 +308,6 @@ class PairCounter {
     }
     return count;
   }
-
-  // Set of positions 0..n-1 per label as bits: O(1) updates, (hi - lo) / 64 words per count.
-  struct BitsetCounter {
-    BitsetCounter(std::size_t n, bool bi, std::vector<std::uint64_t>* store)
-        : words((n + 63) / 64) {
-      store->assign(bi ? 2 * words : words, 0);
-      bits = store->data();
-    }
-    void Insert(int label, std::size_t pos) { bits[label * words + pos / 64] ^= std::uint64_t{1} << (pos % 64); }
-    void Remove(int label, std::size_t pos) { Insert(label, pos); }
-    std::uint64_t Count(int label, std::size_t lo, std::size_t hi) const {  // lo < hi
-      return kRangeBits(bits + label * words, lo, hi);
-    }
-    std::size_t words;
-    std::uint64_t* bits;
-  };
-
-  // Fenwick tree over positions 0..n-1 per label.
-  struct FenwickCounter {
-    FenwickCounter(std::size_t n_in, bool bi, std::vector<std::uint32_t>* store) : n(n_in) {
-      store->assign(bi ? 2 * (n + 1) : n + 1, 0);
-      tree = store->data();
-    }
-    void Add(int label, std::size_t pos, std::uint32_t delta) {
-      std::uint32_t* t = tree + label * (n + 1);
-      for (std::size_t i = pos + 1; i <= n; i += i & (~i + 1)) t[i] += delta;
-    }
-    void Insert(int label, std::size_t pos) { Add(label, pos, 1u); }
-    void Remove(int label, std::size_t pos) { Add(label, pos, ~0u); }  // -1
-    std::uint32_t Prefix(int label, std::size_t pos) const {  // positions < pos
-      const std::uint32_t* t = tree + label * (n + 1);
-      std::uint32_t sum = 0;
-      for (std::size_t i = pos; i > 0; i -= i & (~i + 1)) sum += t[i];
-      return sum;
-    }
-    std::uint64_t Count(int label, std::size_t lo, std::size_t hi) const { return Prefix(label, hi) - Prefix(label, lo); }
-    std::size_t n;
-    std::uint32_t* tree;
-  };
 
   // Pairs (q in l, p in r) that match in coordinates c..d-1 (and differ in label when bi), no
   // order relation between l and r.

@@ -3,6 +3,7 @@
 #include <iostream>
 
 #include "commands.h"
+#include "gyrocomp/io/flight_log.h"
 #include "gyrocomp/io/io.h"
 #include "gyrocomp/report/report.h"
 #include "progress.h"
@@ -29,6 +30,73 @@ std::string Column(const std::string& base, const std::string& axis, std::size_t
   return num_axes == 1 ? base + "_dps" : axis + "_" + base;
 }
 
+// --known-rate-col in deg/s; empty without the option.
+Result<std::vector<double>> KnownRate(const ProcessCli& c, const Table& table, const std::string& source) {
+  if (c.known_rate_col.empty()) return std::vector<double>{};
+  const int j = table.Find(c.known_rate_col);
+  if (j < 0) return InvalidInput(source + ": no column '" + c.known_rate_col + "' (--known-rate-col)");
+  std::vector<double> known = table.columns[j];
+  const double to_dps = units::ToDegPerSec(*ParseRateUnit(c.log.rate_unit));
+  for (double& v : known) v *= to_dps;
+  return known;
+}
+
+using NamedColumns = std::vector<std::pair<std::string, std::vector<double>>>;
+
+// The output CSV's columns of one axis, moved out of the result (not copied: 6 x N doubles).
+void TakeResultColumns(PipelineResult* r, const std::string& axis, std::size_t num_axes, NamedColumns* out) {
+  out->emplace_back(Column("compensated", axis, num_axes), std::move(r->compensated_dps));
+  out->emplace_back(Column("drift_feature", axis, num_axes), std::move(r->features.drift));
+  out->emplace_back(Column("mixed_feature", axis, num_axes), std::move(r->features.mixed));
+  out->emplace_back(Column("noise_feature", axis, num_axes), std::move(r->features.noise));
+  out->emplace_back(Column("mixed_denoised", axis, num_axes), std::move(r->mixed_denoised));
+  out->emplace_back(Column("predicted_drift", axis, num_axes), std::move(r->predicted_drift_dps));
+}
+
+// The JSON of one axis (cli.md, process).
+nlohmann::json AxisJson(const PipelineResult& r, const std::optional<ComparisonResult>& comparison) {
+  nlohmann::json j;
+  j["before"] = AllanJson(r.allan_before);
+  j["after"] = AllanJson(r.allan_after);
+  MarkNotApplicable(r, &j);  // ARW / RRW the processing makes meaningless: null + reason (report_builder.h)
+  j["modes"] = ModesJson(r.mode_reports);
+  j["classification_rule"] = r.classification_rule;
+  j["drift_mode_forced"] = r.drift_mode_forced;
+  j["vmd"] = {{"iterations", r.vmd.iterations}, {"converged", r.vmd.converged},
+              {"final_update", r.vmd.final_update}};
+  j["drift_model"] = r.drift_model ? DriftSummaryJson(r.drift_model->summary) : nlohmann::json();
+  j["bandwidth_hz"] = r.bandwidth ? Num(r.bandwidth->bandwidth_hz) : nlohmann::json();
+  if (r.bandwidth) j["bandwidth"] = BandwidthJson(*r.bandwidth);
+  j["timings_s"] = r.timings_s;
+  if (comparison) {
+    nlohmann::json rows = nlohmann::json::array();
+    for (const MethodRow& m : comparison->rows) rows.push_back(MethodRowJson(m));
+    j["comparison"] = rows;
+  }
+  j["warnings"] = r.warnings;
+  j["notes"] = HonestyNotes(r);
+  return j;
+}
+
+// The input table is needed only for the output CSV (its columns come first). A 5 M-sample
+// record holds 330 MB of input columns; while the VMD runs (1.7 GB at 5 M) they are dropped and
+// read again for the output when the input can be read again: a CSV file (not stdin), not
+// resampled. The second read must give the same rate and temperature, else it is an error.
+bool CanReadAgain(const LogOptions& options, const GyroLog& log) {
+  return options.input != "-" && DetectLogFormat(options.input) == LogFormat::kCsv && !log.sampling.resampled;
+}
+
+Result<Table> ReadInputAgain(const std::string& cmd, const ProcessCli& c, const GyroLog& first) {
+  PipelineCliOptions pipe = c.pipeline;
+  Result<LoadedLog> again = LoadPipelineLog(cmd, c.log, &pipe);
+  if (!again) return again.error();
+  if (again->log.rate_dps != first.rate_dps || again->log.temp_c != first.temp_c) {
+    return InvalidInput(first.source + ": the file changed while it was processed (read again for the output "
+                        "CSV, its rate or temperature differ): no output written");
+  }
+  return std::move(again->table);
+}
+
 int Run(const ProcessCli& c) {
   const std::string cmd = "process";
   PipelineCliOptions pipe = c.pipeline;
@@ -36,19 +104,13 @@ int Run(const ProcessCli& c) {
   if (!loaded) return ReportError(cmd, loaded.error());
   const GyroLog& log = loaded->log;
   WarnIfTemperatureFlat(cmd, log);
-  Table out = loaded->table;
-  if (out.Find("time_s") < 0) SetColumn(cmd, &out, "time_s", log.time_s);
-  std::vector<double> known;
-  if (!c.known_rate_col.empty()) {
-    const int j = out.Find(c.known_rate_col);
-    if (j < 0) {
-      return ReportError(cmd, InvalidInput(log.source + ": no column '" + c.known_rate_col +
-                                           "' (--known-rate-col)"));
-    }
-    known = out.columns[j];
-    const double to_dps = units::ToDegPerSec(*ParseRateUnit(c.log.rate_unit));
-    for (double& v : known) v *= to_dps;
-  }
+  Result<std::vector<double>> known = KnownRate(c, loaded->table, log.source);
+  if (!known) return ReportError(cmd, known.error());
+  const bool read_again = !c.output.empty() && CanReadAgain(c.log, log);
+  Table out;  // the output CSV: the input's columns, then time_s (if absent) and the results
+  if (!c.output.empty() && !read_again) out = std::move(loaded->table);
+  loaded->table = Table{};  // freed before the VMD
+  NamedColumns result_columns;
 
   nlohmann::json json;
   json["input"] = log.source;
@@ -61,7 +123,7 @@ int Run(const ProcessCli& c) {
   const ProgressCallback progress = TerminalProgress(cmd, c.quiet);
   for (std::size_t a = 0; a < log.axis_names.size(); ++a) {
     const std::string& axis = log.axis_names[a];
-    const PipelineInput input{log.rate_dps[a], log.temp_c, log.fs_hz, known};
+    const PipelineInput input{log.rate_dps[a], log.temp_c, log.fs_hz, *known};
     Result<PipelineResult> r = RunParallelModel(input, pipe.options, progress);
     EndProgress();
     if (!r) return ReportError(cmd, r.error());
@@ -74,35 +136,8 @@ int Run(const ProcessCli& c) {
       if (!cr) return ReportError(cmd, cr.error());
       comparison = std::move(*cr);
     }
-    const std::size_t na = log.axis_names.size();
-    SetColumn(cmd, &out, Column("compensated", axis, na), r->compensated_dps);
-    SetColumn(cmd, &out, Column("drift_feature", axis, na), r->features.drift);
-    SetColumn(cmd, &out, Column("mixed_feature", axis, na), r->features.mixed);
-    SetColumn(cmd, &out, Column("noise_feature", axis, na), r->features.noise);
-    SetColumn(cmd, &out, Column("mixed_denoised", axis, na), r->mixed_denoised);
-    SetColumn(cmd, &out, Column("predicted_drift", axis, na), r->predicted_drift_dps);
 
-    nlohmann::json j;
-    j["before"] = AllanJson(r->allan_before);
-    j["after"] = AllanJson(r->allan_after);
-    MarkNotApplicable(*r, &j);  // ARW / RRW the processing makes meaningless: null + reason (report_builder.h)
-    j["modes"] = ModesJson(r->mode_reports);
-    j["classification_rule"] = r->classification_rule;
-    j["drift_mode_forced"] = r->drift_mode_forced;
-    j["vmd"] = {{"iterations", r->vmd.iterations}, {"converged", r->vmd.converged},
-                {"final_update", r->vmd.final_update}};
-    j["drift_model"] = r->drift_model ? DriftSummaryJson(r->drift_model->summary) : nlohmann::json();
-    j["bandwidth_hz"] = r->bandwidth ? Num(r->bandwidth->bandwidth_hz) : nlohmann::json();
-    if (r->bandwidth) j["bandwidth"] = BandwidthJson(*r->bandwidth);
-    j["timings_s"] = r->timings_s;
-    if (comparison) {
-      nlohmann::json rows = nlohmann::json::array();
-      for (const MethodRow& m : comparison->rows) rows.push_back(MethodRowJson(m));
-      j["comparison"] = rows;
-    }
-    j["warnings"] = r->warnings;
-    j["notes"] = HonestyNotes(*r);
-    axes[axis] = j;
+    axes[axis] = AxisJson(*r, comparison);
     if (!c.quiet) std::cerr << "gyrocomp process: " << axis << ": " << r->BriefReport() << "\n";
     if (!c.report.empty() && a == 0) {
       ReportContext ctx;
@@ -116,6 +151,7 @@ int Run(const ProcessCli& c) {
       ctx.comparison = comparison ? &*comparison : nullptr;
       report = BuildPipelineReport(*r, ctx);
     }
+    if (!c.output.empty()) TakeResultColumns(&*r, axis, log.axis_names.size(), &result_columns);  // last use of r
   }
   if (log.axis_names.size() == 1) {
     for (auto& [key, value] : axes.begin().value().items()) json[key] = value;
@@ -123,6 +159,14 @@ int Run(const ProcessCli& c) {
     json["axes"] = axes;
   }
   if (!c.output.empty()) {
+    if (read_again) {
+      Result<Table> table = ReadInputAgain(cmd, c, log);
+      if (!table) return ReportError(cmd, table.error());
+      out = std::move(*table);
+    }
+    if (out.Find("time_s") < 0) SetColumn(cmd, &out, "time_s", log.time_s);
+    for (auto& [name, values] : result_columns) SetColumn(cmd, &out, name, std::move(values));
+    result_columns.clear();
     if (Status s = WriteCsv(c.output, out); !s) return ReportError(cmd, s.error());
   }
   if (!c.json.empty()) {
@@ -148,6 +192,10 @@ Command Make(CLI::App& app) {
                   "Column of a rate known to be applied (Earth rate, turntable): the drift model learns bias only");
   sub->add_flag("--compare", c->compare, "Also run the baseline comparisons (in the JSON per axis, and tables in the report)");
   sub->add_flag("-q,--quiet", c->quiet, "No progress or summary on stderr");
+  sub->add_option("--threads", c->pipeline.options.num_threads,
+                  "Threads of the VMD, sample entropy, cuckoo search and the two branches (default: each stage's "
+                  "automatic choice, at most the cores); results do not depend on it")
+      ->check(CLI::PositiveNumber);
   AddPipelineOptions(sub, &c->pipeline);
   return {sub, [c] { return Run(*c); }};
 }

@@ -18,12 +18,23 @@
 //   - otherwise split S in halves: Self(left) + Self(right) + Cross(left, right), and Cross by
 //     halving the larger side after trimming both to the values within r of the other.
 // Bipartite counts (pairs with different labels) reuse Self with a label bit on each item.
+//
+// Cost (issue 13): the values are ranked once per series (RankValues), so every re-sort of a
+// subset by another coordinate is an integer sort of packed (rank, item) keys (a radix sort from
+// kRadixMin items), and the top-level order is a filter of the ranked order. The window counts of
+// the two-coordinate sweep use a bitset (popcounts over the run's words) up to kBitsetMax items,
+// where most leaves are, and a Fenwick tree above. Tie order never matters: every count is
+// symmetric in equal values.
 #include "gyrocomp/decompose/sample_entropy.h"
+
+#include "sample_entropy_counters.h"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <atomic>
+#include <bit>
+#include <utility>
 #include <functional>
 #include <thread>
 #include <limits>
@@ -38,38 +49,83 @@ constexpr Item kLabel = 0x80000000u;
 constexpr Item kIndex = 0x7fffffffu;
 constexpr std::size_t kBruteSelf = 24;    // pairs checked directly below this many items
 constexpr std::size_t kBruteCross = 512;  // |L| * |R| checked directly below this
+constexpr std::size_t kRadixMin = 512;    // radix sort from this many keys, std::sort below
+constexpr int kDigitBits = 11;            // radix digit from kWideDigitsMin keys, 8 bits below
+constexpr std::size_t kWideDigitsMin = 8192;
+constexpr std::size_t kDigits = std::size_t{1} << kDigitBits;
+constexpr std::size_t kBitsetMax = 2048;  // window counts in a bitset up to this many items
+
+
+// The series' values ranked once (equal values, equal ranks), so that every later sort of
+// templates by a coordinate is an integer sort; `order` is the start indices 0..N-1 by value.
+struct RankedSeries {
+  std::vector<std::uint32_t> rank;
+  std::vector<Item> order;
+  int rank_bits = 0;
+};
+
+RankedSeries RankValues(std::span<const double> x) {
+  std::vector<std::pair<double, Item>> v(x.size());
+  for (std::size_t i = 0; i < x.size(); ++i) v[i] = {x[i], static_cast<Item>(i)};
+  std::sort(v.begin(), v.end());
+  RankedSeries out;
+  out.rank.resize(x.size());
+  out.order.resize(x.size());
+  std::uint32_t rank = 0;
+  for (std::size_t k = 0; k < v.size(); ++k) {
+    if (k > 0 && v[k].first != v[k - 1].first) ++rank;
+    out.rank[v[k].second] = rank;
+    out.order[k] = v[k].second;
+  }
+  out.rank_bits = std::max(1, static_cast<int>(std::bit_width(rank)));
+  return out;
+}
+
+// Template start points 0 .. templates-1 sorted by their first coordinate: `order` filtered.
+std::vector<Item> SortedTemplates(const RankedSeries& ranked, std::size_t templates) {
+  std::vector<Item> s;
+  s.reserve(templates);
+  for (Item i : ranked.order) {
+    if (i < templates) s.push_back(i);
+  }
+  return s;
+}
 
 class PairCounter {
  public:
-  PairCounter(const double* x, int d, double r) : x_(x), d_(d), r_(r) {}
+  PairCounter(const double* x, const RankedSeries& ranked, int d, double r)
+      : x_(x), rank_of_(ranked.rank.data()), rank_bits_(ranked.rank_bits), d_(d), r_(r) {}
 
   // All templates sorted by coordinate 0, as a list of independent counting tasks whose sum
   // is the pair count: the recursion of Self unrolled `depth` levels (Self of 2^depth pieces
   // and the Cross between siblings), so that several threads can share the work.
-  static std::vector<std::function<std::uint64_t(PairCounter&)>> Tasks(std::vector<Item>& sorted, int depth) {
-    std::vector<std::function<std::uint64_t(PairCounter&)>> tasks;
-    std::function<void(std::span<Item>, int)> split = [&](std::span<Item> s, int level) {
-      if (level == 0 || s.size() < 4096) {
-        tasks.push_back([s](PairCounter& pc) { return pc.Self(s, 0, false); });
-        return;
+  using Task = std::function<std::uint64_t(PairCounter&)>;
+
+  // All templates sorted by coordinate 0, as a list of independent counting tasks whose sum is
+  // the pair count (the first level of Self, below, one task per group and per pair of adjacent
+  // groups), so that several threads can share the work. Larger tasks first.
+  std::vector<Task> Tasks(std::span<Item> sorted) const {
+    std::vector<Task> tasks;
+    if (d_ < 3 || sorted.size() < 4096 || Within(V(sorted.front(), 0), V(sorted.back(), 0))) {
+      tasks.push_back([sorted](PairCounter& pc) { return pc.Self(sorted, 0, false); });
+      return tasks;
+    }
+    std::vector<std::pair<std::size_t, Task>> sized;
+    std::span<Item> previous;
+    for (std::span<Item> group : Groups(sorted, 0)) {
+      sized.push_back({group.size(), [group](PairCounter& pc) { return pc.WithinGroup(group, 0, false); }});
+      if (!previous.empty()) {
+        sized.push_back({(previous.size() + group.size()) / 2,
+                         [previous, group](PairCounter& pc) { return pc.Cross(previous, group, 0, false); }});
       }
-      const std::size_t mid = s.size() / 2;
-      tasks.push_back([s, mid](PairCounter& pc) { return pc.Cross(s.subspan(0, mid), s.subspan(mid), 0, false); });
-      split(s.subspan(0, mid), level - 1);
-      split(s.subspan(mid), level - 1);
-    };
-    split(sorted, depth);
+      previous = group;
+    }
+    std::stable_sort(sized.begin(), sized.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+    for (auto& [size, task] : sized) tasks.push_back(std::move(task));
     return tasks;
   }
 
   std::uint64_t CountSorted(std::span<Item> sorted) { return Self(sorted, 0, false); }
-
-  std::vector<Item> SortedTemplates(std::size_t num_templates) {
-    std::vector<Item> s(num_templates);
-    for (std::size_t i = 0; i < num_templates; ++i) s[i] = static_cast<Item>(i);
-    SortBy(s, 0);
-    return s;
-  }
 
  private:
   double V(Item it, int c) const { return x_[(it & kIndex) + c]; }
@@ -78,12 +134,43 @@ class PairCounter {
   bool Within(double lo, double hi) const { return hi - lo < r_; }
   static bool Label(Item it) { return (it & kLabel) != 0; }
 
-  // Sorts items by coordinate c (keys gathered first: direct comparisons, no indirection).
+  // Sorts items by coordinate c: by the precomputed rank of the value (equal values, equal
+  // ranks), ties by item, so the order is the values' order and does not depend on the input
+  // order. Keys packed as (rank << 32 | item): integer sorts, no indirection in the comparisons.
   void SortBy(std::vector<Item>& s, int c) {
-    keyed_.resize(s.size());
-    for (std::size_t i = 0; i < s.size(); ++i) keyed_[i] = {V(s[i], c), s[i]};
-    std::sort(keyed_.begin(), keyed_.end(), [](const Keyed& a, const Keyed& b) { return a.key < b.key; });
-    for (std::size_t i = 0; i < s.size(); ++i) s[i] = keyed_[i].item;
+    keys_.resize(s.size());
+    for (std::size_t i = 0; i < s.size(); ++i) keys_[i] = Key(rank_of_[(s[i] & kIndex) + c], s[i]);
+    SortKeys(keys_);
+    for (std::size_t i = 0; i < s.size(); ++i) s[i] = static_cast<Item>(keys_[i]);
+  }
+
+  static std::uint64_t Key(std::uint32_t rank, std::uint32_t low) {
+    return (static_cast<std::uint64_t>(rank) << 32) | low;
+  }
+
+  // Sorts packed keys by their rank (the high word): std::sort for short lists, else a stable
+  // LSD radix sort of the rank's bits only (ties may end in any order: the counts do not depend
+  // on how equal values are ordered).
+  void SortKeys(std::vector<std::uint64_t>& k) {
+    if (k.size() < kRadixMin) {
+      std::sort(k.begin(), k.end());
+      return;
+    }
+    radix_tmp_.resize(k.size());
+    std::uint64_t* from = k.data();
+    std::uint64_t* to = radix_tmp_.data();
+    // Short lists: 8-bit digits (the counts cost as much as the keys otherwise).
+    const int digit_bits = k.size() < kWideDigitsMin ? 8 : kDigitBits;
+    const std::size_t digits = std::size_t{1} << digit_bits;
+    for (int shift = 32; shift < 32 + rank_bits_; shift += digit_bits) {
+      std::uint32_t counts[kDigits + 1];
+      std::fill(counts, counts + digits + 1, 0u);
+      for (std::size_t i = 0; i < k.size(); ++i) ++counts[((from[i] >> shift) & (digits - 1)) + 1];
+      for (std::size_t d = 1; d <= digits; ++d) counts[d] += counts[d - 1];
+      for (std::size_t i = 0; i < k.size(); ++i) to[counts[(from[i] >> shift) & (digits - 1)]++] = from[i];
+      std::swap(from, to);
+    }
+    if (from != k.data()) std::copy(from, from + k.size(), k.data());
   }
 
   bool MatchFrom(Item a, Item b, int c) const {
@@ -107,12 +194,7 @@ class PairCounter {
     const std::size_t n = s.size();
     if (n < 2) return 0;
     if (c == d_) return AllPairs(s, bi);
-    if (Within(V(s.front(), c), V(s.back(), c))) {
-      if (c + 1 == d_) return AllPairs(s, bi);
-      std::vector<Item> t(s.begin(), s.end());
-      SortBy(t, c + 1);
-      return Self(t, c + 1, bi);
-    }
+    if (Within(V(s.front(), c), V(s.back(), c))) return WithinGroup(s, c, bi);
     if (n <= kBruteSelf) {
       std::uint64_t count = 0;
       for (std::size_t a = 0; a < n; ++a) {
@@ -125,9 +207,42 @@ class PairCounter {
     }
     if (d_ - c == 1) return Sweep1(s, c, bi);
     if (d_ - c == 2) return Sweep2(s, c, bi);
-    const std::size_t mid = n / 2;
-    return Self(s.subspan(0, mid), c, bi) + Self(s.subspan(mid), c, bi) +
-           Cross(s.subspan(0, mid), s.subspan(mid), c, bi);
+    // Three or more coordinates left: groups of span < r along c. Pairs within a group match in
+    // c; pairs in adjacent groups may; pairs two or more groups apart cannot (see Groups). Each
+    // item is in one group and two adjacent-group crosses (halving S instead puts it in a cross
+    // at every level where the halves are closer than r: ~3x the work at N = 100k).
+    std::uint64_t count = 0;
+    std::span<Item> previous;
+    for (std::span<Item> group : Groups(s, c)) {
+      count += WithinGroup(group, c, bi) + Cross(previous, group, c, bi);
+      previous = group;
+    }
+    return count;
+  }
+
+  // s (sorted by coordinate c) cut into maximal runs whose first and last values are within r.
+  // Two groups a and a + 2 never match: every value v of group a + 2 has fl(v - f) >= r for the
+  // first value f of group a + 1 (that is where group a + 1 ended), every value u of group a is
+  // <= f, and fl(v - u) >= fl(v - f) because rounding is monotone.
+  std::vector<std::span<Item>> Groups(std::span<Item> s, int c) const {
+    std::vector<std::span<Item>> groups;
+    for (std::size_t g0 = 0; g0 < s.size();) {
+      const double first = V(s[g0], c);
+      const auto end = std::partition_point(s.begin() + g0, s.end(), [&](Item it) { return Within(first, V(it, c)); });
+      const std::size_t g1 = static_cast<std::size_t>(end - s.begin());
+      groups.push_back(s.subspan(g0, g1 - g0));
+      g0 = g1;
+    }
+    return groups;
+  }
+
+  // Pairs within a group (every pair matches in coordinate c): counted on coordinates c+1...
+  std::uint64_t WithinGroup(std::span<const Item> group, int c, bool bi) {
+    if (group.size() < 2) return 0;
+    if (c + 1 == d_) return AllPairs(group, bi);
+    std::vector<Item> t(group.begin(), group.end());
+    SortBy(t, c + 1);
+    return Self(t, c + 1, bi);
   }
 
   // One coordinate left: for each p, the earlier items within r form a window [lo, p).
@@ -145,51 +260,51 @@ class PairCounter {
     return count;
   }
 
-  // Two coordinates left: window along c, Fenwick tree over the ranks of coordinate c+1.
+  // Two coordinates left: a window along c; the items of the window are counted over their
+  // positions in the order of coordinate c+1 (a bitset for short lists, a Fenwick tree above
+  // kBitsetMax). Each item's matches in c+1 form the run [lo, hi) of positions, found by two
+  // pointers with the brute-force predicate (monotone in the value).
   std::uint64_t Sweep2(std::span<const Item> s, int c, bool bi) {
     const std::size_t n = s.size();
-    // Sorted values of coordinate c+1 with their owners; each item's rank is its position, and
-    // the values matching it form the run [lo, hi) of positions, found by two pointers with
-    // the brute-force predicate (monotone in the value).
-    keyed_.resize(n);
-    for (std::size_t i = 0; i < n; ++i) keyed_[i] = {V(s[i], c + 1), static_cast<Item>(i)};
-    std::sort(keyed_.begin(), keyed_.end(), [](const Keyed& a, const Keyed& b) { return a.key < b.key; });
-    rank_.resize(n);
-    lo_rank_.resize(n);
-    hi_rank_.resize(n);
+    keys_.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      keys_[i] = Key(rank_of_[(s[i] & kIndex) + c + 1], static_cast<std::uint32_t>(i));
+    }
+    SortKeys(keys_);
+    values_.resize(n);
+    for (std::size_t k = 0; k < n; ++k) values_[k] = V(s[static_cast<std::uint32_t>(keys_[k])], c + 1);
+    pos_.resize(n);
+    lo_pos_.resize(n);
+    hi_pos_.resize(n);
     std::size_t lo = 0, hi = 0;
     for (std::size_t k = 0; k < n; ++k) {
-      const double y = keyed_[k].key;
-      while (!Within(keyed_[lo].key, y)) ++lo;
+      const double y = values_[k];
+      while (!Within(values_[lo], y)) ++lo;
       if (hi < k) hi = k;
-      while (hi < n && Within(y, keyed_[hi].key)) ++hi;
-      const Item i = keyed_[k].item;
-      rank_[i] = static_cast<std::uint32_t>(k);
-      lo_rank_[i] = static_cast<std::uint32_t>(lo);
-      hi_rank_[i] = static_cast<std::uint32_t>(hi);
+      while (hi < n && Within(y, values_[hi])) ++hi;
+      const std::uint32_t i = static_cast<std::uint32_t>(keys_[k]);
+      pos_[i] = static_cast<std::uint32_t>(k);
+      lo_pos_[i] = static_cast<std::uint32_t>(lo);
+      hi_pos_[i] = static_cast<std::uint32_t>(hi);
     }
-    tree_.assign(bi ? 2 * (n + 1) : n + 1, 0);
-    auto add = [&](int label, std::size_t pos, std::uint32_t delta) {
-      std::uint32_t* t = tree_.data() + label * (n + 1);
-      for (std::size_t i = pos + 1; i <= n; i += i & (~i + 1)) t[i] += delta;
-    };
-    auto prefix = [&](int label, std::size_t pos) {  // items with rank < pos
-      const std::uint32_t* t = tree_.data() + label * (n + 1);
-      std::uint32_t sum = 0;
-      for (std::size_t i = pos; i > 0; i -= i & (~i + 1)) sum += t[i];
-      return sum;
-    };
+    return n <= kBitsetMax ? WindowCount(s, c, bi, se_detail::BitsetCounter(n, bi, &bits_))
+                           : WindowCount(s, c, bi, se_detail::FenwickCounter(n, bi, &tree_));
+  }
+
+  // Sliding window along coordinate c over s; for each p, the earlier items of the window whose
+  // position in the c+1 order is in [lo_pos_[p], hi_pos_[p]) (and of the other label when bi).
+  template <typename Counter>
+  std::uint64_t WindowCount(std::span<const Item> s, int c, bool bi, Counter counter) const {
     std::uint64_t count = 0;
     std::size_t w = 0;
-    for (std::size_t p = 0; p < n; ++p) {
+    for (std::size_t p = 0; p < s.size(); ++p) {
       const double vp = V(s[p], c);
       while (!Within(V(s[w], c), vp)) {
-        add(bi ? Label(s[w]) : 0, rank_[w], ~0u);  // -1
+        counter.Remove(bi ? Label(s[w]) : 0, pos_[w]);
         ++w;
       }
-      const int query = bi ? !Label(s[p]) : 0;
-      count += prefix(query, hi_rank_[p]) - prefix(query, lo_rank_[p]);
-      add(bi ? Label(s[p]) : 0, rank_[p], 1u);
+      count += counter.Count(bi ? !Label(s[p]) : 0, lo_pos_[p], hi_pos_[p]);
+      counter.Insert(bi ? Label(s[p]) : 0, pos_[p]);
     }
     return count;
   }
@@ -260,16 +375,15 @@ class PairCounter {
     return Cross(l, r.subspan(0, h), c, bi) + Cross(l, r.subspan(h), c, bi);
   }
 
-  struct Keyed {
-    double key;
-    Item item;
-  };
   const double* x_;
+  const std::uint32_t* rank_of_;  // rank_of_[i]: rank of x_[i] among the series' values
+  int rank_bits_;                 // bits of the largest rank
   int d_;
   double r_;
   // Scratch reused across calls (Sweep2 runs only at the leaves of the recursion).
-  std::vector<Keyed> keyed_;
-  std::vector<std::uint32_t> rank_, lo_rank_, hi_rank_, tree_;
+  std::vector<std::uint64_t> keys_, radix_tmp_, bits_;
+  std::vector<double> values_;
+  std::vector<std::uint32_t> pos_, lo_pos_, hi_pos_, tree_;
 };
 
 std::uint64_t CountBrute(std::span<const double> x, int d, double r, std::size_t templates) {
@@ -359,16 +473,16 @@ TemplateMatchCounts CountTemplateMatches(std::span<const double> x, int m, doubl
   // `threads` workers take tasks in order (largest first). Each worker has its own scratch.
   const int threads = num_threads > 0 ? num_threads
                                       : std::max(1, std::min(2, static_cast<int>(std::thread::hardware_concurrency())));
-  PairCounter a_sorter(x.data(), m + 1, r);
-  std::vector<Item> sorted = a_sorter.SortedTemplates(templates);
-  auto tasks = PairCounter::Tasks(sorted, threads > 1 ? 3 : 0);
+  const RankedSeries ranked = RankValues(x);
+  std::vector<Item> sorted = SortedTemplates(ranked, templates);
+  auto tasks = PairCounter(x.data(), ranked, m + 1, r).Tasks(sorted);
   std::vector<int> is_b(tasks.size(), 0);
-  tasks.push_back([&](PairCounter&) { return PairCounter(x.data(), m, r).CountSorted(sorted); });
+  tasks.push_back([&](PairCounter&) { return PairCounter(x.data(), ranked, m, r).CountSorted(sorted); });
   is_b.push_back(1);
   std::vector<std::uint64_t> results(tasks.size(), 0);
   std::atomic<std::size_t> next{0};
   auto worker = [&] {
-    PairCounter pc(x.data(), m + 1, r);
+    PairCounter pc(x.data(), ranked, m + 1, r);
     for (std::size_t t; (t = next.fetch_add(1)) < tasks.size();) results[t] = tasks[t](pc);
   };
   std::vector<std::thread> pool;

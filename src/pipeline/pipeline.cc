@@ -56,6 +56,10 @@ bool PipelineOptions::IsValid(std::string* error) const {
              ": must be >= 100";
     return false;
   }
+  if (num_threads && *num_threads < 1) {
+    *error = "PipelineOptions::num_threads = " + std::to_string(*num_threads) + ": must be >= 1 when set";
+    return false;
+  }
   if (measure_bandwidth && bandwidth_segment_samples < 1024) {
     *error = "PipelineOptions::bandwidth_segment_samples = " +
              std::to_string(bandwidth_segment_samples) + ": must be >= 1024";
@@ -224,7 +228,8 @@ Status ProcessFeaturesInParallel(const PipelineInput& input, const PipelineOptio
   // The task touches only its own locals and reads out->features.mixed, which nothing writes
   // until it is joined.
   double wflp_seconds = 0.0;
-  auto wflp_task = std::async(std::launch::async, [&]() -> Result<WflpResult> {
+  const std::launch policy = options.num_threads == 1 ? std::launch::deferred : std::launch::async;
+  auto wflp_task = std::async(policy, [&]() -> Result<WflpResult> {
     return DenoiseMixedFeature(out->features.mixed, options.wflp, &wflp_seconds);
   });
 
@@ -324,13 +329,25 @@ void MeasureEffectiveBandwidth(const PipelineInput& input, const PipelineOptions
   Report(progress, "bandwidth", 1.0);
 }
 
+// PipelineOptions::num_threads handed to every stage that has its own.
+PipelineOptions WithThreads(const PipelineOptions& options) {
+  PipelineOptions o = options;
+  if (o.num_threads) {
+    o.vmd.num_threads = *o.num_threads;
+    o.entropy.num_threads = *o.num_threads;
+    o.drift.search.cuckoo.num_threads = *o.num_threads;
+  }
+  return o;
+}
+
 }  // namespace
 
 // The parallel model of Section 3.5 (Fig. 5), one named step per stage.
-Result<PipelineResult> RunParallelModel(const PipelineInput& input, const PipelineOptions& options,
+Result<PipelineResult> RunParallelModel(const PipelineInput& input, const PipelineOptions& given,
                                         const ProgressCallback& progress) {
   std::string why;
-  if (!options.IsValid(&why)) return InvalidArgument(why);
+  if (!given.IsValid(&why)) return InvalidArgument(why);
+  const PipelineOptions options = WithThreads(given);
   const std::size_t min_samples = std::max<std::size_t>(64, 4 * static_cast<std::size_t>(options.vmd.num_modes));
   if (Status s = CheckInput(input, min_samples); !s) return s.error();
   const auto t_total = Clock::now();

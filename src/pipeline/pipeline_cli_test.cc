@@ -80,6 +80,28 @@ TEST_F(PipelineCli, ProcessWritesTheContractsColumnsJsonAndReport) {
   EXPECT_NE(text.find("report-data"), std::string::npos);
 }
 
+TEST_F(PipelineCli, OutputIsTheSameFromAFileAndFromStdinWithAnyThreadCount) {
+  // From a file, the input table is dropped during the pipeline and read again for the output
+  // CSV; from stdin it is kept. Both, and one thread against the default, give the same bytes.
+  std::string out;
+  const std::string base = " process -o " + dir_ + "/";
+  ASSERT_EQ(testing::RunCommand(cli_ + base + "file.csv -i " + dir_ + "/run.csv" + Fast(), &out), 0) << out;
+  ASSERT_EQ(testing::RunCommand(cli_ + base + "stdin.csv -i - --threads 1" + Fast() + " < " + dir_ + "/run.csv", &out), 0)
+      << out;
+  auto slurp = [](const std::string& path) {
+    std::ifstream f(path, std::ios::binary);
+    return std::string((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  };
+  const std::string from_file = slurp(dir_ + "/file.csv");
+  EXPECT_GT(from_file.size(), 1000u);
+  EXPECT_EQ(from_file, slurp(dir_ + "/stdin.csv"));
+  EXPECT_EQ(from_file.substr(0, from_file.find('\n')),
+            "time_s,rate_dps,temp_c,chamber_temp_c,sensor_temp_c,true_rate_dps,true_drift_dps,true_noise_dps,"
+            "compensated_dps,drift_feature_dps,mixed_feature_dps,noise_feature_dps,mixed_denoised_dps,"
+            "predicted_drift_dps");
+  EXPECT_EQ(testing::RunCommand(cli_ + base + "x.csv -i " + dir_ + "/run.csv --threads 0" + Fast(), &out), 2) << out;
+}
+
 TEST_F(PipelineCli, ProcessWithoutTemperatureIsBadInputAndLeavesNoOutput) {
   const std::string path = dir_ + "/notemp.csv";
   std::ofstream(path) << "time_s,rate_dps\n0,0.1\n0.5,0.2\n1,0.1\n";

@@ -129,6 +129,33 @@ TEST(ParallelModel, RejectsBadInput) {
   r = RunParallelModel({rate, temp, 10.0, {}}, bad);
   ASSERT_FALSE(r.ok());
   EXPECT_EQ(r.error().kind, ErrorKind::kInvalidArgument);
+  PipelineOptions zero_threads;
+  zero_threads.num_threads = 0;
+  r = RunParallelModel({rate, temp, 10.0, {}}, zero_threads);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().message.find("num_threads"), std::string::npos) << r.error().message;
+}
+
+TEST(ParallelModel, ThreadCountDoesNotChangeResults) {
+  // One thread (every stage, the two branches one after the other) against two: the same bits.
+  const SimulatedRun run = ShortChamberRun(5);
+  const PipelineInput in{run.rate_dps, run.temp_c, run.fs_hz, {}};
+  PipelineOptions one = FastOptions(), two = FastOptions();
+  one.num_threads = 1;
+  two.num_threads = 2;
+  Result<PipelineResult> a = RunParallelModel(in, one);
+  Result<PipelineResult> b = RunParallelModel(in, two);
+  ASSERT_TRUE(a.ok()) << a.error().message;
+  ASSERT_TRUE(b.ok()) << b.error().message;
+  EXPECT_EQ(a->vmd.iterations, b->vmd.iterations);
+  ASSERT_EQ(a->mode_reports.size(), b->mode_reports.size());
+  for (std::size_t k = 0; k < a->mode_reports.size(); ++k) {
+    EXPECT_EQ(a->mode_reports[k].sample_entropy, b->mode_reports[k].sample_entropy) << k;
+  }
+  EXPECT_EQ(a->modes, b->modes);
+  EXPECT_EQ(a->compensated_dps, b->compensated_dps);
+  EXPECT_EQ(a->predicted_drift_dps, b->predicted_drift_dps);
+  EXPECT_EQ(a->allan_after.curve.adev_dps, b->allan_after.curve.adev_dps);
 }
 
 }  // namespace

@@ -60,6 +60,11 @@ struct PipelineOptions {
   bool measure_bandwidth = true;
   std::size_t bandwidth_segment_samples = 1u << 14;
   int bandwidth_frequencies = 12;
+  // Threads of every stage that uses them: VMD, sample entropy (modes measured in parallel), the
+  // cuckoo search of the drift fit, and the two branches of step 3 (1 = one after the other).
+  // Overrides the stages' own num_threads. nullopt = each stage's automatic choice. The results do
+  // not depend on it (each stage is deterministic for any thread count). >= 1 when set.
+  std::optional<int> num_threads;
   bool IsValid(std::string* error) const;
 };
 

@@ -70,6 +70,8 @@ constexpr std::size_t kBlockBins = 2048;
 // vmd_internal::kLanes so that a bin's lane does not depend on the chunking).
 constexpr std::size_t kChunkBins = 256;
 static_assert(kBlockBins % kChunkBins == 0 && kChunkBins % vmd_internal::kLanes == 0);
+// KeepPrevious's horizon: keep update n when this many more falls like the last would meet tol.
+constexpr double kLookaheadSteps = 4;
 // Below this many bin-mode updates per iteration, one thread is faster.
 constexpr std::size_t kMinWorkForThreads = 1u << 16;
 
@@ -245,18 +247,21 @@ struct AdmmState {
     const std::size_t KH = static_cast<std::size_t>(K) * H;
     ua_re.assign(KH, 0.0);
     ua_im.assign(KH, 0.0);
-    ub_re.assign(KH, 0.0);
-    ub_im.assign(KH, 0.0);
     s_re.assign(H, 0.0);
     s_im.assign(H, 0.0);
     l_re.assign(use_lambda ? H : 0, 0.0);
     l_im.assign(use_lambda ? H : 0, 0.0);
     num_blocks = (H + kBlockBins - 1) / kBlockBins;
     sums.resize(num_blocks * static_cast<std::size_t>(K));
-    old_re = ua_re.data();
-    old_im = ua_im.data();
-    new_re = ub_re.data();
-    new_im = ub_im.data();
+    cur_re = ua_re.data();
+    cur_im = ua_im.data();
+  }
+  // The second iterate's storage, allocated at the first update that keeps its predecessor.
+  void AllocateSecondIterate() {
+    if (!ub_re.empty()) return;
+    const std::size_t KH = static_cast<std::size_t>(K) * H;
+    ub_re.assign(KH, 0.0);
+    ub_im.assign(KH, 0.0);
   }
   AdmmState(const AdmmState&) = delete;  // old_* / new_* point into the vectors
   AdmmState& operator=(const AdmmState&) = delete;
@@ -267,7 +272,7 @@ struct AdmmState {
   const std::size_t H;
   const bool use_lambda;
   const bool relative;
-  std::vector<double> ua_re, ua_im, ub_re, ub_im;  // storage of the two iterates
+  std::vector<double> ua_re, ua_im, ub_re, ub_im;  // storage of the iterates (ub_*: only when kept)
   std::vector<double> s_re, s_im;                  // accumulator
   std::vector<double> l_re, l_im;                  // lambda (empty when tau = 0)
   std::size_t num_blocks = 0;
@@ -279,26 +284,49 @@ struct AdmmState {
   int scale_exp = 0;
   double tol_norm = 0.0;
   double eps_norm = 0.0;
-  double* old_re = nullptr;  // the previous iterate (update n-1 during update n)
-  double* old_im = nullptr;
-  double* new_re = nullptr;  // the iterate being computed
-  double* new_im = nullptr;
+  double* cur_re = nullptr;   // the newest iterate (update n)
+  double* cur_im = nullptr;
+  double* prev_re = nullptr;  // update n-1 when the last update kept it (has_previous), else stale
+  double* prev_im = nullptr;
+  bool has_previous = false;
+  double lookahead_steps = 0;  // KeepPrevious's prediction horizon
+  int report_after = 0;        // on_iteration only for updates after this one
+  // Frees the working arrays except the iterate starting at keep_re / keep_im (before the modes
+  // are reconstructed: the peak memory is then one iterate plus the modes).
+  void ReleaseAllBut(const double* keep_re) {
+    auto release = [](std::vector<double>& v) { std::vector<double>().swap(v); };
+    if (keep_re != ua_re.data()) release(ua_re), release(ua_im);
+    if (keep_re != ub_re.data()) release(ub_re), release(ub_im);
+    release(s_re), release(s_im), release(l_re), release(l_im);
+  }
+  // The reference's output (update n-1) was overwritten by an in-place update n.
+  bool NeedsRerun() const { return !opt.return_last_iterate && !has_previous; }
   std::vector<double> omega;       // centre frequencies of the newest iterate
   std::vector<double> omega_prev;  // centre frequencies of the iterate before `omega`
   int n = 0;                       // updates run
   double u_diff = 0.0;             // the stopping rule's value after update n
 };
 
+// Where one update reads the previous iterate and writes the new one. In place (dst == src) the
+// kernel reads bin j of mode k before it writes it, and mode K-1's previous value (the `prev` of
+// mode 0) before mode K-1 is updated in the chunk: the arithmetic is the same as with two arrays.
+struct IterateBuffers {
+  const double* src_re;
+  const double* src_im;
+  double* dst_re;
+  double* dst_im;
+};
+
 // Eq. (6) on bins [j0, j1): lambda += tau (sum_k u_k - f).
-void DualAscent(AdmmState& st, std::size_t j0, std::size_t j1) {
+void DualAscent(AdmmState& st, const double* u_re, const double* u_im, std::size_t j0, std::size_t j1) {
   const std::size_t H = st.H;
   const double tau = st.opt.tau;
   const VmdSpectrum& sp = st.spectrum;
   for (std::size_t j = j0; j < j1; ++j) {
-    double ar = st.new_re[j], ai = st.new_im[j];
+    double ar = u_re[j], ai = u_im[j];
     for (int k = 1; k < st.K; ++k) {
-      ar += st.new_re[static_cast<std::size_t>(k) * H + j];
-      ai += st.new_im[static_cast<std::size_t>(k) * H + j];
+      ar += u_re[static_cast<std::size_t>(k) * H + j];
+      ai += u_im[static_cast<std::size_t>(k) * H + j];
     }
     st.l_re[j] = st.l_re[j] + tau * (ar - sp.f_re[j]);
     st.l_im[j] = st.l_im[j] + tau * (ai - sp.f_im[j]);
@@ -308,8 +336,9 @@ void DualAscent(AdmmState& st, std::size_t j0, std::size_t j1) {
 // One update of every mode on the bins of `block`, Gauss-Seidel over k (Eq. 4), then Eq. (6).
 // The block is walked in chunks of kChunkBins bins, all K modes per chunk, so that the
 // accumulator, the spectrum, lambda and mode k-1 stay in the L1 cache: per bin-update only the
-// previous iterate of mode k is read from and the new one written to memory.
-void UpdateBlock(AdmmState& st, std::size_t block, const std::vector<double>& om) {
+// previous iterate of mode k is read from memory and the new one written (in place: to the same
+// cache line).
+void UpdateBlock(AdmmState& st, const IterateBuffers& io, std::size_t block, const std::vector<double>& om) {
   const std::size_t H = st.H;
   const int K = st.K;
   const VmdSpectrum& sp = st.spectrum;
@@ -328,17 +357,17 @@ void UpdateBlock(AdmmState& st, std::size_t block, const std::vector<double>& om
       c.f_im = sp.f_im.data() + c0;
       c.l_re = st.use_lambda ? st.l_re.data() + c0 : nullptr;
       c.l_im = st.use_lambda ? st.l_im.data() + c0 : nullptr;
-      c.prev_re = (k == 0 ? st.old_re : st.new_re) + prev;
-      c.prev_im = (k == 0 ? st.old_im : st.new_im) + prev;
-      c.old_re = st.old_re + kk;
-      c.old_im = st.old_im + kk;
+      c.prev_re = (k == 0 ? io.src_re : io.dst_re) + prev;
+      c.prev_im = (k == 0 ? io.src_im : io.dst_im) + prev;
+      c.old_re = io.src_re + kk;
+      c.old_im = io.src_im + kk;
       c.s_re = st.s_re.data() + c0;
       c.s_im = st.s_im.data() + c0;
-      c.u_re = st.new_re + kk;
-      c.u_im = st.new_im + kk;
+      c.u_re = io.dst_re + kk;
+      c.u_im = io.dst_im + kk;
       vmd_internal::UpdateModeChunk(c, c1 - c0, om[k], st.opt.alpha, bs[k]);  // Eq. (4)
     }
-    if (st.use_lambda) DualAscent(st, c0, c1);  // Eq. (6)
+    if (st.use_lambda) DualAscent(st, io.dst_re, io.dst_im, c0, c1);  // Eq. (6)
   }
 }
 
@@ -380,32 +409,67 @@ double SignalUnits(const AdmmState& st, double u) {
   return std::min(std::ldexp(u, 2 * st.scale_exp), std::numeric_limits<double>::max());
 }
 
+// Whether update n+1 (about to run) must keep update n, i.e. run into the second array instead of
+// in place: the reference returns the iterate before the one that meets the rule. Certain for the
+// last update the cap allows and from `keep_from` on; otherwise predicted: the rule's value has
+// fallen by `ratio` (<= 1) in the last update; keep when kLookaheadSteps more such falls would
+// meet tol. A wrong prediction (the rule met by an in-place update) is caught by RunAdmm's caller,
+// which runs the iteration again with keep_from set (same bits: the run is deterministic).
+bool KeepPrevious(const AdmmState& st, double previous_value, int keep_from) {
+  if (st.opt.return_last_iterate) return false;
+  const int next = st.n + 1;
+  if (next >= st.opt.max_iterations - 1 || next >= keep_from) return true;
+  if (!std::isfinite(previous_value)) return false;  // no fall measured yet
+  const double ratio = std::min(1.0, st.u_diff / previous_value);
+  return st.u_diff * std::pow(ratio, st.lookahead_steps) <= st.tol_norm;
+}
+
 // The ADMM loop: updates until the stopping rule holds or max_iterations - 1 updates were run
-// (vmdpy's Niter convention). Afterwards `old_*` hold update n and `new_*` update n-1.
-void RunAdmm(AdmmState& st, int threads) {
+// (vmdpy's Niter convention). Afterwards `cur_*` hold update n and, when has_previous, `prev_*`
+// update n-1. Updates run in place (one iterate: a third less memory traffic) except those that
+// KeepPrevious says must keep their predecessor.
+void RunAdmm(AdmmState& st, int threads, int keep_from) {
   const VmdOptions& opt = st.opt;
   // vmdpy starts from uDiff = tol + eps to enter the loop; with tol >= 1 squared signal units eps
   // is absorbed and it returns its all-zero initial modes. Here the first update always runs.
   st.u_diff = std::numeric_limits<double>::infinity();
+  double previous_value = st.u_diff;
   st.n = 0;
+  st.has_previous = false;
   st.omega_prev = st.omega;
   std::vector<double> om_snapshot;
   WorkerPool pool(threads);
   const std::size_t num_blocks = st.num_blocks;
+  IterateBuffers io{};
   const std::function<void(int)> round = [&](int t) {
     const std::size_t b0 = num_blocks * t / threads;
     const std::size_t b1 = num_blocks * (t + 1) / threads;
-    for (std::size_t b = b0; b < b1; ++b) UpdateBlock(st, b, om_snapshot);
+    for (std::size_t b = b0; b < b1; ++b) UpdateBlock(st, io, b, om_snapshot);
   };
   while (st.u_diff > st.tol_norm && st.n < opt.max_iterations - 1) {
+    const bool keep = KeepPrevious(st, previous_value, keep_from);
+    io = {st.cur_re, st.cur_im, st.cur_re, st.cur_im};
+    if (keep) {
+      st.AllocateSecondIterate();
+      double* other_re = st.cur_re == st.ua_re.data() ? st.ub_re.data() : st.ua_re.data();
+      double* other_im = st.cur_im == st.ua_im.data() ? st.ub_im.data() : st.ua_im.data();
+      io.dst_re = other_re;
+      io.dst_im = other_im;
+    }
     om_snapshot = st.omega;
     pool.Run(round);
     st.omega_prev = st.omega;
+    previous_value = st.u_diff;
     st.u_diff = UpdateCenterFrequencies(st);
     ++st.n;
-    std::swap(st.old_re, st.new_re);
-    std::swap(st.old_im, st.new_im);
-    if (opt.on_iteration) opt.on_iteration(st.n, SignalUnits(st, st.u_diff));
+    st.has_previous = keep;
+    if (keep) {
+      st.prev_re = st.cur_re;
+      st.prev_im = st.cur_im;
+      st.cur_re = io.dst_re;
+      st.cur_im = io.dst_im;
+    }
+    if (opt.on_iteration && st.n > st.report_after) opt.on_iteration(st.n, SignalUnits(st, st.u_diff));
   }
 }
 
@@ -449,6 +513,25 @@ Result<std::vector<std::vector<double>>> ReconstructModes(VmdSpectrum& sp, const
     }
   });
   return modes;
+}
+
+// A fresh ADMM state on the spectrum, iterated (RunAdmm with the given keep_from; on_iteration
+// only for updates after report_after).
+std::unique_ptr<AdmmState> IterateAdmm(const VmdSpectrum& sp, const VmdOptions& opt, int threads,
+                                       double lookahead_steps, int keep_from, int report_after) {
+  auto st = std::make_unique<AdmmState>(sp, opt);
+  st->scale_exp = sp.scale_exp;
+  const bool absolute = opt.stopping_rule == VmdStoppingRule::kAbsolute;
+  st->tol_norm = absolute ? std::ldexp(opt.tol, -2 * sp.scale_exp) : opt.tol;
+  // vmdpy's np.spacing(1) guard of the absolute rule, taken in the normalised units (i.e. relative
+  // to the signal's scale) so that the rule is scale-free: for a signal with max |x| in [1, 2) it
+  // is vmdpy's; otherwise it differs from vmdpy's by less than eps * max|x|^2 squared units.
+  st->eps_norm = std::numeric_limits<double>::epsilon();
+  st->omega = InitialCenterFrequencies(opt, sp.n_even);
+  st->lookahead_steps = lookahead_steps;
+  st->report_after = report_after;
+  RunAdmm(*st, threads, keep_from);
+  return st;
 }
 
 }  // namespace
@@ -520,6 +603,11 @@ Status CheckProblemSize(const VmdOptions& opt, std::size_t n) {
 }  // namespace
 
 Result<VmdResult> DecomposeVmd(std::span<const double> signal, const VmdOptions& opt) {
+  return vmd_internal::DecomposeVmdTuned(signal, opt, kLookaheadSteps, nullptr);
+}
+
+Result<VmdResult> vmd_internal::DecomposeVmdTuned(std::span<const double> signal, const VmdOptions& opt,
+                                                  double lookahead_steps, int* reruns) {
   const auto start = std::chrono::steady_clock::now();
   std::string why;
   if (!opt.IsValid(&why)) return InvalidArgument(why);
@@ -539,24 +627,25 @@ Result<VmdResult> DecomposeVmd(std::span<const double> signal, const VmdOptions&
   if (!spectrum.ok()) return spectrum.error();
   VmdSpectrum& sp = *spectrum;
 
-  AdmmState st(sp, opt);
-  st.scale_exp = sp.scale_exp;
-  const bool absolute = opt.stopping_rule == VmdStoppingRule::kAbsolute;
-  st.tol_norm = absolute ? std::ldexp(opt.tol, -2 * sp.scale_exp) : opt.tol;
-  // vmdpy's np.spacing(1) guard of the absolute rule, taken in the normalised units (i.e. relative
-  // to the signal's scale) so that the rule is scale-free: for a signal with max |x| in [1, 2) it
-  // is vmdpy's; otherwise it differs from vmdpy's by less than eps * max|x|^2 squared units.
-  st.eps_norm = std::numeric_limits<double>::epsilon();
-  st.omega = InitialCenterFrequencies(opt, sp.n_even);
-  const int threads = ChooseThreads(opt, static_cast<std::size_t>(K) * sp.H, st.num_blocks);
-  RunAdmm(st, threads);
+  const int threads = ChooseThreads(opt, static_cast<std::size_t>(K) * sp.H, (sp.H + kBlockBins - 1) / kBlockBins);
+  std::unique_ptr<AdmmState> run = IterateAdmm(sp, opt, threads, lookahead_steps, std::numeric_limits<int>::max(), 0);
+  if (run->NeedsRerun()) {
+    // The rule was met by an in-place update: run again (deterministic: the same bits), keeping
+    // from that update on. on_iteration is not called again for the updates already reported.
+    const int keep_from = run->n;
+    if (reruns) ++*reruns;
+    run.reset();
+    run = IterateAdmm(sp, opt, threads, lookahead_steps, keep_from, keep_from);
+  }
+  AdmmState& st = *run;
 
-  // `old_*` hold update n and `new_*` update n-1 (or zeros when n = 1... the reference then
-  // returns its all-zero initial iterate too).
+  // `cur_*` hold update n and `prev_*` update n-1 (zeros when n = 1: the reference then returns
+  // its all-zero initial iterate too).
   const bool last = opt.return_last_iterate;
-  const double* out_re = last ? st.old_re : st.new_re;
-  const double* out_im = last ? st.old_im : st.new_im;
+  const double* out_re = last ? st.cur_re : st.prev_re;
+  const double* out_im = last ? st.cur_im : st.prev_im;
   const std::vector<double>& out_omega = last ? st.omega : st.omega_prev;
+  st.ReleaseAllBut(out_re);
 
   VmdResult result;
   Result<std::vector<std::vector<double>>> modes = ReconstructModes(sp, out_re, out_im, K, n_in, threads);

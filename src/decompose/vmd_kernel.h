@@ -8,6 +8,9 @@
 #pragma once
 
 #include <cstddef>
+#include <span>
+
+#include "gyrocomp/decompose/vmd.h"
 
 namespace gyrocomp::vmd_internal {
 
@@ -62,5 +65,11 @@ bool KernelPathSupported(KernelPath path);
 // UpdateModeChunk on the given path (which must be supported by this CPU).
 void UpdateModeChunkOn(KernelPath path, const ModeChunk& c, std::size_t n, double omega_k, double alpha,
                        LaneSums& sums);
+
+// DecomposeVmd with its in-place prediction horizon exposed (vmd.cc: KeepPrevious; DecomposeVmd
+// uses 4). lookahead_steps = 0 never predicts, so every converged run is run a second time:
+// tests use it to check that the rerun gives the same bits. *reruns (if given) counts reruns.
+Result<VmdResult> DecomposeVmdTuned(std::span<const double> signal, const VmdOptions& opt, double lookahead_steps,
+                                    int* reruns);
 
 }  // namespace gyrocomp::vmd_internal

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "test_support.h"
+#include "vmd_kernel.h"
 
 namespace gyrocomp {
 namespace {
@@ -153,6 +154,49 @@ TEST(Vmd, ThreadCountDoesNotChangeResults) {
   EXPECT_EQ(a->summary.center_frequency_cycles_per_sample, b->summary.center_frequency_cycles_per_sample);
   EXPECT_FALSE(a->summary.converged);  // 19 updates are not enough for noise
   EXPECT_EQ(a->summary.iterations, 19);  // max_iterations - 1 updates (reference Niter)
+}
+
+// Updates run in place except those predicted to precede the last one (vmd.cc: KeepPrevious);
+// when the prediction misses, the run is repeated keeping from that update on. Horizon 0 never
+// predicts, so every converged run is repeated: it must give exactly the bits of the default run,
+// report each update to on_iteration once, and the golden iteration count; with tau > 0 too.
+TEST(Vmd, InPlaceUpdatesAndTheirRerunGiveTheSameBits) {
+  for (const char* name : {"three_tones_K3", "tones_tau_K3", "gyro_like_K6"}) {
+    SCOPED_TRACE(name);
+    const auto meta = ReadJsonFile(GoldenPath(std::string("vmd/") + name + ".json"));
+    const auto input = ReadGoldenCsv(GoldenPath(std::string("vmd/") + name + ".input.csv")).at("x");
+    VmdOptions opt;
+    const auto& p = meta.at("params");
+    opt.num_modes = p.at("K").get<int>();
+    opt.alpha = p.at("alpha").get<double>();
+    opt.tau = p.at("tau").get<double>();
+    opt.tol = p.at("tol").get<double>();
+    opt.max_iterations = p.at("max_iterations").get<int>();
+    std::vector<int> reported;
+    opt.on_iteration = [&](int n, double) { reported.push_back(n); };
+    int reruns = 0;
+    auto a = DecomposeVmd(input, opt);
+    const std::vector<int> reported_default = reported;
+    reported.clear();
+    auto b = vmd_internal::DecomposeVmdTuned(input, opt, 0.0, &reruns);
+    ASSERT_TRUE(a.ok() && b.ok());
+    EXPECT_EQ(reruns, 1);
+    EXPECT_EQ(b->summary.iterations, meta.at("iterations").get<int>());
+    EXPECT_EQ(a->summary.iterations, b->summary.iterations);
+    EXPECT_EQ(a->modes, b->modes);  // bit-identical
+    EXPECT_EQ(a->summary.center_frequency_cycles_per_sample, b->summary.center_frequency_cycles_per_sample);
+    EXPECT_EQ(a->summary.final_update, b->summary.final_update);
+    ASSERT_EQ(reported.size(), static_cast<std::size_t>(b->summary.iterations));
+    for (std::size_t i = 0; i < reported.size(); ++i) EXPECT_EQ(reported[i], static_cast<int>(i) + 1);
+    EXPECT_EQ(reported, reported_default);
+    // The last iterate needs no predecessor: fully in place, never repeated.
+    opt.return_last_iterate = true;
+    reruns = 0;
+    auto c = vmd_internal::DecomposeVmdTuned(input, opt, 0.0, &reruns);
+    ASSERT_TRUE(c.ok());
+    EXPECT_EQ(reruns, 0);
+    EXPECT_EQ(c->summary.iterations, a->summary.iterations);
+  }
 }
 
 // ---- extreme but finite inputs (issue 15 part 2) --------------------------------------------

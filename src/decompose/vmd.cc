@@ -243,12 +243,19 @@ int ChooseThreads(const VmdOptions& opt, std::size_t work, std::size_t num_block
 struct AdmmState {
   AdmmState(const VmdSpectrum& sp, const VmdOptions& options)
       : spectrum(sp), opt(options), K(options.num_modes), H(sp.H), use_lambda(options.tau != 0.0),
-        relative(options.stopping_rule == VmdStoppingRule::kRelative) {
+        relative(options.stopping_rule == VmdStoppingRule::kRelative),
+        bin_major(options.num_modes <= vmd_internal::kMaxModesAtOnce),
+        batch_inversion(vmd_internal::BatchInversionSafe(options.num_modes, options.alpha)) {
     const std::size_t KH = static_cast<std::size_t>(K) * H;
     ua_re.assign(KH, 0.0);
     ua_im.assign(KH, 0.0);
-    s_re.assign(H, 0.0);
-    s_im.assign(H, 0.0);
+    if (bin_major) {  // the residual f - sum_uk, all modes zero
+      s_re = sp.f_re;
+      s_im = sp.f_im;
+    } else {  // sum_uk
+      s_re.assign(H, 0.0);
+      s_im.assign(H, 0.0);
+    }
     l_re.assign(use_lambda ? H : 0, 0.0);
     l_im.assign(use_lambda ? H : 0, 0.0);
     num_blocks = (H + kBlockBins - 1) / kBlockBins;
@@ -272,8 +279,10 @@ struct AdmmState {
   const std::size_t H;
   const bool use_lambda;
   const bool relative;
+  const bool bin_major;        // K <= kMaxModesAtOnce: UpdateBinChunk, s_* hold f - sum_uk
+  const bool batch_inversion;  // UpdateBinChunk's reciprocals from one division per bin
   std::vector<double> ua_re, ua_im, ub_re, ub_im;  // storage of the iterates (ub_*: only when kept)
-  std::vector<double> s_re, s_im;                  // accumulator
+  std::vector<double> s_re, s_im;                  // sum_uk, or f - sum_uk when bin_major
   std::vector<double> l_re, l_im;                  // lambda (empty when tau = 0)
   std::size_t num_blocks = 0;
   std::vector<vmd_internal::LaneSums> sums;  // sums[block * K + k]: mode k over the block's bins
@@ -348,7 +357,23 @@ void UpdateBlock(AdmmState& st, const IterateBuffers& io, std::size_t block, con
   for (int k = 0; k < K; ++k) bs[k].Clear();
   for (std::size_t c0 = j0; c0 < j1; c0 += kChunkBins) {
     const std::size_t c1 = std::min(j1, c0 + kChunkBins);
-    for (int k = 0; k < K; ++k) {
+    if (st.bin_major) {  // all modes per vector of bins: Eq. (4)
+      vmd_internal::BinChunk c;
+      c.freq = sp.freq.data() + c0;
+      c.l_re = st.use_lambda ? st.l_re.data() + c0 : nullptr;
+      c.l_im = st.use_lambda ? st.l_im.data() + c0 : nullptr;
+      c.r_re = st.s_re.data() + c0;  // the residual f - sum_uk on this path
+      c.r_im = st.s_im.data() + c0;
+      c.src_re = io.src_re + c0;
+      c.src_im = io.src_im + c0;
+      c.dst_re = io.dst_re + c0;
+      c.dst_im = io.dst_im + c0;
+      c.stride = H;
+      vmd_internal::UpdateBinChunk(c, c1 - c0, K, om.data(), st.opt.alpha, st.batch_inversion, st.relative, bs);
+      if (st.use_lambda) DualAscent(st, io.dst_re, io.dst_im, c0, c1);  // Eq. (6)
+      continue;
+    }
+    for (int k = 0; k < K; ++k) {  // many modes: one mode at a time per chunk
       const std::size_t kk = static_cast<std::size_t>(k) * H + c0;
       const std::size_t prev = (k == 0) ? static_cast<std::size_t>(K - 1) * H + c0 : kk - H;
       vmd_internal::ModeChunk c;

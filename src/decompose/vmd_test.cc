@@ -142,18 +142,23 @@ TEST(Vmd, ThreadCountDoesNotChangeResults) {
   std::normal_distribution<double> g(0, 1);
   std::vector<double> x(40000);
   for (std::size_t i = 0; i < x.size(); ++i) x[i] = g(rng) + std::sin(0.001 * i);
-  VmdOptions opt;
-  opt.max_iterations = 20;
-  opt.num_threads = 1;
-  auto a = DecomposeVmd(x, opt);
-  opt.num_threads = 2;
-  auto b = DecomposeVmd(x, opt);
-  ASSERT_TRUE(a.ok() && b.ok());
-  EXPECT_EQ(a->summary.iterations, b->summary.iterations);
-  EXPECT_EQ(a->modes, b->modes);  // bit-identical: fixed reduction blocks
-  EXPECT_EQ(a->summary.center_frequency_cycles_per_sample, b->summary.center_frequency_cycles_per_sample);
-  EXPECT_FALSE(a->summary.converged);  // 19 updates are not enough for noise
-  EXPECT_EQ(a->summary.iterations, 19);  // max_iterations - 1 updates (reference Niter)
+  // K = 6: the bin-major kernel; K = 9 (> vmd_internal::kMaxModesAtOnce): the mode-major one.
+  for (int K : {6, 9}) {
+    SCOPED_TRACE("K = " + std::to_string(K));
+    VmdOptions opt;
+    opt.num_modes = K;
+    opt.max_iterations = 20;
+    opt.num_threads = 1;
+    auto a = DecomposeVmd(x, opt);
+    opt.num_threads = 2;
+    auto b = DecomposeVmd(x, opt);
+    ASSERT_TRUE(a.ok() && b.ok());
+    EXPECT_EQ(a->summary.iterations, b->summary.iterations);
+    EXPECT_EQ(a->modes, b->modes);  // bit-identical: fixed reduction blocks
+    EXPECT_EQ(a->summary.center_frequency_cycles_per_sample, b->summary.center_frequency_cycles_per_sample);
+    EXPECT_FALSE(a->summary.converged);  // 19 updates are not enough for noise
+    EXPECT_EQ(a->summary.iterations, 19);  // max_iterations - 1 updates (reference Niter)
+  }
 }
 
 // Updates run in place except those predicted to precede the last one (vmd.cc: KeepPrevious);

@@ -142,6 +142,7 @@ std::vector<double> NumpyRand(std::uint32_t seed, int count) {
 // The mirror-extended, even-length signal's one-sided spectrum (f_hat_plus), its frequency grid
 // and the FFT plans and buffers (reused for the inverse transforms).
 struct VmdSpectrum {
+  std::size_t n_in = 0;    // samples of the record
   std::size_t n_even = 0;  // even working length (odd input: the last sample repeated)
   std::size_t offset = 0;  // mirrored samples before the signal (ltemp)
   std::size_t T = 0;       // extended length
@@ -169,6 +170,7 @@ Result<VmdSpectrum> MirrorAndTransform(std::span<const double> signal, bool mirr
   std::vector<double> f(signal.size());
   for (std::size_t i = 0; i < f.size(); ++i) f[i] = std::ldexp(signal[i], -sp.scale_exp);
   if (f.size() % 2) f.push_back(f.back());
+  sp.n_in = signal.size();
   sp.n_even = f.size();
 
   // Mirror extension: f[ltemp-1..0], f, f[N-1..N-ltemp].
@@ -299,6 +301,7 @@ struct AdmmState {
   double* prev_im = nullptr;
   bool has_previous = false;
   double lookahead_steps = 0;  // KeepPrevious's prediction horizon
+  std::optional<int> extrapolation_period;  // VmdOptions' period when the record is long enough
   int report_after = 0;        // on_iteration only for updates after this one
   // Frees the working arrays except the iterate starting at keep_re / keep_im (before the modes
   // are reconstructed: the peak memory is then one iterate plus the modes).
@@ -449,6 +452,21 @@ bool KeepPrevious(const AdmmState& st, double previous_value, int keep_from) {
   return st.u_diff * std::pow(ratio, st.lookahead_steps) <= st.tol_norm;
 }
 
+// VmdOptions::omega_extrapolation_period: the Aitken limit of each w_k's last three values
+// (w0 = older, w1 = w_prev, w2 = st.omega), applied in place to st.omega when the sequence
+// contracts geometrically.
+constexpr double kMaxExtrapolationRatio = 0.995;
+void ExtrapolateCenterFrequencies(AdmmState& st, const std::vector<double>& older) {
+  for (int k = 0; k < st.K; ++k) {
+    if (st.opt.dc && k == 0) continue;
+    const double d1 = st.omega_prev[k] - older[k], d2 = st.omega[k] - st.omega_prev[k];
+    if (d1 == 0) continue;
+    const double r = d2 / d1;
+    if (!(r > 0 && r < kMaxExtrapolationRatio)) continue;
+    st.omega[k] = std::clamp(st.omega[k] + d2 * (r / (1 - r)), 0.0, 0.5);
+  }
+}
+
 // The ADMM loop: updates until the stopping rule holds or max_iterations - 1 updates were run
 // (vmdpy's Niter convention). Afterwards `cur_*` hold update n and, when has_previous, `prev_*`
 // update n-1. Updates run in place (one iterate: a third less memory traffic) except those that
@@ -462,7 +480,7 @@ void RunAdmm(AdmmState& st, int threads, int keep_from) {
   st.n = 0;
   st.has_previous = false;
   st.omega_prev = st.omega;
-  std::vector<double> om_snapshot;
+  std::vector<double> om_snapshot, omega_older = st.omega;
   WorkerPool pool(threads);
   const std::size_t num_blocks = st.num_blocks;
   IterateBuffers io{};
@@ -483,10 +501,14 @@ void RunAdmm(AdmmState& st, int threads, int keep_from) {
     }
     om_snapshot = st.omega;
     pool.Run(round);
+    omega_older.swap(st.omega_prev);
     st.omega_prev = st.omega;
     previous_value = st.u_diff;
     st.u_diff = UpdateCenterFrequencies(st);
     ++st.n;
+    if (st.extrapolation_period && st.n >= 3 && st.n % *st.extrapolation_period == 0) {
+      ExtrapolateCenterFrequencies(st, omega_older);
+    }
     st.has_previous = keep;
     if (keep) {
       st.prev_re = st.cur_re;
@@ -554,6 +576,9 @@ std::unique_ptr<AdmmState> IterateAdmm(const VmdSpectrum& sp, const VmdOptions& 
   st->eps_norm = std::numeric_limits<double>::epsilon();
   st->omega = InitialCenterFrequencies(opt, sp.n_even);
   st->lookahead_steps = lookahead_steps;
+  if (opt.omega_extrapolation_period && sp.n_in >= opt.omega_extrapolation_min_samples) {
+    st->extrapolation_period = opt.omega_extrapolation_period;
+  }
   st->report_after = report_after;
   RunAdmm(*st, threads, keep_from);
   return st;
@@ -584,6 +609,9 @@ bool VmdOptions::IsValid(std::string* error) const {
       if (!(w >= 0 && w <= 0.5)) return fail("initial_center_frequencies", str(w), "must be in [0, 0.5] cycles per sample");
     }
   }
+  if (omega_extrapolation_period && *omega_extrapolation_period < 3) {
+    return fail("omega_extrapolation_period", std::to_string(*omega_extrapolation_period), "must be >= 3 when set");
+  }
   if (max_iterations < 2) return fail("max_iterations", std::to_string(max_iterations), "must be >= 2");
   if (!(fs_hz > 0) || !std::isfinite(fs_hz)) return fail("fs_hz", str(fs_hz), "must be > 0 and finite");
   if (num_threads && *num_threads < 1) {
@@ -600,6 +628,7 @@ std::string VmdSummary::BriefReport() const {
      << " iterations (update " << final_update << (converged ? " <= tol" : " > tol") << ") in "
      << elapsed_s << " s on " << threads_used << " thread(s); centre frequencies [Hz]:";
   for (double f : center_frequency_hz) os << " " << f;
+  if (omega_extrapolation_period) os << "; centre frequencies extrapolated every " << *omega_extrapolation_period << " updates";
   return os.str();
 }
 
@@ -696,6 +725,7 @@ Result<VmdResult> vmd_internal::DecomposeVmdTuned(std::span<const double> signal
   s.fs_hz = opt.fs_hz;
   for (double w : out_omega) s.center_frequency_hz.push_back(w * opt.fs_hz);
   s.threads_used = threads;
+  s.omega_extrapolation_period = st.extrapolation_period;
   s.elapsed_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }

@@ -2,10 +2,11 @@
 //
 // Layout: the one-sided spectrum has H = T/2 bins (0 .. T/2-1 of the extended signal; vmdpy's
 // fftshifted indices T/2 .. T-1). Modes are stored mode-major with separate real and imaginary
-// arrays (u_re[k * H + j]) so that the per-bin loops vectorise. Two iterates are kept (the
-// previous one and the one being computed: ping-pong), because the reference returns the iterate
-// before the last: memory is 4 K H doubles plus O(H) for the data, the accumulator, lambda and
-// the frequency grid.
+// arrays (u_re[k * H + j]) so that the per-bin loops vectorise. Updates overwrite the iterate in
+// place, except the last ones (the reference returns the iterate before the last: KeepPrevious),
+// which write a second iterate: memory is 2 K H doubles while in place, 4 K H at the end, plus
+// O(H) for the data, the residual / accumulator, lambda and the frequency grid. Options,
+// validation and the initial centre frequencies: vmd_options.cc; threads: vmd_threads.h.
 //
 // Parallelism: within one update every bin is independent (mode k's Wiener filter at bin j reads
 // only bin j of f, lambda, the accumulator and the other modes, and the centre frequencies of the
@@ -20,6 +21,7 @@
 #include "gyrocomp/decompose/vmd.h"
 
 #include "vmd_kernel.h"
+#include "vmd_threads.h"
 
 #include <fftw3.h>
 
@@ -39,6 +41,11 @@
 
 namespace gyrocomp {
 namespace {
+
+using vmd_internal::CheckProblemSize;
+using vmd_internal::InitialCenterFrequencies;
+using vmd_internal::RunThreads;
+using vmd_internal::WorkerPool;
 
 // FFTW planning is not thread-safe; execution of an existing plan is.
 std::mutex& FftwPlannerMutex() {
@@ -74,70 +81,6 @@ static_assert(kBlockBins % kChunkBins == 0 && kChunkBins % vmd_internal::kLanes 
 constexpr double kLookaheadSteps = 4;
 // Below this many bin-mode updates per iteration, one thread is faster.
 constexpr std::size_t kMinWorkForThreads = 1u << 16;
-
-// Runs fn(t) for t = 0..threads-1, fn(0) on the calling thread.
-template <class Fn>
-void RunThreads(int threads, Fn&& fn) {
-  if (threads <= 1) {
-    fn(0);
-    return;
-  }
-  std::vector<std::thread> pool;
-  pool.reserve(threads - 1);
-  for (int t = 1; t < threads; ++t) pool.emplace_back([&fn, t] { fn(t); });
-  fn(0);
-  for (auto& th : pool) th.join();
-}
-
-// Persistent workers for the iteration loop (hundreds of short rounds: starting threads each
-// round would cost a noticeable part of a round at N ~ 10^4).
-class WorkerPool {
- public:
-  explicit WorkerPool(int threads) : threads_(threads), start_(threads), done_(threads) {
-    for (int t = 1; t < threads; ++t) workers_.emplace_back([this, t] { Loop(t); });
-  }
-  ~WorkerPool() {
-    stop_ = true;
-    if (threads_ > 1) start_.arrive_and_wait();
-    for (auto& w : workers_) w.join();
-  }
-  WorkerPool(const WorkerPool&) = delete;
-  WorkerPool& operator=(const WorkerPool&) = delete;
-  // fn(t) on every thread t, fn(0) on the caller; returns when all are done.
-  void Run(const std::function<void(int)>& fn) {
-    fn_ = &fn;
-    if (threads_ > 1) start_.arrive_and_wait();
-    fn(0);
-    if (threads_ > 1) done_.arrive_and_wait();
-  }
-
- private:
-  void Loop(int t) {
-    for (;;) {
-      start_.arrive_and_wait();
-      if (stop_) return;
-      (*fn_)(t);
-      done_.arrive_and_wait();
-    }
-  }
-  int threads_;
-  std::barrier<> start_, done_;
-  std::atomic<bool> stop_{false};
-  const std::function<void(int)>* fn_ = nullptr;
-  std::vector<std::thread> workers_;
-};
-
-// numpy's legacy np.random.rand after np.random.seed(seed): 53-bit doubles from MT19937.
-std::vector<double> NumpyRand(std::uint32_t seed, int count) {
-  std::mt19937 mt(seed);
-  std::vector<double> out(count);
-  for (double& v : out) {
-    const std::uint32_t a = mt() >> 5;
-    const std::uint32_t b = mt() >> 6;
-    v = (a * 67108864.0 + b) / 9007199254740992.0;
-  }
-  return out;
-}
 
 // The mirror-extended, even-length signal's one-sided spectrum (f_hat_plus), its frequency grid
 // and the FFT plans and buffers (reused for the inverse transforms).
@@ -212,23 +155,6 @@ Result<VmdSpectrum> MirrorAndTransform(std::span<const double> signal, bool mirr
     sp.freq[j] = (t - 0.5) - sp.inv_T;
   }
   return sp;
-}
-
-// Initial centre frequencies (cycles per sample): uniform, random (vmdpy's init = 2) or zero.
-std::vector<double> InitialCenterFrequencies(const VmdOptions& opt, std::size_t n_even) {
-  const int K = opt.num_modes;
-  std::vector<double> omega(K, 0.0);
-  if (opt.init == VmdInit::kUniform) {
-    for (int k = 0; k < K; ++k) omega[k] = (0.5 / K) * k;
-  } else if (opt.init == VmdInit::kRandom) {
-    const double fs = 1.0 / static_cast<double>(n_even);
-    const std::vector<double> u = NumpyRand(opt.seed, K);
-    for (int k = 0; k < K; ++k) omega[k] = std::exp(std::log(fs) + (std::log(0.5) - std::log(fs)) * u[k]);
-    std::sort(omega.begin(), omega.end());
-  }
-  if (opt.initial_center_frequencies) omega = *opt.initial_center_frequencies;
-  if (opt.dc) omega[0] = 0.0;
-  return omega;
 }
 
 // Threads for the iteration: as asked, else up to 2 when the work is large enough; never more
@@ -582,76 +508,6 @@ std::unique_ptr<AdmmState> IterateAdmm(const VmdSpectrum& sp, const VmdOptions& 
   st->report_after = report_after;
   RunAdmm(*st, threads, keep_from);
   return st;
-}
-
-}  // namespace
-
-bool VmdOptions::IsValid(std::string* error) const {
-  auto fail = [&](const std::string& field, const std::string& value, const char* what) {
-    if (error) *error = "VmdOptions::" + field + " = " + value + ": " + what;
-    return false;
-  };
-  auto str = [](double v) {
-    std::ostringstream os;
-    os << v;
-    return os.str();
-  };
-  if (num_modes < 1) return fail("num_modes", std::to_string(num_modes), "must be >= 1");
-  if (!(alpha > 0) || !std::isfinite(alpha)) return fail("alpha", str(alpha), "must be > 0 and finite");
-  if (!(tau >= 0) || !std::isfinite(tau)) return fail("tau", str(tau), "must be >= 0 and finite");
-  if (!(tol > 0) || !std::isfinite(tol)) return fail("tol", str(tol), "must be > 0 and finite");
-  if (initial_center_frequencies) {
-    if (initial_center_frequencies->size() != static_cast<std::size_t>(num_modes)) {
-      return fail("initial_center_frequencies", std::to_string(initial_center_frequencies->size()) + " values",
-                  "must hold num_modes values");
-    }
-    for (double w : *initial_center_frequencies) {
-      if (!(w >= 0 && w <= 0.5)) return fail("initial_center_frequencies", str(w), "must be in [0, 0.5] cycles per sample");
-    }
-  }
-  if (omega_extrapolation_period && *omega_extrapolation_period < 3) {
-    return fail("omega_extrapolation_period", std::to_string(*omega_extrapolation_period), "must be >= 3 when set");
-  }
-  if (max_iterations < 2) return fail("max_iterations", std::to_string(max_iterations), "must be >= 2");
-  if (!(fs_hz > 0) || !std::isfinite(fs_hz)) return fail("fs_hz", str(fs_hz), "must be > 0 and finite");
-  if (num_threads && *num_threads < 1) {
-    return fail("num_threads", std::to_string(*num_threads), "must be >= 1 when set");
-  }
-  return true;
-}
-
-std::string VmdSummary::BriefReport() const {
-  std::ostringstream os;
-  os.precision(4);
-  os << "VMD K=" << num_modes << " N=" << num_samples << ": "
-     << (converged ? "converged after " : "did not converge in ") << iterations
-     << " iterations (update " << final_update << (converged ? " <= tol" : " > tol") << ") in "
-     << elapsed_s << " s on " << threads_used << " thread(s); centre frequencies [Hz]:";
-  for (double f : center_frequency_hz) os << " " << f;
-  if (omega_extrapolation_period) os << "; centre frequencies extrapolated every " << *omega_extrapolation_period << " updates";
-  return os.str();
-}
-
-namespace {
-
-// Bounds K by what the record can support, before anything is allocated: a mode needs frequency
-// bins to live on (the one-sided spectrum holds about N of them, so K <= N / 2 leaves each mode
-// two bins at least), and the working set (two complex iterates and the accumulator per mode and
-// bin, plus the K x N modes returned: ~56 K N bytes) must fit `max_memory_bytes`.
-Status CheckProblemSize(const VmdOptions& opt, std::size_t n) {
-  const auto K = static_cast<std::size_t>(opt.num_modes);
-  if (K > n / 2)
-    return InvalidArgument("VmdOptions::num_modes = " + std::to_string(K) + ": a record of " + std::to_string(n) +
-                           " samples holds at most " + std::to_string(n / 2) + " modes (N / 2)");
-  const double bytes = 56.0 * static_cast<double>(K) * static_cast<double>(n);
-  if (bytes > static_cast<double>(opt.max_memory_bytes)) {
-    std::ostringstream os;
-    os.precision(3);
-    os << "VMD of K = " << K << " modes on " << n << " samples needs " << bytes / (1u << 30) << " GB; at most "
-       << static_cast<double>(opt.max_memory_bytes) / (1u << 30) << " allowed (VmdOptions::max_memory_bytes)";
-    return InvalidArgument(os.str());
-  }
-  return {};
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 
 #include <cstddef>
 #include <span>
+#include <vector>
 
 #include "gyrocomp/decompose/vmd.h"
 
@@ -110,6 +111,14 @@ bool KernelPathSupported(KernelPath path);
 // UpdateModeChunk on the given path (which must be supported by this CPU).
 void UpdateModeChunkOn(KernelPath path, const ModeChunk& c, std::size_t n, double omega_k, double alpha,
                        LaneSums& sums);
+
+// ---- helpers of DecomposeVmd (vmd_options.cc) ----------------------------------------------------
+
+// Initial centre frequencies (cycles per sample): uniform, random (vmdpy's init = 2), zero, or
+// VmdOptions::initial_center_frequencies; n_even = the even working length.
+std::vector<double> InitialCenterFrequencies(const VmdOptions& opt, std::size_t n_even);
+// Refuses a K the record cannot hold (K > N / 2) or a working set above max_memory_bytes.
+Status CheckProblemSize(const VmdOptions& opt, std::size_t n);
 
 // DecomposeVmd with its in-place prediction horizon exposed (vmd.cc: KeepPrevious; DecomposeVmd
 // uses 4). lookahead_steps = 0 never predicts, so every converged run is run a second time:

@@ -207,7 +207,7 @@ Command Make(CLI::App& app) {
       ->group(g)->check(CLI::IsMember({"absolute", "relative"}))->capture_default_str();
   sub->add_option("--vmd-accel", args->accel,
                   "auto: extrapolate the centre frequencies every 5 updates on records of >= 100000 samples "
-                  "(converges, 2.5-7x fewer updates); off: the reference iteration at every length")
+                  "(converges in ~4.5x fewer updates); off: the reference iteration at every length")
       ->group(g)->check(CLI::IsMember({"auto", "off"}))->capture_default_str();
   g = "Sample entropy";
   sub->add_option("--m", args->entropy.m, "Embedding dimension m")->group(g)->capture_default_str();

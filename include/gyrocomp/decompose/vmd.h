@@ -89,7 +89,7 @@ struct VmdOptions {
   // whose last three values w0, w1, w2 approach a limit geometrically (r = (w2 - w1) / (w1 - w0)
   // in (0, 0.995)) is moved to the Aitken limit w2 + (w2 - w1) r / (1 - r), clamped to [0, 0.5];
   // the modes follow in the next updates. A fixed point of the reference iteration is one of this
-  // one too (there the differences vanish), so it converges to the same decomposition, in 2.5-7x
+  // one too (there the differences vanish), so it converges to the same decomposition, in ~4.5x
   // fewer updates (docs/performance.md), but its path, iteration count and where within tol it
   // stops differ from vmdpy's. Applied only to records of at least
   // `omega_extrapolation_min_samples` samples, so shorter ones follow the reference exactly.

@@ -26,6 +26,7 @@ struct DecomposeArgs {
   VmdOptions vmd;  // library defaults
   std::string init = "uniform";
   std::string stop = "absolute";
+  std::string accel = "auto";
   int dc = 0;
   SampleEntropyOptions entropy;
   // Same default as `process` (PipelineOptions), so both classify the same way.
@@ -53,6 +54,8 @@ nlohmann::json AxisJson(const AxisResult& r, const GyroLog& log, const SampleEnt
   j["n_samples"] = log.num_samples();
   j["iterations"] = s.iterations;
   j["converged"] = s.converged;
+  j["omega_extrapolation_period"] =
+      s.omega_extrapolation_period ? nlohmann::json(*s.omega_extrapolation_period) : nlohmann::json();
   j["final_update"] = s.final_update;
   j["vmd_seconds"] = s.elapsed_s;
   j["modes"] = nlohmann::json::array();
@@ -99,6 +102,7 @@ void PrintTable(const AxisResult& r) {
 int Run(DecomposeArgs a) {
   a.vmd.init = a.init == "zero" ? VmdInit::kZero : a.init == "random" ? VmdInit::kRandom : VmdInit::kUniform;
   a.vmd.stopping_rule = a.stop == "relative" ? VmdStoppingRule::kRelative : VmdStoppingRule::kAbsolute;
+  if (a.accel == "off") a.vmd.omega_extrapolation_period.reset();
   a.vmd.dc = a.dc != 0;
   ClassifierOptions rule = a.rule == "paper" ? ClassifierOptions::Paper() : ClassifierOptions::Standard();
   if (a.drift_max_se) rule.drift_max_se = *a.drift_max_se;
@@ -153,7 +157,8 @@ int Run(DecomposeArgs a) {
     j["input"] = log->source;
     j["vmd_options"] = {{"K", a.vmd.num_modes}, {"alpha", a.vmd.alpha}, {"tau", a.vmd.tau}, {"tol", a.vmd.tol},
                         {"dc", a.vmd.dc}, {"init", a.init}, {"seed", a.vmd.seed},
-                        {"max_iterations", a.vmd.max_iterations}, {"stopping_rule", a.stop}};
+                        {"max_iterations", a.vmd.max_iterations}, {"stopping_rule", a.stop},
+                        {"accel", a.accel}};
     if (Status s = WriteJson(a.json_path, j); !s.ok()) return ReportError(kName, s.error());
   }
   if (a.json_path != "-") {
@@ -200,6 +205,10 @@ Command Make(CLI::App& app) {
       ->group(g)->capture_default_str();
   sub->add_option("--vmd-stop", args->stop, "Stopping rule: absolute (reference code) or relative (paper Eq. 7)")
       ->group(g)->check(CLI::IsMember({"absolute", "relative"}))->capture_default_str();
+  sub->add_option("--vmd-accel", args->accel,
+                  "auto: extrapolate the centre frequencies every 5 updates on records of >= 100000 samples "
+                  "(converges in ~4.5x fewer updates); off: the reference iteration at every length")
+      ->group(g)->check(CLI::IsMember({"auto", "off"}))->capture_default_str();
   g = "Sample entropy";
   sub->add_option("--m", args->entropy.m, "Embedding dimension m")->group(g)->capture_default_str();
   sub->add_option("--r", args->entropy.r_factor, "Tolerance r as a factor of each mode's SD")->group(g)->capture_default_str();

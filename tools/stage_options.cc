@@ -19,6 +19,10 @@ void AddPipelineOptions(CLI::App* app, PipelineCliOptions* c) {
   app->add_option("--max-iter", o.vmd.max_iterations, "VMD maximum iterations")->group(g)->capture_default_str();
   app->add_option("--vmd-stop", c->vmd_stop, "Stopping rule: absolute (reference code) or relative (paper Eq. 7)")
       ->group(g)->check(CLI::IsMember({"absolute", "relative"}))->capture_default_str();
+  app->add_option("--vmd-accel", c->vmd_accel,
+                  "auto: extrapolate the VMD centre frequencies every 5 updates on records of >= 100000 samples; "
+                  "off: the reference iteration at every length")
+      ->group(g)->check(CLI::IsMember({"auto", "off"}))->capture_default_str();
 
   g = "Sample entropy";
   app->add_option("--m", o.entropy.m, "Embedding dimension m")->group(g)->capture_default_str();
@@ -77,6 +81,7 @@ Status ResolvePipelineOptions(PipelineCliOptions* c) {
   PipelineOptions& o = c->options;
   o.vmd.init = c->vmd_init == "zero" ? VmdInit::kZero : c->vmd_init == "random" ? VmdInit::kRandom : VmdInit::kUniform;
   o.vmd.stopping_rule = c->vmd_stop == "relative" ? VmdStoppingRule::kRelative : VmdStoppingRule::kAbsolute;
+  if (c->vmd_accel == "off") o.vmd.omega_extrapolation_period.reset();
   o.classifier = c->rule == "paper" ? ClassifierOptions::Paper() : ClassifierOptions::Standard();
   if (c->drift_max_se) { o.classifier.drift_max_se = *c->drift_max_se; o.classifier.rule_name = "custom"; }
   if (c->noise_min_se) { o.classifier.noise_min_se = *c->noise_min_se; o.classifier.rule_name = "custom"; }
@@ -114,7 +119,9 @@ nlohmann::json PipelineOptionsJson(const PipelineOptions& o) {
               {"dc", o.vmd.dc}, {"init", static_cast<int>(o.vmd.init)}, {"seed", o.vmd.seed},
               {"max_iterations", o.vmd.max_iterations},
               {"stopping_rule", o.vmd.stopping_rule == VmdStoppingRule::kAbsolute ? "absolute" : "relative"},
-              {"mirror_extension", o.vmd.mirror_extension}};
+              {"mirror_extension", o.vmd.mirror_extension},
+              {"omega_extrapolation_period", o.vmd.omega_extrapolation_period ? nlohmann::json(*o.vmd.omega_extrapolation_period) : nlohmann::json()},
+              {"omega_extrapolation_min_samples", o.vmd.omega_extrapolation_min_samples}};
   j["sample_entropy"] = {{"m", o.entropy.m}, {"r_factor", o.entropy.r_factor},
                          {"max_samples", o.entropy_max_samples ? nlohmann::json(*o.entropy_max_samples) : nlohmann::json()}};
   j["classification"] = {{"rule", o.classifier.rule_name}, {"description", o.classifier.Describe()},

@@ -19,6 +19,7 @@ struct PipelineCliOptions {
   PipelineOptions options;
   std::string vmd_init = "uniform";
   std::string vmd_stop = "absolute";
+  std::string vmd_accel = "auto";  // VmdOptions::omega_extrapolation_period: auto (library default) | off
   std::string rule = "standard";
   std::optional<double> drift_max_se, noise_min_se;
   std::string wavelet_extension = "symmetric";

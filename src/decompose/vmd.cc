@@ -2,10 +2,11 @@
 //
 // Layout: the one-sided spectrum has H = T/2 bins (0 .. T/2-1 of the extended signal; vmdpy's
 // fftshifted indices T/2 .. T-1). Modes are stored mode-major with separate real and imaginary
-// arrays (u_re[k * H + j]) so that the per-bin loops vectorise. Two iterates are kept (the
-// previous one and the one being computed: ping-pong), because the reference returns the iterate
-// before the last: memory is 4 K H doubles plus O(H) for the data, the accumulator, lambda and
-// the frequency grid.
+// arrays (u_re[k * H + j]) so that the per-bin loops vectorise. Updates overwrite the iterate in
+// place, except the last ones (the reference returns the iterate before the last: KeepPrevious),
+// which write a second iterate: memory is 2 K H doubles while in place, 4 K H at the end, plus
+// O(H) for the data, the residual / accumulator, lambda and the frequency grid. Options,
+// validation and the initial centre frequencies: vmd_options.cc; threads: vmd_threads.h.
 //
 // Parallelism: within one update every bin is independent (mode k's Wiener filter at bin j reads
 // only bin j of f, lambda, the accumulator and the other modes, and the centre frequencies of the
@@ -20,6 +21,7 @@
 #include "gyrocomp/decompose/vmd.h"
 
 #include "vmd_kernel.h"
+#include "vmd_threads.h"
 
 #include <fftw3.h>
 
@@ -39,6 +41,11 @@
 
 namespace gyrocomp {
 namespace {
+
+using vmd_internal::CheckProblemSize;
+using vmd_internal::InitialCenterFrequencies;
+using vmd_internal::RunThreads;
+using vmd_internal::WorkerPool;
 
 // FFTW planning is not thread-safe; execution of an existing plan is.
 std::mutex& FftwPlannerMutex() {
@@ -70,76 +77,15 @@ constexpr std::size_t kBlockBins = 2048;
 // vmd_internal::kLanes so that a bin's lane does not depend on the chunking).
 constexpr std::size_t kChunkBins = 256;
 static_assert(kBlockBins % kChunkBins == 0 && kChunkBins % vmd_internal::kLanes == 0);
+// KeepPrevious's horizon: keep update n when this many more falls like the last would meet tol.
+constexpr double kLookaheadSteps = 4;
 // Below this many bin-mode updates per iteration, one thread is faster.
 constexpr std::size_t kMinWorkForThreads = 1u << 16;
-
-// Runs fn(t) for t = 0..threads-1, fn(0) on the calling thread.
-template <class Fn>
-void RunThreads(int threads, Fn&& fn) {
-  if (threads <= 1) {
-    fn(0);
-    return;
-  }
-  std::vector<std::thread> pool;
-  pool.reserve(threads - 1);
-  for (int t = 1; t < threads; ++t) pool.emplace_back([&fn, t] { fn(t); });
-  fn(0);
-  for (auto& th : pool) th.join();
-}
-
-// Persistent workers for the iteration loop (hundreds of short rounds: starting threads each
-// round would cost a noticeable part of a round at N ~ 10^4).
-class WorkerPool {
- public:
-  explicit WorkerPool(int threads) : threads_(threads), start_(threads), done_(threads) {
-    for (int t = 1; t < threads; ++t) workers_.emplace_back([this, t] { Loop(t); });
-  }
-  ~WorkerPool() {
-    stop_ = true;
-    if (threads_ > 1) start_.arrive_and_wait();
-    for (auto& w : workers_) w.join();
-  }
-  WorkerPool(const WorkerPool&) = delete;
-  WorkerPool& operator=(const WorkerPool&) = delete;
-  // fn(t) on every thread t, fn(0) on the caller; returns when all are done.
-  void Run(const std::function<void(int)>& fn) {
-    fn_ = &fn;
-    if (threads_ > 1) start_.arrive_and_wait();
-    fn(0);
-    if (threads_ > 1) done_.arrive_and_wait();
-  }
-
- private:
-  void Loop(int t) {
-    for (;;) {
-      start_.arrive_and_wait();
-      if (stop_) return;
-      (*fn_)(t);
-      done_.arrive_and_wait();
-    }
-  }
-  int threads_;
-  std::barrier<> start_, done_;
-  std::atomic<bool> stop_{false};
-  const std::function<void(int)>* fn_ = nullptr;
-  std::vector<std::thread> workers_;
-};
-
-// numpy's legacy np.random.rand after np.random.seed(seed): 53-bit doubles from MT19937.
-std::vector<double> NumpyRand(std::uint32_t seed, int count) {
-  std::mt19937 mt(seed);
-  std::vector<double> out(count);
-  for (double& v : out) {
-    const std::uint32_t a = mt() >> 5;
-    const std::uint32_t b = mt() >> 6;
-    v = (a * 67108864.0 + b) / 9007199254740992.0;
-  }
-  return out;
-}
 
 // The mirror-extended, even-length signal's one-sided spectrum (f_hat_plus), its frequency grid
 // and the FFT plans and buffers (reused for the inverse transforms).
 struct VmdSpectrum {
+  std::size_t n_in = 0;    // samples of the record
   std::size_t n_even = 0;  // even working length (odd input: the last sample repeated)
   std::size_t offset = 0;  // mirrored samples before the signal (ltemp)
   std::size_t T = 0;       // extended length
@@ -167,6 +113,7 @@ Result<VmdSpectrum> MirrorAndTransform(std::span<const double> signal, bool mirr
   std::vector<double> f(signal.size());
   for (std::size_t i = 0; i < f.size(); ++i) f[i] = std::ldexp(signal[i], -sp.scale_exp);
   if (f.size() % 2) f.push_back(f.back());
+  sp.n_in = signal.size();
   sp.n_even = f.size();
 
   // Mirror extension: f[ltemp-1..0], f, f[N-1..N-ltemp].
@@ -210,23 +157,6 @@ Result<VmdSpectrum> MirrorAndTransform(std::span<const double> signal, bool mirr
   return sp;
 }
 
-// Initial centre frequencies (cycles per sample): uniform, random (vmdpy's init = 2) or zero.
-std::vector<double> InitialCenterFrequencies(const VmdOptions& opt, std::size_t n_even) {
-  const int K = opt.num_modes;
-  std::vector<double> omega(K, 0.0);
-  if (opt.init == VmdInit::kUniform) {
-    for (int k = 0; k < K; ++k) omega[k] = (0.5 / K) * k;
-  } else if (opt.init == VmdInit::kRandom) {
-    const double fs = 1.0 / static_cast<double>(n_even);
-    const std::vector<double> u = NumpyRand(opt.seed, K);
-    for (int k = 0; k < K; ++k) omega[k] = std::exp(std::log(fs) + (std::log(0.5) - std::log(fs)) * u[k]);
-    std::sort(omega.begin(), omega.end());
-  }
-  if (opt.initial_center_frequencies) omega = *opt.initial_center_frequencies;
-  if (opt.dc) omega[0] = 0.0;
-  return omega;
-}
-
 // Threads for the iteration: as asked, else up to 2 when the work is large enough; never more
 // than there are blocks.
 int ChooseThreads(const VmdOptions& opt, std::size_t work, std::size_t num_blocks) {
@@ -241,22 +171,32 @@ int ChooseThreads(const VmdOptions& opt, std::size_t work, std::size_t num_block
 struct AdmmState {
   AdmmState(const VmdSpectrum& sp, const VmdOptions& options)
       : spectrum(sp), opt(options), K(options.num_modes), H(sp.H), use_lambda(options.tau != 0.0),
-        relative(options.stopping_rule == VmdStoppingRule::kRelative) {
+        relative(options.stopping_rule == VmdStoppingRule::kRelative),
+        bin_major(options.num_modes <= vmd_internal::kMaxModesAtOnce),
+        batch_inversion(vmd_internal::BatchInversionSafe(options.num_modes, options.alpha)) {
     const std::size_t KH = static_cast<std::size_t>(K) * H;
     ua_re.assign(KH, 0.0);
     ua_im.assign(KH, 0.0);
-    ub_re.assign(KH, 0.0);
-    ub_im.assign(KH, 0.0);
-    s_re.assign(H, 0.0);
-    s_im.assign(H, 0.0);
+    if (bin_major) {  // the residual f - sum_uk, all modes zero
+      s_re = sp.f_re;
+      s_im = sp.f_im;
+    } else {  // sum_uk
+      s_re.assign(H, 0.0);
+      s_im.assign(H, 0.0);
+    }
     l_re.assign(use_lambda ? H : 0, 0.0);
     l_im.assign(use_lambda ? H : 0, 0.0);
     num_blocks = (H + kBlockBins - 1) / kBlockBins;
     sums.resize(num_blocks * static_cast<std::size_t>(K));
-    old_re = ua_re.data();
-    old_im = ua_im.data();
-    new_re = ub_re.data();
-    new_im = ub_im.data();
+    cur_re = ua_re.data();
+    cur_im = ua_im.data();
+  }
+  // The second iterate's storage, allocated at the first update that keeps its predecessor.
+  void AllocateSecondIterate() {
+    if (!ub_re.empty()) return;
+    const std::size_t KH = static_cast<std::size_t>(K) * H;
+    ub_re.assign(KH, 0.0);
+    ub_im.assign(KH, 0.0);
   }
   AdmmState(const AdmmState&) = delete;  // old_* / new_* point into the vectors
   AdmmState& operator=(const AdmmState&) = delete;
@@ -267,8 +207,10 @@ struct AdmmState {
   const std::size_t H;
   const bool use_lambda;
   const bool relative;
-  std::vector<double> ua_re, ua_im, ub_re, ub_im;  // storage of the two iterates
-  std::vector<double> s_re, s_im;                  // accumulator
+  const bool bin_major;        // K <= kMaxModesAtOnce: UpdateBinChunk, s_* hold f - sum_uk
+  const bool batch_inversion;  // UpdateBinChunk's reciprocals from one division per bin
+  std::vector<double> ua_re, ua_im, ub_re, ub_im;  // storage of the iterates (ub_*: only when kept)
+  std::vector<double> s_re, s_im;                  // sum_uk, or f - sum_uk when bin_major
   std::vector<double> l_re, l_im;                  // lambda (empty when tau = 0)
   std::size_t num_blocks = 0;
   std::vector<vmd_internal::LaneSums> sums;  // sums[block * K + k]: mode k over the block's bins
@@ -279,26 +221,50 @@ struct AdmmState {
   int scale_exp = 0;
   double tol_norm = 0.0;
   double eps_norm = 0.0;
-  double* old_re = nullptr;  // the previous iterate (update n-1 during update n)
-  double* old_im = nullptr;
-  double* new_re = nullptr;  // the iterate being computed
-  double* new_im = nullptr;
+  double* cur_re = nullptr;   // the newest iterate (update n)
+  double* cur_im = nullptr;
+  double* prev_re = nullptr;  // update n-1 when the last update kept it (has_previous), else stale
+  double* prev_im = nullptr;
+  bool has_previous = false;
+  double lookahead_steps = 0;  // KeepPrevious's prediction horizon
+  std::optional<int> extrapolation_period;  // VmdOptions' period when the record is long enough
+  int report_after = 0;        // on_iteration only for updates after this one
+  // Frees the working arrays except the iterate starting at keep_re / keep_im (before the modes
+  // are reconstructed: the peak memory is then one iterate plus the modes).
+  void ReleaseAllBut(const double* keep_re) {
+    auto release = [](std::vector<double>& v) { std::vector<double>().swap(v); };
+    if (keep_re != ua_re.data()) release(ua_re), release(ua_im);
+    if (keep_re != ub_re.data()) release(ub_re), release(ub_im);
+    release(s_re), release(s_im), release(l_re), release(l_im);
+  }
+  // The reference's output (update n-1) was overwritten by an in-place update n.
+  bool NeedsRerun() const { return !opt.return_last_iterate && !has_previous; }
   std::vector<double> omega;       // centre frequencies of the newest iterate
   std::vector<double> omega_prev;  // centre frequencies of the iterate before `omega`
   int n = 0;                       // updates run
   double u_diff = 0.0;             // the stopping rule's value after update n
 };
 
+// Where one update reads the previous iterate and writes the new one. In place (dst == src) the
+// kernel reads bin j of mode k before it writes it, and mode K-1's previous value (the `prev` of
+// mode 0) before mode K-1 is updated in the chunk: the arithmetic is the same as with two arrays.
+struct IterateBuffers {
+  const double* src_re;
+  const double* src_im;
+  double* dst_re;
+  double* dst_im;
+};
+
 // Eq. (6) on bins [j0, j1): lambda += tau (sum_k u_k - f).
-void DualAscent(AdmmState& st, std::size_t j0, std::size_t j1) {
+void DualAscent(AdmmState& st, const double* u_re, const double* u_im, std::size_t j0, std::size_t j1) {
   const std::size_t H = st.H;
   const double tau = st.opt.tau;
   const VmdSpectrum& sp = st.spectrum;
   for (std::size_t j = j0; j < j1; ++j) {
-    double ar = st.new_re[j], ai = st.new_im[j];
+    double ar = u_re[j], ai = u_im[j];
     for (int k = 1; k < st.K; ++k) {
-      ar += st.new_re[static_cast<std::size_t>(k) * H + j];
-      ai += st.new_im[static_cast<std::size_t>(k) * H + j];
+      ar += u_re[static_cast<std::size_t>(k) * H + j];
+      ai += u_im[static_cast<std::size_t>(k) * H + j];
     }
     st.l_re[j] = st.l_re[j] + tau * (ar - sp.f_re[j]);
     st.l_im[j] = st.l_im[j] + tau * (ai - sp.f_im[j]);
@@ -308,8 +274,9 @@ void DualAscent(AdmmState& st, std::size_t j0, std::size_t j1) {
 // One update of every mode on the bins of `block`, Gauss-Seidel over k (Eq. 4), then Eq. (6).
 // The block is walked in chunks of kChunkBins bins, all K modes per chunk, so that the
 // accumulator, the spectrum, lambda and mode k-1 stay in the L1 cache: per bin-update only the
-// previous iterate of mode k is read from and the new one written to memory.
-void UpdateBlock(AdmmState& st, std::size_t block, const std::vector<double>& om) {
+// previous iterate of mode k is read from memory and the new one written (in place: to the same
+// cache line).
+void UpdateBlock(AdmmState& st, const IterateBuffers& io, std::size_t block, const std::vector<double>& om) {
   const std::size_t H = st.H;
   const int K = st.K;
   const VmdSpectrum& sp = st.spectrum;
@@ -319,7 +286,23 @@ void UpdateBlock(AdmmState& st, std::size_t block, const std::vector<double>& om
   for (int k = 0; k < K; ++k) bs[k].Clear();
   for (std::size_t c0 = j0; c0 < j1; c0 += kChunkBins) {
     const std::size_t c1 = std::min(j1, c0 + kChunkBins);
-    for (int k = 0; k < K; ++k) {
+    if (st.bin_major) {  // all modes per vector of bins: Eq. (4)
+      vmd_internal::BinChunk c;
+      c.freq = sp.freq.data() + c0;
+      c.l_re = st.use_lambda ? st.l_re.data() + c0 : nullptr;
+      c.l_im = st.use_lambda ? st.l_im.data() + c0 : nullptr;
+      c.r_re = st.s_re.data() + c0;  // the residual f - sum_uk on this path
+      c.r_im = st.s_im.data() + c0;
+      c.src_re = io.src_re + c0;
+      c.src_im = io.src_im + c0;
+      c.dst_re = io.dst_re + c0;
+      c.dst_im = io.dst_im + c0;
+      c.stride = H;
+      vmd_internal::UpdateBinChunk(c, c1 - c0, K, om.data(), st.opt.alpha, st.batch_inversion, st.relative, bs);
+      if (st.use_lambda) DualAscent(st, io.dst_re, io.dst_im, c0, c1);  // Eq. (6)
+      continue;
+    }
+    for (int k = 0; k < K; ++k) {  // many modes: one mode at a time per chunk
       const std::size_t kk = static_cast<std::size_t>(k) * H + c0;
       const std::size_t prev = (k == 0) ? static_cast<std::size_t>(K - 1) * H + c0 : kk - H;
       vmd_internal::ModeChunk c;
@@ -328,17 +311,17 @@ void UpdateBlock(AdmmState& st, std::size_t block, const std::vector<double>& om
       c.f_im = sp.f_im.data() + c0;
       c.l_re = st.use_lambda ? st.l_re.data() + c0 : nullptr;
       c.l_im = st.use_lambda ? st.l_im.data() + c0 : nullptr;
-      c.prev_re = (k == 0 ? st.old_re : st.new_re) + prev;
-      c.prev_im = (k == 0 ? st.old_im : st.new_im) + prev;
-      c.old_re = st.old_re + kk;
-      c.old_im = st.old_im + kk;
+      c.prev_re = (k == 0 ? io.src_re : io.dst_re) + prev;
+      c.prev_im = (k == 0 ? io.src_im : io.dst_im) + prev;
+      c.old_re = io.src_re + kk;
+      c.old_im = io.src_im + kk;
       c.s_re = st.s_re.data() + c0;
       c.s_im = st.s_im.data() + c0;
-      c.u_re = st.new_re + kk;
-      c.u_im = st.new_im + kk;
+      c.u_re = io.dst_re + kk;
+      c.u_im = io.dst_im + kk;
       vmd_internal::UpdateModeChunk(c, c1 - c0, om[k], st.opt.alpha, bs[k]);  // Eq. (4)
     }
-    if (st.use_lambda) DualAscent(st, c0, c1);  // Eq. (6)
+    if (st.use_lambda) DualAscent(st, io.dst_re, io.dst_im, c0, c1);  // Eq. (6)
   }
 }
 
@@ -380,32 +363,86 @@ double SignalUnits(const AdmmState& st, double u) {
   return std::min(std::ldexp(u, 2 * st.scale_exp), std::numeric_limits<double>::max());
 }
 
+// Whether update n+1 (about to run) must keep update n, i.e. run into the second array instead of
+// in place: the reference returns the iterate before the one that meets the rule. Certain for the
+// last update the cap allows and from `keep_from` on; otherwise predicted: the rule's value has
+// fallen by `ratio` (<= 1) in the last update; keep when kLookaheadSteps more such falls would
+// meet tol. A wrong prediction (the rule met by an in-place update) is caught by RunAdmm's caller,
+// which runs the iteration again with keep_from set (same bits: the run is deterministic).
+bool KeepPrevious(const AdmmState& st, double previous_value, int keep_from) {
+  if (st.opt.return_last_iterate) return false;
+  const int next = st.n + 1;
+  if (next >= st.opt.max_iterations - 1 || next >= keep_from) return true;
+  if (!std::isfinite(previous_value)) return false;  // no fall measured yet
+  const double ratio = std::min(1.0, st.u_diff / previous_value);
+  return st.u_diff * std::pow(ratio, st.lookahead_steps) <= st.tol_norm;
+}
+
+// VmdOptions::omega_extrapolation_period: the Aitken limit of each w_k's last three values
+// (w0 = older, w1 = w_prev, w2 = st.omega), applied in place to st.omega when the sequence
+// contracts geometrically.
+constexpr double kMaxExtrapolationRatio = 0.995;
+void ExtrapolateCenterFrequencies(AdmmState& st, const std::vector<double>& older) {
+  for (int k = 0; k < st.K; ++k) {
+    if (st.opt.dc && k == 0) continue;
+    const double d1 = st.omega_prev[k] - older[k], d2 = st.omega[k] - st.omega_prev[k];
+    if (d1 == 0) continue;
+    const double r = d2 / d1;
+    if (!(r > 0 && r < kMaxExtrapolationRatio)) continue;
+    st.omega[k] = std::clamp(st.omega[k] + d2 * (r / (1 - r)), 0.0, 0.5);
+  }
+}
+
 // The ADMM loop: updates until the stopping rule holds or max_iterations - 1 updates were run
-// (vmdpy's Niter convention). Afterwards `old_*` hold update n and `new_*` update n-1.
-void RunAdmm(AdmmState& st, int threads) {
+// (vmdpy's Niter convention). Afterwards `cur_*` hold update n and, when has_previous, `prev_*`
+// update n-1. Updates run in place (one iterate: a third less memory traffic) except those that
+// KeepPrevious says must keep their predecessor.
+void RunAdmm(AdmmState& st, int threads, int keep_from) {
   const VmdOptions& opt = st.opt;
   // vmdpy starts from uDiff = tol + eps to enter the loop; with tol >= 1 squared signal units eps
   // is absorbed and it returns its all-zero initial modes. Here the first update always runs.
   st.u_diff = std::numeric_limits<double>::infinity();
+  double previous_value = st.u_diff;
   st.n = 0;
+  st.has_previous = false;
   st.omega_prev = st.omega;
-  std::vector<double> om_snapshot;
+  std::vector<double> om_snapshot, omega_older = st.omega;
   WorkerPool pool(threads);
   const std::size_t num_blocks = st.num_blocks;
+  IterateBuffers io{};
   const std::function<void(int)> round = [&](int t) {
     const std::size_t b0 = num_blocks * t / threads;
     const std::size_t b1 = num_blocks * (t + 1) / threads;
-    for (std::size_t b = b0; b < b1; ++b) UpdateBlock(st, b, om_snapshot);
+    for (std::size_t b = b0; b < b1; ++b) UpdateBlock(st, io, b, om_snapshot);
   };
   while (st.u_diff > st.tol_norm && st.n < opt.max_iterations - 1) {
+    const bool keep = KeepPrevious(st, previous_value, keep_from);
+    io = {st.cur_re, st.cur_im, st.cur_re, st.cur_im};
+    if (keep) {
+      st.AllocateSecondIterate();
+      double* other_re = st.cur_re == st.ua_re.data() ? st.ub_re.data() : st.ua_re.data();
+      double* other_im = st.cur_im == st.ua_im.data() ? st.ub_im.data() : st.ua_im.data();
+      io.dst_re = other_re;
+      io.dst_im = other_im;
+    }
     om_snapshot = st.omega;
     pool.Run(round);
+    omega_older.swap(st.omega_prev);
     st.omega_prev = st.omega;
+    previous_value = st.u_diff;
     st.u_diff = UpdateCenterFrequencies(st);
     ++st.n;
-    std::swap(st.old_re, st.new_re);
-    std::swap(st.old_im, st.new_im);
-    if (opt.on_iteration) opt.on_iteration(st.n, SignalUnits(st, st.u_diff));
+    if (st.extrapolation_period && st.n >= 3 && st.n % *st.extrapolation_period == 0) {
+      ExtrapolateCenterFrequencies(st, omega_older);
+    }
+    st.has_previous = keep;
+    if (keep) {
+      st.prev_re = st.cur_re;
+      st.prev_im = st.cur_im;
+      st.cur_re = io.dst_re;
+      st.cur_im = io.dst_im;
+    }
+    if (opt.on_iteration && st.n > st.report_after) opt.on_iteration(st.n, SignalUnits(st, st.u_diff));
   }
 }
 
@@ -451,75 +488,36 @@ Result<std::vector<std::vector<double>>> ReconstructModes(VmdSpectrum& sp, const
   return modes;
 }
 
-}  // namespace
-
-bool VmdOptions::IsValid(std::string* error) const {
-  auto fail = [&](const std::string& field, const std::string& value, const char* what) {
-    if (error) *error = "VmdOptions::" + field + " = " + value + ": " + what;
-    return false;
-  };
-  auto str = [](double v) {
-    std::ostringstream os;
-    os << v;
-    return os.str();
-  };
-  if (num_modes < 1) return fail("num_modes", std::to_string(num_modes), "must be >= 1");
-  if (!(alpha > 0) || !std::isfinite(alpha)) return fail("alpha", str(alpha), "must be > 0 and finite");
-  if (!(tau >= 0) || !std::isfinite(tau)) return fail("tau", str(tau), "must be >= 0 and finite");
-  if (!(tol > 0) || !std::isfinite(tol)) return fail("tol", str(tol), "must be > 0 and finite");
-  if (initial_center_frequencies) {
-    if (initial_center_frequencies->size() != static_cast<std::size_t>(num_modes)) {
-      return fail("initial_center_frequencies", std::to_string(initial_center_frequencies->size()) + " values",
-                  "must hold num_modes values");
-    }
-    for (double w : *initial_center_frequencies) {
-      if (!(w >= 0 && w <= 0.5)) return fail("initial_center_frequencies", str(w), "must be in [0, 0.5] cycles per sample");
-    }
+// A fresh ADMM state on the spectrum, iterated (RunAdmm with the given keep_from; on_iteration
+// only for updates after report_after).
+std::unique_ptr<AdmmState> IterateAdmm(const VmdSpectrum& sp, const VmdOptions& opt, int threads,
+                                       double lookahead_steps, int keep_from, int report_after) {
+  auto st = std::make_unique<AdmmState>(sp, opt);
+  st->scale_exp = sp.scale_exp;
+  const bool absolute = opt.stopping_rule == VmdStoppingRule::kAbsolute;
+  st->tol_norm = absolute ? std::ldexp(opt.tol, -2 * sp.scale_exp) : opt.tol;
+  // vmdpy's np.spacing(1) guard of the absolute rule, taken in the normalised units (i.e. relative
+  // to the signal's scale) so that the rule is scale-free: for a signal with max |x| in [1, 2) it
+  // is vmdpy's; otherwise it differs from vmdpy's by less than eps * max|x|^2 squared units.
+  st->eps_norm = std::numeric_limits<double>::epsilon();
+  st->omega = InitialCenterFrequencies(opt, sp.n_even);
+  st->lookahead_steps = lookahead_steps;
+  if (opt.omega_extrapolation_period && sp.n_in >= opt.omega_extrapolation_min_samples) {
+    st->extrapolation_period = opt.omega_extrapolation_period;
   }
-  if (max_iterations < 2) return fail("max_iterations", std::to_string(max_iterations), "must be >= 2");
-  if (!(fs_hz > 0) || !std::isfinite(fs_hz)) return fail("fs_hz", str(fs_hz), "must be > 0 and finite");
-  if (num_threads && *num_threads < 1) {
-    return fail("num_threads", std::to_string(*num_threads), "must be >= 1 when set");
-  }
-  return true;
-}
-
-std::string VmdSummary::BriefReport() const {
-  std::ostringstream os;
-  os.precision(4);
-  os << "VMD K=" << num_modes << " N=" << num_samples << ": "
-     << (converged ? "converged after " : "did not converge in ") << iterations
-     << " iterations (update " << final_update << (converged ? " <= tol" : " > tol") << ") in "
-     << elapsed_s << " s on " << threads_used << " thread(s); centre frequencies [Hz]:";
-  for (double f : center_frequency_hz) os << " " << f;
-  return os.str();
-}
-
-namespace {
-
-// Bounds K by what the record can support, before anything is allocated: a mode needs frequency
-// bins to live on (the one-sided spectrum holds about N of them, so K <= N / 2 leaves each mode
-// two bins at least), and the working set (two complex iterates and the accumulator per mode and
-// bin, plus the K x N modes returned: ~56 K N bytes) must fit `max_memory_bytes`.
-Status CheckProblemSize(const VmdOptions& opt, std::size_t n) {
-  const auto K = static_cast<std::size_t>(opt.num_modes);
-  if (K > n / 2)
-    return InvalidArgument("VmdOptions::num_modes = " + std::to_string(K) + ": a record of " + std::to_string(n) +
-                           " samples holds at most " + std::to_string(n / 2) + " modes (N / 2)");
-  const double bytes = 56.0 * static_cast<double>(K) * static_cast<double>(n);
-  if (bytes > static_cast<double>(opt.max_memory_bytes)) {
-    std::ostringstream os;
-    os.precision(3);
-    os << "VMD of K = " << K << " modes on " << n << " samples needs " << bytes / (1u << 30) << " GB; at most "
-       << static_cast<double>(opt.max_memory_bytes) / (1u << 30) << " allowed (VmdOptions::max_memory_bytes)";
-    return InvalidArgument(os.str());
-  }
-  return {};
+  st->report_after = report_after;
+  RunAdmm(*st, threads, keep_from);
+  return st;
 }
 
 }  // namespace
 
 Result<VmdResult> DecomposeVmd(std::span<const double> signal, const VmdOptions& opt) {
+  return vmd_internal::DecomposeVmdTuned(signal, opt, kLookaheadSteps, nullptr);
+}
+
+Result<VmdResult> vmd_internal::DecomposeVmdTuned(std::span<const double> signal, const VmdOptions& opt,
+                                                  double lookahead_steps, int* reruns) {
   const auto start = std::chrono::steady_clock::now();
   std::string why;
   if (!opt.IsValid(&why)) return InvalidArgument(why);
@@ -539,24 +537,25 @@ Result<VmdResult> DecomposeVmd(std::span<const double> signal, const VmdOptions&
   if (!spectrum.ok()) return spectrum.error();
   VmdSpectrum& sp = *spectrum;
 
-  AdmmState st(sp, opt);
-  st.scale_exp = sp.scale_exp;
-  const bool absolute = opt.stopping_rule == VmdStoppingRule::kAbsolute;
-  st.tol_norm = absolute ? std::ldexp(opt.tol, -2 * sp.scale_exp) : opt.tol;
-  // vmdpy's np.spacing(1) guard of the absolute rule, taken in the normalised units (i.e. relative
-  // to the signal's scale) so that the rule is scale-free: for a signal with max |x| in [1, 2) it
-  // is vmdpy's; otherwise it differs from vmdpy's by less than eps * max|x|^2 squared units.
-  st.eps_norm = std::numeric_limits<double>::epsilon();
-  st.omega = InitialCenterFrequencies(opt, sp.n_even);
-  const int threads = ChooseThreads(opt, static_cast<std::size_t>(K) * sp.H, st.num_blocks);
-  RunAdmm(st, threads);
+  const int threads = ChooseThreads(opt, static_cast<std::size_t>(K) * sp.H, (sp.H + kBlockBins - 1) / kBlockBins);
+  std::unique_ptr<AdmmState> run = IterateAdmm(sp, opt, threads, lookahead_steps, std::numeric_limits<int>::max(), 0);
+  if (run->NeedsRerun()) {
+    // The rule was met by an in-place update: run again (deterministic: the same bits), keeping
+    // from that update on. on_iteration is not called again for the updates already reported.
+    const int keep_from = run->n;
+    if (reruns) ++*reruns;
+    run.reset();
+    run = IterateAdmm(sp, opt, threads, lookahead_steps, keep_from, keep_from);
+  }
+  AdmmState& st = *run;
 
-  // `old_*` hold update n and `new_*` update n-1 (or zeros when n = 1... the reference then
-  // returns its all-zero initial iterate too).
+  // `cur_*` hold update n and `prev_*` update n-1 (zeros when n = 1: the reference then returns
+  // its all-zero initial iterate too).
   const bool last = opt.return_last_iterate;
-  const double* out_re = last ? st.old_re : st.new_re;
-  const double* out_im = last ? st.old_im : st.new_im;
+  const double* out_re = last ? st.cur_re : st.prev_re;
+  const double* out_im = last ? st.cur_im : st.prev_im;
   const std::vector<double>& out_omega = last ? st.omega : st.omega_prev;
+  st.ReleaseAllBut(out_re);
 
   VmdResult result;
   Result<std::vector<std::vector<double>>> modes = ReconstructModes(sp, out_re, out_im, K, n_in, threads);
@@ -582,6 +581,7 @@ Result<VmdResult> DecomposeVmd(std::span<const double> signal, const VmdOptions&
   s.fs_hz = opt.fs_hz;
   for (double w : out_omega) s.center_frequency_hz.push_back(w * opt.fs_hz);
   s.threads_used = threads;
+  s.omega_extrapolation_period = st.extrapolation_period;
   s.elapsed_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }

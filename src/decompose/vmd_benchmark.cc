@@ -57,18 +57,24 @@ BENCHMARK(BM_Vmd)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
-// The kernel alone, one thread: K = 6 modes over H bins, all modes per 256-bin chunk as
-// DecomposeVmd walks them. H = 20,000 (N = 20k: the iterates, 3.8 MB, stream from L2/L3) and
-// H = 1,000,000 (memory-bound: 192 MB of iterates per iteration).
+// The kernel alone, one thread, K = 6 modes over H bins in 256-bin chunks as DecomposeVmd walks
+// them. Second argument: 0 = the bin-major kernel updating the iterate in place (DecomposeVmd's
+// path for K <= 8: per bin-update 16 bytes of the iterate read and 16 written back), 1 = the
+// mode-major kernel with two iterates (the path for K > 8, and the kernel before issue 13's second
+// session: 16 bytes read, 16 written to another array). H = 20,000 (N = 20k: the in-place iterate,
+// 1.9 MB, lives in L2/L3) and H = 1,000,000 (memory-bound: 96 MB of iterate per pass).
+// ns_per_bin_update and bytes_per_second use the wall time; on a loaded machine divide the CPU
+// time by K H instead.
 void BM_VmdKernel(benchmark::State& state) {
   using namespace gyrocomp::vmd_internal;
   const std::size_t H = static_cast<std::size_t>(state.range(0));
+  const bool mode_major = state.range(1) == 1;
   const int K = 6;
   const std::size_t KH = K * H;
   std::mt19937 rng(1);
   std::normal_distribution<double> g(0, 1);
   std::vector<double> freq(H), f_re(H), f_im(H), s_re(H, 0), s_im(H, 0);
-  std::vector<double> a_re(KH), a_im(KH), b_re(KH, 0), b_im(KH, 0);
+  std::vector<double> a_re(KH), a_im(KH), b_re(mode_major ? KH : 0, 0), b_im(mode_major ? KH : 0, 0);
   for (std::size_t j = 0; j < H; ++j) {
     freq[j] = 0.5 * j / H;
     f_re[j] = g(rng);
@@ -78,18 +84,25 @@ void BM_VmdKernel(benchmark::State& state) {
     a_re[j] = g(rng);
     a_im[j] = g(rng);
   }
+  const double omega[K] = {0.0, 0.05, 0.1, 0.15, 0.2, 0.25};
   std::vector<LaneSums> sums(K);
   for (auto _ : state) {
     for (auto& s : sums) s.Clear();
     for (std::size_t c0 = 0; c0 < H; c0 += 256) {
       const std::size_t n = std::min<std::size_t>(256, H - c0);
+      if (!mode_major) {
+        BinChunk c{freq.data() + c0, nullptr, nullptr, f_re.data() + c0, f_im.data() + c0, a_re.data() + c0,
+                   a_im.data() + c0, a_re.data() + c0, a_im.data() + c0, H};
+        UpdateBinChunk(c, n, K, omega, 2000.0, true, false, sums.data());
+        continue;
+      }
       for (int k = 0; k < K; ++k) {
         const std::size_t kk = k * H + c0, prev = (k == 0 ? (K - 1) * H : kk - H) + (k == 0 ? c0 : 0);
         ModeChunk c{freq.data() + c0, f_re.data() + c0, f_im.data() + c0, nullptr, nullptr,
                     (k == 0 ? a_re.data() : b_re.data()) + prev, (k == 0 ? a_im.data() : b_im.data()) + prev,
                     a_re.data() + kk, a_im.data() + kk, s_re.data() + c0, s_im.data() + c0,
                     b_re.data() + kk, b_im.data() + kk};
-        UpdateModeChunk(c, n, 0.05 * k, 2000.0, sums[k]);
+        UpdateModeChunk(c, n, omega[k], 2000.0, sums[k]);
       }
     }
     benchmark::DoNotOptimize(sums.data());
@@ -100,26 +113,31 @@ void BM_VmdKernel(benchmark::State& state) {
       static_cast<double>(KH) * state.iterations() * 1e-9, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
   state.SetBytesProcessed(static_cast<int64_t>(state.iterations()) * KH * 4 * sizeof(double));
 }
-BENCHMARK(BM_VmdKernel)->Arg(20000)->Arg(1000000)->UseRealTime();
+BENCHMARK(BM_VmdKernel)->Args({20000, 0})->Args({20000, 1})->Args({1000000, 0})->Args({1000000, 1})->UseRealTime();
 
-// The machine's streaming bandwidth for the kernel's memory pattern at H = 1,000,000: per
-// bin-update the kernel reads the previous iterate of a mode (re, im) and writes the new one
-// (re, im), 32 bytes; here the same arrays are copied with a trivial operation (y = x + 1), so
-// the kernel's bytes_per_second can be set against it ("within 1.5x of the memory bandwidth").
+// The machine's streaming bandwidth for the kernel's memory patterns, n = 6,000,000 doubles per
+// array (the K H = 6 x 10^6 of the N = 1M kernel case). Argument 0: in place, re and im arrays
+// each read and written back (y = y + 1; the bin-major kernel's pattern); 1: two arrays read, two
+// others written (y = x + 1; the mode-major kernel's pattern). Both count 32 bytes per element
+// pair, as BM_VmdKernel does per bin-update, so their bytes_per_second compare directly
+// ("within 1.5x of the memory bandwidth").
 void BM_MemoryStream(benchmark::State& state) {
-  const std::size_t n = static_cast<std::size_t>(state.range(0));
-  std::vector<double> a_re(n, 1.0), a_im(n, 2.0), b_re(n, 0.0), b_im(n, 0.0);
+  const std::size_t n = 6000000;
+  const bool two_arrays = state.range(0) == 1;
+  std::vector<double> a_re(n, 1.0), a_im(n, 2.0), b_re(two_arrays ? n : 0, 0.0), b_im(two_arrays ? n : 0, 0.0);
+  double* out_re = two_arrays ? b_re.data() : a_re.data();
+  double* out_im = two_arrays ? b_im.data() : a_im.data();
   for (auto _ : state) {
     for (std::size_t i = 0; i < n; ++i) {
-      b_re[i] = a_re[i] + 1.0;
-      b_im[i] = a_im[i] + 1.0;
+      out_re[i] = a_re[i] + 1.0;
+      out_im[i] = a_im[i] + 1.0;
     }
-    benchmark::DoNotOptimize(b_re.data());
-    benchmark::DoNotOptimize(b_im.data());
+    benchmark::DoNotOptimize(out_re);
+    benchmark::DoNotOptimize(out_im);
     benchmark::ClobberMemory();
   }
   state.SetBytesProcessed(static_cast<int64_t>(state.iterations()) * n * 4 * sizeof(double));
 }
-BENCHMARK(BM_MemoryStream)->Arg(6000000)->UseRealTime();
+BENCHMARK(BM_MemoryStream)->Arg(0)->Arg(1)->UseRealTime();
 
 }  // namespace

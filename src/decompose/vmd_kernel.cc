@@ -8,6 +8,7 @@
 // so the paths give bit-identical results.
 #include "vmd_kernel.h"
 
+#include <cmath>
 #include <cstring>
 
 namespace gyrocomp::vmd_internal {
@@ -84,6 +85,169 @@ inline __attribute__((always_inline)) void UpdateChunk(const ModeChunk& c, std::
   for (std::size_t l = 0; i < n; ++i, ++l) UpdateBin<kLambda>(c, i, l, wk, alpha, acc);
 }
 
+// ---- bin-major kernel: all modes of a vector of bins --------------------------------------------
+
+#define GYROCOMP_INLINE inline __attribute__((always_inline))
+
+GYROCOMP_INLINE void Ld(Vec& v, const double* p) { v = Load(p); }
+GYROCOMP_INLINE void Ld(double& v, const double* p) { v = *p; }
+GYROCOMP_INLINE void St(double* p, Vec v) { Store(p, v); }
+GYROCOMP_INLINE void St(double* p, double v) { *p = v; }
+
+// Accumulators of one mode (kLanes lanes as a Vec, or one lane as a double in the tail).
+template <class V>
+struct ModeAcc {
+  V fp, p, df, op;
+};
+
+// Eq. (4) denominators D_k = 1 + alpha (freq - omega_k)^2 and their reciprocals: batch inversion
+// (vmd_kernel.h) or, when it could overflow, one division each.
+template <class V, int K>
+GYROCOMP_INLINE void Reciprocals(V freq, const double (&omega)[K], double alpha, bool batch, V (&rcp)[K]) {
+  V D[K];
+  for (int k = 0; k < K; ++k) {
+    const V d = freq - omega[k];
+    D[k] = 1.0 + alpha * (d * d);
+  }
+  if (!batch) {
+    for (int k = 0; k < K; ++k) rcp[k] = 1.0 / D[k];
+    return;
+  }
+  V P[K];  // prefix products
+  P[0] = D[0];
+  for (int k = 1; k < K; ++k) P[k] = P[k - 1] * D[k];
+  V inv = 1.0 / P[K - 1];  // the one division
+  for (int k = K - 1; k > 0; --k) {
+    rcp[k] = inv * P[k - 1];
+    inv = inv * D[k];
+  }
+  rcp[0] = inv;
+}
+
+// Bins i .. i + width(V) - 1, every mode in Gauss-Seidel order. Eq. (4) as UpdateBin, except that
+// the running quantity is the residual r = f - sum_uk (updated as r <- (r - u_{k-1}) + u_k^old),
+// which saves the subtraction f - sum_uk: two fewer additions per bin-update.
+template <class V, int K, bool kLambda, bool kRelative>
+GYROCOMP_INLINE void BinStep(const BinChunk& c, std::size_t i, const double (&omega)[K], double alpha, bool batch,
+                             ModeAcc<V> (&acc)[K]) {
+  V freq, r_re, r_im, pr, pi;
+  Ld(freq, c.freq + i);
+  Ld(r_re, c.r_re + i);
+  Ld(r_im, c.r_im + i);
+  V rcp[K];
+  Reciprocals<V, K>(freq, omega, alpha, batch, rcp);
+  Ld(pr, c.src_re + (K - 1) * c.stride + i);  // mode 0's predecessor: mode K-1 of the last update
+  Ld(pi, c.src_im + (K - 1) * c.stride + i);
+  for (int k = 0; k < K; ++k) {
+    const std::size_t at = k * c.stride + i;
+    V o_re, o_im;
+    Ld(o_re, c.src_re + at);
+    Ld(o_im, c.src_im + at);
+    r_re = (r_re - pr) + o_re;  // f - sum_uk
+    r_im = (r_im - pi) + o_im;
+    V nr = r_re, ni = r_im;
+    if constexpr (kLambda) {
+      V l_re, l_im;
+      Ld(l_re, c.l_re + i);
+      Ld(l_im, c.l_im + i);
+      nr = nr - l_re * 0.5;
+      ni = ni - l_im * 0.5;
+    }
+    const V ur = nr * rcp[k], ui = ni * rcp[k];  // Eq. (4)
+    St(c.dst_re + at, ur);
+    St(c.dst_im + at, ui);
+    const V pw = ur * ur + ui * ui;
+    acc[k].fp += freq * pw;  // Eq. (5) numerator
+    acc[k].p += pw;          // Eq. (5) denominator
+    const V dr = ur - o_re, di = ui - o_im;
+    acc[k].df += dr * dr + di * di;  // stopping rule
+    if constexpr (kRelative) acc[k].op += o_re * o_re + o_im * o_im;
+    pr = ur;
+    pi = ui;
+  }
+  St(c.r_re + i, r_re);
+  St(c.r_im + i, r_im);
+}
+
+template <int K, bool kLambda, bool kRelative>
+GYROCOMP_INLINE void BinChunkBody(const BinChunk& chunk, std::size_t n, const double* omega_in, double alpha,
+                                  bool batch, LaneSums* sums) {
+  const BinChunk c = chunk;  // a local copy: the compiler need not reload the pointers after stores
+  double omega[K];
+  for (int k = 0; k < K; ++k) omega[k] = omega_in[k];
+  ModeAcc<Vec> acc[K];
+  for (int k = 0; k < K; ++k) {
+    acc[k] = {Load(sums[k].freq_power), Load(sums[k].power), Load(sums[k].diff), Load(sums[k].old_power)};
+  }
+  std::size_t i = 0;
+  for (; i + kLanes <= n; i += kLanes) BinStep<Vec, K, kLambda, kRelative>(c, i, omega, alpha, batch, acc);
+  for (int k = 0; k < K; ++k) {
+    Store(sums[k].freq_power, acc[k].fp);
+    Store(sums[k].power, acc[k].p);
+    Store(sums[k].diff, acc[k].df);
+    Store(sums[k].old_power, acc[k].op);
+  }
+  for (std::size_t l = 0; i < n; ++i, ++l) {  // tail: bin i in lane l, the same operations
+    ModeAcc<double> a[K];
+    for (int k = 0; k < K; ++k) a[k] = {sums[k].freq_power[l], sums[k].power[l], sums[k].diff[l], sums[k].old_power[l]};
+    BinStep<double, K, kLambda, kRelative>(c, i, omega, alpha, batch, a);
+    for (int k = 0; k < K; ++k) {
+      sums[k].freq_power[l] = a[k].fp;
+      sums[k].power[l] = a[k].p;
+      sums[k].diff[l] = a[k].df;
+      sums[k].old_power[l] = a[k].op;
+    }
+  }
+}
+
+using BinFn = void (*)(const BinChunk&, std::size_t, const double*, double, bool, LaneSums*);
+
+template <int K, bool kLambda, bool kRelative>
+__attribute__((target("avx512f"))) void BinAvx512f(const BinChunk& c, std::size_t n, const double* omega, double alpha,
+                                                   bool batch, LaneSums* sums) {
+  BinChunkBody<K, kLambda, kRelative>(c, n, omega, alpha, batch, sums);
+}
+template <int K, bool kLambda, bool kRelative>
+__attribute__((target("avx2"))) void BinAvx2(const BinChunk& c, std::size_t n, const double* omega, double alpha,
+                                             bool batch, LaneSums* sums) {
+  BinChunkBody<K, kLambda, kRelative>(c, n, omega, alpha, batch, sums);
+}
+template <int K, bool kLambda, bool kRelative>
+void BinBaseline(const BinChunk& c, std::size_t n, const double* omega, double alpha, bool batch, LaneSums* sums) {
+  BinChunkBody<K, kLambda, kRelative>(c, n, omega, alpha, batch, sums);
+}
+
+template <int K, bool kLambda, bool kRelative>
+BinFn SelectBinPath(KernelPath path) {
+  switch (path) {
+    case KernelPath::kAvx512f: return BinAvx512f<K, kLambda, kRelative>;
+    case KernelPath::kAvx2: return BinAvx2<K, kLambda, kRelative>;
+    case KernelPath::kBaseline: break;
+  }
+  return BinBaseline<K, kLambda, kRelative>;
+}
+
+template <int K>
+BinFn SelectBinK(KernelPath path, bool lambda, bool relative) {
+  if (lambda) return relative ? SelectBinPath<K, true, true>(path) : SelectBinPath<K, true, false>(path);
+  return relative ? SelectBinPath<K, false, true>(path) : SelectBinPath<K, false, false>(path);
+}
+
+BinFn SelectBin(KernelPath path, int K, bool lambda, bool relative) {
+  static_assert(kMaxModesAtOnce == 8, "SelectBin lists K = 1 .. 8");
+  switch (K) {
+    case 1: return SelectBinK<1>(path, lambda, relative);
+    case 2: return SelectBinK<2>(path, lambda, relative);
+    case 3: return SelectBinK<3>(path, lambda, relative);
+    case 4: return SelectBinK<4>(path, lambda, relative);
+    case 5: return SelectBinK<5>(path, lambda, relative);
+    case 6: return SelectBinK<6>(path, lambda, relative);
+    case 7: return SelectBinK<7>(path, lambda, relative);
+    case 8: return SelectBinK<8>(path, lambda, relative);
+    default: return nullptr;
+  }
+}
+
 }  // namespace
 
 void LaneSums::Clear() {
@@ -152,6 +316,22 @@ void UpdateModeChunk(const ModeChunk& c, std::size_t n, double omega_k, double a
   static const ChunkFn with_lambda = Select(BestPath(), true);
   static const ChunkFn without_lambda = Select(BestPath(), false);
   (c.l_re != nullptr ? with_lambda : without_lambda)(c, n, omega_k, alpha, sums);
+}
+
+bool BatchInversionSafe(int num_modes, double alpha) {
+  // |freq - omega| <= 0.5 cycles per sample, so D_k <= 1 + alpha / 4 and P <= (1 + alpha / 4)^K.
+  return num_modes * std::log2(1.0 + alpha * 0.25) < 1000.0;
+}
+
+void UpdateBinChunkOn(KernelPath path, const BinChunk& c, std::size_t n, int num_modes, const double* omega,
+                      double alpha, bool batch_inversion, bool relative, LaneSums* sums) {
+  SelectBin(path, num_modes, c.l_re != nullptr, relative)(c, n, omega, alpha, batch_inversion, sums);
+}
+
+void UpdateBinChunk(const BinChunk& c, std::size_t n, int num_modes, const double* omega, double alpha,
+                    bool batch_inversion, bool relative, LaneSums* sums) {
+  static const KernelPath best = BestPath();
+  UpdateBinChunkOn(best, c, n, num_modes, omega, alpha, batch_inversion, relative, sums);
 }
 
 const char* KernelIsa() {

@@ -8,8 +8,15 @@
 #pragma once
 
 #include <cstddef>
+#include <span>
+#include <vector>
+
+#include "gyrocomp/decompose/vmd.h"
 
 namespace gyrocomp::vmd_internal {
+
+// The compiled paths, for tests that check they agree bit for bit.
+enum class KernelPath { kBaseline, kAvx2, kAvx512f };
 
 // Lanes of the partial sums (one 512-bit vector, two 256-bit or four 128-bit ones).
 constexpr std::size_t kLanes = 8;
@@ -52,15 +59,71 @@ struct ModeChunk {
 // AVX2 or the x86-64 baseline); all give the same bits.
 void UpdateModeChunk(const ModeChunk& c, std::size_t n, double omega_k, double alpha, LaneSums& sums);
 
+// ---- all modes of a bin at once (K <= kMaxModesAtOnce) -----------------------------------------
+//
+// The same Eq. (4) and sums as UpdateModeChunk, walked bin-major: for each vector of kLanes bins,
+// every mode in Gauss-Seidel order, so that the accumulator, the spectrum, lambda and mode k-1
+// stay in registers; per bin-update only the previous iterate of mode k is loaded and the new one
+// stored. The K reciprocals of a bin come from one division (batch inversion, below). Per mode,
+// bin i still goes to lane i mod kLanes in increasing i, so the sums are those of the mode-major
+// walk of the same values.
+constexpr int kMaxModesAtOnce = 8;
+
+// The bins [0, n) of one chunk for all modes (pointers already offset to the chunk start; mode k
+// at + k * stride). src and dst may be the same arrays (in-place update: every load of a bin
+// precedes its store, and mode K-1's old value is read as mode 0's predecessor before it is
+// overwritten).
+struct BinChunk {
+  const double* freq;
+  const double* l_re;  // nullptr when tau = 0
+  const double* l_im;
+  double* r_re;        // residual f - sum_uk (updated in place; f_hat_plus before the first update)
+  double* r_im;
+  const double* src_re;  // previous iterate, mode 0
+  const double* src_im;
+  double* dst_re;        // new iterate, mode 0
+  double* dst_im;
+  std::size_t stride;    // distance between modes (H)
+};
+
+// Reciprocals of the K denominators of Eq. (4), D_k = 1 + alpha (freq - omega_k)^2 (all >= 1), by
+// batch inversion: prefix products P_k = D_0 ... D_k, one division 1 / P_{K-1}, then backwards
+// rcp_k = inv P_{k-1}, inv <- inv D_k: 3 (K-1) multiplications and one division instead of K
+// divisions; each rcp_k within ~3K roundings of 1 / D_k. When P could overflow (alpha so large
+// that (1 + alpha / 4)^K > 2^1000), every reciprocal is a direct division instead.
+bool BatchInversionSafe(int num_modes, double alpha);
+
+// Eq. (4) and the Eq. (5) / stopping-rule sums for all K (<= kMaxModesAtOnce) modes on n bins;
+// sums[k] receives mode k. The running quantity is the residual r = f - sum_uk, updated per mode
+// as r <- (r - u_{k-1}) + u_k^old (one subtraction fewer than keeping sum_uk). batch_inversion:
+// pass BatchInversionSafe(num_modes, alpha). old_power (Eq. 7's denominator) is summed only when
+// `relative`.
+void UpdateBinChunk(const BinChunk& c, std::size_t n, int num_modes, const double* omega, double alpha,
+                    bool batch_inversion, bool relative, LaneSums* sums);
+void UpdateBinChunkOn(KernelPath path, const BinChunk& c, std::size_t n, int num_modes, const double* omega,
+                      double alpha, bool batch_inversion, bool relative, LaneSums* sums);
+
 // The instruction set the dispatcher picks on this machine ("avx512f", "avx2", "baseline"), for
 // benchmark and log output.
 const char* KernelIsa();
 
-// The compiled paths, for tests that check they agree bit for bit.
-enum class KernelPath { kBaseline, kAvx2, kAvx512f };
 bool KernelPathSupported(KernelPath path);
 // UpdateModeChunk on the given path (which must be supported by this CPU).
 void UpdateModeChunkOn(KernelPath path, const ModeChunk& c, std::size_t n, double omega_k, double alpha,
                        LaneSums& sums);
+
+// ---- helpers of DecomposeVmd (vmd_options.cc) ----------------------------------------------------
+
+// Initial centre frequencies (cycles per sample): uniform, random (vmdpy's init = 2), zero, or
+// VmdOptions::initial_center_frequencies; n_even = the even working length.
+std::vector<double> InitialCenterFrequencies(const VmdOptions& opt, std::size_t n_even);
+// Refuses a K the record cannot hold (K > N / 2) or a working set above max_memory_bytes.
+Status CheckProblemSize(const VmdOptions& opt, std::size_t n);
+
+// DecomposeVmd with its in-place prediction horizon exposed (vmd.cc: KeepPrevious; DecomposeVmd
+// uses 4). lookahead_steps = 0 never predicts, so every converged run is run a second time:
+// tests use it to check that the rerun gives the same bits. *reruns (if given) counts reruns.
+Result<VmdResult> DecomposeVmdTuned(std::span<const double> signal, const VmdOptions& opt, double lookahead_steps,
+                                    int* reruns);
 
 }  // namespace gyrocomp::vmd_internal

@@ -6,6 +6,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <random>
 #include <string>
 #include <vector>
@@ -92,6 +95,169 @@ TEST(VmdKernel, EveryCompiledPathEqualsTheScalarDefinitionBitForBit) {
     }
   }
   EXPECT_GE(paths_run, 1);
+}
+
+// ---- the bin-major kernel (all modes of a bin) -------------------------------------------------
+
+struct ModeArrays {
+  std::size_t n, K;
+  std::vector<double> freq, l_re, l_im, r_re, r_im, u_re, u_im;  // u: K x n, mode-major
+  ModeArrays(std::size_t bins, std::size_t modes) : n(bins), K(modes) {
+    std::mt19937 rng(5 + modes);
+    std::normal_distribution<double> g(0, 1);
+    for (auto* v : {&l_re, &l_im, &r_re, &r_im}) {
+      v->resize(n);
+      for (double& x : *v) x = g(rng);
+    }
+    for (auto* v : {&u_re, &u_im}) {
+      v->resize(n * K);
+      for (double& x : *v) x = g(rng);
+    }
+    freq.resize(n);
+    for (std::size_t j = 0; j < n; ++j) freq[j] = 0.5 * j / n;
+  }
+  // In place: src = dst.
+  BinChunk Chunk(bool lambda) {
+    return {freq.data(), lambda ? l_re.data() : nullptr, lambda ? l_im.data() : nullptr, r_re.data(), r_im.data(),
+            u_re.data(), u_im.data(), u_re.data(), u_im.data(), n};
+  }
+};
+
+// The definition, one bin at a time: D_k, the reciprocals (batch inversion as documented in
+// vmd_kernel.h, or direct), then Eq. (4) per mode on the residual r = f - sum_uk.
+void ScalarAllModes(ModeArrays& a, bool lambda, bool relative, bool batch, const std::vector<double>& omega,
+                    double alpha, std::vector<LaneSums>& acc) {
+  const std::size_t K = a.K;
+  for (std::size_t j = 0; j < a.n; ++j) {
+    const std::size_t l = j % kLanes;
+    std::vector<double> D(K), P(K), rcp(K);
+    for (std::size_t k = 0; k < K; ++k) {
+      const double d = a.freq[j] - omega[k];
+      D[k] = 1.0 + alpha * (d * d);
+    }
+    if (batch) {
+      P[0] = D[0];
+      for (std::size_t k = 1; k < K; ++k) P[k] = P[k - 1] * D[k];
+      double inv = 1.0 / P[K - 1];
+      for (std::size_t k = K - 1; k > 0; --k) {
+        rcp[k] = inv * P[k - 1];
+        inv = inv * D[k];
+      }
+      rcp[0] = inv;
+    } else {
+      for (std::size_t k = 0; k < K; ++k) rcp[k] = 1.0 / D[k];
+    }
+    double pr = a.u_re[(K - 1) * a.n + j], pi = a.u_im[(K - 1) * a.n + j];
+    double rr = a.r_re[j], ri = a.r_im[j];
+    for (std::size_t k = 0; k < K; ++k) {
+      const double o_re = a.u_re[k * a.n + j], o_im = a.u_im[k * a.n + j];
+      rr = (rr - pr) + o_re;
+      ri = (ri - pi) + o_im;
+      double nr = rr, ni = ri;
+      if (lambda) {
+        nr = nr - a.l_re[j] * 0.5;
+        ni = ni - a.l_im[j] * 0.5;
+      }
+      const double ur = nr * rcp[k], ui = ni * rcp[k];
+      a.u_re[k * a.n + j] = ur;
+      a.u_im[k * a.n + j] = ui;
+      const double pw = ur * ur + ui * ui;
+      acc[k].freq_power[l] += a.freq[j] * pw;
+      acc[k].power[l] += pw;
+      const double dr = ur - o_re, di = ui - o_im;
+      acc[k].diff[l] += dr * dr + di * di;
+      if (relative) acc[k].old_power[l] += o_re * o_re + o_im * o_im;
+      pr = ur;
+      pi = ui;
+    }
+    a.r_re[j] = rr;
+    a.r_im[j] = ri;
+  }
+}
+
+TEST(VmdKernel, BinMajorPathsEqualTheScalarDefinitionBitForBitForEveryK) {
+  const std::size_t n = 1021;  // 127 full vectors and a tail of 5
+  int paths_run = 0;
+  for (KernelPath path : {KernelPath::kBaseline, KernelPath::kAvx2, KernelPath::kAvx512f}) {
+    const std::string name = path == KernelPath::kBaseline ? "baseline" : path == KernelPath::kAvx2 ? "avx2" : "avx512f";
+    if (!KernelPathSupported(path)) {
+      std::printf("VmdKernel: %s not supported by this CPU, not checked\n", name.c_str());
+      continue;
+    }
+    ++paths_run;
+    for (int K = 1; K <= kMaxModesAtOnce; ++K) {
+      std::vector<double> omega(K);
+      for (int k = 0; k < K; ++k) omega[k] = 0.5 * k / K + 0.01;
+      for (int variant = 0; variant < 8; ++variant) {
+        const bool lambda = variant & 1, relative = variant & 2, batch = variant & 4;
+        SCOPED_TRACE(name + " K=" + std::to_string(K) + " lambda=" + std::to_string(lambda) +
+                     " relative=" + std::to_string(relative) + " batch=" + std::to_string(batch));
+        ModeArrays expect(n, K), got(n, K);
+        std::vector<LaneSums> se(K), sg(K);
+        for (int k = 0; k < K; ++k) se[k].Clear(), sg[k].Clear();
+        ScalarAllModes(expect, lambda, relative, batch, omega, 2000.0, se);
+        UpdateBinChunkOn(path, got.Chunk(lambda), n, K, omega.data(), 2000.0, batch, relative, sg.data());
+        ASSERT_EQ(got.u_re, expect.u_re);
+        ASSERT_EQ(got.u_im, expect.u_im);
+        ASSERT_EQ(got.r_re, expect.r_re);
+        ASSERT_EQ(got.r_im, expect.r_im);
+        for (int k = 0; k < K; ++k) {
+          for (std::size_t l = 0; l < kLanes; ++l) {
+            ASSERT_EQ(sg[k].freq_power[l], se[k].freq_power[l]) << k << " " << l;
+            ASSERT_EQ(sg[k].power[l], se[k].power[l]) << k << " " << l;
+            ASSERT_EQ(sg[k].diff[l], se[k].diff[l]) << k << " " << l;
+            ASSERT_EQ(sg[k].old_power[l], se[k].old_power[l]) << k << " " << l;
+          }
+        }
+      }
+    }
+  }
+  EXPECT_GE(paths_run, 1);
+}
+
+// Batch inversion against one division per reciprocal. Mode 0 isolates the reciprocal: its
+// residual (r - u_{K-1}^old) + u_0^old is computed identically both ways, so u_0 = n rcp_0 differs
+// only through rcp_0, which has the longest chain of the batch: K - 1 prefix products, the
+// division, K - 1 backward products (2K - 1 roundings of <= 2^-53 relative each), plus the
+// rounding of n rcp_0 and of the direct 1 / D_0: |du_0| <= (2K + 1) 2^-53 |u_0| to first order;
+// the bound below doubles it for second-order terms. (Later modes' u differ also through the
+// residual chain, where cancellation can amplify a relative difference: not a reciprocal property.)
+TEST(VmdKernel, BatchInversionAgreesWithDirectDivisionToAFewRoundings) {
+  const std::size_t n = 1024;
+  for (int K : {2, 6, 8}) {
+    std::vector<double> omega(K);
+    for (int k = 0; k < K; ++k) omega[k] = 0.5 * k / K;
+    ModeArrays batch(n, K), direct(n, K);
+    std::vector<LaneSums> sb(K), sd(K);
+    for (int k = 0; k < K; ++k) sb[k].Clear(), sd[k].Clear();
+    UpdateBinChunk(batch.Chunk(false), n, K, omega.data(), 2000.0, true, false, sb.data());
+    UpdateBinChunk(direct.Chunk(false), n, K, omega.data(), 2000.0, false, false, sd.data());
+    const double bound = 2 * (2 * K + 1) * 0x1p-53;
+    double worst = 0;
+    for (std::size_t i = 0; i < n; ++i) {  // mode 0
+      worst = std::max(worst, std::abs(batch.u_re[i] - direct.u_re[i]) / std::abs(direct.u_re[i]));
+      worst = std::max(worst, std::abs(batch.u_im[i] - direct.u_im[i]) / std::abs(direct.u_im[i]));
+    }
+    EXPECT_LE(worst, bound) << "K = " << K;
+    EXPECT_GT(worst, 0) << "K = " << K << ": the two ways should round differently somewhere";
+  }
+}
+
+// The overflow guard: (1 + alpha / 4)^K must stay below 2^1000 for the prefix products.
+TEST(VmdKernel, BatchInversionIsRefusedWhereItsProductsCouldOverflow) {
+  EXPECT_TRUE(BatchInversionSafe(6, 2000.0));
+  EXPECT_TRUE(BatchInversionSafe(8, 1e30));    // (2.5e29)^8 ~ 1.5e235
+  EXPECT_FALSE(BatchInversionSafe(8, 1e40));   // (2.5e39)^8 ~ 1.5e315: overflow
+  EXPECT_FALSE(BatchInversionSafe(2, 1e300));
+  // With the fallback the huge-alpha case stays finite (each mode ~ n / D).
+  const std::size_t n = 64;
+  ModeArrays a(n, 8);
+  std::vector<double> omega(8);
+  for (int k = 0; k < 8; ++k) omega[k] = 0.06 * k;
+  std::vector<LaneSums> s(8);
+  for (auto& x : s) x.Clear();
+  UpdateBinChunk(a.Chunk(false), n, 8, omega.data(), 1e40, BatchInversionSafe(8, 1e40), false, s.data());
+  for (double v : a.u_re) EXPECT_TRUE(std::isfinite(v));
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "test_support.h"
+#include "vmd_kernel.h"
 
 namespace gyrocomp {
 namespace {
@@ -141,18 +142,136 @@ TEST(Vmd, ThreadCountDoesNotChangeResults) {
   std::normal_distribution<double> g(0, 1);
   std::vector<double> x(40000);
   for (std::size_t i = 0; i < x.size(); ++i) x[i] = g(rng) + std::sin(0.001 * i);
-  VmdOptions opt;
-  opt.max_iterations = 20;
-  opt.num_threads = 1;
-  auto a = DecomposeVmd(x, opt);
-  opt.num_threads = 2;
-  auto b = DecomposeVmd(x, opt);
+  // K = 6: the bin-major kernel; K = 9 (> vmd_internal::kMaxModesAtOnce): the mode-major one.
+  for (int K : {6, 9}) {
+    SCOPED_TRACE("K = " + std::to_string(K));
+    VmdOptions opt;
+    opt.num_modes = K;
+    opt.max_iterations = 20;
+    opt.num_threads = 1;
+    auto a = DecomposeVmd(x, opt);
+    opt.num_threads = 2;
+    auto b = DecomposeVmd(x, opt);
+    ASSERT_TRUE(a.ok() && b.ok());
+    EXPECT_EQ(a->summary.iterations, b->summary.iterations);
+    EXPECT_EQ(a->modes, b->modes);  // bit-identical: fixed reduction blocks
+    EXPECT_EQ(a->summary.center_frequency_cycles_per_sample, b->summary.center_frequency_cycles_per_sample);
+    EXPECT_FALSE(a->summary.converged);  // 19 updates are not enough for noise
+    EXPECT_EQ(a->summary.iterations, 19);  // max_iterations - 1 updates (reference Niter)
+  }
+}
+
+// Updates run in place except those predicted to precede the last one (vmd.cc: KeepPrevious);
+// when the prediction misses, the run is repeated keeping from that update on. Horizon 0 never
+// predicts, so every converged run is repeated: it must give exactly the bits of the default run,
+// report each update to on_iteration once, and the golden iteration count; with tau > 0 too.
+TEST(Vmd, InPlaceUpdatesAndTheirRerunGiveTheSameBits) {
+  for (const char* name : {"three_tones_K3", "tones_tau_K3", "gyro_like_K6"}) {
+    SCOPED_TRACE(name);
+    const auto meta = ReadJsonFile(GoldenPath(std::string("vmd/") + name + ".json"));
+    const auto input = ReadGoldenCsv(GoldenPath(std::string("vmd/") + name + ".input.csv")).at("x");
+    VmdOptions opt;
+    const auto& p = meta.at("params");
+    opt.num_modes = p.at("K").get<int>();
+    opt.alpha = p.at("alpha").get<double>();
+    opt.tau = p.at("tau").get<double>();
+    opt.tol = p.at("tol").get<double>();
+    opt.max_iterations = p.at("max_iterations").get<int>();
+    std::vector<int> reported;
+    opt.on_iteration = [&](int n, double) { reported.push_back(n); };
+    int reruns = 0;
+    auto a = DecomposeVmd(input, opt);
+    const std::vector<int> reported_default = reported;
+    reported.clear();
+    auto b = vmd_internal::DecomposeVmdTuned(input, opt, 0.0, &reruns);
+    ASSERT_TRUE(a.ok() && b.ok());
+    EXPECT_EQ(reruns, 1);
+    EXPECT_EQ(b->summary.iterations, meta.at("iterations").get<int>());
+    EXPECT_EQ(a->summary.iterations, b->summary.iterations);
+    EXPECT_EQ(a->modes, b->modes);  // bit-identical
+    EXPECT_EQ(a->summary.center_frequency_cycles_per_sample, b->summary.center_frequency_cycles_per_sample);
+    EXPECT_EQ(a->summary.final_update, b->summary.final_update);
+    ASSERT_EQ(reported.size(), static_cast<std::size_t>(b->summary.iterations));
+    for (std::size_t i = 0; i < reported.size(); ++i) EXPECT_EQ(reported[i], static_cast<int>(i) + 1);
+    EXPECT_EQ(reported, reported_default);
+    // The last iterate needs no predecessor: fully in place, never repeated.
+    opt.return_last_iterate = true;
+    reruns = 0;
+    auto c = vmd_internal::DecomposeVmdTuned(input, opt, 0.0, &reruns);
+    ASSERT_TRUE(c.ok());
+    EXPECT_EQ(reruns, 0);
+    EXPECT_EQ(c->summary.iterations, a->summary.iterations);
+  }
+}
+
+// Centre-frequency extrapolation (VmdOptions::omega_extrapolation_period): the same fixed point as
+// the reference iteration, reached in fewer updates. Gyro-like record of vmd_benchmark (noise
+// 0.05, slow sine, ramp), 20,000 samples, the option forced on (min_samples 0). The limit is
+// approximated by the reference iteration run to tol 1e-13 (675 updates). At tol 1e-10 and 1e-7,
+// the extrapolated run must stop in fewer than half the reference's updates and no farther from
+// that limit than the reference run at the same tol (measured: 113 vs 517 updates, 4.4e-5 vs
+// 5.1e-5 x RMS at 1e-10; 80 vs 359, 1.30e-3 vs 1.64e-3 at 1e-7); 1.25x is the margin for
+// rounding-level differences between machines, far below the 10-20x a wrong fixed point gives.
+double MaxModeDistance(const VmdResult& a, const VmdResult& b) {
+  double worst = 0;
+  for (std::size_t k = 0; k < a.modes.size(); ++k) {
+    for (std::size_t i = 0; i < a.modes[k].size(); ++i) worst = std::max(worst, std::abs(a.modes[k][i] - b.modes[k][i]));
+  }
+  return worst;
+}
+
+TEST(Vmd, CenterFrequencyExtrapolationReachesTheSameDecompositionInFewerUpdates) {
+  std::mt19937 rng(3);
+  std::normal_distribution<double> g(0, 0.05);
+  const std::size_t n = 20000;
+  std::vector<double> x(n);
+  for (std::size_t i = 0; i < n; ++i) x[i] = 0.2 * std::sin(2 * std::numbers::pi * i / (0.7 * n)) + 0.01 * i / n + g(rng);
+  VmdOptions plain;
+  plain.omega_extrapolation_period.reset();
+  plain.max_iterations = 20000;
+  VmdOptions limit = plain;
+  limit.tol = 1e-13;
+  auto ref = DecomposeVmd(x, limit);
+  ASSERT_TRUE(ref.ok() && ref->summary.converged);
+  for (double tol : {1e-10, 1e-7}) {
+    SCOPED_TRACE("tol = " + std::to_string(tol));
+    plain.tol = tol;
+    VmdOptions fast = plain;
+    fast.omega_extrapolation_period = 5;
+    fast.omega_extrapolation_min_samples = 0;
+    auto a = DecomposeVmd(x, plain);
+    auto b = DecomposeVmd(x, fast);
+    ASSERT_TRUE(a.ok() && b.ok());
+    ASSERT_TRUE(a->summary.converged && b->summary.converged);
+    EXPECT_FALSE(a->summary.omega_extrapolation_period.has_value());
+    EXPECT_EQ(b->summary.omega_extrapolation_period, 5);
+    EXPECT_LT(2 * b->summary.iterations, a->summary.iterations);
+    const double err_plain = MaxModeDistance(*a, *ref), err_fast = MaxModeDistance(*b, *ref);
+    EXPECT_LE(err_fast, 1.25 * err_plain) << err_fast / Rms(x) << " vs " << err_plain / Rms(x) << " x RMS";
+  }
+}
+
+// Below omega_extrapolation_min_samples the defaults are the reference iteration, bit for bit.
+TEST(Vmd, ShortRecordsFollowTheReferenceIterationByDefault) {
+  std::mt19937 rng(9);
+  std::normal_distribution<double> g(0, 1);
+  std::vector<double> x(5000);
+  for (std::size_t i = 0; i < x.size(); ++i) x[i] = g(rng) + std::sin(0.002 * i);
+  VmdOptions def;
+  VmdOptions off;
+  off.omega_extrapolation_period.reset();
+  ASSERT_LT(x.size(), def.omega_extrapolation_min_samples);
+  auto a = DecomposeVmd(x, def);
+  auto b = DecomposeVmd(x, off);
   ASSERT_TRUE(a.ok() && b.ok());
+  EXPECT_FALSE(a->summary.omega_extrapolation_period.has_value());
   EXPECT_EQ(a->summary.iterations, b->summary.iterations);
-  EXPECT_EQ(a->modes, b->modes);  // bit-identical: fixed reduction blocks
-  EXPECT_EQ(a->summary.center_frequency_cycles_per_sample, b->summary.center_frequency_cycles_per_sample);
-  EXPECT_FALSE(a->summary.converged);  // 19 updates are not enough for noise
-  EXPECT_EQ(a->summary.iterations, 19);  // max_iterations - 1 updates (reference Niter)
+  EXPECT_EQ(a->modes, b->modes);
+  VmdOptions bad;
+  bad.omega_extrapolation_period = 2;
+  std::string why;
+  EXPECT_FALSE(bad.IsValid(&why));
+  EXPECT_NE(why.find("omega_extrapolation_period"), std::string::npos) << why;
 }
 
 // ---- extreme but finite inputs (issue 15 part 2) --------------------------------------------

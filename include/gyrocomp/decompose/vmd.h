@@ -84,6 +84,18 @@ struct VmdOptions {
   bool mirror_extension = true;
   // Return update n (the last) instead of update n-1 (reference behaviour).
   bool return_last_iterate = false;
+  // Acceleration of the centre frequencies for long records (issue 13: the reference iteration
+  // stalls above ~100k samples). Every `omega_extrapolation_period` updates (>= 3), each w_k
+  // whose last three values w0, w1, w2 approach a limit geometrically (r = (w2 - w1) / (w1 - w0)
+  // in (0, 0.995)) is moved to the Aitken limit w2 + (w2 - w1) r / (1 - r), clamped to [0, 0.5];
+  // the modes follow in the next updates. A fixed point of the reference iteration is one of this
+  // one too (there the differences vanish), so it converges to the same decomposition, in ~4.5x
+  // fewer updates (docs/performance.md), but its path, iteration count and where within tol it
+  // stops differ from vmdpy's. Applied only to records of at least
+  // `omega_extrapolation_min_samples` samples, so shorter ones follow the reference exactly.
+  // nullopt = never (the reference iteration at every length).
+  std::optional<int> omega_extrapolation_period = 5;
+  std::size_t omega_extrapolation_min_samples = 100000;
   // Sample rate in Hz, used only to express the centre frequencies in Hz. > 0.
   double fs_hz = 1.0;
   // Worker threads for the per-bin updates and the final inverse FFTs. nullopt = automatic
@@ -121,6 +133,9 @@ struct VmdSummary {
   std::vector<double> center_frequency_hz;
   double fs_hz = 1.0;
   int threads_used = 1;
+  // The centre-frequency extrapolation period applied (VmdOptions::omega_extrapolation_period;
+  // nullopt: the reference iteration, e.g. for a record shorter than its min_samples).
+  std::optional<int> omega_extrapolation_period;
   double elapsed_s = 0.0;  // wall-clock time of DecomposeVmd
   // "VMD K=6 N=4000: converged after 193 iterations (update 8.1e-08 <= tol 1e-07) in 0.021 s;
   //  centre frequencies [Hz]: 0.0003 0.0736 ..."

@@ -297,6 +297,10 @@ Command Make(CLI::App& app) {
       ->check(CLI::IsMember({"blocks", "segments"}))->group(s);
   sub->add_option("--auto-generations", a->fit.auto_select.search_generations,
                   "auto: cuckoo-search generations of its cs-svr and hybrid candidates")->group(s)->capture_default_str();
+  sub->add_flag("!--keep-kernel", a->fit.hybrid_kernel_test,
+                "hybrid: keep the kernel even when it does not beat the structured part by more than the "
+                "block-to-block spread of its CV gain (default: dropped then, and the model is its structured part)")
+      ->group(s);
   sub->add_option("--cv-folds", a->fit.cv_folds, "Contiguous blocks of the blocked cross-validation")->group(s)->capture_default_str();
   const std::string d = "Data";
   sub->add_option("--train-period", a->fit.train_period_s, "Block-mean period of the SVR training copy, s (default automatic)")->group(d);

@@ -1,6 +1,7 @@
 // The hybrid model (structured part + SVR on its residual) and --model auto.
 #include <cmath>
 #include <cstdio>
+#include <random>
 
 #include <gtest/gtest.h>
 
@@ -47,6 +48,7 @@ TEST(DriftModelHybrid, LearnsWhatThePolynomialMissesAndFallsBackToIt) {
   auto hybrid = FitDriftModel({temp, fs_hz}, y, o);
   ASSERT_TRUE(poly.ok() && hybrid.ok()) << (hybrid.ok() ? "" : hybrid.error().message);
   ASSERT_TRUE(hybrid->structured && hybrid->kernel);
+  EXPECT_NE(hybrid->summary.kernel_decision.find("kernel kept"), std::string::npos) << hybrid->summary.kernel_decision;
   EXPECT_EQ(hybrid->kernel->intercept, 0.0);
   EXPECT_EQ(hybrid->kernel->target_offset, 0.0);
   EXPECT_EQ(hybrid->summary.cv_scheme, DriftCvScheme::kThermalSegments);
@@ -59,6 +61,57 @@ TEST(DriftModelHybrid, LearnsWhatThePolynomialMissesAndFallsBackToIt) {
   DriftModel clamped = *hybrid;
   clamped.out_of_range = OutOfRangePolicy::kClamp;
   EXPECT_EQ(clamped.PredictAt(500.0, 0.0), hybrid->PredictAt(hybrid->temp_max_c(), 0.0));
+}
+
+// Slow wander like a gyro's bias instability: AR(1) with a 10 min correlation time, SD sd.
+std::vector<double> Wander(std::size_t n, double fs_hz, double sd, unsigned seed) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  const double a = std::exp(-1.0 / (600.0 * fs_hz));
+  std::vector<double> w(n);
+  double x = sd * normal(rng);
+  for (std::size_t i = 0; i < n; ++i) w[i] = x = a * x + sd * std::sqrt(1.0 - a * a) * normal(rng);
+  return w;
+}
+
+// Eq. H-1: on a drift the cubic represents exactly plus slow wander (the residual is pure
+// noise) the hybrid's kernel is dropped and the model is its structured part, the polynomial
+// fit itself; with a bump the cubic cannot follow, under the same wander, the kernel is kept.
+// Without the test (--keep-kernel) the kernel stays in both cases.
+TEST(DriftModelHybrid, KernelDroppedOnNoiseResidualKeptOnStructure) {
+  const double fs_hz = 0.5;
+  const std::vector<double> temp = Sweep(fs_hz);
+  for (unsigned seed : {1u, 2u, 3u}) {
+    const std::vector<double> w = Wander(temp.size(), fs_hz, 2e-3, seed);
+    std::vector<double> noise_only(temp.size()), bump(temp.size());
+    for (std::size_t i = 0; i < temp.size(); ++i) {
+      noise_only[i] = 1e-3 * temp[i] + 2e-5 * temp[i] * temp[i] + w[i];
+      bump[i] = noise_only[i] + 0.02 * std::exp(-(temp[i] - 10.0) * (temp[i] - 10.0) / (2.0 * 4.0 * 4.0));
+    }
+    DriftFitOptions o;
+    o.polynomial.degree = 3;
+    o.model = DriftModelKind::kPolynomial;
+    auto poly = FitDriftModel({temp, fs_hz}, noise_only, o);
+    o.model = DriftModelKind::kHybrid;
+    o.search.cuckoo.num_nests = 8;
+    o.search.cuckoo.max_generations = 2;
+    auto dropped = FitDriftModel({temp, fs_hz}, noise_only, o);
+    auto kept = FitDriftModel({temp, fs_hz}, bump, o);
+    o.hybrid_kernel_test = false;
+    auto forced = FitDriftModel({temp, fs_hz}, noise_only, o);
+    ASSERT_TRUE(poly.ok() && dropped.ok() && kept.ok() && forced.ok());
+    EXPECT_EQ(dropped->kind, DriftModelKind::kPolynomial) << "seed " << seed << ": " << dropped->summary.kernel_decision;
+    EXPECT_FALSE(dropped->kernel);
+    EXPECT_NE(dropped->summary.kernel_decision.find("kernel dropped"), std::string::npos);
+    EXPECT_EQ(*dropped->Predict({temp, fs_hz}), *poly->Predict({temp, fs_hz}));
+    ASSERT_EQ(dropped->structured->terms.size(), poly->structured->terms.size());
+    for (std::size_t k = 0; k < poly->structured->terms.size(); ++k)
+      EXPECT_EQ(dropped->structured->terms[k].coefficient, poly->structured->terms[k].coefficient);
+    EXPECT_EQ(kept->kind, DriftModelKind::kHybrid) << "seed " << seed << ": " << kept->summary.kernel_decision;
+    EXPECT_TRUE(kept->kernel);
+    EXPECT_EQ(forced->kind, DriftModelKind::kHybrid);
+    EXPECT_TRUE(forced->summary.kernel_decision.empty());
+  }
 }
 
 // auto on a calibration run that only cools (and heats once, briefly): the memory state and

@@ -1,6 +1,7 @@
 #!/bin/sh
 # Decomposition of the held-out drift error (issue 11): the runs of bench/drift_heldout.sh with one
-# simulator term switched off at a time, fitted with poly(T, dT/dt) (and MODELS, e.g. "poly hybrid").
+# simulator term switched off at a time, fitted with poly(T, dT/dt) (and MODELS, e.g. "poly hybrid";
+# hybrid-keep = the hybrid with its kernel always kept, --keep-kernel).
 # Prints one row per (structure, variant, seed, model): heating and cooling-2 RMSE against the
 # true drift, mdps. "none" = all noise off (white, flicker, RRW, temperature reading noise).
 # Usage: G=build/gyrocomp D=decomp FS=1 MODELS="poly" STRUCTS="A B C D" sh bench/drift_decompose.sh
@@ -34,11 +35,21 @@ variant() {
     no-noise-hyst) echo "--arw 0 --bias-instability 0 --rrw 0 --temp-noise 0 --hysteresis-coeff 0" ;;
   esac
 }
+combine() {  # structure flags, then the variant's; a variant option replaces the structure's
+  set -- $1
+  out=""
+  while [ $# -ge 2 ]; do
+    case " $VFLAGS " in *" $1 "*) ;; *) out="$out $1 $2" ;; esac
+    shift 2
+  done
+  echo "$out $VFLAGS"
+}
 echo "| structure | variant | seed | model | chosen | heating RMSE (mdps) | cooling-2 RMSE (mdps) |"
 echo "|---|---|---|---|---|---|---|"
 for S in $STRUCTS; do
   for V in $VARIANTS; do
-    F="$(structure $S) $(variant $V)"
+    VFLAGS=$(variant $V)
+    F=$(combine "$(structure $S)")
     for seed in $SEEDS; do
       p="$D/$S.$V.$seed"
       $G simulate --profile paper --fs $FS --seed $seed $F -o $p.cool.csv > /dev/null 2>&1
@@ -48,6 +59,7 @@ for S in $STRUCTS; do
         case $M in
           auto) args="--model auto" ;;
           hybrid|cs-svr) args="--model $M --inputs temp,dtemp --generations $GEN" ;;
+          hybrid-keep) args="--model hybrid --inputs temp,dtemp --generations $GEN --keep-kernel" ;;  # Eq. H-1 off
           *) args="--model $M --inputs temp,dtemp" ;;
         esac
         $G fit -i $p.cool.csv $args -o $p.$M.json --json $p.$M.fit.json > /dev/null 2>&1

@@ -107,22 +107,18 @@ struct KernelTest {
 };
 
 Result<KernelTest> TestKernel(const FitData& d, const DriftFitOptions& o, const SvrOptions& chosen) {
-  const CvPlan blocks = BlockPlan(d.yd.size(), o.cv_folds, /*in_range_only=*/true);
+  const CvPlan blocks = GainTestPlan(d.yd.size(), o);
   std::vector<double> structured, hybrid;
   auto a = CrossValidate(d.xd, d.yd, blocks, PolyFitPredict(o.polynomial), &structured);
   if (!a.ok()) return a.error();
   auto b = CrossValidate(d.xd, d.yd, blocks, HybridFitPredict(o.polynomial)(chosen), &hybrid);
   if (!b.ok()) return b.error();
-  const std::size_t k = std::min(structured.size(), hybrid.size());
-  double mean = 0.0, ss = 0.0;
-  for (std::size_t i = 0; i < k; ++i) mean += (structured[i] - hybrid[i]) / static_cast<double>(k);
-  for (std::size_t i = 0; i < k; ++i) ss += std::pow(structured[i] - hybrid[i] - mean, 2);
-  const double sd = k > 1 ? std::sqrt(ss / static_cast<double>(k - 1)) : std::numeric_limits<double>::infinity();
+  const PairedGain g = PairedFoldGain(structured, hybrid);
   KernelTest t;
-  t.keep = mean > sd;
+  t.keep = g.ChallengerWins();
   std::ostringstream m;
   m << "hybrid: kernel " << (t.keep ? "kept" : "dropped") << ": its CV gain over the structured part on "
-    << k << " contiguous blocks is " << Num(mean) << " +- " << Num(sd) << " (mean +- block-to-block SD; kept "
+    << g.blocks << " contiguous blocks is " << Num(g.mean) << " +- " << Num(g.sd) << " (mean +- block-to-block SD; kept "
     << "only when mean > SD)";
   if (!t.keep) m << "; the model is its structured part: the kernel would learn noise (flicker wander), not drift";
   t.decision = m.str();
@@ -144,6 +140,19 @@ Status DropKernel(const FitData& d, const DriftFitOptions& o, const CvPlan& plan
 }
 
 }  // namespace
+
+PairedGain PairedFoldGain(std::span<const double> incumbent, std::span<const double> challenger) {
+  PairedGain g;
+  g.blocks = std::min(incumbent.size(), challenger.size());
+  const double k = static_cast<double>(g.blocks);
+  double ss = 0.0;
+  for (std::size_t i = 0; i < g.blocks; ++i) g.mean += (incumbent[i] - challenger[i]) / k;
+  for (std::size_t i = 0; i < g.blocks; ++i) ss += std::pow(incumbent[i] - challenger[i] - g.mean, 2);
+  g.sd = g.blocks > 1 ? std::sqrt(ss / (k - 1.0)) : std::numeric_limits<double>::infinity();
+  return g;
+}
+
+CvPlan GainTestPlan(std::size_t n, const DriftFitOptions& o) { return BlockPlan(n, o.cv_folds, /*in_range_only=*/true); }
 
 Result<FitData> PrepareFitData(const DriftInputs& inputs, std::span<const double> target, const DriftFitOptions& o) {
   FitData d;

@@ -120,7 +120,11 @@ double InterpolateLogLog(const AllanCurve& c, double tau, bool* on_grid) {
   const auto it = std::upper_bound(c.tau_s.begin(), c.tau_s.end(), tau);
   const std::size_t j = static_cast<std::size_t>(it - c.tau_s.begin());  // tau_s[j-1] < tau < tau_s[j]
   const double f = std::log(tau / c.tau_s[j - 1]) / std::log(c.tau_s[j] / c.tau_s[j - 1]);
-  return std::exp(std::log(c.adev_dps[j - 1]) + f * std::log(c.adev_dps[j] / c.adev_dps[j - 1]));
+  const double lo = c.adev_dps[j - 1], hi = c.adev_dps[j];
+  // A zero deviation (a constant or quantised record) has no logarithm: interpolate linearly in
+  // log tau instead, which keeps the result finite and 0 between two zeros.
+  if (!(lo > 0.0) || !(hi > 0.0)) return lo + f * (hi - lo);
+  return std::exp(std::log(lo) + f * std::log(hi / lo));
 }
 
 }  // namespace

@@ -202,6 +202,18 @@ AllanCurve MakeCurve(const std::vector<double>& tau, const std::vector<double>& 
   return c;
 }
 
+TEST(AllanNoiseTerms, ConstantRecordHasZeroArwNotNan) {
+  // A constant record has ADEV 0 at every tau; 1 s falls between two grid points at 100 Hz and
+  // 2000 samples, where log-log interpolation of zeros gave NaN ("ARW -nan" on the console).
+  const std::vector<double> y(2000, 0.5);
+  Result<AllanResult> r = ComputeAllan(y, 100.0);
+  ASSERT_TRUE(r.ok());
+  ASSERT_EQ(r->terms.arw_method, "log-log interpolation");
+  ASSERT_TRUE(r->terms.arw_deg_per_sqrt_h.has_value());
+  EXPECT_EQ(*r->terms.arw_deg_per_sqrt_h, 0.0);
+  EXPECT_EQ(r->BriefReport().find("nan"), std::string::npos) << r->BriefReport();
+}
+
 TEST(AllanNoiseTerms, ArwConventionOnGridInterpolatedExtrapolated) {
   // sigma = N / sqrt(tau) with N = 0.02 deg/sqrt(s) = 1.2 deg/sqrt(h), then a floor.
   const double N = 0.02;

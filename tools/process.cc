@@ -85,6 +85,7 @@ int Run(const ProcessCli& c) {
     nlohmann::json j;
     j["before"] = AllanJson(r->allan_before);
     j["after"] = AllanJson(r->allan_after);
+    MarkNotApplicable(*r, &j);  // ARW / RRW the processing makes meaningless: null + reason (report_builder.h)
     j["modes"] = ModesJson(r->mode_reports);
     j["classification_rule"] = r->classification_rule;
     j["drift_mode_forced"] = r->drift_mode_forced;

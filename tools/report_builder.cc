@@ -8,6 +8,7 @@
 #include <libsvm/svm.h>
 
 #include "gyrocomp/core/units.h"
+#include "gyrocomp/report/applicability.h"
 #include "result_json.h"
 #include "table_printer.h"
 
@@ -20,21 +21,22 @@ std::vector<double> Hours(const std::vector<double>& t_s) {
   return h;
 }
 
-// The ADEV curve with its confidence band and the fitted noise-term lines.
-nlohmann::json AllanCurveJson(const AllanResult& a, const std::string& name) {
+// The ADEV curve with its confidence band and the fitted noise-term lines (ARW and RRW only where
+// the not-applicable rule accepts them: a line the processing made would contradict the table).
+nlohmann::json AllanCurveJson(const AllanResult& a, const std::string& name, std::optional<double> bandwidth_hz) {
   const AllanCurve& c = a.curve;
   nlohmann::json j = {{"name", name}, {"tau_s", c.tau_s}, {"adev_dps", c.adev_dps},
                       {"lo_dps", c.adev_lo_dps}, {"hi_dps", c.adev_hi_dps}};
   nlohmann::json lines = nlohmann::json::array();
   if (!c.tau_s.empty()) {
     const double t0 = c.tau_s.front(), t1 = c.tau_s.back();
-    if (a.terms.arw_deg_per_sqrt_h) {  // sigma = N / sqrt(tau), N in deg/sqrt(s)
+    if (a.terms.arw_deg_per_sqrt_h && ArwApplicability(a, bandwidth_hz).applicable) {  // sigma = N / sqrt(tau)
       const double n_dps = units::DegPerSqrtHourToDegPerSqrtSec(*a.terms.arw_deg_per_sqrt_h);
       lines.push_back({{"name", "ARW"}, {"tau_s", {t0, t1}}, {"adev_dps", {n_dps / std::sqrt(t0), n_dps / std::sqrt(t1)}}});
     }
     const double floor_dps = units::DphToDps(a.terms.adev_min_deg_per_h);
     lines.push_back({{"name", "ADEV min"}, {"tau_s", {t0, t1}}, {"adev_dps", {floor_dps, floor_dps}}});
-    if (a.terms.rrw_deg_per_h_per_sqrt_h) {  // sigma = K sqrt(tau / 3), K in deg/s/sqrt(s)
+    if (a.terms.rrw_deg_per_h_per_sqrt_h && RrwApplicability(a, bandwidth_hz).applicable) {  // K sqrt(tau / 3)
       const double k = units::DphPerSqrtHourToDpsPerSqrtSec(*a.terms.rrw_deg_per_h_per_sqrt_h);
       lines.push_back({{"name", "RRW"}, {"tau_s", {t0, t1}}, {"adev_dps", {k * std::sqrt(t0 / 3.0), k * std::sqrt(t1 / 3.0)}}});
     }
@@ -46,16 +48,6 @@ nlohmann::json AllanCurveJson(const AllanResult& a, const std::string& name) {
 nlohmann::json ChangeCell(const std::optional<double>& before, const std::optional<double>& after) {
   if (!before || !after || *before == 0.0) return nullptr;
   return std::round(1000.0 * (*after - *before) / *before) / 10.0;
-}
-
-// Minimum of the ADEV curve over tau >= tau_min_s, deg/h (nullopt when no such tau).
-std::optional<double> AdevMinAbove(const AllanCurve& c, double tau_min_s) {
-  std::optional<double> best;
-  for (std::size_t i = 0; i < c.size(); ++i) {
-    if (c.tau_s[i] >= tau_min_s && (!best || c.adev_dps[i] < *best)) best = c.adev_dps[i];
-  }
-  if (best) *best = units::DpsToDph(*best);
-  return best;
 }
 
 // Local log-log slope of the curve at the tau nearest tau_s.
@@ -70,6 +62,15 @@ std::optional<double> SlopeNear(const AllanCurve& c, double tau_s) {
 }
 
 }  // namespace
+
+std::optional<double> AdevMinAbove(const AllanCurve& c, double tau_min_s) {
+  std::optional<double> best;
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    if (c.tau_s[i] >= tau_min_s && (!best || c.adev_dps[i] < *best)) best = c.adev_dps[i];
+  }
+  if (best) *best = units::DpsToDph(*best);
+  return best;
+}
 
 std::vector<std::string> HonestyNotes(const PipelineResult& r) {
   std::vector<std::string> notes;
@@ -99,23 +100,69 @@ std::vector<std::string> HonestyNotes(const PipelineResult& r) {
   return notes;
 }
 
+std::optional<double> ProcessedBandwidth(const PipelineResult& r) {
+  if (r.bandwidth) return r.bandwidth->bandwidth_hz;
+  return std::nullopt;
+}
+
+namespace {
+SummaryRow Row(std::string metric, std::optional<double> before, std::optional<double> after, std::string unit) {
+  SummaryRow row;
+  row.metric = std::move(metric);
+  row.before = before;
+  row.after = after;
+  row.unit = std::move(unit);
+  return row;
+}
+}  // namespace
+
 std::vector<SummaryRow> BeforeAfterRows(const PipelineResult& r) {
   const AllanNoiseTerms& b = r.allan_before.terms;
   const AllanNoiseTerms& a = r.allan_after.terms;
+  const std::optional<double> bw_before = r.fs_hz / 2.0, bw_after = ProcessedBandwidth(r);
+  SummaryRow arw = Row("ARW", b.arw_deg_per_sqrt_h, a.arw_deg_per_sqrt_h, "deg/sqrt(h)");
+  SummaryRow rrw = Row("RRW", b.rrw_deg_per_h_per_sqrt_h, a.rrw_deg_per_h_per_sqrt_h, "deg/h/sqrt(h)");
+  const std::pair<SummaryRow*, TermApplicability (*)(const AllanResult&, std::optional<double>,
+                                                      const TermApplicabilityOptions&)>
+      checked[] = {{&arw, &ArwApplicability}, {&rrw, &RrwApplicability}};
+  for (const auto& [row, rule] : checked) {
+    if (const TermApplicability t = rule(r.allan_before, bw_before, {}); !t.applicable) {
+      row->before.reset();
+      row->before_na = t.reason;
+    }
+    if (const TermApplicability t = rule(r.allan_after, bw_after, {}); !t.applicable) {
+      row->after.reset();
+      row->after_na = t.reason;
+    }
+  }
   std::vector<SummaryRow> rows = {
-      {"ARW", b.arw_deg_per_sqrt_h, a.arw_deg_per_sqrt_h, "deg/sqrt(h)"},
-      {"ADEV minimum (bias stability)", b.adev_min_deg_per_h, a.adev_min_deg_per_h, "deg/h"},
-      {"bias instability (min / 0.664)", b.bias_instability_deg_per_h, a.bias_instability_deg_per_h, "deg/h"},
-      {"ADEV minimum over taus with EDF >= " + FormatNumber(b.min_edf, 3), b.adev_min_usable_deg_per_h,
-       a.adev_min_usable_deg_per_h, "deg/h"},
-      {"ADEV minimum over tau >= 10 s", AdevMinAbove(r.allan_before.curve, 10.0),
-       AdevMinAbove(r.allan_after.curve, 10.0), "deg/h"},
-      {"RRW", b.rrw_deg_per_h_per_sqrt_h, a.rrw_deg_per_h_per_sqrt_h, "deg/h/sqrt(h)"},
+      arw,
+      Row("ADEV minimum (bias stability)", b.adev_min_deg_per_h, a.adev_min_deg_per_h, "deg/h"),
+      Row("bias instability (min / 0.664)", b.bias_instability_deg_per_h, a.bias_instability_deg_per_h, "deg/h"),
+      Row("ADEV minimum over taus with EDF >= " + FormatNumber(b.min_edf, 3), b.adev_min_usable_deg_per_h,
+          a.adev_min_usable_deg_per_h, "deg/h"),
+      Row("ADEV minimum over tau >= 10 s", AdevMinAbove(r.allan_before.curve, 10.0),
+          AdevMinAbove(r.allan_after.curve, 10.0), "deg/h"),
+      rrw,
   };
-  std::optional<double> bw;
-  if (r.bandwidth) bw = r.bandwidth->bandwidth_hz;
-  rows.push_back({"bandwidth (-3 dB)", r.fs_hz / 2.0, bw, "Hz"});
+  rows.push_back(Row("bandwidth (-3 dB)", bw_before, bw_after, "Hz"));
   return rows;
+}
+
+void MarkNotApplicable(const AllanResult& allan, std::optional<double> bandwidth_hz, nlohmann::json* terms) {
+  if (const TermApplicability t = ArwApplicability(allan, bandwidth_hz); !t.applicable) {
+    (*terms)["arw_deg_per_sqrt_h"] = nullptr;
+    (*terms)["arw_not_applicable"] = t.reason;
+  }
+  if (const TermApplicability t = RrwApplicability(allan, bandwidth_hz); !t.applicable) {
+    (*terms)["rrw_deg_per_h_per_sqrt_h"] = nullptr;
+    (*terms)["rrw_not_applicable"] = t.reason;
+  }
+}
+
+void MarkNotApplicable(const PipelineResult& r, nlohmann::json* j) {
+  if (j->contains("before")) MarkNotApplicable(r.allan_before, r.fs_hz / 2.0, &(*j)["before"]);
+  if (j->contains("after")) MarkNotApplicable(r.allan_after, ProcessedBandwidth(r), &(*j)["after"]);
 }
 
 nlohmann::json SoftwareVersions() {
@@ -135,11 +182,20 @@ namespace {
 // Before/after table (BeforeAfterRows) with the bandwidth caveat and HonestyNotes.
 nlohmann::json SummaryJson(const PipelineResult& r) {
   nlohmann::json rows = nlohmann::json::array();
+  std::string na_note;
   for (const SummaryRow& row : BeforeAfterRows(r)) {
-    rows.push_back({row.metric + " (" + row.unit + ")", Num(row.before), Num(row.after), ChangeCell(row.before, row.after)});
+    const nlohmann::json before = row.before_na.empty() ? Num(row.before) : nlohmann::json("not applicable");
+    const nlohmann::json after = row.after_na.empty() ? Num(row.after) : nlohmann::json("not applicable");
+    rows.push_back({row.metric + " (" + row.unit + ")", before, after, ChangeCell(row.before, row.after)});
+    if (!row.before_na.empty()) na_note += " Before: " + row.before_na + ".";
+    if (!row.after_na.empty()) na_note += " After: " + row.after_na + ".";
   }
   std::string note = "Bandwidth 'before' is the Nyquist frequency of the raw record. A lower ARW "
                      "obtained by narrowing the bandwidth is low-pass filtering: read the two together.";
+  if (!na_note.empty()) {
+    note += " Not applicable (rule: bandwidth known, taus >= 1/(2 bandwidth), ADEV slope within 0.2 of "
+            "-1/2 for ARW, +1/2 for RRW):" + na_note;
+  }
   for (const std::string& s : HonestyNotes(r)) note += " " + s;
   return {{"columns", {"metric", "before", "after", "change (%)"}}, {"rows", rows}, {"note", note}};
 }
@@ -252,7 +308,8 @@ ReportData BuildPipelineReport(const PipelineResult& r, const ReportContext& ctx
                                  {{"name", "compensated (deg/s)"}, {"y", env[1].y}, {"axis", "rate"}},
                                  {{"name", "temperature (deg C)"}, {"y", env[2].y}, {"axis", "temp"}}}}};
   c["modes"] = ModesJson(r, hours);
-  c["allan"] = {AllanCurveJson(r.allan_before, "raw"), AllanCurveJson(r.allan_after, "compensated")};
+  c["allan"] = {AllanCurveJson(r.allan_before, "raw", r.fs_hz / 2.0),
+                AllanCurveJson(r.allan_after, "compensated", ProcessedBandwidth(r))};
   c["drift"] = DriftVsTemperatureJson(r, ctx);
   c["tables"] = TablesJson(r, ctx);
   c["parameters"] = ctx.parameters;

@@ -9,7 +9,9 @@
 #include "commands.h"
 #include "gyrocomp/drift/drift_model.h"
 #include "gyrocomp/drift/drift_validate.h"
+#include "gyrocomp/report/report.h"
 #include "result_json.h"
+#include "validation_report.h"
 
 namespace gyrocomp::cli {
 namespace {
@@ -20,6 +22,7 @@ struct ValidateArgs {
   LogOptions log;
   std::string model_path;
   std::string json_path;
+  std::string report_path;
   std::string truth_col = "true_drift_dps";
   DriftValidationOptions options;
 };
@@ -35,6 +38,8 @@ int Run(const ValidateArgs& a) {
   const GyroLog& log = loaded->log;
   const int truth = loaded->table.Find(a.truth_col);
   nlohmann::json axes = nlohmann::json::array();
+  std::vector<DriftValidation> validations;  // per axis, for the report
+  std::vector<const DriftModel*> models;
   for (std::size_t k = 0; k < log.axis_names.size(); ++k) {
     const DriftModel* model = set->ForAxis(log.axis_names[k]);
     if (!model)
@@ -49,6 +54,8 @@ int Run(const ValidateArgs& a) {
     j["rate_col"] = log.axis_names[k];
     j["model"] = DriftSummaryJson(model->summary);
     axes.push_back(j);
+    validations.push_back(std::move(*v));
+    models.push_back(model);
   }
   if (!a.json_path.empty()) {
     nlohmann::json j = axes[0];
@@ -57,6 +64,23 @@ int Run(const ValidateArgs& a) {
     j["causal"] = a.options.causal;
     j["axes"] = axes;
     if (Status s = WriteJson(a.json_path, j); !s.ok()) return ReportError(kName, s.error());
+  }
+  if (!a.report_path.empty()) {
+    std::vector<ValidationSection> sections;
+    for (std::size_t k = 0; k < validations.size(); ++k) {
+      sections.push_back({log.axis_names[k] + ": " + DriftModelKindName(models[k]->kind) + "(" +
+                              DriftInputSetName(models[k]->summary.inputs) + ")",
+                          &validations[k], &models[k]->summary});
+    }
+    const nlohmann::json params = {{"model_file", a.model_path}, {"input", loaded->table.source},
+                                   {"block_s", a.options.block_s}, {"min_tau_s", a.options.min_tau_s},
+                                   {"causal", a.options.causal}, {"truth_col", truth >= 0 ? a.truth_col : ""}};
+    const ReportData report = BuildValidationReport(
+        sections, "gyrocomp validate: " + loaded->table.source,
+        "Drift model " + a.model_path + " on " + loaded->table.source + ", a run it was not fitted on: " +
+            std::to_string(log.rate_dps[0].size()) + " samples at " + std::to_string(log.fs_hz) + " Hz.",
+        params);
+    if (Status s = WriteText(a.report_path, RenderReportHtml(report)); !s.ok()) return ReportError(kName, s.error());
   }
   return kExitOk;
 }
@@ -70,10 +94,12 @@ Command Make(CLI::App& app) {
       "model missed); ADEV of compensated and raw rates at tau >= --min-tau; RMSE against the truth\n"
       "column when present; the share of samples with T and dT/dt outside the fitted ranges.\n"
       "JSON keys: docs/cli.md (validate).\n"
-      "Example: gyrocomp validate -m model.json -i other_run.csv --json validate.json");
+      "Example: gyrocomp validate -m model.json -i other_run.csv --json validate.json --report validate.html");
   AddInputOption(sub, "-m,--model", &a->model_path, "Model file written by gyrocomp fit")->required();
   AddLogOptions(sub, &a->log);
   AddOutputOption(sub, "--json", &a->json_path, "Write the validation as JSON to FILE ('-' = stdout)");
+  AddOutputOption(sub, "--report", &a->report_path,
+                  "Write an HTML report of the validation to FILE (self-contained, opens offline)");
   sub->add_option("--truth-col", a->truth_col, "Column with the true drift, scored when present")->capture_default_str();
   sub->add_option("--block", a->options.block_s, "Block length of the residual drift, s")->capture_default_str();
   sub->add_option("--min-tau", a->options.min_tau_s, "Smallest tau of the ADEV comparison, s")->capture_default_str();

@@ -108,17 +108,7 @@ TEST_F(PipelineCli, CompareUsesTheTruthColumns) {
   EXPECT_EQ(scheme_rows, 3);  // raw, serial, parallel
 }
 
-TEST_F(PipelineCli, DemoWritesItsFiles) {
-  if (std::getenv("GYROCOMP_SANITIZED")) {
-    GTEST_SKIP() << "the full-size demo (256k samples) is too slow under ASan; covered by the Release run";
-  }
-  std::string out;
-  ASSERT_EQ(testing::RunCommand(cli_ + " demo --out " + dir_ + "/demo -q", &out), 0) << out;
-  EXPECT_NE(out.find("paper before"), std::string::npos) << out;
-  for (const char* f : {"report.html", "summary.json", "processed.csv.gz"}) {
-    EXPECT_TRUE(std::filesystem::exists(dir_ + "/demo/" + f)) << f;
-  }
-}
+// The demo: src/report/report_cli_test.cc (ReportCli.DemoTableRowsPresentAndFinite).
 
 }  // namespace
 }  // namespace gyrocomp

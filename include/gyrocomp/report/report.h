@@ -29,7 +29,8 @@ std::vector<DisplaySeries> MinMaxEnvelopes(std::span<const double> x,
 
 // Report content. Every field is optional; absent sections are not drawn. Schema (JSON):
 //   title, subtitle: strings
-//   summary: {columns: [str], rows: [[str|num]]}               headline before/after table
+//   summary: {title, columns: [str], rows: [[str|num]], note}  headline table (title optional,
+//            default "Before and after")
 //   timeseries: {x_label, x: [..], series: [{name, y: [..], axis: "rate"|"temp"}]}
 //   modes: [{index, sample_entropy, center_frequency_hz, class, x: [..], y: [..]}]
 //   allan: [{name, tau_s: [..], adev_dps: [..], lo_dps: [..], hi_dps: [..],

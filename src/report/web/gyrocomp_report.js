@@ -134,7 +134,7 @@
   function render() {
     const data = JSON.parse(document.getElementById("report-data").textContent);
     if (data.subtitle) root.appendChild(el("p", { class: "subtitle" }, data.subtitle));
-    if (data.summary) { section("Before and after"); table(data.summary); }
+    if (data.summary) { section(data.summary.title || "Before and after"); table(data.summary); }
     if (data.timeseries) drawTimeseries(data.timeseries);
     if (data.modes) drawModes(data.modes);
     if (data.allan) drawAllan(data.allan);

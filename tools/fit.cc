@@ -31,6 +31,7 @@ struct FitArgs {
   std::optional<double> C, gamma, sigma;
   bool search_epsilon = false;
   bool cv_all = false;
+  bool keep_kernel = false;
   std::optional<double> known_rate_dps;
   std::string known_rate_col;
   int modes = VmdOptions{}.num_modes;
@@ -79,6 +80,7 @@ Status ResolveOptions(FitArgs& a) {
   o.svr.gamma = a.gamma;
   o.svr.sigma = a.sigma;
   if (a.cv_all) o.cv_in_range_only = false;
+  if (a.keep_kernel) o.hybrid_kernel_test = false;
   if (a.search_epsilon) o.search.epsilon = SearchDimension{"epsilon", 1e-3, 0.5, true};
   if (!a.cv_scheme.empty()) {
     const auto scheme = ParseDriftCvScheme(a.cv_scheme);
@@ -297,6 +299,10 @@ Command Make(CLI::App& app) {
       ->check(CLI::IsMember({"blocks", "segments"}))->group(s);
   sub->add_option("--auto-generations", a->fit.auto_select.search_generations,
                   "auto: cuckoo-search generations of its cs-svr and hybrid candidates")->group(s)->capture_default_str();
+  sub->add_flag("--keep-kernel", a->keep_kernel,
+                "hybrid: keep the kernel even when it does not beat the structured part by more than the "
+                "block-to-block spread of its CV gain (default: dropped then, and the model is its structured part)")
+      ->group(s);
   sub->add_option("--cv-folds", a->fit.cv_folds, "Contiguous blocks of the blocked cross-validation")->group(s)->capture_default_str();
   const std::string d = "Data";
   sub->add_option("--train-period", a->fit.train_period_s, "Block-mean period of the SVR training copy, s (default automatic)")->group(d);

@@ -99,6 +99,7 @@ nlohmann::json DriftSummaryJson(const DriftFitSummary& s) {
   j["candidates"] = cands;
   j["selection_reason"] = s.selection_reason;
   j["identifiability"] = s.identifiability;
+  j["kernel_decision"] = s.kernel_decision;
   j["cv_folds"] = s.cv_folds;
   j["cv_rmse_dps"] = Num(s.cv_rmse);
   j["train_rmse_dps"] = Num(s.train_rmse);

@@ -120,6 +120,54 @@ double FoldStandardError(const DriftInputs& inputs, std::span<const double> targ
   return std::sqrt(ss / static_cast<double>(folds.size() - 1)) / std::sqrt(static_cast<double>(folds.size()));
 }
 
+// Fold RMSEs of a structured candidate's polynomial on the contiguous-block plan of Eq. H-1.
+std::vector<double> BlockFoldRmse(const DriftInputs& inputs, std::span<const double> target, const Candidate& c,
+                                  const DriftFitOptions& o) {
+  std::vector<double> folds;
+  if (!c.model) return folds;
+  DriftFitOptions f = o;
+  f.inputs = c.inputs;
+  f.state = c.model->state;
+  auto d = PrepareFitData(inputs, target, f);
+  if (!d.ok()) return folds;
+  auto cv = CrossValidate(
+      d->xd, d->yd, GainTestPlan(d->yd.size(), o),
+      [&](const Columns& tx, std::span<const double> ty, const Columns& vx) -> Result<std::vector<double>> {
+        auto m = FitPolynomial(tx, ty, o.polynomial);
+        if (!m.ok()) return m.error();
+        return m->Predict(vx);
+      },
+      &folds);
+  if (!cv.ok()) folds.clear();
+  return folds;
+}
+
+// The structured state, variance-aware (Eq. H-1): the incumbent is poly(temp, dtemp) (the
+// issue's reference; poly(temp) when that failed); a state with a searched parameter (lag: tau)
+// or one more degree of freedom of history (memory) replaces it only when its per-block CV gain
+// on contiguous blocks exceeds the block-to-block spread of that gain. Lowest CV alone chose
+// poly(temp, lag) on noise and doubled the held-out error (docs/notes/issue-11-s2.md).
+std::size_t ChooseStructured(const DriftInputs& inputs, std::span<const double> target, const DriftFitOptions& o,
+                             std::vector<Candidate>* all, std::string* reason) {
+  std::vector<Candidate>& c = *all;  // order: temp, temp+dtemp, temp+lag, temp+memory
+  std::size_t best = c[1].model ? 1 : 0;
+  std::vector<double> incumbent = BlockFoldRmse(inputs, target, c[best], o);
+  std::ostringstream why;
+  why << "structured state: " << c[best].score.name << " unless another gains more than its block-to-block "
+      << "spread on " << o.cv_folds << " contiguous blocks";
+  for (std::size_t i = 2; i < c.size(); ++i) {
+    if (!c[i].model || incumbent.empty()) continue;
+    const std::vector<double> challenger = BlockFoldRmse(inputs, target, c[i], o);
+    const PairedGain g = PairedFoldGain(incumbent, challenger);
+    why << "; " << c[i].score.name << " gains " << Num(g.mean) << " +- " << Num(g.sd);
+    if (!g.ChallengerWins()) continue;
+    best = i;
+    incumbent = challenger;
+  }
+  *reason = why.str();
+  return best;
+}
+
 std::string SelectionReason(const std::vector<Candidate>& all, std::size_t best, const CvPlan& plan) {
   std::ostringstream s;
   s << "auto chose " << all[best].score.name << ": CV RMSE " << Num(all[best].score.cv_rmse) << " ("
@@ -156,9 +204,8 @@ Result<DriftModel> FitAuto(const DriftInputs& inputs, std::span<const double> ta
     }
     all.push_back(FitCandidate(inputs, target, DriftModelKind::kPolynomial, c, plan));
   }
-  std::size_t best_poly = 0;
-  for (std::size_t i = 1; i < all.size(); ++i)
-    if (all[i].score.cv_rmse < all[best_poly].score.cv_rmse) best_poly = i;
+  std::string state_reason;
+  const std::size_t best_poly = ChooseStructured(inputs, target, o, &all, &state_reason);
   if (o.auto_select.try_svr) {
     c.inputs = DriftInputSet::kTempAndRate;
     for (DriftModelKind k : {DriftModelKind::kSvr, DriftModelKind::kCsSvr}) {
@@ -198,8 +245,9 @@ Result<DriftModel> FitAuto(const DriftInputs& inputs, std::span<const double> ta
   if (!all[best].model) return InvalidInput("--model auto: no candidate could be fitted: " + all[best].score.note);
   DriftModel model = std::move(*all[best].model);
   for (const Candidate& k : all) model.summary.candidates.push_back(k.score);
-  model.summary.selection_reason = SelectionReason(all, best, plan) + "; a kernel model must beat the best "
-                                   "structured one by one standard error of its fold scores (" + Num(se) + ")";
+  model.summary.selection_reason = SelectionReason(all, best, plan) + "; " + state_reason +
+                                   "; a kernel model must beat the chosen structured one by one standard error of "
+                                   "its fold scores (" + Num(se) + ")";
   return model;
 }
 

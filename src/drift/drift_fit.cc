@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 #include "drift_model_internal.h"
@@ -63,7 +64,7 @@ void FoldIntercept(PolynomialModel* poly, SvrModel* svr) {
 // The SVR part: parameters given (svr) or searched (cs-svr, grid-svr, hybrid), then the final fit
 // on the decimated copy of `yd`.
 Status FitKernel(const FitData& d, std::span<const double> yd, DriftModelKind kind, const DriftFitOptions& o,
-                 const CvPlan& plan, DriftModel* model) {
+                 const CvPlan& plan, DriftModel* model, SvrOptions* chosen_out) {
   DriftFitSummary& s = model->summary;
   SvrOptions chosen = o.svr;
   if (kind == DriftModelKind::kSvr) {
@@ -91,10 +92,67 @@ Status FitKernel(const FitData& d, std::span<const double> yd, DriftModelKind ki
   s.epsilon = chosen.epsilon;
   s.num_support = svr->num_support();
   model->kernel = std::move(*svr);
+  *chosen_out = chosen;
+  return Status::Ok();
+}
+
+// Eq. H-1, the hybrid's kernel test. Over cv_folds contiguous blocks (wider than the thermal
+// segments the search scored on, so a held-out block's flicker wander is nearly independent of
+// the training blocks'; a different split than the search's, so its optimism does not carry
+// over), g_k = RMSE_k(structured) - RMSE_k(hybrid) on block k's in-range samples. Keep the
+// kernel iff mean(g) > SD(g): its gain exceeds its block-to-block spread (t > sqrt(K)).
+struct KernelTest {
+  bool keep = true;
+  std::string decision;
+};
+
+Result<KernelTest> TestKernel(const FitData& d, const DriftFitOptions& o, const SvrOptions& chosen) {
+  const CvPlan blocks = GainTestPlan(d.yd.size(), o);
+  std::vector<double> structured, hybrid;
+  auto a = CrossValidate(d.xd, d.yd, blocks, PolyFitPredict(o.polynomial), &structured);
+  if (!a.ok()) return a.error();
+  auto b = CrossValidate(d.xd, d.yd, blocks, HybridFitPredict(o.polynomial)(chosen), &hybrid);
+  if (!b.ok()) return b.error();
+  const PairedGain g = PairedFoldGain(structured, hybrid);
+  KernelTest t;
+  t.keep = g.ChallengerWins();
+  std::ostringstream m;
+  m << "hybrid: kernel " << (t.keep ? "kept" : "dropped") << ": its CV gain over the structured part on "
+    << g.blocks << " contiguous blocks is " << Num(g.mean) << " +- " << Num(g.sd) << " (mean +- block-to-block SD; kept "
+    << "only when mean > SD)";
+  if (!t.keep) m << "; the model is its structured part: the kernel would learn noise (flicker wander), not drift";
+  t.decision = m.str();
+  return t;
+}
+
+// The hybrid without its kernel: its structured part (kind poly), scored on the search's plan.
+Status DropKernel(const FitData& d, const DriftFitOptions& o, const CvPlan& plan, DriftModel* model) {
+  DriftFitSummary& s = model->summary;
+  auto cv = CrossValidate(d.xd, d.yd, plan, PolyFitPredict(o.polynomial));
+  if (!cv.ok()) return cv.error();
+  model->kind = s.model = DriftModelKind::kPolynomial;
+  model->kernel.reset();
+  s.cv_rmse = *cv;
+  s.C = s.gamma = s.sigma = s.epsilon = std::nullopt;
+  s.num_support = 0;
+  s.num_train = d.y.size();
   return Status::Ok();
 }
 
 }  // namespace
+
+PairedGain PairedFoldGain(std::span<const double> incumbent, std::span<const double> challenger) {
+  PairedGain g;
+  g.blocks = std::min(incumbent.size(), challenger.size());
+  const double k = static_cast<double>(g.blocks);
+  double ss = 0.0;
+  for (std::size_t i = 0; i < g.blocks; ++i) g.mean += (incumbent[i] - challenger[i]) / k;
+  for (std::size_t i = 0; i < g.blocks; ++i) ss += std::pow(incumbent[i] - challenger[i] - g.mean, 2);
+  g.sd = g.blocks > 1 ? std::sqrt(ss / (k - 1.0)) : std::numeric_limits<double>::infinity();
+  return g;
+}
+
+CvPlan GainTestPlan(std::size_t n, const DriftFitOptions& o) { return BlockPlan(n, o.cv_folds, /*in_range_only=*/true); }
 
 Result<FitData> PrepareFitData(const DriftInputs& inputs, std::span<const double> target, const DriftFitOptions& o) {
   FitData d;
@@ -180,8 +238,21 @@ Result<DriftModel> FitPrepared(const FitData& d, const DriftInputs& inputs, Drif
       const std::vector<double> p = model.structured->Predict(d.xd);
       for (std::size_t i = 0; i < yd.size(); ++i) yd[i] -= p[i];
     }
-    if (Status st = FitKernel(d, yd, kind, o, plan, &model); !st.ok()) return st.error();
-    if (kind == DriftModelKind::kHybrid) FoldIntercept(&*model.structured, &*model.kernel);
+    SvrOptions chosen;
+    if (Status st = FitKernel(d, yd, kind, o, plan, &model, &chosen); !st.ok()) return st.error();
+    KernelTest test;
+    if (kind == DriftModelKind::kHybrid && o.hybrid_kernel_test) {
+      auto t = TestKernel(d, o, chosen);
+      if (!t.ok()) return t.error();
+      test = *t;
+      s.kernel_decision = test.decision;
+    }
+    if (!test.keep) {
+      if (Status st = DropKernel(d, o, plan, &model); !st.ok()) return st.error();
+      s.train_period_s = 1.0 / inputs.fs_hz;
+    } else if (kind == DriftModelKind::kHybrid) {
+      FoldIntercept(&*model.structured, &*model.kernel);
+    }
   }
   auto fitted = model.Predict(inputs);
   if (!fitted.ok()) return fitted.error();

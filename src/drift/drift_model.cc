@@ -151,6 +151,7 @@ std::string DriftFitSummary::BriefReport() const {
   s << ") = " << cv_rmse << ", train RMSE = " << train_rmse;
   if (evaluations > 0) s << ", " << evaluations << " parameter sets tried";
   s << ", " << fit_time_s << " s";
+  if (!kernel_decision.empty()) s << "\n" << kernel_decision;
   if (!selection_reason.empty()) s << "\n" << selection_reason;
   if (!identifiability.empty()) s << "\n" << identifiability;
   return s.str();

@@ -123,6 +123,29 @@ TEST_F(FitApplyCli, SeveralAxesFitApplyValidate) {
   EXPECT_NE(out.find("no model for rate column 'true_drift_dps'"), std::string::npos) << out;
 }
 
+TEST_F(FitApplyCli, HybridSaysWhetherItKeptItsKernel) {
+  // A simulated paper run at 0.2 Hz (the default gyro: its residual is flicker and hysteresis).
+  // Whatever Eq. H-1 decides, the file's kind and the JSON's model agree and kernel_decision
+  // names the decision; --keep-kernel keeps the kernel and reports no decision.
+  std::string out;
+  ASSERT_EQ(Run("simulate --fs 0.2 --seed 5 -o " + dir_ + "/run.csv", &out), 0) << out;
+  const std::string fit = "fit -i " + dir_ + "/run.csv --model hybrid --inputs temp,dtemp --nests 4 --generations 1 ";
+  ASSERT_EQ(Run(fit + "-o " + dir_ + "/h.json --json " + dir_ + "/h.fit.json", &out), 0) << out;
+  const nlohmann::json fj = testing::ReadJsonFile(dir_ + "/h.fit.json");
+  const nlohmann::json mj = testing::ReadJsonFile(dir_ + "/h.json");
+  const std::string decision = fj["kernel_decision"].get<std::string>();
+  const bool kept = decision.find("kernel kept") != std::string::npos;
+  EXPECT_TRUE(kept || decision.find("kernel dropped") != std::string::npos) << decision;
+  EXPECT_EQ(fj["model"].get<std::string>(), kept ? "hybrid" : "poly");
+  EXPECT_EQ(mj["axes"][0]["kind"].get<std::string>(), kept ? "hybrid" : "poly");
+  EXPECT_EQ(mj["axes"][0]["svr"].is_null(), !kept);
+  ASSERT_EQ(Run(fit + "--keep-kernel -o " + dir_ + "/k.json --json " + dir_ + "/k.fit.json", &out), 0) << out;
+  const nlohmann::json kj = testing::ReadJsonFile(dir_ + "/k.fit.json");
+  EXPECT_EQ(kj["model"].get<std::string>(), "hybrid");
+  EXPECT_EQ(kj["kernel_decision"].get<std::string>(), "");
+  EXPECT_FALSE(testing::ReadJsonFile(dir_ + "/k.json")["axes"][0]["svr"].is_null());
+}
+
 TEST_F(FitApplyCli, BadInputsExitTwoWithoutOutput) {
   std::string out;
   // Unknown target column.

@@ -54,6 +54,19 @@ CvPlan SegmentPlan(std::span<const double> rate_c_per_s, int folds, double thres
 Result<double> CrossValidate(const Columns& x, std::span<const double> y, const CvPlan& plan,
                              const FitPredict& fit_predict, std::vector<double>* fold_rmse = nullptr);
 
+// Eq. H-1: the paired per-block gain g_k = incumbent_k - challenger_k of two models' fold RMSEs
+// on the same contiguous-block plan; the challenger wins iff mean(g) > SD(g) (its gain exceeds
+// its own block-to-block spread). SD is +inf with fewer than 2 blocks.
+struct PairedGain {
+  double mean = 0.0;
+  double sd = 0.0;
+  std::size_t blocks = 0;
+  bool ChallengerWins() const { return mean > sd; }
+};
+PairedGain PairedFoldGain(std::span<const double> incumbent, std::span<const double> challenger);
+// The contiguous-block plan Eq. H-1 is scored on: cv_folds blocks, in-range scoring.
+CvPlan GainTestPlan(std::size_t n, const DriftFitOptions& o);
+
 // Least squares polynomial (Eigen) on the standardised inputs.
 Result<PolynomialModel> FitPolynomial(const Columns& x, std::span<const double> y,
                                       const PolynomialOptions& options);

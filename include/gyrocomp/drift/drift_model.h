@@ -160,6 +160,12 @@ struct DriftFitOptions {
   // the searched models, whose C and gamma come from the search.
   SvrOptions svr;
   SvrSearchOptions search;
+  // hybrid: keep the kernel only when it is supported (Eq. H-1 in drift_fit.cc): over cv_folds
+  // contiguous blocks (in-range scoring), its per-block CV gain over the structured part alone must
+  // exceed the block-to-block spread of that gain, mean(g) > SD(g). Otherwise the kernel learnt
+  // the calibration run's flicker wander, not drift: it is dropped and the model is its
+  // structured part (kind poly; DriftFitSummary::kernel_decision says so). false: always keep it.
+  bool hybrid_kernel_test = true;
   // Name of the target (for the model file and reports), e.g. "rate_dps" or "drift-mode".
   std::string target_name = "rate_dps";
   bool IsValid(std::string* error) const;
@@ -223,6 +229,8 @@ struct DriftFitSummary {
   std::string selection_reason;
   // What this calibration run can identify (heating and cooling coverage), for the fit summary.
   std::string identifiability;
+  // hybrid: whether its kernel was kept or dropped, with the per-block gains (Eq. H-1); "" else.
+  std::string kernel_decision;
   // Wall time of the fit, s. Not written to the model file (two fits of the same data give
   // byte-identical files); reported in fit --json.
   double fit_time_s = 0.0;

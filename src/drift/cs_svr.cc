@@ -9,12 +9,6 @@
 namespace gyrocomp::drift_internal {
 namespace {
 
-Columns Rows(const Columns& x, std::size_t a, std::size_t b) {  // rows [a, b)
-  Columns out;
-  for (const auto& c : x) out.emplace_back(c.begin() + a, c.begin() + b);
-  return out;
-}
-
 // The options one search point stands for: x = (C, sigma[, epsilon]).
 SvrOptions PointOptions(const SvrOptions& base, std::span<const double> x) {
   SvrOptions o = base;

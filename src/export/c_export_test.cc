@@ -163,12 +163,7 @@ std::vector<double> InputConditioning(const DriftModel& m, const std::vector<dou
 // -50 C at the end), so the clamps are exercised. fs_hz < 1 thins the paper profile (the bounds
 // of InputConditioning cost a pass over the support vectors per sample and model).
 SimulatedRun HeldOut(std::uint64_t seed, double fs_hz = 1.0) {
-  SimulatorOptions so;
-  so.fs_hz = fs_hz;
-  so.seed = seed;
-  auto sim = Simulate(so);
-  EXPECT_TRUE(sim.ok());
-  SimulatedRun run = std::move(*sim);
+  SimulatedRun run = export_test::ChamberRun(seed, 1.5, {}, fs_hz);
   const double last = run.temp_c.back();
   for (int i = 1; i <= 1500; ++i) {
     run.temp_c.push_back(i <= 900 ? last + (75.0 - last) * i / 900.0 : 75.0 - 125.0 * (i - 900) / 600.0);

@@ -51,7 +51,9 @@ TEST(PredictDriftCausal, RateModelReportsItsDelay) {
   DriftEvaluator ev(m);
   for (std::size_t i = 0; i < run.temp_c.size(); ++i) {
     const double e = ev.Step(1.0, run.temp_c[i]);
-    if (i % 997 == 0) EXPECT_EQ((*causal)[i], e) << i;
+    if (i % 997 == 0) {
+      EXPECT_EQ((*causal)[i], e) << i;
+    }
   }
 }
 

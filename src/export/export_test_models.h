@@ -11,11 +11,12 @@
 
 namespace gyrocomp::export_test {
 
-// The paper's chamber run at 1 Hz (14.25 h, -40..60 C), drift = cubic bias(T) + dtemp_coeff *
+// The paper's chamber run at fs_hz (default 1 Hz; 14.25 h, -40..60 C), drift = cubic bias(T) + dtemp_coeff *
 // dT/dt + hysteresis (simulator.h), with `poly` as the bias coefficients when given.
-inline SimulatedRun ChamberRun(std::uint64_t seed, double dtemp_coeff = 1.5, std::vector<double> poly = {}) {
+inline SimulatedRun ChamberRun(std::uint64_t seed, double dtemp_coeff = 1.5, std::vector<double> poly = {},
+                               double fs_hz = 1.0) {
   SimulatorOptions o;
-  o.fs_hz = 1.0;
+  o.fs_hz = fs_hz;
   o.seed = seed;
   o.bias.dtemp_coeff_dps_per_c_per_s = dtemp_coeff;
   if (!poly.empty()) o.bias.poly_dps = poly;

@@ -158,9 +158,6 @@ TEST_F(ReportCli, ProcessMarksNotApplicableTermsAlike) {
 // The demo's side-by-side table: every row present, the drift rows finite for raw, the paper's
 // pipeline and the default, non-numbers only with a reason; the same in console, JSON, report.
 TEST_F(ReportCli, DemoTableRowsPresentAndFinite) {
-  if (std::getenv("GYROCOMP_SANITIZED")) {
-    GTEST_SKIP() << "the full-size demo (256k samples) is too slow under ASan; covered by the Release run";
-  }
   std::string out;
   ASSERT_EQ(Run("demo --out " + dir_ + "/demo -q", &out), 0) << out;
   for (const char* f : {"report.html", "summary.json", "processed.csv.gz"}) {

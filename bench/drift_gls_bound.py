@@ -92,7 +92,7 @@ def feasible(d, tag, draws, blk, rng):
         y = drift + draw_1hz(len(drift), rng)
         yb = block_means(y, blk)
         bo = np.linalg.lstsq(x, yb, rcond=None)[0]
-        h = fit_noise(y - x1 @ bo, 10)
+        h = fit_noise(y - x1 @ bo, 10, blk)
         b = {"ols": bo, "gls-exact": gls(x, yb, c), "pgls": gls(x, yb, block_cov(h, n, blk))}
         for run, (xh, truth) in held.items():
             for k, v in b.items():

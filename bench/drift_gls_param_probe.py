@@ -8,10 +8,11 @@ bench/drift_heldout.sh writes them) it fits cubic-in-T + linear dT/dt on BLOCK-s
           paper-profile run given (the bound; not available on real data)
   pgls    GLS with the IEEE-952 noise model S(f) = h0 + h_-1/f + h_-2/f^2 (one-sided, (dps)^2/Hz)
           fitted to the Allan variance of the calibration run's own 1 Hz OLS residual
-          (AVAR = h0/(2 tau) + 2 ln2 h_-1 + (2 pi^2/3) h_-2 tau, non-negative least squares, relative
-          weights, tau = 1 s .. record/TAUDIV), covariance of the block means from that PSD
-          (white: h0/(2 block); flicker + RRW: inverse FFT of S(f) sinc^2(f block) on a 2n grid,
-          nothing below 1/(2 record)), ITER iterations (residual of the previous fit)
+          (AVAR = h0/(2 tau) + 2 ln2 h_-1 + (2 pi^2/3) h_-2 tau, non-negative weighted least squares,
+          tau = BLOCK .. record/TAUDIV), covariance of the block means from that PSD (white:
+          h0/(2 block); flicker + RRW: S(f) sinc^2(f block) folded over the aliases, inverse DFT on
+          a 2n grid, nothing below 1/(2 record)), ITER iterations (residual of the previous fit):
+          the same estimator as `fit --model poly --noise-model allan` (Eq. G-0 .. G-3)
 and prints each held-out RMSE against true_drift_dps (mdps), the ratio to ols, the fitted h's, and
 the decision statistics of two calibration-only tests of whether to use GLS:
   H1  Eq. H-1 on contiguous blocks: g_k = RMSE_k(ols) - RMSE_k(pgls), GLS iff mean(g) > SD(g)
@@ -41,35 +42,60 @@ def avar(y, taus):
     return np.array(out)
 
 
-def fit_noise(resid, taudiv):
-    """h0, h_-1, h_-2 by NNLS on the AVAR with relative weights (all 8 active sets)."""
-    n = len(resid)
-    taus = np.unique(np.round(np.logspace(0, math.log10(n / taudiv), 30)).astype(int))
-    av = avar(resid, taus)
-    a = np.column_stack([0.5 / taus, 2 * math.log(2) * np.ones(len(taus)), (2 * math.pi**2 / 3) * taus])
-    a = a / av[:, None]
-    best, h = np.inf, np.zeros(3)
+def nnls3(a, b):
+    """Non-negative least squares of 3 columns by enumeration of the 7 active sets."""
+    best, h = np.inf, None
     for mask in range(1, 8):
         cols = [j for j in range(3) if mask >> j & 1]
-        c = np.linalg.lstsq(a[:, cols], np.ones(len(taus)), rcond=None)[0]
+        c = np.linalg.lstsq(a[:, cols], b, rcond=None)[0]
         if np.any(c < 0):
             continue
-        r = np.sum((a[:, cols] @ c - 1) ** 2)
+        r = np.sum((a[:, cols] @ c - b) ** 2)
         if r < best:
             best, h = r, np.zeros(3)
             h[cols] = c
     return h
 
 
-def block_cov(h, n, blk):
-    """Autocovariance of n block means (block blk s) of noise with one-sided PSD h0 + h1/f + h2/f^2."""
+def fit_noise(resid, taudiv, min_tau=1.0):
+    """Eq. G-1 as src/drift/noise_model.cc: h0, h_-1, h_-2 >= 0 by weighted least squares on the
+    AVAR at 30 log-spaced taus min_tau .. n/taudiv, weights EDF / AVAR_model^2 (EDF = n / m),
+    4 passes starting from the measured AVAR."""
+    n = len(resid)
+    m_max = max(1.0, min(n / taudiv, n / 2))
+    m_min = min(max(min_tau, 1.0), m_max)
+    ms = []
+    for k in range(30):
+        m = int(round(m_min * (m_max / m_min) ** (k / 29)))
+        if not ms or m != ms[-1]:
+            ms.append(m)
+    taus = np.array(ms, dtype=float)
+    av = avar(resid, ms)
+    t = np.column_stack([0.5 / taus, 2 * math.log(2) * np.ones(len(taus)), (2 * math.pi**2 / 3) * taus])
+    edf = n / taus
+    scale = av
+    for _ in range(4):
+        w = np.sqrt(edf) / scale
+        h = nnls3(t * w[:, None], av * w)
+        scale = t @ h
+    return h
+
+
+def block_cov(h, n, blk, aliases=200):
+    """Eq. G-2 as src/drift/noise_model.cc: autocovariance of n block means (block blk s) of noise
+    with one-sided PSD h0 + h1/f + h2/f^2; red part folded over +-aliases, nothing below 1/(2n blk)."""
     m = 2 * n
-    f = np.arange(m // 2 + 1) / (m * blk)
-    s = np.zeros_like(f)
-    s[1:] = (h[1] / f[1:] + h[2] / f[1:] ** 2) * np.sinc(f[1:] * blk) ** 2
-    # two-sided density s/2 on the grid of spacing 1/(m blk): R(k) = sum s/2 cos(2 pi f k blk) df
-    r = np.fft.irfft(s / 2, m) * m / (m * blk)
-    r = r[:n].copy()
+    df = 1.0 / (m * blk)
+    f0 = np.arange(1, n + 1) * df
+    sin2 = np.sin(np.pi * f0 * blk) ** 2
+    s = np.zeros(n)
+    for a in range(-aliases, aliases + 1):
+        f = np.abs(f0 + a / blk)
+        s += (h[1] / f + h[2] / f**2) * sin2 / (np.pi * f * blk) ** 2
+    s *= df
+    s[-1] *= 0.5
+    k = np.arange(n)
+    r = np.cos(2 * np.pi * np.outer(k, np.arange(1, n + 1)) / m) @ s
     r[0] += h[0] / (2 * blk)
     return r
 
@@ -184,7 +210,7 @@ def main():
         b_ols = np.linalg.lstsq(x, yb, rcond=None)[0]
         b = b_ols
         for _ in range(iters):
-            h = fit_noise(y - x1 @ b, taudiv)
+            h = fit_noise(y - x1 @ b, taudiv, blk)
             acov = block_cov(h, n, blk)
             b = gls(x, yb, acov)
         fits = {"ols": b_ols, "oracle": gls(x, yb, oracle_acov[:n]), "pgls": b}

@@ -159,12 +159,14 @@ Status FitPolynomialAllan(const FitData& d, const DriftInputs& inputs, const Dri
   DriftFitSummary& s = model->summary;
   std::vector<double> residual = model->structured->Predict(d.x);
   for (std::size_t i = 0; i < residual.size(); ++i) residual[i] = d.y[i] - residual[i];
-  auto psd = FitNoisePsd(residual, inputs.fs_hz, o.noise_psd);  // Eq. G-1
-  if (!psd.ok()) return psd.error();
   DriftFitOptions g = o;
   g.train_period_s = std::max(o.gls_block_s, s.duration_s / static_cast<double>(o.max_gls_blocks));
   auto gd = PrepareFitData(inputs, d.y, g);
   if (!gd.ok()) return gd.error();
+  NoisePsdOptions po = o.noise_psd;
+  if (!po.min_tau_s) po.min_tau_s = gd->train_period_s;  // fitted where it is used
+  auto psd = FitNoisePsd(residual, inputs.fs_hz, po);  // Eq. G-1
+  if (!psd.ok()) return psd.error();
   const std::size_t n = gd->yd.size();
   const std::vector<double> autocov = BlockMeanAutocovariance(*psd, n, gd->train_period_s);  // Eq. G-2
   std::vector<std::size_t> index(n);

@@ -19,6 +19,11 @@ constexpr double kLn2 = std::numbers::ln2;
 constexpr double kPi = std::numbers::pi;
 // IEEE 952: the flicker floor of the ADEV is 0.664 B (0.664 = sqrt(2 ln2 / pi), as src/sim uses it).
 constexpr double kFlickerFloor = 0.664;
+// Reweighting passes of the Allan-variance fit (the weights converge in 2-3).
+constexpr int kWeightIterations = 4;
+// Aliases folded into the block-mean spectrum each side (Eq. G-2): the flicker's alias a adds
+// ~1/a^3 of the main term; 200 leaves < 1e-5 of it out.
+constexpr int kAliases = 200;
 
 std::string Num(double v) {
   std::ostringstream s;
@@ -38,6 +43,29 @@ double OverlappingAvar(const std::vector<double>& c, std::size_t m) {
     ss += d * d;
   }
   return 0.5 * ss / static_cast<double>(count);
+}
+
+// Non-negative least squares of a 3-column problem by enumeration: every non-empty subset of the
+// columns, unconstrained on it; the feasible (all >= 0) one with the smallest residual.
+std::optional<NoisePsd> NonNegativeLeastSquares3(const Eigen::MatrixXd& a, const Eigen::VectorXd& b) {
+  std::optional<NoisePsd> best;
+  double best_ss = std::numeric_limits<double>::infinity();
+  for (int mask = 1; mask < 8; ++mask) {
+    std::vector<int> cols;
+    for (int j = 0; j < 3; ++j)
+      if (mask >> j & 1) cols.push_back(j);
+    Eigen::MatrixXd sub(a.rows(), static_cast<Eigen::Index>(cols.size()));
+    for (std::size_t j = 0; j < cols.size(); ++j) sub.col(static_cast<Eigen::Index>(j)) = a.col(cols[j]);
+    const Eigen::VectorXd h = sub.colPivHouseholderQr().solve(b);
+    if ((h.array() < 0.0).any() || !h.allFinite()) continue;
+    const double ss = (sub * h - b).squaredNorm();
+    if (ss >= best_ss) continue;
+    best_ss = ss;
+    double v[3] = {0.0, 0.0, 0.0};
+    for (std::size_t j = 0; j < cols.size(); ++j) v[cols[j]] = h(static_cast<Eigen::Index>(j));
+    best = NoisePsd{v[0], v[1], v[2]};
+  }
+  return best;
 }
 
 }  // namespace
@@ -73,6 +101,10 @@ bool NoisePsdOptions::IsValid(std::string* error) const {
     if (error) *error = "NoisePsdOptions::max_tau_fraction = " + Num(max_tau_fraction) + ": must be in (0, 0.5]";
     return false;
   }
+  if (min_tau_s && !(*min_tau_s > 0.0 && std::isfinite(*min_tau_s))) {
+    if (error) *error = "NoisePsdOptions::min_tau_s = " + Num(*min_tau_s) + ": must be > 0";
+    return false;
+  }
   if (num_taus < 3) {
     if (error) *error = "NoisePsdOptions::num_taus = " + std::to_string(num_taus) + ": must be >= 3";
     return false;
@@ -91,45 +123,46 @@ Result<NoisePsd> FitNoisePsd(std::span<const double> x, double fs_hz, const Nois
     if (!std::isfinite(x[i])) return InvalidInput("FitNoisePsd: non-finite value at sample " + std::to_string(i));
     c[i + 1] = c[i] + x[i];
   }
-  // Log-spaced averaging factors 1 .. max_tau_fraction * n (at most n / 2: two adjacent means).
+  // Log-spaced averaging factors m_min .. max_tau_fraction * n (at most n / 2: two adjacent means).
   const double m_max = std::max(1.0, std::min(options.max_tau_fraction * static_cast<double>(n), n / 2.0));
+  const double m_min = std::clamp(options.min_tau_s.value_or(1.0 / fs_hz) * fs_hz, 1.0, m_max);
+  if (m_max < 4.0 * m_min)
+    return InvalidInput("FitNoisePsd: " + std::to_string(n) + " samples span too few averaging times (from " +
+                        Num(m_min / fs_hz) + " s to " + Num(m_max / fs_hz) + " s; need a factor of 4)");
   std::vector<std::size_t> ms;
   for (int k = 0; k < options.num_taus; ++k) {
-    const double m = std::pow(m_max, static_cast<double>(k) / (options.num_taus - 1));
+    const double m = m_min * std::pow(m_max / m_min, static_cast<double>(k) / (options.num_taus - 1));
     const auto mi = static_cast<std::size_t>(std::llround(m));
     if (ms.empty() || mi != ms.back()) ms.push_back(mi);
   }
-  // Rows: the three Eq. G-1 terms at each tau divided by the measured AVAR; target 1.
-  Eigen::MatrixXd a(ms.size(), 3);
-  for (std::size_t r = 0; r < ms.size(); ++r) {
-    const double tau = static_cast<double>(ms[r]) / fs_hz;
-    const double avar = OverlappingAvar(c, ms[r]);
-    if (!(avar > 0.0)) return InvalidInput("FitNoisePsd: the series is constant (Allan variance 0 at tau " + Num(tau) + " s)");
-    a(r, 0) = 0.5 / tau / avar;                       // Eq. G-1, white
-    a(r, 1) = 2.0 * kLn2 / avar;                      // flicker
-    a(r, 2) = 2.0 * kPi * kPi / 3.0 * tau / avar;     // random walk
+  // The three Eq. G-1 terms at each tau, and the measured AVAR.
+  const auto rows = static_cast<Eigen::Index>(ms.size());
+  Eigen::MatrixXd terms(rows, 3);
+  Eigen::VectorXd avar(rows), edf(rows), scale(rows);
+  for (Eigen::Index r = 0; r < rows; ++r) {
+    const auto m = ms[static_cast<std::size_t>(r)];
+    const double tau = static_cast<double>(m) / fs_hz;
+    avar(r) = OverlappingAvar(c, m);
+    if (!(avar(r) > 0.0)) return InvalidInput("FitNoisePsd: the series is constant (Allan variance 0 at tau " + Num(tau) + " s)");
+    terms(r, 0) = 0.5 / tau;                      // Eq. G-1, white
+    terms(r, 1) = 2.0 * kLn2;                     // flicker
+    terms(r, 2) = 2.0 * kPi * kPi / 3.0 * tau;    // random walk
+    edf(r) = static_cast<double>(n) / static_cast<double>(m);  // ~ independent averages
   }
-  const Eigen::VectorXd ones = Eigen::VectorXd::Ones(static_cast<Eigen::Index>(ms.size()));
-  // Non-negative least squares by enumeration: every non-empty subset of the terms, unconstrained
-  // on it; keep the feasible (all >= 0) one with the smallest residual.
+  // Weighted least squares on relative errors: Var(AVAR estimate) ~ 2 AVAR^2 / EDF, so weight
+  // EDF / AVAR^2, with AVAR the model's (iterated from the measured one: weights from the data
+  // themselves bias a relative fit low by ~1/EDF at the long taus).
+  scale = avar;
   NoisePsd best;
-  double best_ss = std::numeric_limits<double>::infinity();
-  for (int mask = 1; mask < 8; ++mask) {
-    std::vector<int> cols;
-    for (int j = 0; j < 3; ++j)
-      if (mask >> j & 1) cols.push_back(j);
-    Eigen::MatrixXd sub(a.rows(), static_cast<Eigen::Index>(cols.size()));
-    for (std::size_t j = 0; j < cols.size(); ++j) sub.col(static_cast<Eigen::Index>(j)) = a.col(cols[j]);
-    const Eigen::VectorXd h = sub.colPivHouseholderQr().solve(ones);
-    if ((h.array() < 0.0).any() || !h.allFinite()) continue;
-    const double ss = (sub * h - ones).squaredNorm();
-    if (ss >= best_ss) continue;
-    best_ss = ss;
-    double v[3] = {0.0, 0.0, 0.0};
-    for (std::size_t j = 0; j < cols.size(); ++j) v[cols[j]] = h(static_cast<Eigen::Index>(j));
-    best = {v[0], v[1], v[2]};
+  for (int iteration = 0; iteration < kWeightIterations; ++iteration) {
+    const Eigen::VectorXd w = (edf.array().sqrt() / scale.array()).matrix();
+    const Eigen::MatrixXd a = w.asDiagonal() * terms;
+    const Eigen::VectorXd b = w.cwiseProduct(avar);
+    auto h = NonNegativeLeastSquares3(a, b);
+    if (!h) return InvalidInput("FitNoisePsd: no non-negative noise model fits the Allan variance");
+    best = *h;
+    scale = terms * Eigen::Vector3d(best.h0, best.h_1, best.h_2);
   }
-  if (!std::isfinite(best_ss)) return InvalidInput("FitNoisePsd: no non-negative noise model fits the Allan variance");
   return best;
 }
 
@@ -138,13 +171,19 @@ std::vector<double> BlockMeanAutocovariance(const NoisePsd& psd, std::size_t n, 
   if (n == 0) return r;
   const std::size_t m = 2 * n;  // circulant grid
   const double df = 1.0 / (static_cast<double>(m) * block_s);
-  // Eq. G-2: the red part of the spectrum through the block mean (|H|^2 = sinc^2), j = 1 .. n.
+  // Eq. G-2: the red part of the spectrum through the block mean (|H|^2 = sinc^2), sampled once
+  // per block: the power at f + a / block_s (a = +-1, +-2, ...) aliases onto f, j = 1 .. n.
   std::vector<double> s(n + 1, 0.0);
   for (std::size_t j = 1; j <= n; ++j) {
-    const double f = static_cast<double>(j) * df;
-    const double x = kPi * f * block_s;
-    const double sinc = std::sin(x) / x;
-    s[j] = (psd.h_1 / f + psd.h_2 / (f * f)) * sinc * sinc * df * (j == n ? 0.5 : 1.0);
+    const double f0 = static_cast<double>(j) * df;
+    const double sin_x = std::sin(kPi * f0 * block_s);  // the same for every alias, up to sign
+    double folded = 0.0;
+    for (int a = -kAliases; a <= kAliases; ++a) {
+      const double f = std::abs(f0 + a / block_s);
+      const double x = kPi * f * block_s;
+      folded += (psd.h_1 / f + psd.h_2 / (f * f)) * sin_x * sin_x / (x * x);
+    }
+    s[j] = folded * df * (j == n ? 0.5 : 1.0);
   }
   // cos(2 pi j k / m) from a table indexed by (j k) mod m.
   std::vector<double> cos_table(m);

@@ -50,7 +50,12 @@ struct NoisePsd {
 };
 
 struct NoisePsdOptions {
-  // Averaging times of the Allan variance fitted: log-spaced from one sample to this fraction of
+  // Shortest averaging time fitted, s. Automatic: one sample. The drift fit's GLS sets it to its
+  // block period: the model is fitted where it is used (a gyro's flicker floor holds over a band
+  // only; below it the short-tau white would set the flicker level, measured 17% low on the
+  // simulator's band-limited flicker).
+  std::optional<double> min_tau_s;
+  // Averaging times of the Allan variance fitted: log-spaced from min_tau_s to this fraction of
   // the record (longer taus have few independent averages and the fit's OLS residual has lost
   // its slowest content to the regressors). 0.1: the record / 10.
   double max_tau_fraction = 0.1;
@@ -61,16 +66,19 @@ struct NoisePsdOptions {
 
 // Eq. G-1: fits h0, h_1, h_2 >= 0 to the overlapping Allan variance of `x` (sampled at fs_hz),
 //   AVAR(tau) = h0 / (2 tau) + 2 ln2 h_1 + (2 pi^2 / 3) h_2 tau,
-// minimising sum over tau of (model / AVAR - 1)^2 (relative errors: every tau weighs alike) over
-// the non-negative coefficients (all 7 active sets of the 3 terms; the best feasible one).
+// by weighted least squares with weights EDF / AVAR_model^2 (EDF ~ samples / averaging factor:
+// the variance of an AVAR estimate is ~ 2 AVAR^2 / EDF), iterated 4 times from the measured AVAR,
+// over the non-negative coefficients (all 7 active sets of the 3 terms; the best feasible one).
 // Errors: invalid options, fs_hz <= 0, fewer than 8 samples, non-finite values, a constant series.
 Result<NoisePsd> FitNoisePsd(std::span<const double> x, double fs_hz, const NoisePsdOptions& options = {});
 
 // Eq. G-2: autocovariance R(k), k = 0..n-1, of consecutive block means over block_s seconds of
 // noise with the Eq. G-0 spectrum:
 //   R(k) = h0 / (2 block_s) [k = 0]
-//        + sum_{j=1}^{n} df S_red(f_j) sinc^2(f_j block_s) cos(2 pi j k / (2n)),  f_j = j df,
-// df = 1 / (2 n block_s), S_red = h_1 / f + h_2 / f^2, the Nyquist term (j = n) halved: the
+//        + sum_{j=1}^{n} df cos(2 pi j k / (2n)) sum_a S_red(|f_j + a / block_s|) sinc^2(...),
+// f_j = j df, df = 1 / (2 n block_s), S_red = h_1 / f + h_2 / f^2, sinc(x) = sin(pi x) / (pi x)
+// of f block_s (the block mean), a = -200..200 the aliases of sampling once per block, the
+// Nyquist term (j = n) halved: the
 // inverse DFT on a circulant grid of 2n blocks, nothing below 1 / (2 record) (flicker and random
 // walk have no finite variance; a constant added to R changes no fit that has a constant term).
 std::vector<double> BlockMeanAutocovariance(const NoisePsd& psd, std::size_t n, double block_s);

@@ -199,7 +199,7 @@ def main():
     noise = [block_means(load(f)[3], blk) for f in sorted(glob.glob(f"{d}/*.cool*.csv"))]
     n0 = min(len(z) for z in noise)
     oracle_acov = np.mean([autocov(z[:n0], n0) for z in noise], 0)
-    print(f"block {blk} s, AVAR taus 1 s .. record/{taudiv:g}, {iters} iteration(s)")
+    print(f"block {blk} s, AVAR taus {blk} s .. record/{taudiv:g}, {iters} iteration(s)")
     for tag in tags:
         temp, y, _, _ = load(f"{d}/{tag}.cool.csv")
         rate = slope(temp)

@@ -195,13 +195,18 @@ Result<DriftModel> FitAuto(const DriftInputs& inputs, std::span<const double> ta
   for (DriftInputSet in : {DriftInputSet::kTemp, DriftInputSet::kTempAndRate, DriftInputSet::kTempAndLag,
                            DriftInputSet::kTempAndMemory}) {
     c.inputs = in;
-    if (in == DriftInputSet::kTempAndLag) c.state.lag_tau_s = SearchLagTau(inputs, target, c, plan);
-    if (in == DriftInputSet::kTempAndMemory && !memory) {
+    // The lag and memory states carry history: on a ramp the lag excess is ~ -tau dT/dt and
+    // settles only after ~tau, so a long tau is a direction memory, identified only by a run that
+    // both heats and cools. On paper-profile runs (one short heating leg) auto chose lags of
+    // 638-5314 s that fitted the cooling blocks and were 1.6-5.1x worse than poly(T, dT/dt) on
+    // the next heating run (docs/drift_model.md, docs/notes/issue-11-s3-i11gls.md).
+    if ((in == DriftInputSet::kTempAndMemory || in == DriftInputSet::kTempAndLag) && !memory) {
       all.push_back({DriftModelKind::kPolynomial, in, std::nullopt,
-                     {CandidateName(DriftModelKind::kPolynomial, in, c), DriftModelKind::kPolynomial, in, kInf,
+                     {std::string("poly(") + DriftInputSetName(in) + ")", DriftModelKind::kPolynomial, in, kInf,
                       "skipped: the run does not both heat and cool over enough of its range"}});
       continue;
     }
+    if (in == DriftInputSet::kTempAndLag) c.state.lag_tau_s = SearchLagTau(inputs, target, c, plan);
     all.push_back(FitCandidate(inputs, target, DriftModelKind::kPolynomial, c, plan));
   }
   std::string state_reason;

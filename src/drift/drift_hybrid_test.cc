@@ -208,8 +208,9 @@ TEST(DriftModelHybrid, PairedFoldGainClosedForm) {
   EXPECT_FALSE(PairedFoldGain(std::vector<double>{3.0}, std::vector<double>{1.0}).ChallengerWins());
 }
 
-// auto on a calibration run that only cools (and heats once, briefly): the memory state and
-// the pure kernel models are not identifiable, so they are listed but not fitted; the chosen
+// auto on a calibration run that only cools (and heats once, briefly): the memory and lag
+// states, the pure kernel models and the hybrid are not identifiable (validated on one direction
+// only), so they are listed but not fitted; the chosen
 // model says why; the choice is the same for the same data (deterministic).
 TEST(DriftModelAuto, ExplainsItsChoiceAndSkipsWhatTheRunCannotIdentify) {
   const double fs_hz = 0.5;
@@ -230,7 +231,8 @@ TEST(DriftModelAuto, ExplainsItsChoiceAndSkipsWhatTheRunCannotIdentify) {
   EXPECT_NE(a->summary.selection_reason.find("auto chose"), std::string::npos);
   EXPECT_NE(a->summary.identifiability.find("NOT identifiable"), std::string::npos) << a->summary.identifiability;
   for (const DriftCandidateScore& c : a->summary.candidates)
-    if (c.kind == DriftModelKind::kCsSvr || c.inputs == DriftInputSet::kTempAndMemory) {
+    if (c.kind == DriftModelKind::kCsSvr || c.kind == DriftModelKind::kHybrid ||
+        c.inputs == DriftInputSet::kTempAndMemory || c.inputs == DriftInputSet::kTempAndLag) {
       EXPECT_FALSE(std::isfinite(c.cv_rmse)) << c.name;
       EXPECT_FALSE(c.note.empty()) << c.name;
     }

@@ -286,6 +286,16 @@ Result<DriftModel> FitPrepared(const FitData& d, const DriftInputs& inputs, Drif
     s.cv_rmse = *cv;
     s.num_train = d.y.size();
     s.train_period_s = 1.0 / inputs.fs_hz;
+  } else if (kind == DriftModelKind::kHybrid && o.hybrid_kernel_test && !MemoryIdentifiable(inputs, o)) {
+    // Eq. H-1 scores the kernel on blocks of the run, i.e. on the direction(s) it covers. On the
+    // simulated paper-profile runs (one short heating leg) it kept 5 kernels of 24, and all 5 were
+    // worse than the polynomial on the next heating run (1.04-2.13x; docs/drift_model.md): not
+    // searched, the model is its structured part.
+    if (Status st = DropKernel(d, o, plan, &model); !st.ok()) return st.error();
+    s.kernel_decision =
+        "hybrid: kernel dropped (not searched): the calibration run does not both heat and cool over enough of its "
+        "range, so a kernel in (T, state) cannot be validated on the other direction (--keep-kernel keeps it)";
+    s.train_period_s = 1.0 / inputs.fs_hz;
   } else {
     std::vector<double> yd = d.yd;  // hybrid: the residual of the structured part
     if (kind == DriftModelKind::kHybrid) {

@@ -185,6 +185,31 @@ TEST(DriftModelAuto, LagStateReplacesRateOnlyWhenItGainsBeyondItsSpread) {
       << m->summary.selection_reason;
 }
 
+// A calibration that cools (and heats once, briefly): Eq. H-1 could only score the kernel on that
+// direction, so the hybrid is not searched and is its structured part, even with a bump the cubic
+// cannot follow (which a heating-and-cooling sweep keeps, above); --keep-kernel still keeps it.
+TEST(DriftModelHybrid, KernelNotSearchedOnARunThatDoesNotHeatAndCool) {
+  const double fs_hz = 0.2;
+  const std::vector<double> temp = PaperLike(fs_hz);
+  std::vector<double> y(temp.size());
+  for (std::size_t i = 0; i < y.size(); ++i)
+    y[i] = 1e-3 * temp[i] + 0.02 * std::exp(-(temp[i] - 10.0) * (temp[i] - 10.0) / (2.0 * 4.0 * 4.0));
+  DriftFitOptions o;
+  o.model = DriftModelKind::kHybrid;
+  o.search.cuckoo.num_nests = 6;
+  o.search.cuckoo.max_generations = 1;
+  auto h = FitDriftModel({temp, fs_hz}, y, o);
+  ASSERT_TRUE(h.ok()) << h.error().message;
+  EXPECT_EQ(h->kind, DriftModelKind::kPolynomial);
+  EXPECT_FALSE(h->kernel);
+  EXPECT_EQ(h->summary.evaluations, 0);
+  EXPECT_NE(h->summary.kernel_decision.find("not searched"), std::string::npos) << h->summary.kernel_decision;
+  o.hybrid_kernel_test = false;
+  auto forced = FitDriftModel({temp, fs_hz}, y, o);
+  ASSERT_TRUE(forced.ok()) << forced.error().message;
+  EXPECT_EQ(forced->kind, DriftModelKind::kHybrid);
+}
+
 // Eq. H-1 in closed form: gains g = incumbent - challenger; the challenger wins iff mean(g) > SD(g).
 TEST(DriftModelHybrid, PairedFoldGainClosedForm) {
   using drift_internal::PairedFoldGain;

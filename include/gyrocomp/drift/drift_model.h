@@ -173,7 +173,7 @@ struct DriftFitOptions {
   // Allan variance of the OLS residual (Eq. G-1) and its block-mean covariance (Eq. G-2); the
   // CV score is of the GLS fit. Measured (docs/drift_model.md "Noise model of the fit"): it
   // lowers the held-out error in expectation only where the polynomial's form is right (the
-  // best linear unbiased estimator: 0.87-0.92x RMS on the simulated runs) and raises it where
+  // best linear unbiased estimator: 0.90-0.93x heating RMS, simulated runs) and raises it where
   // the residual is misfit (hysteresis: 1.2x); no test on the calibration run alone told them
   // apart, so auto does not use it.
   DriftNoiseModel noise_model = DriftNoiseModel::kWhite;

@@ -4,6 +4,7 @@
 # cooling run, both of other seeds. Prints one markdown row per (structure, seed, model).
 # cs-svr and hybrid run with GEN cuckoo-search generations (default 4, auto's budget; the paper
 # pipeline's default is 10).
+# poly-allan (not in the default MODELS): poly(T, dT/dt) fitted by GLS, --noise-model allan.
 # Usage: G=build/gyrocomp D=heldout FS=1 GEN=4 [STRUCTS="A B C D" SEEDS="1 2 3" MODELS="poly cs-svr hybrid auto"] \
 #          sh bench/drift_heldout.sh
 set -e
@@ -37,6 +38,7 @@ for S in $STRUCTS; do
     for M in $MODELS; do
       case $M in
         poly) args="--model $M --inputs temp,dtemp" ;;
+        poly-allan) args="--model poly --inputs temp,dtemp --noise-model allan" ;;  # GLS (noise_model.h)
         cs-svr|hybrid) args="--model $M --inputs temp,dtemp --generations $GEN" ;;
         auto) args="--model auto" ;;
       esac

@@ -18,7 +18,7 @@ print("| structure | model | heating mean (SD) | heating ratio per seed | coolin
 print("|---|---|---|---|---|---|")
 for s in sorted({k[0] for k in rows}):
     seeds = sorted({k[1] for k in rows if k[0] == s})
-    for m in ("poly", "cs-svr", "hybrid", "auto"):
+    for m in ("poly", "poly-allan", "cs-svr", "hybrid", "auto"):
         if not all((s, seed, m) in rows for seed in seeds):
             continue
         cells = []

@@ -37,6 +37,7 @@ struct FitArgs {
   int modes = VmdOptions{}.num_modes;
   std::string out_of_range = "extrapolate";
   std::string cv_scheme;             // "" = automatic
+  std::string noise_model = "white";
   std::optional<double> lag_tau_s;   // --lag-tau: fixed; absent: fitted
   std::string validate_path;
   std::string model_path;
@@ -67,12 +68,17 @@ Status ResolveOptions(FitArgs& a) {
   const auto inputs = ParseDriftInputSet(a.inputs);
   const auto scale = ParseSvrScaling(a.scale);
   const auto policy = ParseOutOfRangePolicy(a.out_of_range);
-  if (!kind || !inputs || !scale || !policy) return InvalidArgument("bad --model/--inputs/--scale/--out-of-range");
+  const auto noise = ParseDriftNoiseModel(a.noise_model);
+  if (!kind || !inputs || !scale || !policy || !noise)
+    return InvalidArgument("bad --model/--inputs/--scale/--out-of-range/--noise-model");
+  if (*noise == DriftNoiseModel::kAllan && *kind != DriftModelKind::kPolynomial)
+    return InvalidArgument("--noise-model allan: with --model poly only (got --model " + a.model + ")");
   DriftFitOptions& o = a.fit;
   o.model = *kind;
   o.inputs = *inputs;
   o.svr.scaling = *scale;
   o.out_of_range = *policy;
+  o.noise_model = *noise;
   if ((a.C || a.gamma || a.sigma) && *kind != DriftModelKind::kSvr)
     return InvalidArgument("--C/--gamma/--sigma fix the SVR's parameters: use them with --model svr "
                            "(grid-svr, cs-svr, hybrid and auto search C and sigma)");
@@ -135,6 +141,12 @@ nlohmann::json AxisJson(const FitArgs& a, const DriftModel& m) {
   j["best_cv_history_dps"] = s.best_cv_history;
   j["dtemp_window_s"] = a.fit.rate.window_s;
   j["cv_in_range_only"] = s.cv_in_range_only;
+  if (s.model == DriftModelKind::kPolynomial) j["noise_model"] = DriftNoiseModelName(s.noise_model);
+  if (s.noise_psd)
+    j["noise_psd"] = {{"h0", s.noise_psd->h0}, {"h_1", s.noise_psd->h_1}, {"h_2", s.noise_psd->h_2},
+                      {"arw_deg_per_sqrt_h", s.noise_psd->arw_deg_per_sqrt_h()},
+                      {"bias_instability_deg_per_h", s.noise_psd->bias_instability_deg_per_h()},
+                      {"rrw_deg_per_h_per_sqrt_h", s.noise_psd->rrw_deg_per_h_per_sqrt_h()}};
   return j;
 }
 
@@ -241,7 +253,8 @@ Command Make(CLI::App& app) {
       "dT/dt: least-squares slope over a centred --dtemp-window (robust to quantized temperature).\n"
       "JSON: model, inputs, target, C, gamma, sigma, epsilon, num_support, degree, cv_rmse_dps,\n"
       "  train_rmse_dps, num_train, train_period_s, temp_range_c, evaluations, fit_time_s, candidates,\n"
-      "  selection_reason, identifiability, axes (one entry per rate column), validation, ...\n"
+      "  selection_reason, identifiability, noise_model, noise_psd (--noise-model allan), axes (one entry\n"
+      "  per rate column), validation, ...\n"
       "Examples:\n"
       "  gyrocomp fit -i chamber.csv --model cs-svr -o model.json --json fit.json\n"
       "  gyrocomp fit -i chamber.csv --model poly --degree 3 --inputs temp,dtemp -o poly.json\n"
@@ -310,6 +323,13 @@ Command Make(CLI::App& app) {
       ->group(d)->capture_default_str();
   sub->add_option("--dtemp-window", a->fit.rate.window_s, "Window of the dT/dt slope, s")->group(d)->capture_default_str();
   sub->add_option("--degree", a->fit.polynomial.degree, "poly: degree in temperature (1..5)")->group(d)->capture_default_str();
+  sub->add_option("--noise-model", a->noise_model,
+                  "poly: white (ordinary least squares, default) | allan (generalised least squares with white + "
+                  "flicker + random walk fitted to the Allan variance of the OLS residual; helps only where the "
+                  "polynomial's form is right: docs/drift_model.md)")
+      ->check(CLI::IsMember({"white", "allan"}))->group(d)->capture_default_str();
+  sub->add_option("--gls-block", a->fit.gls_block_s, "--noise-model allan: block-mean period of the GLS fit, s")
+      ->group(d)->capture_default_str();
   sub->add_option("--dtemp-degree", a->fit.polynomial.dtemp_degree, "poly: degree in dT/dt (1..3) with --inputs temp,dtemp")
       ->group(d)->capture_default_str();
   AddOutputOption(sub, "-o,--output", &a->model_path, "Model file to write (JSON)")->required();

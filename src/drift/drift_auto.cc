@@ -195,13 +195,18 @@ Result<DriftModel> FitAuto(const DriftInputs& inputs, std::span<const double> ta
   for (DriftInputSet in : {DriftInputSet::kTemp, DriftInputSet::kTempAndRate, DriftInputSet::kTempAndLag,
                            DriftInputSet::kTempAndMemory}) {
     c.inputs = in;
-    if (in == DriftInputSet::kTempAndLag) c.state.lag_tau_s = SearchLagTau(inputs, target, c, plan);
-    if (in == DriftInputSet::kTempAndMemory && !memory) {
+    // The lag and memory states carry history: on a ramp the lag excess is ~ -tau dT/dt and
+    // settles only after ~tau, so a long tau is a direction memory, identified only by a run that
+    // both heats and cools. On paper-profile runs (one short heating leg) auto chose lags of
+    // 638-5314 s that fitted the cooling blocks and were 1.6-5.1x worse than poly(T, dT/dt) on
+    // the next heating run (docs/drift_model.md, docs/notes/issue-11-s3-i11gls.md).
+    if ((in == DriftInputSet::kTempAndMemory || in == DriftInputSet::kTempAndLag) && !memory) {
       all.push_back({DriftModelKind::kPolynomial, in, std::nullopt,
-                     {CandidateName(DriftModelKind::kPolynomial, in, c), DriftModelKind::kPolynomial, in, kInf,
+                     {std::string("poly(") + DriftInputSetName(in) + ")", DriftModelKind::kPolynomial, in, kInf,
                       "skipped: the run does not both heat and cool over enough of its range"}});
       continue;
     }
+    if (in == DriftInputSet::kTempAndLag) c.state.lag_tau_s = SearchLagTau(inputs, target, c, plan);
     all.push_back(FitCandidate(inputs, target, DriftModelKind::kPolynomial, c, plan));
   }
   std::string state_reason;
@@ -219,18 +224,28 @@ Result<DriftModel> FitAuto(const DriftInputs& inputs, std::span<const double> ta
                       "not fitted: the run does not cover both directions, an RBF kernel cannot extrapolate the "
                       "state"}});
     }
-    // The hybrid on the best structured state (and its tau).
+    // The hybrid on the best structured state (and its tau), on runs that heat and cool only: its
+    // kernel in (T, state) is validated on the direction(s) the run covers, and on a cooling
+    // calibration it learnt what the cooling blocks share (flicker, a hysteresis branch) and
+    // applied it to the next heating run: B6 passed Eq. H-1 and was 1.88x poly's heating error.
     c.inputs = all[best_poly].inputs;
     if (all[best_poly].model) c.state = all[best_poly].model->state;
-    all.push_back(FitCandidate(inputs, target, DriftModelKind::kHybrid, c, plan));
+    if (memory) {
+      all.push_back(FitCandidate(inputs, target, DriftModelKind::kHybrid, c, plan));
+    } else {
+      all.push_back({DriftModelKind::kHybrid, c.inputs, std::nullopt,
+                     {CandidateName(DriftModelKind::kHybrid, c.inputs, c), DriftModelKind::kHybrid, c.inputs, kInf,
+                      "not fitted: the run does not cover both directions, its kernel cannot be validated on the "
+                      "other"}});
+    }
   }
   // A kernel candidate must beat the best structured one by one standard error of the latter's
   // fold scores: the CV error is dominated by the flicker bias no model can predict, and a
   // searched model's CV score is optimistic (its parameters were chosen on it), so a small CV
   // gain does not buy a gain on the next run (docs/drift_model.md).
   // A pure kernel model (svr, cs-svr) with a state input reverts to its intercept away from its
-  // support: it is eligible only when the run covers both directions (memory identifiable); the
-  // hybrid falls back to the structured part there and is always eligible.
+  // support: it is eligible only when the run covers both directions (memory identifiable); so is
+  // the hybrid (above).
   const double se = FoldStandardError(inputs, target, all[best_poly], plan, o);
   std::size_t best = best_poly;
   for (std::size_t i = 0; i < all.size(); ++i) {

@@ -130,6 +130,21 @@ bool DriftFitOptions::IsValid(std::string* error) const {
     if (error) *error = "DriftFitOptions::cv_folds = " + std::to_string(cv_folds) + ": must be >= 2";
     return false;
   }
+  if (!noise_psd.IsValid(error)) return false;
+  if (noise_model == DriftNoiseModel::kAllan && model != DriftModelKind::kPolynomial) {
+    if (error)
+      *error = std::string("DriftFitOptions::noise_model = allan applies to model poly only, got ") +
+               DriftModelKindName(model);
+    return false;
+  }
+  if (!(gls_block_s > 0.0) || !std::isfinite(gls_block_s)) {
+    if (error) *error = "DriftFitOptions::gls_block_s = " + Num(gls_block_s) + ": must be > 0";
+    return false;
+  }
+  if (max_gls_blocks < 10) {
+    if (error) *error = "DriftFitOptions::max_gls_blocks = " + std::to_string(max_gls_blocks) + ": must be >= 10";
+    return false;
+  }
   return true;
 }
 
@@ -151,6 +166,7 @@ std::string DriftFitSummary::BriefReport() const {
   s << ") = " << cv_rmse << ", train RMSE = " << train_rmse;
   if (evaluations > 0) s << ", " << evaluations << " parameter sets tried";
   s << ", " << fit_time_s << " s";
+  if (noise_psd) s << "\nnoise model allan (generalised least squares): " << noise_psd->BriefReport();
   if (!kernel_decision.empty()) s << "\n" << kernel_decision;
   if (!selection_reason.empty()) s << "\n" << selection_reason;
   if (!identifiability.empty()) s << "\n" << identifiability;

@@ -146,6 +146,35 @@ TEST_F(FitApplyCli, HybridSaysWhetherItKeptItsKernel) {
   EXPECT_FALSE(testing::ReadJsonFile(dir_ + "/k.json")["axes"][0]["svr"].is_null());
 }
 
+TEST_F(FitApplyCli, NoiseModelAllanFitsByGlsAndKeepsTheFileSchema) {
+  // A simulated paper run at 0.5 Hz. --noise-model allan: the fit JSON names the noise model and
+  // its fitted coefficients (bias instability near the simulator's 44 deg/h: the residual is
+  // mostly its flicker), the model file is a plain poly of the same terms (only the coefficients
+  // differ from the OLS fit's), and apply reads it. With another model it is refused (exit 2).
+  std::string out;
+  ASSERT_EQ(Run("simulate --fs 0.5 --seed 3 -o " + dir_ + "/run.csv", &out), 0) << out;
+  const std::string fit = "fit -i " + dir_ + "/run.csv --model poly --inputs temp,dtemp ";
+  ASSERT_EQ(Run(fit + "-o " + dir_ + "/ols.json --json " + dir_ + "/ols.fit.json", &out), 0) << out;
+  ASSERT_EQ(Run(fit + "--noise-model allan -o " + dir_ + "/gls.json --json " + dir_ + "/gls.fit.json", &out), 0) << out;
+  EXPECT_NE(out.find("noise model allan (generalised least squares)"), std::string::npos) << out;
+  const nlohmann::json oj = testing::ReadJsonFile(dir_ + "/ols.fit.json");
+  const nlohmann::json gj = testing::ReadJsonFile(dir_ + "/gls.fit.json");
+  EXPECT_EQ(oj["noise_model"].get<std::string>(), "white");
+  EXPECT_FALSE(oj.contains("noise_psd"));
+  EXPECT_EQ(gj["noise_model"].get<std::string>(), "allan");
+  EXPECT_EQ(gj["train_period_s"].get<double>(), 60.0);
+  EXPECT_NEAR(gj["noise_psd"]["bias_instability_deg_per_h"].get<double>(), 44.0, 0.3 * 44.0);
+  const nlohmann::json om = testing::ReadJsonFile(dir_ + "/ols.json")["axes"][0];
+  const nlohmann::json gm = testing::ReadJsonFile(dir_ + "/gls.json")["axes"][0];
+  EXPECT_EQ(gm["kind"], om["kind"]);
+  EXPECT_EQ(gm["structured"]["terms"].size(), om["structured"]["terms"].size());
+  EXPECT_NE(gm["structured"]["terms"], om["structured"]["terms"]);
+  ASSERT_EQ(Run("apply -m " + dir_ + "/gls.json -i " + dir_ + "/run.csv -o " + dir_ + "/out.csv", &out), 0) << out;
+  EXPECT_EQ(Run("fit -i " + dir_ + "/run.csv --model cs-svr --noise-model allan -o " + dir_ + "/x.json", &out), 2);
+  EXPECT_NE(out.find("--noise-model allan: with --model poly only"), std::string::npos) << out;
+  EXPECT_FALSE(std::filesystem::exists(dir_ + "/x.json"));
+}
+
 TEST_F(FitApplyCli, BadInputsExitTwoWithoutOutput) {
   std::string out;
   // Unknown target column.

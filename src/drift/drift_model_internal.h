@@ -71,6 +71,13 @@ CvPlan GainTestPlan(std::size_t n, const DriftFitOptions& o);
 Result<PolynomialModel> FitPolynomial(const Columns& x, std::span<const double> y,
                                       const PolynomialOptions& options);
 
+// Generalised least squares (Eq. G-3 in polynomial_model.cc): the polynomial of FitPolynomial
+// with residual covariance Sigma(i, j) = autocov[|index_i - index_j|] (noise_model.h, Eq. G-2;
+// index = the sample's position in the evenly spaced series autocov describes).
+Result<PolynomialModel> FitPolynomialGls(const Columns& x, std::span<const double> y,
+                                         std::span<const double> autocov, std::span<const std::size_t> index,
+                                         const PolynomialOptions& options);
+
 // Outcome of a parameter search for the SVR family.
 struct SvrChoice {
   SvrOptions options;      // with C, sigma (and epsilon) chosen

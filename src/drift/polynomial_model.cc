@@ -25,11 +25,13 @@ std::vector<double> PolynomialModel::Predict(const std::vector<std::vector<doubl
 
 namespace drift_internal {
 
-Result<PolynomialModel> FitPolynomial(const Columns& x, std::span<const double> y,
-                                      const PolynomialOptions& options) {
+namespace {
+
+// The terms of `options` and the scaler of x (model without coefficients), and its design matrix.
+Result<PolynomialModel> PolynomialTerms(const Columns& x, std::size_t n, const PolynomialOptions& options,
+                                        Eigen::MatrixXd* a) {
   std::string why;
   if (!options.IsValid(&why)) return InvalidArgument(why);
-  const std::size_t n = y.size();
   PolynomialModel model;
   model.input_scaler = AffineScaler::Standardize(x);
   // Terms: t^0 .. t^degree, then r^1 .. r^dtemp_degree when dT/dt is an input.
@@ -40,23 +42,70 @@ Result<PolynomialModel> FitPolynomial(const Columns& x, std::span<const double> 
   if (n < m)
     return InvalidInput("polynomial fit: " + std::to_string(m) + " coefficients need at least " +
                         std::to_string(m) + " samples, got " + std::to_string(n));
-  Eigen::MatrixXd a(n, m);
-  Eigen::VectorXd b(n);
+  a->resize(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(m));
   for (std::size_t i = 0; i < n; ++i) {
     const double t = (x[0][i] - model.input_scaler.offset[0]) / model.input_scaler.scale[0];
     const double r = x.size() > 1 ? (x[1][i] - model.input_scaler.offset[1]) / model.input_scaler.scale[1] : 0.0;
     for (std::size_t k = 0; k < m; ++k)
-      a(i, k) = std::pow(t, model.terms[k].temp_power) * std::pow(r, model.terms[k].dtemp_power);
-    b(i) = y[i];
+      (*a)(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(k)) =
+          std::pow(t, model.terms[k].temp_power) * std::pow(r, model.terms[k].dtemp_power);
   }
-  // Column-pivoted QR: robust when the temperature range is narrow (columns nearly collinear).
+  return model;
+}
+
+// Least squares a c = b by column-pivoted QR (robust when the temperature range is narrow and the
+// columns nearly collinear); the coefficients into `model`.
+Status SolveInto(const Eigen::MatrixXd& a, const Eigen::VectorXd& b, int degree, PolynomialModel* model) {
   Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(a);
-  if (qr.rank() < static_cast<Eigen::Index>(m))
-    return InvalidInput("polynomial fit: degree " + std::to_string(options.degree) +
+  const auto m = static_cast<Eigen::Index>(model->terms.size());
+  if (qr.rank() < m)
+    return InvalidInput("polynomial fit: degree " + std::to_string(degree) +
                         " is not identifiable from this record (rank " + std::to_string(qr.rank()) +
                         " < " + std::to_string(m) + " terms; too few distinct temperatures?)");
   const Eigen::VectorXd c = qr.solve(b);
-  for (std::size_t k = 0; k < m; ++k) model.terms[k].coefficient = c(k);
+  for (Eigen::Index k = 0; k < m; ++k) model->terms[static_cast<std::size_t>(k)].coefficient = c(k);
+  return Status::Ok();
+}
+
+}  // namespace
+
+Result<PolynomialModel> FitPolynomial(const Columns& x, std::span<const double> y,
+                                      const PolynomialOptions& options) {
+  Eigen::MatrixXd a;
+  auto model = PolynomialTerms(x, y.size(), options, &a);
+  if (!model.ok()) return model.error();
+  const Eigen::VectorXd b = Eigen::Map<const Eigen::VectorXd>(y.data(), static_cast<Eigen::Index>(y.size()));
+  if (Status st = SolveInto(a, b, options.degree, &*model); !st.ok()) return st.error();
+  return model;
+}
+
+Result<PolynomialModel> FitPolynomialGls(const Columns& x, std::span<const double> y,
+                                         std::span<const double> autocov, std::span<const std::size_t> index,
+                                         const PolynomialOptions& options) {
+  const std::size_t n = y.size();
+  if (index.size() != n) return InvalidArgument("FitPolynomialGls: one index per sample");
+  Eigen::MatrixXd a;
+  auto model = PolynomialTerms(x, n, options, &a);
+  if (!model.ok()) return model.error();
+  // Eq. G-3: Sigma(i, j) = R(|index_i - index_j|), plus 1e-6 R(0) on the diagonal (a floor that
+  // keeps the factorisation stable when the white term is tiny); Sigma = L L'; then ordinary
+  // least squares on L^-1 a, L^-1 y: the generalised least squares estimate.
+  const auto ni = static_cast<Eigen::Index>(n);
+  Eigen::MatrixXd cov(ni, ni);
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = 0; j < n; ++j) {
+      const std::size_t lag = index[i] > index[j] ? index[i] - index[j] : index[j] - index[i];
+      if (lag >= autocov.size()) return InvalidArgument("FitPolynomialGls: autocovariance shorter than the index span");
+      cov(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = autocov[lag];
+    }
+  cov.diagonal().array() += 1e-6 * autocov[0];
+  const Eigen::LLT<Eigen::MatrixXd> llt(cov);
+  if (llt.info() != Eigen::Success)
+    return InvalidInput("polynomial GLS fit: the noise covariance is not positive definite");
+  const Eigen::MatrixXd aw = llt.matrixL().solve(a);
+  const Eigen::VectorXd bw =
+      llt.matrixL().solve(Eigen::Map<const Eigen::VectorXd>(y.data(), ni));
+  if (Status st = SolveInto(aw, bw, options.degree, &*model); !st.ok()) return st.error();
   return model;
 }
 

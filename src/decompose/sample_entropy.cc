@@ -28,6 +28,7 @@
 #include "gyrocomp/decompose/sample_entropy.h"
 
 #include "sample_entropy_counters.h"
+#include "sample_entropy_window.h"
 
 #include <algorithm>
 #include <chrono>
@@ -54,6 +55,13 @@ constexpr int kDigitBits = 11;            // radix digit from kWideDigitsMin key
 constexpr std::size_t kWideDigitsMin = 8192;
 constexpr std::size_t kDigits = std::size_t{1} << kDigitBits;
 constexpr std::size_t kBitsetMax = 2048;  // window counts in a bitset up to this many items
+// kFast takes the sorted window when its pair checks W are at most this many per template and
+// at least half the templates' first values are distinct. Measured (sample_entropy_benchmark
+// BM_SampleEntropyCounter, docs/performance.md "Sample entropy, session 3"): the window costs
+// ~0.2 ns per pair check, range counting 580-1210 ns per template on continuous values at
+// N = 20k-100k (crossover W ~ 2900-6000 per template) but only ~100-140 ns with heavy ties
+// (quantized data: its groups of equal values cost nothing per pair).
+constexpr std::uint64_t kWindowPairsPerTemplate = 2048;
 
 
 // The series' values ranked once (equal values, equal ranks), so that every later sort of
@@ -64,31 +72,18 @@ struct RankedSeries {
   int rank_bits = 0;
 };
 
-RankedSeries RankValues(std::span<const double> x) {
-  std::vector<std::pair<double, Item>> v(x.size());
-  for (std::size_t i = 0; i < x.size(); ++i) v[i] = {x[i], static_cast<Item>(i)};
-  std::sort(v.begin(), v.end());
+// Ranks from the values' order (se_detail::OrderByValue, a radix sort).
+RankedSeries RankValues(std::span<const double> x, std::vector<Item> order) {
   RankedSeries out;
   out.rank.resize(x.size());
-  out.order.resize(x.size());
   std::uint32_t rank = 0;
-  for (std::size_t k = 0; k < v.size(); ++k) {
-    if (k > 0 && v[k].first != v[k - 1].first) ++rank;
-    out.rank[v[k].second] = rank;
-    out.order[k] = v[k].second;
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    if (k > 0 && x[order[k]] != x[order[k - 1]]) ++rank;
+    out.rank[order[k]] = rank;
   }
+  out.order = std::move(order);
   out.rank_bits = std::max(1, static_cast<int>(std::bit_width(rank)));
   return out;
-}
-
-// Template start points 0 .. templates-1 sorted by their first coordinate: `order` filtered.
-std::vector<Item> SortedTemplates(const RankedSeries& ranked, std::size_t templates) {
-  std::vector<Item> s;
-  s.reserve(templates);
-  for (Item i : ranked.order) {
-    if (i < templates) s.push_back(i);
-  }
-  return s;
 }
 
 class PairCounter {
@@ -418,6 +413,37 @@ int NormalisingExponent(std::span<const double> x) {
   return (e > 256 || e < -256) ? e : 0;
 }
 
+// kFast's choice (kWindowPairsPerTemplate): few ties and at most kWindowPairsPerTemplate pair
+// checks per template.
+bool WindowIsCheaper(std::span<const double> x, std::span<const Item> sorted, double r) {
+  std::size_t distinct = sorted.empty() ? 0 : 1;
+  for (std::size_t k = 1; k < sorted.size(); ++k) distinct += x[sorted[k]] != x[sorted[k - 1]];
+  return 2 * distinct >= sorted.size() && se_detail::WindowPairs(x, sorted, r) <= kWindowPairsPerTemplate * sorted.size();
+}
+
+// Range counting: A (m + 1 coordinates, the long count) split into tasks, B (m coordinates) one
+// more task; `threads` workers take tasks in order (largest first), each with its own scratch.
+TemplateMatchCounts CountByRanges(std::span<const double> x, int m, double r, const RankedSeries& ranked,
+                                  std::vector<Item>& sorted, int threads) {
+  TemplateMatchCounts out;
+  auto tasks = PairCounter(x.data(), ranked, m + 1, r).Tasks(sorted);
+  std::vector<int> is_b(tasks.size(), 0);
+  tasks.push_back([&](PairCounter&) { return PairCounter(x.data(), ranked, m, r).CountSorted(sorted); });
+  is_b.push_back(1);
+  std::vector<std::uint64_t> results(tasks.size(), 0);
+  std::atomic<std::size_t> next{0};
+  auto worker = [&] {
+    PairCounter pc(x.data(), ranked, m + 1, r);
+    for (std::size_t t; (t = next.fetch_add(1)) < tasks.size();) results[t] = tasks[t](pc);
+  };
+  std::vector<std::thread> pool;
+  for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
+  worker();
+  for (auto& th : pool) th.join();
+  for (std::size_t t = 0; t < tasks.size(); ++t) (is_b[t] ? out.b : out.a) += results[t];
+  return out;
+}
+
 }  // namespace
 
 bool SampleEntropyOptions::IsValid(std::string* error) const {
@@ -469,28 +495,22 @@ TemplateMatchCounts CountTemplateMatches(std::span<const double> x, int m, doubl
     out.a = CountBrute(x, m + 1, r, templates);
     return out;
   }
-  // A (m + 1 coordinates, the long count) split into tasks, B (m coordinates) one more task;
-  // `threads` workers take tasks in order (largest first). Each worker has its own scratch.
   const int threads = num_threads > 0 ? num_threads
                                       : std::max(1, std::min(2, static_cast<int>(std::thread::hardware_concurrency())));
-  const RankedSeries ranked = RankValues(x);
-  std::vector<Item> sorted = SortedTemplates(ranked, templates);
-  auto tasks = PairCounter(x.data(), ranked, m + 1, r).Tasks(sorted);
-  std::vector<int> is_b(tasks.size(), 0);
-  tasks.push_back([&](PairCounter&) { return PairCounter(x.data(), ranked, m, r).CountSorted(sorted); });
-  is_b.push_back(1);
-  std::vector<std::uint64_t> results(tasks.size(), 0);
-  std::atomic<std::size_t> next{0};
-  auto worker = [&] {
-    PairCounter pc(x.data(), ranked, m + 1, r);
-    for (std::size_t t; (t = next.fetch_add(1)) < tasks.size();) results[t] = tasks[t](pc);
-  };
-  std::vector<std::thread> pool;
-  for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
-  worker();
-  for (auto& th : pool) th.join();
-  for (std::size_t t = 0; t < tasks.size(); ++t) (is_b[t] ? out.b : out.a) += results[t];
-  return out;
+  std::vector<Item> order = se_detail::OrderByValue(x);
+  std::vector<Item> sorted;
+  sorted.reserve(templates);
+  for (Item i : order) {
+    if (i < templates) sorted.push_back(i);
+  }
+  if (algorithm != SampleEntropyAlgorithm::kRangeCount && m <= se_detail::kWindowMaxM &&
+      (algorithm == SampleEntropyAlgorithm::kSortedWindow || WindowIsCheaper(x, sorted, r))) {
+    const se_detail::WindowCounts w = se_detail::CountWindowed(x, sorted, m, r, threads);
+    out.a = w.a;
+    out.b = w.b;
+    return out;
+  }
+  return CountByRanges(x, m, r, RankValues(x, std::move(order)), sorted, threads);
 }
 
 Result<SampleEntropyResult> SampleEntropy(std::span<const double> x, const SampleEntropyOptions& opt) {

@@ -8,9 +8,11 @@
 #include <cmath>
 #include <numbers>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "gyrocomp/decompose/sample_entropy.h"
+#include "sample_entropy_window.h"
 
 namespace {
 
@@ -47,6 +49,31 @@ BENCHMARK(BM_SampleEntropyFast)
     ->ArgsProduct({{10000, 100000, 1000000}, {0, 1, 2}})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
+
+// The two exact counters forced, single-threaded (the crossover that sets kFast's choice,
+// sample_entropy.cc kWindowPairsPerTemplate): range counting (arg 2 = 0) vs sorted window (1).
+// Counter W/template: the window's pair checks per template.
+void BM_SampleEntropyCounter(benchmark::State& state) {
+  const auto x = MakeInput(static_cast<int>(state.range(1)), static_cast<std::size_t>(state.range(0)));
+  const double r = 0.2 * gyrocomp::PopulationSd(x);
+  const auto algorithm = state.range(2) == 0 ? gyrocomp::SampleEntropyAlgorithm::kRangeCount
+                                             : gyrocomp::SampleEntropyAlgorithm::kSortedWindow;
+  for (auto _ : state) {
+    auto c = gyrocomp::CountTemplateMatches(x, 2, r, algorithm, 1);
+    benchmark::DoNotOptimize(c.a);
+  }
+  std::vector<std::uint32_t> sorted = gyrocomp::se_detail::OrderByValue(x);
+  std::erase_if(sorted, [&](std::uint32_t i) { return i + 2 >= x.size(); });
+  state.counters["W/template"] = static_cast<double>(gyrocomp::se_detail::WindowPairs(x, sorted, r)) / sorted.size();
+  std::size_t distinct = 1;
+  for (std::size_t k = 1; k < sorted.size(); ++k) distinct += x[sorted[k]] != x[sorted[k - 1]];
+  state.counters["distinct"] = static_cast<double>(distinct) / sorted.size();
+  state.SetLabel(std::string(state.range(1) == 0 ? "white" : state.range(1) == 1 ? "narrow-band" : "quantized") +
+                 (state.range(2) == 0 ? " range" : " window"));
+}
+BENCHMARK(BM_SampleEntropyCounter)
+    ->ArgsProduct({{2000, 20000, 50000, 100000, 200000}, {0, 1, 2}, {0, 1}})
+    ->Unit(benchmark::kMillisecond);
 
 void BM_SampleEntropyBruteForce(benchmark::State& state) {
   const auto x = MakeInput(1, static_cast<std::size_t>(state.range(0)));

@@ -55,13 +55,14 @@ constexpr int kDigitBits = 11;            // radix digit from kWideDigitsMin key
 constexpr std::size_t kWideDigitsMin = 8192;
 constexpr std::size_t kDigits = std::size_t{1} << kDigitBits;
 constexpr std::size_t kBitsetMax = 2048;  // window counts in a bitset up to this many items
-// kFast takes the sorted window when its pair checks W are at most this many per template and
-// at least half the templates' first values are distinct. Measured (sample_entropy_benchmark
-// BM_SampleEntropyCounter, docs/performance.md "Sample entropy, session 3"): the window costs
-// ~0.2 ns per pair check, range counting 580-1210 ns per template on continuous values at
-// N = 20k-100k (crossover W ~ 2900-6000 per template) but only ~100-140 ns with heavy ties
-// (quantized data: its groups of equal values cost nothing per pair).
-constexpr std::uint64_t kWindowPairsPerTemplate = 2048;
+// kFast takes the sorted window (sample_entropy_window.h) when it compares at most this many
+// coordinates per template and at least half the values are distinct. Measured (one thread,
+// sample_entropy_benchmark BM_SampleEntropyCounter and the VMD modes of bench/side_by_side.py's
+// record; docs/performance.md "Sample entropy, session 3"): the window costs ~0.1 ns per
+// coordinate check; range counting 570-1210 ns per template on continuous values at N = 20k-100k
+// (crossover ~6,000-12,000 checks per template), but only ~100-140 ns with heavy ties (quantized
+// data: its groups of equal values cost nothing per pair) while the window checks every tie.
+constexpr std::uint64_t kWindowChecksPerTemplate = 10000;
 
 
 // The series' values ranked once (equal values, equal ranks), so that every later sort of
@@ -413,12 +414,11 @@ int NormalisingExponent(std::span<const double> x) {
   return (e > 256 || e < -256) ? e : 0;
 }
 
-// kFast's choice (kWindowPairsPerTemplate): few ties and at most kWindowPairsPerTemplate pair
-// checks per template.
-bool WindowIsCheaper(std::span<const double> x, std::span<const Item> sorted, double r) {
-  std::size_t distinct = sorted.empty() ? 0 : 1;
-  for (std::size_t k = 1; k < sorted.size(); ++k) distinct += x[sorted[k]] != x[sorted[k - 1]];
-  return 2 * distinct >= sorted.size() && se_detail::WindowPairs(x, sorted, r) <= kWindowPairsPerTemplate * sorted.size();
+// Few ties: at least half the values distinct (kWindowChecksPerTemplate). `order`: x by value.
+bool FewTies(std::span<const double> x, std::span<const Item> order) {
+  std::size_t distinct = order.empty() ? 0 : 1;
+  for (std::size_t k = 1; k < order.size(); ++k) distinct += x[order[k]] != x[order[k - 1]];
+  return 2 * distinct >= order.size();
 }
 
 // Range counting: A (m + 1 coordinates, the long count) split into tasks, B (m coordinates) one
@@ -498,17 +498,20 @@ TemplateMatchCounts CountTemplateMatches(std::span<const double> x, int m, doubl
   const int threads = num_threads > 0 ? num_threads
                                       : std::max(1, std::min(2, static_cast<int>(std::thread::hardware_concurrency())));
   std::vector<Item> order = se_detail::OrderByValue(x);
+  const bool window_allowed = algorithm != SampleEntropyAlgorithm::kRangeCount && m <= se_detail::kWindowMaxM;
+  if (window_allowed && (algorithm == SampleEntropyAlgorithm::kSortedWindow || FewTies(x, order))) {
+    const se_detail::WindowPlan plan = se_detail::PlanWindow(x, order, templates, m, r);
+    if (algorithm == SampleEntropyAlgorithm::kSortedWindow || plan.coordinate_checks <= kWindowChecksPerTemplate * templates) {
+      const se_detail::WindowCounts w = se_detail::CountWindowed(plan, r, threads);
+      out.a = w.a;
+      out.b = w.b;
+      return out;
+    }
+  }
   std::vector<Item> sorted;
   sorted.reserve(templates);
   for (Item i : order) {
     if (i < templates) sorted.push_back(i);
-  }
-  if (algorithm != SampleEntropyAlgorithm::kRangeCount && m <= se_detail::kWindowMaxM &&
-      (algorithm == SampleEntropyAlgorithm::kSortedWindow || WindowIsCheaper(x, sorted, r))) {
-    const se_detail::WindowCounts w = se_detail::CountWindowed(x, sorted, m, r, threads);
-    out.a = w.a;
-    out.b = w.b;
-    return out;
   }
   return CountByRanges(x, m, r, RankValues(x, std::move(order)), sorted, threads);
 }

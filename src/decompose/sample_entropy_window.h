@@ -1,15 +1,22 @@
-// Sample entropy by a sorted window (sample_entropy.cc picks it when it is cheaper than range
+// Sample entropy by sorted windows (sample_entropy.cc picks it when it is cheaper than range
 // counting). Internal to src/decompose/.
 //
-// The templates sorted by their first coordinate x[i]: for template k of that order, the later
-// templates whose first coordinate is within r form one run [k + 1, hi_k) (rounding is
-// monotone, so fl(y_j - y_k) < r holds on a prefix of the later ones; the same predicate as the
-// brute force). Every pair of the run is checked directly on the other coordinates, eight pairs
-// at a time (SIMD, the path chosen at run time), and A and B come out of the same pass: a pair
-// counts in B when coordinates 1..m-1 match and in A when coordinate m matches too. Cost:
-// W = sum_k (hi_k - k - 1) pair checks (WindowPairs), whatever the match rate. Narrow for the
-// noise-like VMD modes of a 20k-sample record (W ~ 1,100 N); quadratic when r spans most of the
-// values, so the caller compares W with the range counting's cost first.
+// Two layouts of the templates, the one with fewer coordinate checks kept (PlanWindow):
+//   - strip: templates sorted by their first value x[i]; the later ones within r of template k
+//     form one run [k + 1, hi_k) (rounding is monotone, so fl(y_j - y_k) < r holds on a prefix);
+//   - cells: the values cut into groups along their sorted order (maximal runs of span < r: two
+//     values two groups apart never match, sample_entropy.cc Groups) give template i the cell
+//     (group of x[i], group of x[i+1]). A matching pair lies in the same or adjacent cells, so with
+//     the templates sorted by cell, the candidates after template k form two runs: cells (a, b)
+//     and (a, b + 1), then (a + 1, b - 1) .. (a + 1, b + 1). Best for noise-like series (~300
+//     candidates per template for the noise-like VMD modes of a 20k-sample record against ~1,100
+//     for the strip); the strip wins when x[i+1] follows x[i] closely.
+// Every candidate is checked with the brute-force predicate fl(|x_i+l - x_j+l|) < r on every
+// coordinate not known to match (coordinate 0 matches within a strip and within a group), eight
+// pairs at a time (SIMD, the path chosen at run time); A and B come out of the same pass (B:
+// coordinates 0..m-1 match; A: coordinate m too). Cost: proportional to the coordinate checks,
+// whatever the match rate; quadratic when r spans most of the values, so the caller compares it
+// with the range counting's cost first.
 #pragma once
 
 #include <cstddef>
@@ -26,19 +33,33 @@ constexpr int kWindowMaxM = 4;
 // An LSD radix sort of the values' order-preserving bit patterns (no NaN in x).
 std::vector<std::uint32_t> OrderByValue(std::span<const double> x);
 
-// W = sum_k (hi_k - k - 1): the number of pairs the window counter checks. `sorted`: template
-// start indices ordered by x[i].
-std::uint64_t WindowPairs(std::span<const double> x, std::span<const std::uint32_t> sorted, double r);
+struct WindowPlan {
+  // Candidate partners of the template at sorted position k: [k + 1, same_end) and
+  // [next_begin, next_end).
+  struct Runs {
+    std::uint32_t same_end, next_begin, next_end;
+  };
+  int m = 0;
+  std::size_t stride = 0;       // templates + 8 (the last vector of a run may read 7 past it)
+  std::vector<double> columns;  // column l (0..m): x[start of the template at position k + l]
+  std::vector<Runs> runs;
+  std::uint64_t pairs = 0;              // W: candidate pairs the count checks
+  std::uint64_t coordinate_checks = 0;  // sum over the candidates of the coordinates compared
+  const double* Column(int l) const { return columns.data() + static_cast<std::size_t>(l) * stride; }
+};
+
+// The layout and runs of templates 0..templates-1 (templates + m <= x.size()); `order`: every
+// index of x ordered by value (OrderByValue). 1 <= m <= kWindowMaxM.
+WindowPlan PlanWindow(std::span<const double> x, std::span<const std::uint32_t> order, std::size_t templates, int m,
+                      double r);
 
 struct WindowCounts {
   std::uint64_t a = 0;  // pairs matching in coordinates 0..m
   std::uint64_t b = 0;  // pairs matching in coordinates 0..m-1
 };
 
-// A and B of sample entropy for templates `sorted` (start indices ordered by x[i], each with
-// i + m < x.size()), 1 <= m <= kWindowMaxM, over `num_threads` >= 1 threads (the same counts
-// for any number: integer sums over fixed slices).
-WindowCounts CountWindowed(std::span<const double> x, std::span<const std::uint32_t> sorted, int m, double r,
-                           int num_threads);
+// A and B of sample entropy over `num_threads` >= 1 threads (the same counts for any number:
+// integer sums over fixed slices of the templates).
+WindowCounts CountWindowed(const WindowPlan& plan, double r, int num_threads);
 
 }  // namespace gyrocomp::se_detail

@@ -139,13 +139,24 @@ TEST(SampleEntropyCounters, OrderByValueSortsEverySignAndScale) {
   EXPECT_TRUE(se_detail::OrderByValue({}).empty());
 }
 
-TEST(SampleEntropyCounters, WindowPairsCountsThePairsWithinRInTheFirstCoordinate) {
-  // Sorted values 0, 0.5, 1, 1, 3 with r = 1: pairs with difference < 1 are (0, 0.5), (0.5, 1) x2,
-  // (1, 1): 4 (0 and 1 differ by exactly r: not within).
+TEST(SampleEntropyCounters, PlanKeepsTheLayoutWithFewerChecks) {
+  // m = 1, r = 1: values 1 0 3 0.5 1; templates 0..3 (values 1 0 3 0.5) sorted 0 0.5 1 3.
+  // Strip: pairs within r in the first value: (0, 0.5), (0.5, 1) = 2 pairs of 1 check (the second
+  // value). Cells: groups {0, 0.5} {1} {3} (1 - 0 = r is not within), cells 1 0 2 0: run 1 holds
+  // (0, 0.5), run 2 the 3 pairs with the next group, 1 + 3 x 2 = 7 checks. The strip is kept.
   const std::vector<double> x = {1, 0, 3, 0.5, 1};
-  const std::vector<std::uint32_t> sorted = se_detail::OrderByValue(x);
-  EXPECT_EQ(se_detail::WindowPairs(x, sorted, 1.0), 4u);
-  EXPECT_EQ(se_detail::WindowPairs(x, sorted, 10.0), 10u);  // C(5, 2)
+  const std::vector<std::uint32_t> order = se_detail::OrderByValue(x);
+  const auto strip = se_detail::PlanWindow(x, order, 4, 1, 1.0);
+  EXPECT_EQ(strip.pairs, 2u);
+  EXPECT_EQ(strip.coordinate_checks, 2u);
+  EXPECT_EQ(se_detail::PlanWindow(x, order, 4, 1, 10.0).pairs, 6u);  // one group: every pair
+  // White noise, r = 0.2 SD, m = 2: the cells keep ~3% of the N^2 / 2 pairs (the strip of the
+  // first value alone ~11%): a property of the plan, not a timing.
+  const Series white = Inputs(20000, 3)[0];
+  const auto plan = se_detail::PlanWindow(white.x, se_detail::OrderByValue(white.x), 19998, 2,
+                                          0.2 * PopulationSd(white.x));
+  EXPECT_LT(plan.pairs, 500u * 19998u);
+  EXPECT_GT(plan.pairs, 100u * 19998u);
 }
 
 }  // namespace

@@ -498,11 +498,12 @@ TemplateMatchCounts CountTemplateMatches(std::span<const double> x, int m, doubl
   const int threads = num_threads > 0 ? num_threads
                                       : std::max(1, std::min(2, static_cast<int>(std::thread::hardware_concurrency())));
   std::vector<Item> order = se_detail::OrderByValue(x);
-  const bool window_allowed = algorithm != SampleEntropyAlgorithm::kRangeCount && m <= se_detail::kWindowMaxM;
+  const bool window_allowed = algorithm != SampleEntropyAlgorithm::kRangeCount && m <= se_detail::kWindowMaxM &&
+                              x.size() <= se_detail::kWindowMaxSamples;
   if (window_allowed && (algorithm == SampleEntropyAlgorithm::kSortedWindow || FewTies(x, order))) {
     const se_detail::WindowPlan plan = se_detail::PlanWindow(x, order, templates, m, r);
     if (algorithm == SampleEntropyAlgorithm::kSortedWindow || plan.coordinate_checks <= kWindowChecksPerTemplate * templates) {
-      const se_detail::WindowCounts w = se_detail::CountWindowed(plan, r, threads);
+      const se_detail::WindowCounts w = se_detail::CountWindowed(plan, threads);
       out.a = w.a;
       out.b = w.b;
       return out;

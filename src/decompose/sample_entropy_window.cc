@@ -1,9 +1,15 @@
 // Sample entropy by a sorted window: see sample_entropy_window.h.
 //
-// Vectorisation: GCC vector extensions of 8 doubles, compiled for AVX-512F, AVX2 and the x86-64
-// baseline (target attributes; no -march=native) and chosen at the first call. The counts are
-// integers and every lane evaluates the brute-force predicate fl(|a - b|) < r (a subtraction, the
-// sign bit cleared, a comparison: no rounding choice), so every path gives the same counts.
+// Exact comparisons as integers: the distinct values ranked, the values that match value v
+// (fl(|v - u|) < r, the brute-force predicate) form one run of ranks [lo, hi) (rounding is
+// monotone), found once per distinct value with that same predicate. So x[j] matches x[i] exactly
+// when rank(x[j]) is in [lo, hi) of x[i], i.e. |2 rank(x[j]) - (lo + hi - 1)| <= hi - lo - 1:
+// 32-bit integers, 16 to a 512-bit vector (twice the doubles' 8), and over several coordinates
+// the largest "excess" |2 rank - centre| - width is compared with 0 once.
+//
+// Vectorisation: GCC vector extensions of 16 int32, compiled for AVX-512F, AVX2 and the x86-64
+// baseline (target attributes; no -march=native) and chosen at the first call. Integer
+// arithmetic only: every path gives the same counts.
 #include "sample_entropy_window.h"
 
 #include <algorithm>
@@ -11,7 +17,6 @@
 #include <bit>
 #include <cassert>
 #include <cstring>
-#include <limits>
 #include <thread>
 #include <utility>
 
@@ -21,9 +26,8 @@
 namespace gyrocomp::se_detail {
 namespace {
 
-constexpr std::size_t kLanes = 8;
-typedef double V8 __attribute__((vector_size(kLanes * sizeof(double))));
-typedef std::int64_t I8 __attribute__((vector_size(kLanes * sizeof(std::int64_t))));
+constexpr std::size_t kLanes = 16;
+typedef std::int32_t I16 __attribute__((vector_size(kLanes * sizeof(std::int32_t))));
 
 // ---- radix sort ---------------------------------------------------------------------------------
 
@@ -39,18 +43,19 @@ std::uint64_t SortableBits(double v) {
   return (u >> 63) ? ~u : (u | (std::uint64_t{1} << 63));
 }
 
-// Sorts `items` by `keys` (both permuted; LSD radix, stable). One read for all histograms; a
-// pass whose digit is the same for every key is skipped.
-void RadixSort(std::vector<std::uint64_t>& keys, std::vector<std::uint32_t>& items) {
+// Sorts `items` by `keys` < 2^key_bits (both permuted; LSD radix, stable). One read for all
+// histograms; a pass whose digit is the same for every key is skipped.
+void RadixSort(std::vector<std::uint64_t>& keys, std::vector<std::uint32_t>& items, int key_bits = 64) {
   const std::size_t n = keys.size();
   if (n < 2) return;
+  const int passes = std::max(1, (key_bits + kRadixBits - 1) / kRadixBits);
   std::vector<std::uint64_t> keys_tmp(n);
   std::vector<std::uint32_t> items_tmp(n);
-  std::vector<std::uint32_t> hist(kRadixPasses * kRadixBuckets, 0);
+  std::vector<std::uint32_t> hist(static_cast<std::size_t>(passes) * kRadixBuckets, 0);
   for (std::size_t i = 0; i < n; ++i) {
-    for (int p = 0; p < kRadixPasses; ++p) ++hist[p * kRadixBuckets + ((keys[i] >> (p * kRadixBits)) & (kRadixBuckets - 1))];
+    for (int p = 0; p < passes; ++p) ++hist[p * kRadixBuckets + ((keys[i] >> (p * kRadixBits)) & (kRadixBuckets - 1))];
   }
-  for (int p = 0; p < kRadixPasses; ++p) {
+  for (int p = 0; p < passes; ++p) {
     std::uint32_t* h = hist.data() + p * kRadixBuckets;
     const int shift = p * kRadixBits;
     if (h[(keys[0] >> shift) & (kRadixBuckets - 1)] == n) continue;
@@ -68,91 +73,103 @@ void RadixSort(std::vector<std::uint64_t>& keys, std::vector<std::uint32_t>& ite
 
 // ---- the kernel ---------------------------------------------------------------------------------
 
-inline __attribute__((always_inline)) V8 Load(const double* p) {
-  V8 v;
+inline __attribute__((always_inline)) I16 Load(const std::int32_t* p) {
+  I16 v;
   std::memcpy(&v, p, sizeof(v));
   return v;
 }
+inline __attribute__((always_inline)) I16 Max(I16 a, I16 b) { return a > b ? a : b; }
 
-// fl(|a - b|) per lane, as the brute force computes it: clearing the sign bit is the exact |.|.
-inline __attribute__((always_inline)) V8 AbsDiff(V8 a, V8 centre) {
-  const I8 abs_mask = (I8){} + std::int64_t{0x7fffffffffffffff};
-  return (V8)((I8)(a - centre) & abs_mask);
+// The excess of the lanes j .. j + 15 in coordinate l: <= 0 exactly where x[start_j + l] matches
+// x[start_k + l] (centre and width of the latter's rank run).
+inline __attribute__((always_inline)) I16 Excess(const std::int32_t* column, std::size_t j, I16 centre, I16 width) {
+  const I16 d = Load(column + j) - centre;
+  return (d < 0 ? -d : d) - width;
 }
 
-inline __attribute__((always_inline)) V8 Max(V8 a, V8 b) { return a > b ? a : b; }
-
-// The pairs (k, j .. j + 7) match in coordinates 0..M-1 (B) exactly when the largest fl(|.|) of
-// those coordinates is < r, and in 0..M (A) when the largest over 0..M is (the max is exact, no
-// NaN here). Coordinates below kFrom are known to match (the run's construction). `pad` (tail
-// blocks): 0 in the lanes to count, +inf in the lanes past the run. Counts accumulate as -1 per
-// match.
+// Template k against the 16 candidates j.. : B when coordinates 0..M-1 match (largest excess
+// <= 0), A when 0..M do. Coordinates below kFrom are known to match (the run's construction).
+// `pad` (tail blocks): 0 in the lanes to count, 1 in the lanes past the run. Counts accumulate as
+// -1 per match.
 template <int M, int kFrom, bool kTail>
-inline __attribute__((always_inline)) void Block(const WindowPlan& w, std::size_t j, const V8* centre, V8 r, V8 pad,
-                                                 I8& acc_a, I8& acc_b) {
-  V8 d = pad;  // full blocks: no pad, d starts at the first coordinate checked
+inline __attribute__((always_inline)) void Block(const WindowPlan& w, std::size_t j, const I16* centre,
+                                                 const I16* width, I16 pad, I16& acc_a, I16& acc_b) {
+  I16 e = pad;  // full blocks: no pad, e starts at the first coordinate checked
   for (int l = kFrom; l < M; ++l) {
-    const V8 dl = AbsDiff(Load(w.Column(l) + j), centre[l]);
-    d = (l == kFrom && !kTail) ? dl : Max(d, dl);
+    const I16 el = Excess(w.Column(l), j, centre[l], width[l]);
+    e = (l == kFrom && !kTail) ? el : Max(e, el);
   }
-  const V8 da = AbsDiff(Load(w.Column(M) + j), centre[M]);
+  const I16 ea = Excess(w.Column(M), j, centre[M], width[M]);
   if constexpr (kFrom == M && !kTail) {  // B: nothing to check (m = 1 within the run)
     acc_b -= 1;
-    acc_a = da < r ? acc_a - 1 : acc_a;
+    acc_a = ea <= 0 ? acc_a - 1 : acc_a;
   } else {
-    acc_b = d < r ? acc_b - 1 : acc_b;
-    acc_a = Max(d, da) < r ? acc_a - 1 : acc_a;
+    acc_b = e <= 0 ? acc_b - 1 : acc_b;
+    acc_a = Max(e, ea) <= 0 ? acc_a - 1 : acc_a;
   }
 }
 
-// kTailPad + 8 - n: 0 in lanes 0..n-1, +inf in lanes n..7 (n valid lanes of 8).
-constexpr double kInf = std::numeric_limits<double>::infinity();
-alignas(64) constexpr double kTailPad[2 * kLanes] = {0, 0, 0, 0, 0, 0, 0, 0, kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf};
+// kTailPad + 16 - n: 0 in lanes 0..n-1, 1 in lanes n..15 (n valid lanes of 16).
+alignas(64) constexpr std::int32_t kTailPad[2 * kLanes] = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
+                                                           1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1};
 
 // Template k against the candidates [j, end).
 template <int M, int kFrom>
-inline __attribute__((always_inline)) void Run(const WindowPlan& w, std::size_t j, std::size_t end, const V8* centre,
-                                               V8 r, I8& acc_a, I8& acc_b) {
-  const V8 none = {};
-  for (; j + kLanes <= end; j += kLanes) Block<M, kFrom, false>(w, j, centre, r, none, acc_a, acc_b);
-  if (j < end) Block<M, kFrom, true>(w, j, centre, r, Load(kTailPad + kLanes - (end - j)), acc_a, acc_b);
+inline __attribute__((always_inline)) void Run(const WindowPlan& w, std::size_t j, std::size_t end, const I16* centre,
+                                               const I16* width, I16& acc_a, I16& acc_b) {
+  const I16 none = {};
+  for (; j + kLanes <= end; j += kLanes) Block<M, kFrom, false>(w, j, centre, width, none, acc_a, acc_b);
+  if (j < end) Block<M, kFrom, true>(w, j, centre, width, Load(kTailPad + kLanes - (end - j)), acc_a, acc_b);
+}
+
+// Adds the lanes' counts (-1 per match) to `out` and clears them.
+inline __attribute__((always_inline)) void Flush(I16& acc_a, I16& acc_b, WindowCounts& out) {
+  for (std::size_t l = 0; l < kLanes; ++l) {
+    out.a += static_cast<std::uint64_t>(-static_cast<std::int64_t>(acc_a[l]));
+    out.b += static_cast<std::uint64_t>(-static_cast<std::int64_t>(acc_b[l]));
+  }
+  acc_a = I16{};
+  acc_b = I16{};
 }
 
 template <int M>
-inline __attribute__((always_inline)) WindowCounts SliceBody(const WindowPlan& w, std::size_t k0, std::size_t k1,
-                                                             double r) {
-  const V8 rv = (V8){} + r;
-  I8 acc_a = {}, acc_b = {};
-  V8 centre[M + 1];
-  for (std::size_t k = k0; k < k1; ++k) {
-    for (int l = 0; l <= M; ++l) centre[l] = (V8){} + w.Column(l)[k];
-    const WindowPlan::Runs& runs = w.runs[k];
-    Run<M, 1>(w, k + 1, runs.same_end, centre, rv, acc_a, acc_b);  // coordinate 0 within r
-    Run<M, 0>(w, runs.next_begin, runs.next_end, centre, rv, acc_a, acc_b);
-  }
+inline __attribute__((always_inline)) WindowCounts SliceBody(const WindowPlan& w, std::size_t k0, std::size_t k1) {
   WindowCounts out;
-  for (std::size_t l = 0; l < kLanes; ++l) {
-    out.a -= static_cast<std::uint64_t>(acc_a[l]);
-    out.b -= static_cast<std::uint64_t>(acc_b[l]);
+  I16 acc_a = {}, acc_b = {};
+  std::uint64_t blocks = 0;  // since the last flush: a lane's count never exceeds it
+  I16 centre[M + 1], width[M + 1];
+  for (std::size_t k = k0; k < k1; ++k) {
+    const std::size_t i = w.start[k];
+    for (int l = 0; l <= M; ++l) {
+      centre[l] = I16{} + w.centre[i + static_cast<std::size_t>(l)];
+      width[l] = I16{} + w.width[i + static_cast<std::size_t>(l)];
+    }
+    const WindowPlan::Runs& runs = w.runs[k];
+    Run<M, 1>(w, k + 1, runs.same_end, centre, width, acc_a, acc_b);  // coordinate 0 matches
+    Run<M, 0>(w, runs.next_begin, runs.next_end, centre, width, acc_a, acc_b);
+    blocks += (runs.same_end - k - 1 + runs.next_end - runs.next_begin) / kLanes + 2;
+    if (blocks >= (std::uint64_t{1} << 30)) {
+      Flush(acc_a, acc_b, out);
+      blocks = 0;
+    }
   }
+  Flush(acc_a, acc_b, out);
   return out;
 }
 
-using SliceFn = WindowCounts (*)(const WindowPlan&, std::size_t, std::size_t, double);
+using SliceFn = WindowCounts (*)(const WindowPlan&, std::size_t, std::size_t);
 
 template <int M>
-__attribute__((target("avx512f"))) WindowCounts SliceAvx512f(const WindowPlan& w, std::size_t k0, std::size_t k1,
-                                                              double r) {
-  return SliceBody<M>(w, k0, k1, r);
+__attribute__((target("avx512f"))) WindowCounts SliceAvx512f(const WindowPlan& w, std::size_t k0, std::size_t k1) {
+  return SliceBody<M>(w, k0, k1);
 }
 template <int M>
-__attribute__((target("avx2"))) WindowCounts SliceAvx2(const WindowPlan& w, std::size_t k0, std::size_t k1,
-                                                        double r) {
-  return SliceBody<M>(w, k0, k1, r);
+__attribute__((target("avx2"))) WindowCounts SliceAvx2(const WindowPlan& w, std::size_t k0, std::size_t k1) {
+  return SliceBody<M>(w, k0, k1);
 }
 template <int M>
-WindowCounts SliceBaseline(const WindowPlan& w, std::size_t k0, std::size_t k1, double r) {
-  return SliceBody<M>(w, k0, k1, r);
+WindowCounts SliceBaseline(const WindowPlan& w, std::size_t k0, std::size_t k1) {
+  return SliceBody<M>(w, k0, k1);
 }
 
 template <int M>
@@ -170,18 +187,43 @@ SliceFn Slice(int m) {
   return fns[static_cast<std::size_t>(m - 1)];
 }
 
-// Group of every value: the values in sorted order cut greedily into maximal runs whose first
-// and last values are within r (sample_entropy.cc, Groups: two groups apart never match).
-std::vector<std::uint32_t> ValueGroups(std::span<const double> x, std::span<const std::uint32_t> order, double r) {
-  std::vector<std::uint32_t> group(x.size());
-  std::uint32_t g = 0;
-  double first = order.empty() ? 0.0 : x[order[0]];
+// Dense ranks of the values (equal values, equal ranks); for every sample i, the centre
+// lo + hi - 1 and width hi - lo - 1 of the run of ranks [lo, hi) that match x[i] (two pointers
+// over the distinct values with the brute-force predicate: u_q - u_lo < r, u_hi - u_q >= r); and
+// the group of every value: the distinct values cut greedily into maximal runs whose first and
+// last values are within r (sample_entropy.cc, Groups: two groups apart never match).
+std::vector<std::uint32_t> RankRunsAndGroups(std::span<const double> x, std::span<const std::uint32_t> order,
+                                             double r, WindowPlan& w) {
+  std::vector<double> distinct;
+  distinct.reserve(x.size());
+  w.rank.resize(x.size());
   for (std::uint32_t i : order) {
-    if (!(x[i] - first < r)) {
+    if (distinct.empty() || x[i] != distinct.back()) distinct.push_back(x[i]);
+    w.rank[i] = static_cast<std::int32_t>(distinct.size() - 1);
+  }
+  std::vector<std::int32_t> run_centre(distinct.size()), run_width(distinct.size());
+  std::vector<std::uint32_t> group_of(distinct.size());
+  std::uint32_t g = 0;
+  for (std::size_t q = 0, lo = 0, hi = 0, first = 0; q < distinct.size(); ++q) {
+    while (!(distinct[q] - distinct[lo] < r)) ++lo;
+    if (hi <= q) hi = q + 1;
+    while (hi < distinct.size() && distinct[hi] - distinct[q] < r) ++hi;
+    run_centre[q] = static_cast<std::int32_t>(lo + hi - 1);
+    run_width[q] = static_cast<std::int32_t>(hi - lo - 1);
+    if (!(distinct[q] - distinct[first] < r)) {
       ++g;
-      first = x[i];
+      first = q;
     }
-    group[i] = g;
+    group_of[q] = g;
+  }
+  w.centre.resize(x.size());
+  w.width.resize(x.size());
+  std::vector<std::uint32_t> group(x.size());
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    const auto q = static_cast<std::size_t>(w.rank[i]);
+    w.centre[i] = run_centre[q];
+    w.width[i] = run_width[q];
+    group[i] = group_of[q];
   }
   return group;
 }
@@ -203,65 +245,72 @@ WindowPlan PlanWindow(std::span<const double> x, std::span<const std::uint32_t> 
                       double r) {
   assert(m >= 1 && m <= kWindowMaxM && templates + static_cast<std::size_t>(m) <= x.size());
   const std::size_t M = static_cast<std::size_t>(m);
-  // Strip: templates by first value; run 1 = the later ones within r (two pointers), no run 2.
+  WindowPlan w;
+  w.m = m;
+  const std::vector<std::uint32_t> group = RankRunsAndGroups(x, order, r, w);
+  // Strip: templates by first value; run 1 = the later ones within r (rank below the end of the
+  // first one's run of ranks: two pointers), no run 2.
   std::vector<std::uint32_t> by_value;
   by_value.reserve(templates);
   for (std::uint32_t i : order) {
     if (i < templates) by_value.push_back(i);
   }
+  std::vector<std::int32_t> ranks(templates);
+  for (std::size_t k = 0; k < templates; ++k) ranks[k] = w.rank[by_value[k]];
   std::vector<WindowPlan::Runs> strip(templates);
   std::uint64_t strip_pairs = 0;
   for (std::size_t k = 0, h = 0; k < templates; ++k) {
+    const std::int32_t hi = (w.centre[by_value[k]] + w.width[by_value[k]]) / 2 + 1;  // end of the run
     if (h <= k) h = k + 1;
-    while (h < templates && x[by_value[h]] - x[by_value[k]] < r) ++h;
+    while (h < templates && ranks[h] < hi) ++h;
     strip[k] = {static_cast<std::uint32_t>(h), static_cast<std::uint32_t>(h), static_cast<std::uint32_t>(h)};
     strip_pairs += h - k - 1;
   }
   // Cells: (group of x[i], group of x[i+1]) (m >= 2; for m = 1 the second is 0), sorted.
-  const std::vector<std::uint32_t> group = ValueGroups(x, order, r);
+  const int bits = std::max(1, static_cast<int>(std::bit_width(group.empty() ? 0u : *std::max_element(group.begin(), group.end()))) + 1);
   std::vector<std::uint64_t> cell(templates);
   std::vector<std::uint32_t> by_cell(templates);
   for (std::size_t i = 0; i < templates; ++i) {
-    cell[i] = (std::uint64_t{group[i]} << 32) | (m >= 2 ? group[i + 1] : 0u);
+    cell[i] = (std::uint64_t{group[i]} << bits) | (m >= 2 ? group[i + 1] : 0u);
     by_cell[i] = static_cast<std::uint32_t>(i);
   }
-  RadixSort(cell, by_cell);
+  RadixSort(cell, by_cell, 2 * bits);
   // Run 1: cells (a, b), (a, b + 1) after k; run 2: (a + 1, b - 1) .. (a + 1, b + 1). Each bound
-  // is non-decreasing in k (cells are sorted), so three pointers walk the cells once.
-  constexpr std::uint64_t kRow = std::uint64_t{1} << 32;
+  // is non-decreasing in k (cells are sorted), so three pointers walk the cells once. (b + 1
+  // stays below 2^bits: one spare bit.)
+  const std::uint64_t row = std::uint64_t{1} << bits;
   std::vector<WindowPlan::Runs> grid(templates);
   std::uint64_t grid_same = 0, grid_next = 0;
   for (std::size_t k = 0, same_end = 0, next_begin = 0, next_end = 0; k < templates; ++k) {
     const std::uint64_t c = cell[k];
     while (same_end < templates && cell[same_end] <= c + 1) ++same_end;
-    while (next_begin < templates && cell[next_begin] < c + kRow - ((c & (kRow - 1)) > 0 ? 1 : 0)) ++next_begin;
+    while (next_begin < templates && cell[next_begin] < c + row - ((c & (row - 1)) > 0 ? 1 : 0)) ++next_begin;
     next_end = std::max(next_end, next_begin);
-    while (next_end < templates && cell[next_end] <= c + kRow + 1) ++next_end;
+    while (next_end < templates && cell[next_end] <= c + row + 1) ++next_end;
     grid[k] = {static_cast<std::uint32_t>(same_end), static_cast<std::uint32_t>(next_begin),
                static_cast<std::uint32_t>(next_end)};
     grid_same += same_end - k - 1;
     grid_next += next_end - next_begin;
   }
   // The cheaper layout: run 1 checks coordinates 1..m, run 2 coordinates 0..m.
-  WindowPlan w;
-  w.m = m;
   const std::uint64_t strip_checks = strip_pairs * M;
   const std::uint64_t grid_checks = grid_same * M + grid_next * (M + 1);
   const bool use_grid = grid_checks < strip_checks;
-  const std::vector<std::uint32_t>& sorted = use_grid ? by_cell : by_value;
   w.runs = use_grid ? std::move(grid) : std::move(strip);
   w.pairs = use_grid ? grid_same + grid_next : strip_pairs;
   w.coordinate_checks = std::min(grid_checks, strip_checks);
+  w.start = use_grid ? std::move(by_cell) : std::move(by_value);
   w.stride = templates + kLanes;
-  w.columns.assign((M + 1) * w.stride, 0.0);
+  w.columns.resize((M + 1) * w.stride);
   for (std::size_t l = 0; l <= M; ++l) {
-    double* y = w.columns.data() + l * w.stride;
-    for (std::size_t k = 0; k < templates; ++k) y[k] = x[sorted[k] + l];
+    std::int32_t* y = w.columns.data() + l * w.stride;
+    for (std::size_t k = 0; k < templates; ++k) y[k] = 2 * w.rank[w.start[k] + l];
+    std::fill(y + templates, y + w.stride, 0);
   }
   return w;
 }
 
-WindowCounts CountWindowed(const WindowPlan& w, double r, int num_threads) {
+WindowCounts CountWindowed(const WindowPlan& w, int num_threads) {
   assert(num_threads >= 1);
   const std::size_t n = w.runs.size();
   const SliceFn slice = Slice(w.m);
@@ -277,9 +326,9 @@ WindowCounts CountWindowed(const WindowPlan& w, double r, int num_threads) {
   std::vector<WindowCounts> part(threads);
   std::vector<std::thread> pool;
   for (std::size_t t = 1; t < threads; ++t) {
-    pool.emplace_back([&, t] { part[t] = slice(w, bounds[t], bounds[t + 1], r); });
+    pool.emplace_back([&, t] { part[t] = slice(w, bounds[t], bounds[t + 1]); });
   }
-  part[0] = slice(w, bounds[0], bounds[1], r);
+  part[0] = slice(w, bounds[0], bounds[1]);
   for (auto& th : pool) th.join();
   WindowCounts out;
   for (const WindowCounts& p : part) {

@@ -11,9 +11,10 @@
 //     and (a, b + 1), then (a + 1, b - 1) .. (a + 1, b + 1). Best for noise-like series (~300
 //     candidates per template for the noise-like VMD modes of a 20k-sample record against ~1,100
 //     for the strip); the strip wins when x[i+1] follows x[i] closely.
-// Every candidate is checked with the brute-force predicate fl(|x_i+l - x_j+l|) < r on every
-// coordinate not known to match (coordinate 0 matches within a strip and within a group), eight
-// pairs at a time (SIMD, the path chosen at run time); A and B come out of the same pass (B:
+// Every candidate is checked on every coordinate not known to match (coordinate 0 matches within
+// a strip and within a group) with the brute-force predicate fl(|x_i+l - x_j+l|) < r, evaluated
+// once per distinct value as a run of ranks and then compared as integers, sixteen pairs at a
+// time (SIMD, the path chosen at run time); A and B come out of the same pass (B:
 // coordinates 0..m-1 match; A: coordinate m too). Cost: proportional to the coordinate checks,
 // whatever the match rate; quadratic when r spans most of the values, so the caller compares it
 // with the range counting's cost first.
@@ -28,6 +29,8 @@ namespace gyrocomp::se_detail {
 
 // Largest m the window counter handles (one compiled variant per m).
 constexpr int kWindowMaxM = 4;
+// Longest series it handles: ranks, doubled, and rank sums stay in 32-bit integers.
+constexpr std::size_t kWindowMaxSamples = std::size_t{1} << 29;
 
 // Start indices 0..x.size()-1 ordered by value (non-decreasing; equal values in any order).
 // An LSD radix sort of the values' order-preserving bit patterns (no NaN in x).
@@ -40,12 +43,16 @@ struct WindowPlan {
     std::uint32_t same_end, next_begin, next_end;
   };
   int m = 0;
-  std::size_t stride = 0;       // templates + 8 (the last vector of a run may read 7 past it)
-  std::vector<double> columns;  // column l (0..m): x[start of the template at position k + l]
+  std::vector<std::uint32_t> start;  // start index of the template at sorted position k
   std::vector<Runs> runs;
-  std::uint64_t pairs = 0;              // W: candidate pairs the count checks
-  std::uint64_t coordinate_checks = 0;  // sum over the candidates of the coordinates compared
-  const double* Column(int l) const { return columns.data() + static_cast<std::size_t>(l) * stride; }
+  // Per sample i: dense rank of x[i] among the distinct values, and the centre lo + hi - 1 and
+  // width hi - lo - 1 of the run of ranks [lo, hi) whose values match x[i].
+  std::vector<std::int32_t> rank, centre, width;
+  std::size_t stride = 0;              // templates + 16 (a run's last vector may read 15 past it)
+  std::vector<std::int32_t> columns;   // column l (0..m), position k: 2 rank[start[k] + l]
+  std::uint64_t pairs = 0;             // W: candidate pairs the count checks
+  std::uint64_t coordinate_checks = 0; // sum over the candidates of the coordinates compared
+  const std::int32_t* Column(int l) const { return columns.data() + static_cast<std::size_t>(l) * stride; }
 };
 
 // The layout and runs of templates 0..templates-1 (templates + m <= x.size()); `order`: every
@@ -60,6 +67,6 @@ struct WindowCounts {
 
 // A and B of sample entropy over `num_threads` >= 1 threads (the same counts for any number:
 // integer sums over fixed slices of the templates).
-WindowCounts CountWindowed(const WindowPlan& plan, double r, int num_threads);
+WindowCounts CountWindowed(const WindowPlan& plan, int num_threads);
 
 }  // namespace gyrocomp::se_detail

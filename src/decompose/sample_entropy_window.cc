@@ -17,6 +17,7 @@
 #include <bit>
 #include <cassert>
 #include <cstring>
+#include <optional>
 #include <thread>
 #include <utility>
 
@@ -173,18 +174,29 @@ WindowCounts SliceBaseline(const WindowPlan& w, std::size_t k0, std::size_t k1) 
 }
 
 template <int M>
-SliceFn BestSlice() {
-  __builtin_cpu_init();
-  if (__builtin_cpu_supports("avx512f")) return &SliceAvx512f<M>;
-  if (__builtin_cpu_supports("avx2")) return &SliceAvx2<M>;
+SliceFn SliceOn(WindowPath path) {
+  switch (path) {
+    case WindowPath::kAvx512f: return &SliceAvx512f<M>;
+    case WindowPath::kAvx2: return &SliceAvx2<M>;
+    case WindowPath::kBaseline: break;
+  }
   return &SliceBaseline<M>;
 }
 
-SliceFn Slice(int m) {
+SliceFn Slice(int m, WindowPath path) {
   static_assert(kWindowMaxM == 4);
-  static const std::array<SliceFn, kWindowMaxM> fns = {BestSlice<1>(), BestSlice<2>(), BestSlice<3>(),
-                                                       BestSlice<4>()};
-  return fns[static_cast<std::size_t>(m - 1)];
+  switch (m) {
+    case 1: return SliceOn<1>(path);
+    case 2: return SliceOn<2>(path);
+    case 3: return SliceOn<3>(path);
+    default: return SliceOn<4>(path);
+  }
+}
+
+WindowPath BestWindowPath() {
+  if (WindowPathSupported(WindowPath::kAvx512f)) return WindowPath::kAvx512f;
+  if (WindowPathSupported(WindowPath::kAvx2)) return WindowPath::kAvx2;
+  return WindowPath::kBaseline;
 }
 
 // Dense ranks of the values (equal values, equal ranks); for every sample i, the centre
@@ -310,10 +322,21 @@ WindowPlan PlanWindow(std::span<const double> x, std::span<const std::uint32_t> 
   return w;
 }
 
-WindowCounts CountWindowed(const WindowPlan& w, int num_threads) {
-  assert(num_threads >= 1);
+bool WindowPathSupported(WindowPath path) {
+  __builtin_cpu_init();
+  switch (path) {
+    case WindowPath::kAvx512f: return __builtin_cpu_supports("avx512f");
+    case WindowPath::kAvx2: return __builtin_cpu_supports("avx2");
+    case WindowPath::kBaseline: return true;
+  }
+  return false;
+}
+
+WindowCounts CountWindowed(const WindowPlan& w, int num_threads, std::optional<WindowPath> path) {
+  assert(num_threads >= 1 && (!path || WindowPathSupported(*path)));
+  static const WindowPath best = BestWindowPath();
   const std::size_t n = w.runs.size();
-  const SliceFn slice = Slice(w.m);
+  const SliceFn slice = Slice(w.m, path.value_or(best));
   // Slices of about equal pair checks (a template's cost is its runs), one per thread.
   const std::size_t threads = std::max<std::size_t>(1, std::min<std::size_t>(num_threads, n / 1024 + 1));
   std::vector<std::size_t> bounds(threads + 1, n);

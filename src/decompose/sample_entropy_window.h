@@ -22,6 +22,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -65,8 +66,12 @@ struct WindowCounts {
   std::uint64_t b = 0;  // pairs matching in coordinates 0..m-1
 };
 
+// The compiled variants of the kernel (the same counts on every one).
+enum class WindowPath { kAvx512f, kAvx2, kBaseline };
+bool WindowPathSupported(WindowPath path);
+
 // A and B of sample entropy over `num_threads` >= 1 threads (the same counts for any number:
-// integer sums over fixed slices of the templates).
-WindowCounts CountWindowed(const WindowPlan& plan, int num_threads);
+// integer sums over fixed slices of the templates), on `path` (nullopt: the best the CPU has).
+WindowCounts CountWindowed(const WindowPlan& plan, int num_threads, std::optional<WindowPath> path = std::nullopt);
 
 }  // namespace gyrocomp::se_detail

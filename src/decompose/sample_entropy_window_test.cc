@@ -122,6 +122,28 @@ TEST(SampleEntropyCounters, WindowThreadCountDoesNotChangeCounts) {
   }
 }
 
+TEST(SampleEntropyCounters, EveryKernelPathGivesTheBruteForceCounts) {
+  // The dispatched variants (AVX-512F, AVX2, x86-64 baseline) that this CPU runs; both layouts
+  // (strip: smooth, narrow band; cells: white) and every m, tails of every length (n = 1000).
+  int paths_run = 0;
+  for (auto path : {se_detail::WindowPath::kAvx512f, se_detail::WindowPath::kAvx2, se_detail::WindowPath::kBaseline}) {
+    if (!se_detail::WindowPathSupported(path)) continue;
+    ++paths_run;
+    for (const Series& c : Inputs(1000, 6)) {
+      const std::vector<std::uint32_t> order = se_detail::OrderByValue(c.x);
+      for (int m = 1; m <= se_detail::kWindowMaxM; ++m) {
+        const double r = 0.3 * PopulationSd(c.x);
+        const auto plan = se_detail::PlanWindow(c.x, order, c.x.size() - m, m, r);
+        const auto got = se_detail::CountWindowed(plan, 2, path);
+        const auto brute = CountTemplateMatches(c.x, m, r, SampleEntropyAlgorithm::kBruteForce);
+        EXPECT_EQ(got.a, brute.a) << c.name << " m=" << m << " path " << static_cast<int>(path);
+        EXPECT_EQ(got.b, brute.b) << c.name << " m=" << m << " path " << static_cast<int>(path);
+      }
+    }
+  }
+  EXPECT_GE(paths_run, 1);
+}
+
 TEST(SampleEntropyCounters, OrderByValueSortsEverySignAndScale) {
   std::vector<double> x = {3.0, -0.0, 0.0, -1e308, 1e308, 5e-324, -5e-324, -2.5, 2.5, 0.0, -0.0,
                            std::numeric_limits<double>::min(), -std::numeric_limits<double>::max(), 1.0, 1.0};

@@ -1,7 +1,9 @@
-// Sample entropy: see include/gyrocomp/sample_entropy.h.
+// Sample entropy: see include/gyrocomp/sample_entropy.h. Two exact counters: the sorted window
+// (sample_entropy_window.{h,cc}, pairs checked directly with SIMD; the cheaper one for the VMD
+// modes of records up to ~10^5 samples) and the range counting below; CountTemplateMatches picks.
 //
-// Fast exact counting of matching template pairs. A template is its start index i; its
-// coordinates are x[i], x[i+1], ..., x[i+d-1] (d = m for B, m + 1 for A). Two templates match
+// Range counting: fast exact counting of matching template pairs. A template is its start index
+// i; its coordinates are x[i], x[i+1], ..., x[i+d-1] (d = m for B, m + 1 for A). Two templates match
 // when fl(|x[i+l] - x[j+l]|) < r for every l, exactly the brute-force predicate. Because rounding
 // is monotone, for a fixed value v the values w that match it form one contiguous run of the
 // sorted order, so every "window" below is found with the same predicate as the brute force,
@@ -58,10 +60,11 @@ constexpr std::size_t kBitsetMax = 2048;  // window counts in a bitset up to thi
 // kFast takes the sorted window (sample_entropy_window.h) when it compares at most this many
 // coordinates per template and at least half the values are distinct. Measured (one thread,
 // sample_entropy_benchmark BM_SampleEntropyCounter and the VMD modes of bench/side_by_side.py's
-// record; docs/performance.md "Sample entropy, session 3"): the window costs ~0.1 ns per
-// coordinate check; range counting 570-1210 ns per template on continuous values at N = 20k-100k
-// (crossover ~6,000-12,000 checks per template), but only ~100-140 ns with heavy ties (quantized
-// data: its groups of equal values cost nothing per pair) while the window checks every tie.
+// record; docs/performance.md "Sample entropy, session 3"): the window costs ~0.07-0.1 ns per
+// coordinate check; range counting 570-1300 ns per template on continuous values at
+// N = 20k-100k (crossover ~6,000-14,000 checks per template), but only ~100-160 ns with heavy
+// ties (quantized data: its groups of equal values cost nothing per pair) while the window
+// checks every tie.
 constexpr std::uint64_t kWindowChecksPerTemplate = 10000;
 
 
@@ -502,7 +505,8 @@ TemplateMatchCounts CountTemplateMatches(std::span<const double> x, int m, doubl
                               x.size() <= se_detail::kWindowMaxSamples;
   if (window_allowed && (algorithm == SampleEntropyAlgorithm::kSortedWindow || FewTies(x, order))) {
     const se_detail::WindowPlan plan = se_detail::PlanWindow(x, order, templates, m, r);
-    if (algorithm == SampleEntropyAlgorithm::kSortedWindow || plan.coordinate_checks <= kWindowChecksPerTemplate * templates) {
+    if (algorithm == SampleEntropyAlgorithm::kSortedWindow ||
+        plan.coordinate_checks <= kWindowChecksPerTemplate * templates) {
       const se_detail::WindowCounts w = se_detail::CountWindowed(plan, threads);
       out.a = w.a;
       out.b = w.b;

@@ -279,7 +279,8 @@ WindowPlan PlanWindow(std::span<const double> x, std::span<const std::uint32_t> 
     strip_pairs += h - k - 1;
   }
   // Cells: (group of x[i], group of x[i+1]) (m >= 2; for m = 1 the second is 0), sorted.
-  const int bits = std::max(1, static_cast<int>(std::bit_width(group.empty() ? 0u : *std::max_element(group.begin(), group.end()))) + 1);
+  const std::uint32_t last_group = group.empty() ? 0u : *std::max_element(group.begin(), group.end());
+  const int bits = static_cast<int>(std::bit_width(last_group)) + 1;  // one spare bit for b + 1
   std::vector<std::uint64_t> cell(templates);
   std::vector<std::uint32_t> by_cell(templates);
   for (std::size_t i = 0; i < templates; ++i) {

@@ -13,7 +13,6 @@
 #include "sample_entropy_window.h"
 
 #include <algorithm>
-#include <array>
 #include <bit>
 #include <cassert>
 #include <cstring>
@@ -34,7 +33,6 @@ typedef std::int32_t I16 __attribute__((vector_size(kLanes * sizeof(std::int32_t
 
 constexpr int kRadixBits = 11;  // 2048-entry histograms stay in L1
 constexpr std::size_t kRadixBuckets = std::size_t{1} << kRadixBits;
-constexpr int kRadixPasses = (64 + kRadixBits - 1) / kRadixBits;
 
 // Order-preserving map of a double's bits to an unsigned integer: negative values have every
 // bit flipped, non-negative ones the sign bit set. (-0.0 sorts just before +0.0: equal values,

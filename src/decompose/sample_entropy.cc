@@ -59,13 +59,14 @@ constexpr std::size_t kDigits = std::size_t{1} << kDigitBits;
 constexpr std::size_t kBitsetMax = 2048;  // window counts in a bitset up to this many items
 // kFast takes the sorted window (sample_entropy_window.h) when it compares at most this many
 // coordinates per template and at least half the values are distinct. Measured (one thread,
-// sample_entropy_benchmark BM_SampleEntropyCounter and the VMD modes of bench/side_by_side.py's
-// record; docs/performance.md "Sample entropy, session 3"): the window costs ~0.07-0.1 ns per
-// coordinate check; range counting 570-1300 ns per template on continuous values at
-// N = 20k-100k (crossover ~6,000-14,000 checks per template), but only ~100-160 ns with heavy
+// sample_entropy_benchmark BM_SampleEntropyCounter and BM_SampleEntropyOfVmdModes;
+// docs/performance.md "Sample entropy and the decompose whole process, session 3"): the window
+// costs ~0.03 ns per coordinate check with 16-bit ranks (<= 65,536 distinct values), ~0.05 ns
+// with 32-bit ones; range counting 0.67-1.3 us per template on continuous values at
+// N = 20k-200k (crossover ~18,000-22,000 checks per template), but only ~0.1-0.16 us with heavy
 // ties (quantized data: its groups of equal values cost nothing per pair) while the window
 // checks every tie.
-constexpr std::uint64_t kWindowChecksPerTemplate = 10000;
+constexpr std::uint64_t kWindowChecksPerTemplate = 16000;
 
 
 // The series' values ranked once (equal values, equal ranks), so that every later sort of

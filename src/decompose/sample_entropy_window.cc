@@ -1,15 +1,16 @@
 // Sample entropy by a sorted window: see sample_entropy_window.h.
 //
 // Exact comparisons as integers: the distinct values ranked, the values that match value v
-// (fl(|v - u|) < r, the brute-force predicate) form one run of ranks [lo, hi) (rounding is
-// monotone), found once per distinct value with that same predicate. So x[j] matches x[i] exactly
-// when rank(x[j]) is in [lo, hi) of x[i], i.e. |2 rank(x[j]) - (lo + hi - 1)| <= hi - lo - 1:
-// 32-bit integers, 16 to a 512-bit vector (twice the doubles' 8), and over several coordinates
-// the largest "excess" |2 rank - centre| - width is compared with 0 once.
+// (fl(|v - u|) < r, the brute-force predicate) form one run of ranks [lo, lo + len) (rounding is
+// monotone), found once per distinct value with that same predicate. So x[j] matches x[i]
+// exactly when rank(x[j]) - lo(x[i]) < len(x[i]) as unsigned integers (a rank below lo wraps
+// to a large number). Ranks are 16-bit when the series has at most 65,536 distinct values
+// (32 to a 512-bit vector), else 32-bit (16); the lanes' comparisons are ANDed over the
+// coordinates (mask registers on AVX-512) and A and B counted in one pass.
 //
-// Vectorisation: GCC vector extensions of 16 int32, compiled for AVX-512F, AVX2 and the x86-64
-// baseline (target attributes; no -march=native) and chosen at the first call. Integer
-// arithmetic only: every path gives the same counts.
+// Vectorisation: GCC vector extensions, compiled for AVX-512BW, AVX2 and the x86-64 baseline
+// (target attributes; no -march=native) and chosen at the first call. Integer arithmetic only:
+// every path gives the same counts.
 #include "sample_entropy_window.h"
 
 #include <algorithm>
@@ -18,6 +19,7 @@
 #include <cstring>
 #include <optional>
 #include <thread>
+#include <type_traits>
 #include <utility>
 
 // The 512-bit vector helpers are always inlined, never passed across an ABI boundary.
@@ -26,8 +28,9 @@
 namespace gyrocomp::se_detail {
 namespace {
 
-constexpr std::size_t kLanes = 16;
-typedef std::int32_t I16 __attribute__((vector_size(kLanes * sizeof(std::int32_t))));
+constexpr std::size_t kVectorBytes = 64;
+// Columns are padded by this many entries: the last vector of a run may read that far past it.
+constexpr std::size_t kPad = kVectorBytes / sizeof(std::uint16_t);
 
 // ---- radix sort ---------------------------------------------------------------------------------
 
@@ -70,115 +73,36 @@ void RadixSort(std::vector<std::uint64_t>& keys, std::vector<std::uint32_t>& ite
   }
 }
 
-// ---- the kernel ---------------------------------------------------------------------------------
+// ---- the kernel, once per instruction set --------------------------------------------------------
 
-inline __attribute__((always_inline)) I16 Load(const std::int32_t* p) {
-  I16 v;
-  std::memcpy(&v, p, sizeof(v));
-  return v;
-}
-inline __attribute__((always_inline)) I16 Max(I16 a, I16 b) { return a > b ? a : b; }
+namespace avx512bw_path {
+#pragma GCC push_options
+#pragma GCC target("avx512bw")
+#include "sample_entropy_window_kernel.inc"
+#pragma GCC pop_options
+}  // namespace avx512bw_path
 
-// The excess of the lanes j .. j + 15 in coordinate l: <= 0 exactly where x[start_j + l] matches
-// x[start_k + l] (centre and width of the latter's rank run).
-inline __attribute__((always_inline)) I16 Excess(const std::int32_t* column, std::size_t j, I16 centre, I16 width) {
-  const I16 d = Load(column + j) - centre;
-  return (d < 0 ? -d : d) - width;
-}
+namespace avx2_path {
+#pragma GCC push_options
+#pragma GCC target("avx2")
+#include "sample_entropy_window_kernel.inc"
+#pragma GCC pop_options
+}  // namespace avx2_path
 
-// Template k against the 16 candidates j.. : B when coordinates 0..M-1 match (largest excess
-// <= 0), A when 0..M do. Coordinates below kFrom are known to match (the run's construction).
-// `pad` (tail blocks): 0 in the lanes to count, 1 in the lanes past the run. Counts accumulate as
-// -1 per match.
-template <int M, int kFrom, bool kTail>
-inline __attribute__((always_inline)) void Block(const WindowPlan& w, std::size_t j, const I16* centre,
-                                                 const I16* width, I16 pad, I16& acc_a, I16& acc_b) {
-  I16 e = pad;  // full blocks: no pad, e starts at the first coordinate checked
-  for (int l = kFrom; l < M; ++l) {
-    const I16 el = Excess(w.Column(l), j, centre[l], width[l]);
-    e = (l == kFrom && !kTail) ? el : Max(e, el);
-  }
-  const I16 ea = Excess(w.Column(M), j, centre[M], width[M]);
-  if constexpr (kFrom == M && !kTail) {  // B: nothing to check (m = 1 within the run)
-    acc_b -= 1;
-    acc_a = ea <= 0 ? acc_a - 1 : acc_a;
-  } else {
-    acc_b = e <= 0 ? acc_b - 1 : acc_b;
-    acc_a = Max(e, ea) <= 0 ? acc_a - 1 : acc_a;
-  }
-}
-
-// kTailPad + 16 - n: 0 in lanes 0..n-1, 1 in lanes n..15 (n valid lanes of 16).
-alignas(64) constexpr std::int32_t kTailPad[2 * kLanes] = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
-                                                           1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1};
-
-// Template k against the candidates [j, end).
-template <int M, int kFrom>
-inline __attribute__((always_inline)) void Run(const WindowPlan& w, std::size_t j, std::size_t end, const I16* centre,
-                                               const I16* width, I16& acc_a, I16& acc_b) {
-  const I16 none = {};
-  for (; j + kLanes <= end; j += kLanes) Block<M, kFrom, false>(w, j, centre, width, none, acc_a, acc_b);
-  if (j < end) Block<M, kFrom, true>(w, j, centre, width, Load(kTailPad + kLanes - (end - j)), acc_a, acc_b);
-}
-
-// Adds the lanes' counts (-1 per match) to `out` and clears them.
-inline __attribute__((always_inline)) void Flush(I16& acc_a, I16& acc_b, WindowCounts& out) {
-  for (std::size_t l = 0; l < kLanes; ++l) {
-    out.a += static_cast<std::uint64_t>(-static_cast<std::int64_t>(acc_a[l]));
-    out.b += static_cast<std::uint64_t>(-static_cast<std::int64_t>(acc_b[l]));
-  }
-  acc_a = I16{};
-  acc_b = I16{};
-}
-
-template <int M>
-inline __attribute__((always_inline)) WindowCounts SliceBody(const WindowPlan& w, std::size_t k0, std::size_t k1) {
-  WindowCounts out;
-  I16 acc_a = {}, acc_b = {};
-  std::uint64_t blocks = 0;  // since the last flush: a lane's count never exceeds it
-  I16 centre[M + 1], width[M + 1];
-  for (std::size_t k = k0; k < k1; ++k) {
-    const std::size_t i = w.start[k];
-    for (int l = 0; l <= M; ++l) {
-      centre[l] = I16{} + w.centre[i + static_cast<std::size_t>(l)];
-      width[l] = I16{} + w.width[i + static_cast<std::size_t>(l)];
-    }
-    const WindowPlan::Runs& runs = w.runs[k];
-    Run<M, 1>(w, k + 1, runs.same_end, centre, width, acc_a, acc_b);  // coordinate 0 matches
-    Run<M, 0>(w, runs.next_begin, runs.next_end, centre, width, acc_a, acc_b);
-    blocks += (runs.same_end - k - 1 + runs.next_end - runs.next_begin) / kLanes + 2;
-    if (blocks >= (std::uint64_t{1} << 30)) {
-      Flush(acc_a, acc_b, out);
-      blocks = 0;
-    }
-  }
-  Flush(acc_a, acc_b, out);
-  return out;
-}
+namespace baseline_path {
+#include "sample_entropy_window_kernel.inc"
+}  // namespace baseline_path
 
 using SliceFn = WindowCounts (*)(const WindowPlan&, std::size_t, std::size_t);
 
 template <int M>
-__attribute__((target("avx512f"))) WindowCounts SliceAvx512f(const WindowPlan& w, std::size_t k0, std::size_t k1) {
-  return SliceBody<M>(w, k0, k1);
-}
-template <int M>
-__attribute__((target("avx2"))) WindowCounts SliceAvx2(const WindowPlan& w, std::size_t k0, std::size_t k1) {
-  return SliceBody<M>(w, k0, k1);
-}
-template <int M>
-WindowCounts SliceBaseline(const WindowPlan& w, std::size_t k0, std::size_t k1) {
-  return SliceBody<M>(w, k0, k1);
-}
-
-template <int M>
 SliceFn SliceOn(WindowPath path) {
   switch (path) {
-    case WindowPath::kAvx512f: return &SliceAvx512f<M>;
-    case WindowPath::kAvx2: return &SliceAvx2<M>;
+    case WindowPath::kAvx512bw: return &avx512bw_path::SliceAny<M>;
+    case WindowPath::kAvx2: return &avx2_path::SliceAny<M>;
     case WindowPath::kBaseline: break;
   }
-  return &SliceBaseline<M>;
+  return &baseline_path::SliceAny<M>;
 }
 
 SliceFn Slice(int m, WindowPath path) {
@@ -192,16 +116,16 @@ SliceFn Slice(int m, WindowPath path) {
 }
 
 WindowPath BestWindowPath() {
-  if (WindowPathSupported(WindowPath::kAvx512f)) return WindowPath::kAvx512f;
+  if (WindowPathSupported(WindowPath::kAvx512bw)) return WindowPath::kAvx512bw;
   if (WindowPathSupported(WindowPath::kAvx2)) return WindowPath::kAvx2;
   return WindowPath::kBaseline;
 }
 
-// Dense ranks of the values (equal values, equal ranks); for every sample i, the centre
-// lo + hi - 1 and width hi - lo - 1 of the run of ranks [lo, hi) that match x[i] (two pointers
-// over the distinct values with the brute-force predicate: u_q - u_lo < r, u_hi - u_q >= r); and
-// the group of every value: the distinct values cut greedily into maximal runs whose first and
-// last values are within r (sample_entropy.cc, Groups: two groups apart never match).
+// Dense ranks of the values (equal values, equal ranks); for every sample i, the run of ranks
+// [lo, lo + len) that match x[i] (two pointers over the distinct values with the brute-force
+// predicate: u_q - u_lo < r, u_hi - u_q >= r); and the group of every value: the distinct values
+// cut greedily into maximal runs whose first and last values are within r (sample_entropy.cc,
+// Groups: two groups apart never match). Returns the groups; sets w.rank, run_lo, run_len, narrow.
 std::vector<std::uint32_t> RankRunsAndGroups(std::span<const double> x, std::span<const std::uint32_t> order,
                                              double r, WindowPlan& w) {
   std::vector<double> distinct;
@@ -209,30 +133,30 @@ std::vector<std::uint32_t> RankRunsAndGroups(std::span<const double> x, std::spa
   w.rank.resize(x.size());
   for (std::uint32_t i : order) {
     if (distinct.empty() || x[i] != distinct.back()) distinct.push_back(x[i]);
-    w.rank[i] = static_cast<std::int32_t>(distinct.size() - 1);
+    w.rank[i] = static_cast<std::uint32_t>(distinct.size() - 1);
   }
-  std::vector<std::int32_t> run_centre(distinct.size()), run_width(distinct.size());
-  std::vector<std::uint32_t> group_of(distinct.size());
+  w.narrow = distinct.size() <= 65536;  // ranks and run lengths - 1 fit 16 bits
+  std::vector<std::uint32_t> lo_of(distinct.size()), len_of(distinct.size()), group_of(distinct.size());
   std::uint32_t g = 0;
   for (std::size_t q = 0, lo = 0, hi = 0, first = 0; q < distinct.size(); ++q) {
     while (!(distinct[q] - distinct[lo] < r)) ++lo;
     if (hi <= q) hi = q + 1;
     while (hi < distinct.size() && distinct[hi] - distinct[q] < r) ++hi;
-    run_centre[q] = static_cast<std::int32_t>(lo + hi - 1);
-    run_width[q] = static_cast<std::int32_t>(hi - lo - 1);
+    lo_of[q] = static_cast<std::uint32_t>(lo);
+    len_of[q] = static_cast<std::uint32_t>(hi - lo);
     if (!(distinct[q] - distinct[first] < r)) {
       ++g;
       first = q;
     }
     group_of[q] = g;
   }
-  w.centre.resize(x.size());
-  w.width.resize(x.size());
+  w.run_lo.resize(x.size());
+  w.run_len.resize(x.size());
   std::vector<std::uint32_t> group(x.size());
   for (std::size_t i = 0; i < x.size(); ++i) {
-    const auto q = static_cast<std::size_t>(w.rank[i]);
-    w.centre[i] = run_centre[q];
-    w.width[i] = run_width[q];
+    const std::size_t q = w.rank[i];
+    w.run_lo[i] = lo_of[q];
+    w.run_len[i] = len_of[q];
     group[i] = group_of[q];
   }
   return group;
@@ -265,12 +189,12 @@ WindowPlan PlanWindow(std::span<const double> x, std::span<const std::uint32_t> 
   for (std::uint32_t i : order) {
     if (i < templates) by_value.push_back(i);
   }
-  std::vector<std::int32_t> ranks(templates);
+  std::vector<std::uint32_t> ranks(templates);
   for (std::size_t k = 0; k < templates; ++k) ranks[k] = w.rank[by_value[k]];
   std::vector<WindowPlan::Runs> strip(templates);
   std::uint64_t strip_pairs = 0;
   for (std::size_t k = 0, h = 0; k < templates; ++k) {
-    const std::int32_t hi = (w.centre[by_value[k]] + w.width[by_value[k]]) / 2 + 1;  // end of the run
+    const std::uint32_t hi = w.run_lo[by_value[k]] + w.run_len[by_value[k]];  // end of the run
     if (h <= k) h = k + 1;
     while (h < templates && ranks[h] < hi) ++h;
     strip[k] = {static_cast<std::uint32_t>(h), static_cast<std::uint32_t>(h), static_cast<std::uint32_t>(h)};
@@ -311,12 +235,19 @@ WindowPlan PlanWindow(std::span<const double> x, std::span<const std::uint32_t> 
   w.pairs = use_grid ? grid_same + grid_next : strip_pairs;
   w.coordinate_checks = std::min(grid_checks, strip_checks);
   w.start = use_grid ? std::move(by_cell) : std::move(by_value);
-  w.stride = templates + kLanes;
-  w.columns.resize((M + 1) * w.stride);
-  for (std::size_t l = 0; l <= M; ++l) {
-    std::int32_t* y = w.columns.data() + l * w.stride;
-    for (std::size_t k = 0; k < templates; ++k) y[k] = 2 * w.rank[w.start[k] + l];
-    std::fill(y + templates, y + w.stride, 0);
+  w.stride = templates + kPad;
+  auto fill = [&](auto& columns) {
+    columns.resize((M + 1) * w.stride);
+    for (std::size_t l = 0; l <= M; ++l) {
+      auto* y = columns.data() + l * w.stride;
+      for (std::size_t k = 0; k < templates; ++k) y[k] = static_cast<std::remove_reference_t<decltype(*y)>>(w.rank[w.start[k] + l]);
+      std::fill(y + templates, y + w.stride, 0);
+    }
+  };
+  if (w.narrow) {
+    fill(w.columns16);
+  } else {
+    fill(w.columns32);
   }
   return w;
 }
@@ -324,7 +255,7 @@ WindowPlan PlanWindow(std::span<const double> x, std::span<const std::uint32_t> 
 bool WindowPathSupported(WindowPath path) {
   __builtin_cpu_init();
   switch (path) {
-    case WindowPath::kAvx512f: return __builtin_cpu_supports("avx512f");
+    case WindowPath::kAvx512bw: return __builtin_cpu_supports("avx512bw");
     case WindowPath::kAvx2: return __builtin_cpu_supports("avx2");
     case WindowPath::kBaseline: return true;
   }

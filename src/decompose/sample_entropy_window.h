@@ -13,8 +13,8 @@
 //     for the strip); the strip wins when x[i+1] follows x[i] closely.
 // Every candidate is checked on every coordinate not known to match (coordinate 0 matches within
 // a strip and within a group) with the brute-force predicate fl(|x_i+l - x_j+l|) < r, evaluated
-// once per distinct value as a run of ranks and then compared as integers, sixteen pairs at a
-// time (SIMD, the path chosen at run time); A and B come out of the same pass (B:
+// once per distinct value as a run of ranks and then compared as integers, 32 (16-bit ranks) or
+// 16 pairs at a time (SIMD, the path chosen at run time); A and B come out of the same pass (B:
 // coordinates 0..m-1 match; A: coordinate m too). Cost: proportional to the coordinate checks,
 // whatever the match rate; quadratic when r spans most of the values, so the caller compares it
 // with the range counting's cost first.
@@ -30,7 +30,7 @@ namespace gyrocomp::se_detail {
 
 // Largest m the window counter handles (one compiled variant per m).
 constexpr int kWindowMaxM = 4;
-// Longest series it handles: ranks, doubled, and rank sums stay in 32-bit integers.
+// Longest series it handles (32-bit ranks and counts per lane).
 constexpr std::size_t kWindowMaxSamples = std::size_t{1} << 29;
 
 // Start indices 0..x.size()-1 ordered by value (non-decreasing; equal values in any order).
@@ -46,14 +46,16 @@ struct WindowPlan {
   int m = 0;
   std::vector<std::uint32_t> start;  // start index of the template at sorted position k
   std::vector<Runs> runs;
-  // Per sample i: dense rank of x[i] among the distinct values, and the centre lo + hi - 1 and
-  // width hi - lo - 1 of the run of ranks [lo, hi) whose values match x[i].
-  std::vector<std::int32_t> rank, centre, width;
-  std::size_t stride = 0;              // templates + 16 (a run's last vector may read 15 past it)
-  std::vector<std::int32_t> columns;   // column l (0..m), position k: 2 rank[start[k] + l]
+  // Per sample i: dense rank of x[i] among the distinct values, and the run of ranks
+  // [run_lo, run_lo + run_len) whose values match x[i].
+  std::vector<std::uint32_t> rank, run_lo, run_len;
+  bool narrow = false;                 // at most 65,536 distinct values: 16-bit columns
+  std::size_t stride = 0;              // templates + 32 (a run's last vector may read 31 past it)
+  // Column l (0..m), position k: rank[start[k] + l], 16-bit when narrow, else 32-bit.
+  std::vector<std::uint16_t> columns16;
+  std::vector<std::uint32_t> columns32;
   std::uint64_t pairs = 0;             // W: candidate pairs the count checks
   std::uint64_t coordinate_checks = 0; // sum over the candidates of the coordinates compared
-  const std::int32_t* Column(int l) const { return columns.data() + static_cast<std::size_t>(l) * stride; }
 };
 
 // The layout and runs of templates 0..templates-1 (templates + m <= x.size()); `order`: every
@@ -67,7 +69,7 @@ struct WindowCounts {
 };
 
 // The compiled variants of the kernel (the same counts on every one).
-enum class WindowPath { kAvx512f, kAvx2, kBaseline };
+enum class WindowPath { kAvx512bw, kAvx2, kBaseline };
 bool WindowPathSupported(WindowPath path);
 
 // A and B of sample entropy over `num_threads` >= 1 threads (the same counts for any number:

@@ -123,10 +123,10 @@ TEST(SampleEntropyCounters, WindowThreadCountDoesNotChangeCounts) {
 }
 
 TEST(SampleEntropyCounters, EveryKernelPathGivesTheBruteForceCounts) {
-  // The dispatched variants (AVX-512F, AVX2, x86-64 baseline) that this CPU runs; both layouts
+  // The dispatched variants (AVX-512BW, AVX2, x86-64 baseline) that this CPU runs; both layouts
   // (strip: smooth, narrow band; cells: white) and every m, tails of every length (n = 1000).
   int paths_run = 0;
-  for (auto path : {se_detail::WindowPath::kAvx512f, se_detail::WindowPath::kAvx2, se_detail::WindowPath::kBaseline}) {
+  for (auto path : {se_detail::WindowPath::kAvx512bw, se_detail::WindowPath::kAvx2, se_detail::WindowPath::kBaseline}) {
     if (!se_detail::WindowPathSupported(path)) continue;
     ++paths_run;
     for (const Series& c : Inputs(1000, 6)) {
@@ -134,6 +134,7 @@ TEST(SampleEntropyCounters, EveryKernelPathGivesTheBruteForceCounts) {
       for (int m = 1; m <= se_detail::kWindowMaxM; ++m) {
         const double r = 0.3 * PopulationSd(c.x);
         const auto plan = se_detail::PlanWindow(c.x, order, c.x.size() - m, m, r);
+        ASSERT_TRUE(plan.narrow);  // 16-bit ranks here; 32-bit: the test below
         const auto got = se_detail::CountWindowed(plan, 2, path);
         const auto brute = CountTemplateMatches(c.x, m, r, SampleEntropyAlgorithm::kBruteForce);
         EXPECT_EQ(got.a, brute.a) << c.name << " m=" << m << " path " << static_cast<int>(path);
@@ -142,6 +143,27 @@ TEST(SampleEntropyCounters, EveryKernelPathGivesTheBruteForceCounts) {
     }
   }
   EXPECT_GE(paths_run, 1);
+}
+
+TEST(SampleEntropyCounters, WideRanksAboveSixtyFiveThousandDistinctValues) {
+  // 70,000 distinct values: 32-bit ranks (16-bit up to 65,536). Against range counting (the
+  // brute force would take minutes), on every kernel path, both layouts, m = 1..3.
+  for (const Series& c : Inputs(70000, 8)) {
+    if (c.name != "white" && c.name != "narrow_band" && c.name != "smooth") continue;
+    const std::vector<std::uint32_t> order = se_detail::OrderByValue(c.x);
+    for (int m = 1; m <= 3; ++m) {
+      const double r = 0.1 * PopulationSd(c.x);
+      const auto plan = se_detail::PlanWindow(c.x, order, c.x.size() - m, m, r);
+      ASSERT_FALSE(plan.narrow) << c.name;
+      const auto range = CountTemplateMatches(c.x, m, r, SampleEntropyAlgorithm::kRangeCount, 2);
+      for (auto path : {se_detail::WindowPath::kAvx512bw, se_detail::WindowPath::kAvx2, se_detail::WindowPath::kBaseline}) {
+        if (!se_detail::WindowPathSupported(path)) continue;
+        const auto got = se_detail::CountWindowed(plan, 2, path);
+        EXPECT_EQ(got.a, range.a) << c.name << " m=" << m << " path " << static_cast<int>(path);
+        EXPECT_EQ(got.b, range.b) << c.name << " m=" << m << " path " << static_cast<int>(path);
+      }
+    }
+  }
 }
 
 TEST(SampleEntropyCounters, OrderByValueSortsEverySignAndScale) {

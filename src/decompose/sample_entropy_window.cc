@@ -162,6 +162,19 @@ std::vector<std::uint32_t> RankRunsAndGroups(std::span<const double> x, std::spa
   return group;
 }
 
+// Column l (0..m) at position k: the rank of x[start[k] + l] as R; the kPad entries after each
+// column are 0 (read by a run's last vector, masked off).
+template <typename R>
+void FillColumns(const WindowPlan& w, std::vector<R>& columns) {
+  const std::size_t templates = w.start.size();
+  const std::size_t M = static_cast<std::size_t>(w.m);
+  columns.assign((M + 1) * w.stride, R{0});
+  for (std::size_t l = 0; l <= M; ++l) {
+    R* y = columns.data() + l * w.stride;
+    for (std::size_t k = 0; k < templates; ++k) y[k] = static_cast<R>(w.rank[w.start[k] + l]);
+  }
+}
+
 }  // namespace
 
 std::vector<std::uint32_t> OrderByValue(std::span<const double> x) {
@@ -236,18 +249,10 @@ WindowPlan PlanWindow(std::span<const double> x, std::span<const std::uint32_t> 
   w.coordinate_checks = std::min(grid_checks, strip_checks);
   w.start = use_grid ? std::move(by_cell) : std::move(by_value);
   w.stride = templates + kPad;
-  auto fill = [&](auto& columns) {
-    columns.resize((M + 1) * w.stride);
-    for (std::size_t l = 0; l <= M; ++l) {
-      auto* y = columns.data() + l * w.stride;
-      for (std::size_t k = 0; k < templates; ++k) y[k] = static_cast<std::remove_reference_t<decltype(*y)>>(w.rank[w.start[k] + l]);
-      std::fill(y + templates, y + w.stride, 0);
-    }
-  };
   if (w.narrow) {
-    fill(w.columns16);
+    FillColumns(w, w.columns16);
   } else {
-    fill(w.columns32);
+    FillColumns(w, w.columns32);
   }
   return w;
 }

@@ -156,7 +156,8 @@ TEST(SampleEntropyCounters, WideRanksAboveSixtyFiveThousandDistinctValues) {
       const auto plan = se_detail::PlanWindow(c.x, order, c.x.size() - m, m, r);
       ASSERT_FALSE(plan.narrow) << c.name;
       const auto range = CountTemplateMatches(c.x, m, r, SampleEntropyAlgorithm::kRangeCount, 2);
-      for (auto path : {se_detail::WindowPath::kAvx512bw, se_detail::WindowPath::kAvx2, se_detail::WindowPath::kBaseline}) {
+      for (auto path :
+           {se_detail::WindowPath::kAvx512bw, se_detail::WindowPath::kAvx2, se_detail::WindowPath::kBaseline}) {
         if (!se_detail::WindowPathSupported(path)) continue;
         const auto got = se_detail::CountWindowed(plan, 2, path);
         EXPECT_EQ(got.a, range.a) << c.name << " m=" << m << " path " << static_cast<int>(path);

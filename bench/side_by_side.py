@@ -2,7 +2,7 @@
 """Side-by-side timings of gyrocomp against the Python references (issue 13).
 
     bench/side_by_side.py [--build build] [--vmdpy DIR] [--antropy DIR] [--allantools DIR]
-                          [--repeat 3] [--quick]
+                          [--repeat 3] [--quick] [--baseline OTHER_GYROCOMP]
 
 Each reference is optional and is *not* a dependency of gyrocomp: give the directory of a
 checkout (vmdpy: the folder holding vmdpy/vmdpy.py; antropy: the folder holding antropy/ or
@@ -20,6 +20,10 @@ Cases (the issue-13 goals):
   Allan       N = 1,000,000, octave taus, overlapping ADEV: gyrocomp allan (whole process) vs
               allantools.oadev (the call alone).
 Wall-clock seconds, the minimum over --repeat runs; on a shared machine they are upper bounds.
+gyrocomp's CPU time (user + system, the minimum over the runs) is printed beside its wall time:
+the better estimate of its cost on a loaded machine. --baseline times another gyrocomp binary
+(e.g. an earlier build) on the same inputs, its runs interleaved with this build's so that both
+see the same load, and prints both side by side.
 """
 import argparse
 import math
@@ -44,13 +48,40 @@ def write_csv(path, name, x):
         f.write("\n")
 
 
-def best_wall(cmd, repeat):
-    best = float("inf")
+def run_timed(cmd):
+    """Wall and CPU (user + system) seconds of one run of cmd."""
+    t = time.perf_counter()
+    p = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    _, status, usage = os.wait4(p.pid, 0)
+    wall = time.perf_counter() - t
+    if os.waitstatus_to_exitcode(status) != 0:
+        raise subprocess.CalledProcessError(os.waitstatus_to_exitcode(status), cmd)
+    return wall, usage.ru_utime + usage.ru_stime
+
+
+def best_wall(cmd, repeat, args=None):
+    """Minimum wall and minimum CPU seconds over `repeat` runs of this build's command; with
+    args.baseline, the same command with the baseline binary interleaved, stored in args.last_baseline."""
+    best, cpu = float("inf"), float("inf")
+    base, base_cpu = float("inf"), float("inf")
     for _ in range(repeat):
-        t = time.perf_counter()
-        subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-        best = min(best, time.perf_counter() - t)
+        w, c = run_timed(cmd)
+        best, cpu = min(best, w), min(cpu, c)
+        if args is not None and args.baseline:
+            w, c = run_timed([args.baseline] + cmd[1:])
+            base, base_cpu = min(base, w), min(base_cpu, c)
+    if args is not None:
+        args.last_cpu = cpu
+        args.last_baseline = (base, base_cpu) if args.baseline else None
     return best
+
+
+def cpu_row(args):
+    """This build's CPU time of the case just timed, and the baseline's wall and CPU time."""
+    line = f"{'':<34} gyrocomp CPU {args.last_cpu:.3f} s"
+    if args.last_baseline:
+        line += f";  baseline {args.baseline}: {args.last_baseline[0]:.3f} s wall, {args.last_baseline[1]:.3f} s CPU"
+    print(line)
 
 
 def best_call(fn, repeat):
@@ -72,9 +103,10 @@ def vmd_case(args, tmp):
     csv = os.path.join(tmp, "vmd.csv")
     write_csv(csv, "rate_dps", gyro_like(n, 1))
     ours = best_wall([args.gyrocomp, "decompose", "-i", csv, "--fs", "100", "--modes", "6", "--tol", "1e-7",
-                      "-o", os.path.join(tmp, "modes.csv"), "--json", os.path.join(tmp, "d.json")], args.repeat)
+                      "-o", os.path.join(tmp, "modes.csv"), "--json", os.path.join(tmp, "d.json")], args.repeat, args)
     if not args.vmdpy:
         print(f"{'VMD N=20k K=6 (whole process)':<34} gyrocomp {ours:8.3f} s   vmdpy: skipped (no --vmdpy DIR)")
+        cpu_row(args)
         return
     mod = os.path.join(args.vmdpy, "vmdpy")
     script = (
@@ -89,6 +121,7 @@ def vmd_case(args, tmp):
     except subprocess.CalledProcessError as e:
         print("%-34s gyrocomp %8.3f s   vmdpy: skipped (does not import: %s)"
               % ("VMD N=20k K=6 (whole process)", ours, e.stderr.decode().strip().splitlines()[-1]))
+        cpu_row(args)
         return
     whole = float("inf")
     call = float("inf")
@@ -99,6 +132,7 @@ def vmd_case(args, tmp):
         call = min(call, float(out.stdout.split()[-1]))
     row("VMD N=20k K=6 (whole process)", ours, whole, "vmdpy (whole process)")
     row("", ours, call, "vmdpy (VMD call alone)")
+    cpu_row(args)
 
 
 def entropy_case(args, tmp):
@@ -107,10 +141,11 @@ def entropy_case(args, tmp):
     csv = os.path.join(tmp, "se.csv")
     write_csv(csv, "x", x)
     ours = best_wall([args.gyrocomp, "entropy", "-i", csv, "--col", "x", "--m", "2", "--r", "0.2",
-                      "--json", os.path.join(tmp, "se.json")], args.repeat)
+                      "--json", os.path.join(tmp, "se.json")], args.repeat, args)
     label = "SampEn N=100k m=2 (whole process)"
     if not args.antropy:
         print(f"{label:<34} gyrocomp {ours:8.3f} s   antropy: skipped (no --antropy DIR)")
+        cpu_row(args)
         return
     for sub in ("src", ""):
         sys.path.insert(0, os.path.join(args.antropy, sub))
@@ -119,11 +154,13 @@ def entropy_case(args, tmp):
         import antropy
     except Exception as e:  # noqa: BLE001 - any import failure means: skip
         print(f"{label:<34} gyrocomp {ours:8.3f} s   antropy: skipped (does not import: {e})")
+        cpu_row(args)
         return
     a = np.asarray(x)
     antropy.sample_entropy(a[:1000], order=2)  # numba JIT compile outside the timing
     theirs = best_call(lambda: antropy.sample_entropy(a, order=2), args.repeat)
     row(label, ours, theirs, "antropy.sample_entropy (call)")
+    cpu_row(args)
 
 
 def allan_case(args, tmp):
@@ -132,10 +169,11 @@ def allan_case(args, tmp):
     csv = os.path.join(tmp, "allan.csv")
     write_csv(csv, "rate_dps", x)
     ours = best_wall([args.gyrocomp, "allan", "-i", csv, "--fs", "100", "--taus", "octave",
-                      "--json", os.path.join(tmp, "a.json")], args.repeat)
+                      "--json", os.path.join(tmp, "a.json")], args.repeat, args)
     label = f"Allan N={n // 1000}k octave (whole proc.)"
     if not args.allantools:
         print(f"{label:<34} gyrocomp {ours:8.3f} s   allantools: skipped (no --allantools DIR)")
+        cpu_row(args)
         return
     sys.path.insert(0, args.allantools)
     try:
@@ -143,10 +181,12 @@ def allan_case(args, tmp):
         import allantools
     except Exception as e:  # noqa: BLE001
         print(f"{label:<34} gyrocomp {ours:8.3f} s   allantools: skipped (does not import: {e})")
+        cpu_row(args)
         return
     a = np.asarray(x)
     theirs = best_call(lambda: allantools.oadev(a, rate=100.0, data_type="freq", taus="octave"), args.repeat)
     row(label, ours, theirs, "allantools.oadev (call)")
+    cpu_row(args)
 
 
 def main():
@@ -157,10 +197,13 @@ def main():
     p.add_argument("--allantools")
     p.add_argument("--repeat", type=int, default=3)
     p.add_argument("--quick", action="store_true", help="smaller Allan case")
+    p.add_argument("--baseline", help="another gyrocomp binary to time on the same inputs (interleaved)")
     args = p.parse_args()
     args.gyrocomp = os.path.join(args.build, "gyrocomp")
     if not os.access(args.gyrocomp, os.X_OK):
         sys.exit(f"side_by_side.py: {args.gyrocomp} not built")
+    if args.baseline and not os.access(args.baseline, os.X_OK):
+        sys.exit(f"side_by_side.py: --baseline {args.baseline} is not an executable")
     cores = os.cpu_count()
     mem = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES") / 2**30
     load = os.getloadavg()[0]

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "commands.h"
+#include "entropy_memory.h"
 #include "gyrocomp/decompose/feature_classifier.h"
 #include "gyrocomp/io/io.h"
 #include "gyrocomp/pipeline/pipeline.h"
@@ -100,6 +101,7 @@ void PrintTable(const AxisResult& r) {
 }
 
 int Run(DecomposeArgs a) {
+  ReuseFreedMemory();
   a.vmd.init = a.init == "zero" ? VmdInit::kZero : a.init == "random" ? VmdInit::kRandom : VmdInit::kUniform;
   a.vmd.stopping_rule = a.stop == "relative" ? VmdStoppingRule::kRelative : VmdStoppingRule::kAbsolute;
   if (a.accel == "off") a.vmd.omega_extrapolation_period.reset();

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "commands.h"
+#include "entropy_memory.h"
 #include "gyrocomp/io/io.h"
 #include "gyrocomp/decompose/sample_entropy.h"
 
@@ -24,6 +25,7 @@ struct EntropyArgs {
 };
 
 int Run(EntropyArgs a) {
+  ReuseFreedMemory();
   if (a.r_abs) a.options.r_absolute = *a.r_abs;
   if (a.brute_force) a.options.algorithm = SampleEntropyAlgorithm::kBruteForce;
   std::string why;

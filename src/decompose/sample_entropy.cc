@@ -1,7 +1,9 @@
-// Sample entropy: see include/gyrocomp/sample_entropy.h.
+// Sample entropy: see include/gyrocomp/sample_entropy.h. Two exact counters: the sorted window
+// (sample_entropy_window.{h,cc}, pairs checked directly with SIMD; the cheaper one for the VMD
+// modes of records up to ~10^5 samples) and the range counting below; CountTemplateMatches picks.
 //
-// Fast exact counting of matching template pairs. A template is its start index i; its
-// coordinates are x[i], x[i+1], ..., x[i+d-1] (d = m for B, m + 1 for A). Two templates match
+// Range counting: fast exact counting of matching template pairs. A template is its start index
+// i; its coordinates are x[i], x[i+1], ..., x[i+d-1] (d = m for B, m + 1 for A). Two templates match
 // when fl(|x[i+l] - x[j+l]|) < r for every l, exactly the brute-force predicate. Because rounding
 // is monotone, for a fixed value v the values w that match it form one contiguous run of the
 // sorted order, so every "window" below is found with the same predicate as the brute force,
@@ -28,6 +30,7 @@
 #include "gyrocomp/decompose/sample_entropy.h"
 
 #include "sample_entropy_counters.h"
+#include "sample_entropy_window.h"
 
 #include <algorithm>
 #include <chrono>
@@ -54,6 +57,16 @@ constexpr int kDigitBits = 11;            // radix digit from kWideDigitsMin key
 constexpr std::size_t kWideDigitsMin = 8192;
 constexpr std::size_t kDigits = std::size_t{1} << kDigitBits;
 constexpr std::size_t kBitsetMax = 2048;  // window counts in a bitset up to this many items
+// kFast takes the sorted window (sample_entropy_window.h) when it compares at most this many
+// coordinates per template and at least half the values are distinct. Measured (one thread,
+// sample_entropy_benchmark BM_SampleEntropyCounter and BM_SampleEntropyOfVmdModes;
+// docs/performance.md "Sample entropy and the decompose whole process, session 3"): the window
+// costs ~0.03 ns per coordinate check with 16-bit ranks (<= 65,536 distinct values), ~0.05 ns
+// with 32-bit ones; range counting 0.67-1.3 us per template on continuous values at
+// N = 20k-200k (crossover ~18,000-22,000 checks per template), but only ~0.1-0.16 us with heavy
+// ties (quantized data: its groups of equal values cost nothing per pair) while the window
+// checks every tie.
+constexpr std::uint64_t kWindowChecksPerTemplate = 16000;
 
 
 // The series' values ranked once (equal values, equal ranks), so that every later sort of
@@ -64,31 +77,18 @@ struct RankedSeries {
   int rank_bits = 0;
 };
 
-RankedSeries RankValues(std::span<const double> x) {
-  std::vector<std::pair<double, Item>> v(x.size());
-  for (std::size_t i = 0; i < x.size(); ++i) v[i] = {x[i], static_cast<Item>(i)};
-  std::sort(v.begin(), v.end());
+// Ranks from the values' order (se_detail::OrderByValue, a radix sort).
+RankedSeries RankValues(std::span<const double> x, std::vector<Item> order) {
   RankedSeries out;
   out.rank.resize(x.size());
-  out.order.resize(x.size());
   std::uint32_t rank = 0;
-  for (std::size_t k = 0; k < v.size(); ++k) {
-    if (k > 0 && v[k].first != v[k - 1].first) ++rank;
-    out.rank[v[k].second] = rank;
-    out.order[k] = v[k].second;
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    if (k > 0 && x[order[k]] != x[order[k - 1]]) ++rank;
+    out.rank[order[k]] = rank;
   }
+  out.order = std::move(order);
   out.rank_bits = std::max(1, static_cast<int>(std::bit_width(rank)));
   return out;
-}
-
-// Template start points 0 .. templates-1 sorted by their first coordinate: `order` filtered.
-std::vector<Item> SortedTemplates(const RankedSeries& ranked, std::size_t templates) {
-  std::vector<Item> s;
-  s.reserve(templates);
-  for (Item i : ranked.order) {
-    if (i < templates) s.push_back(i);
-  }
-  return s;
 }
 
 class PairCounter {
@@ -418,6 +418,36 @@ int NormalisingExponent(std::span<const double> x) {
   return (e > 256 || e < -256) ? e : 0;
 }
 
+// Few ties: at least half the values distinct (kWindowChecksPerTemplate). `order`: x by value.
+bool FewTies(std::span<const double> x, std::span<const Item> order) {
+  std::size_t distinct = order.empty() ? 0 : 1;
+  for (std::size_t k = 1; k < order.size(); ++k) distinct += x[order[k]] != x[order[k - 1]];
+  return 2 * distinct >= order.size();
+}
+
+// Range counting: A (m + 1 coordinates, the long count) split into tasks, B (m coordinates) one
+// more task; `threads` workers take tasks in order (largest first), each with its own scratch.
+TemplateMatchCounts CountByRanges(std::span<const double> x, int m, double r, const RankedSeries& ranked,
+                                  std::vector<Item>& sorted, int threads) {
+  TemplateMatchCounts out;
+  auto tasks = PairCounter(x.data(), ranked, m + 1, r).Tasks(sorted);
+  std::vector<int> is_b(tasks.size(), 0);
+  tasks.push_back([&](PairCounter&) { return PairCounter(x.data(), ranked, m, r).CountSorted(sorted); });
+  is_b.push_back(1);
+  std::vector<std::uint64_t> results(tasks.size(), 0);
+  std::atomic<std::size_t> next{0};
+  auto worker = [&] {
+    PairCounter pc(x.data(), ranked, m + 1, r);
+    for (std::size_t t; (t = next.fetch_add(1)) < tasks.size();) results[t] = tasks[t](pc);
+  };
+  std::vector<std::thread> pool;
+  for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
+  worker();
+  for (auto& th : pool) th.join();
+  for (std::size_t t = 0; t < tasks.size(); ++t) (is_b[t] ? out.b : out.a) += results[t];
+  return out;
+}
+
 }  // namespace
 
 bool SampleEntropyOptions::IsValid(std::string* error) const {
@@ -469,28 +499,27 @@ TemplateMatchCounts CountTemplateMatches(std::span<const double> x, int m, doubl
     out.a = CountBrute(x, m + 1, r, templates);
     return out;
   }
-  // A (m + 1 coordinates, the long count) split into tasks, B (m coordinates) one more task;
-  // `threads` workers take tasks in order (largest first). Each worker has its own scratch.
   const int threads = num_threads > 0 ? num_threads
                                       : std::max(1, std::min(2, static_cast<int>(std::thread::hardware_concurrency())));
-  const RankedSeries ranked = RankValues(x);
-  std::vector<Item> sorted = SortedTemplates(ranked, templates);
-  auto tasks = PairCounter(x.data(), ranked, m + 1, r).Tasks(sorted);
-  std::vector<int> is_b(tasks.size(), 0);
-  tasks.push_back([&](PairCounter&) { return PairCounter(x.data(), ranked, m, r).CountSorted(sorted); });
-  is_b.push_back(1);
-  std::vector<std::uint64_t> results(tasks.size(), 0);
-  std::atomic<std::size_t> next{0};
-  auto worker = [&] {
-    PairCounter pc(x.data(), ranked, m + 1, r);
-    for (std::size_t t; (t = next.fetch_add(1)) < tasks.size();) results[t] = tasks[t](pc);
-  };
-  std::vector<std::thread> pool;
-  for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
-  worker();
-  for (auto& th : pool) th.join();
-  for (std::size_t t = 0; t < tasks.size(); ++t) (is_b[t] ? out.b : out.a) += results[t];
-  return out;
+  std::vector<Item> order = se_detail::OrderByValue(x);
+  const bool window_allowed = algorithm != SampleEntropyAlgorithm::kRangeCount && m <= se_detail::kWindowMaxM &&
+                              x.size() <= se_detail::kWindowMaxSamples;
+  if (window_allowed && (algorithm == SampleEntropyAlgorithm::kSortedWindow || FewTies(x, order))) {
+    const se_detail::WindowPlan plan = se_detail::PlanWindow(x, order, templates, m, r);
+    if (algorithm == SampleEntropyAlgorithm::kSortedWindow ||
+        plan.coordinate_checks <= kWindowChecksPerTemplate * templates) {
+      const se_detail::WindowCounts w = se_detail::CountWindowed(plan, threads);
+      out.a = w.a;
+      out.b = w.b;
+      return out;
+    }
+  }
+  std::vector<Item> sorted;
+  sorted.reserve(templates);
+  for (Item i : order) {
+    if (i < templates) sorted.push_back(i);
+  }
+  return CountByRanges(x, m, r, RankValues(x, std::move(order)), sorted, threads);
 }
 
 Result<SampleEntropyResult> SampleEntropy(std::span<const double> x, const SampleEntropyOptions& opt) {

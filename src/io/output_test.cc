@@ -9,6 +9,8 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <charconv>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -183,6 +185,33 @@ TEST_F(OutputSetTest, GzipRoundTrip) {
   const auto back = ReadCsv(P("t.csv.gz"));
   ASSERT_TRUE(back.ok()) << back.error().message;
   EXPECT_EQ(back->columns[0], (std::vector<double>{1, 2, 3}));
+}
+
+TEST_F(OutputSetTest, LargeTablesFormattedInPartsGiveTheRowByRowBytes) {
+  // 1 column x 200,003 rows: more than two parts of ~87k rows (several batches, a short last
+  // part); 6 columns x 20,000 rows: one batch of two parts. Expected: each row formatted in turn.
+  for (const auto& [cols, rows] : {std::pair<int, std::size_t>{1, 200003}, {6, 20000}, {3, 5}}) {
+    SCOPED_TRACE(std::to_string(cols) + " x " + std::to_string(rows));
+    Table t;
+    for (int c = 0; c < cols; ++c) {
+      std::vector<double> v(rows);
+      for (std::size_t i = 0; i < rows; ++i) v[i] = std::ldexp(static_cast<double>(i * 2654435761u % 1000003), -c * 7) - 3.5;
+      t.Add("c" + std::to_string(c), std::move(v));
+    }
+    std::string expected;
+    for (int c = 0; c < cols; ++c) expected += (c ? ",c" : "c") + std::to_string(c);
+    expected += "\n";
+    char cell[64];
+    for (std::size_t i = 0; i < rows; ++i) {
+      for (int c = 0; c < cols; ++c) {
+        if (c) expected += ',';
+        expected.append(cell, std::to_chars(cell, cell + sizeof cell, t.columns[c][i]).ptr);
+      }
+      expected += "\n";
+    }
+    ASSERT_TRUE(WriteCsvAtomic(P("big.csv"), t).ok());
+    EXPECT_TRUE(Get(P("big.csv")) == expected);
+  }
 }
 
 TEST_F(OutputSetTest, RemoveLiveTemporaryFilesRemovesThemInAChild) {

@@ -6,13 +6,18 @@
 //     data is quantized, so distances equal to r do occur and count as non-matches);
 //   - no self-matches; B = matching pairs of length m, A = of length m+1;
 //   - SampEn = -ln(A / B) (Eq. 13).
-// The fast algorithm counts matching pairs without walking them (orthogonal range counting:
-// a sorted sweep for 1-D templates, a sweep with a Fenwick tree for 2-D ones, divide and conquer
-// over the first coordinate above that), so smooth, narrow-band VMD modes, where nearly every
-// pair matches, cost O(N log^(m) N) rather than O(N^2). It gives the same counts as the
-// brute-force definition, ties included (every comparison is the same floating-point
-// |a - b| < r). A and B are counted by a small pool of threads
-// (the recursion unrolled into independent tasks).
+// Two fast exact counters, the same counts as the brute-force definition, ties included (every
+// comparison is the same floating-point |a - b| < r):
+//   - range counting: matching pairs counted without walking them (a sorted sweep for 1-D
+//     templates, a sweep with a Fenwick tree or bitset for 2-D ones, divide and conquer over the
+//     first coordinate above that), so smooth, narrow-band VMD modes, where nearly every pair
+//     matches, cost O(N log^(m) N) rather than O(N^2);
+//   - sorted window: templates sorted by their first value; the W pairs within r there are
+//     checked directly, 8 at a time, A and B in one pass. Cheaper while W is a few thousand per
+//     template (the noise-like VMD modes of records up to some 10^4-10^5 samples).
+// kFast computes W (O(N) after the sort) and takes the window when W is below the range
+// counting's measured cost (sample_entropy.cc, kWindowPairsPerTemplate). Both use a small pool
+// of threads.
 #pragma once
 
 #include <cstddef>
@@ -26,8 +31,11 @@
 namespace gyrocomp {
 
 enum class SampleEntropyAlgorithm {
-  kFast,        // range counting, O(N log^m N)
-  kBruteForce,  // the O(N^2) definition; for tests and tiny inputs
+  kFast,          // the cheaper of the two exact counters below for this series and r (default)
+  kRangeCount,    // range counting, O(N log^m N) whatever r
+  kSortedWindow,  // a sorted window checked pair by pair with SIMD: O(N log N + W), W = pairs
+                  // within r in the first coordinate; m <= 4 (larger m: range counting)
+  kBruteForce,    // the O(N^2) definition; for tests and tiny inputs
 };
 
 struct SampleEntropyOptions {

@@ -31,7 +31,7 @@ struct DecomposeArgs {
   int dc = 0;
   SampleEntropyOptions entropy;
   // Same default as `process` (PipelineOptions), so both classify the same way.
-  std::optional<std::size_t> entropy_max_samples = PipelineOptions{}.entropy_max_samples;
+  std::optional<std::size_t> entropy_max_samples = kDefaultEntropyMaxSamples;
   bool entropy_all = false;
   std::string rule = "standard";
   std::optional<double> drift_max_se, noise_min_se, drift_max_frequency_hz;

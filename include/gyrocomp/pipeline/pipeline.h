@@ -35,6 +35,9 @@ namespace gyrocomp {
 // [0, 1] of that stage. Called from the pipeline's thread.
 using ProgressCallback = std::function<void(const std::string& stage, double fraction)>;
 
+// Default of PipelineOptions::entropy_max_samples, shared with `decompose` (samples).
+inline constexpr std::size_t kDefaultEntropyMaxSamples = 200000;
+
 struct PipelineOptions {
   // VMD (its fs_hz is set from the record). Defaults: K = 6, alpha = 2000, tau = 0, tol = 1e-7.
   VmdOptions vmd;
@@ -43,7 +46,7 @@ struct PipelineOptions {
   // Sample entropy is computed on at most this many samples of each mode (a contiguous window
   // from the middle of the record); nullopt = all samples. Exact SampEn is O(N log^2 N) here,
   // so this only trims time on very long records.
-  std::optional<std::size_t> entropy_max_samples = 200000;
+  std::optional<std::size_t> entropy_max_samples = kDefaultEntropyMaxSamples;
   // drift / mixed / noise thresholds: the standard-scale rule by default (docs/classification.md).
   ClassifierOptions classifier = ClassifierOptions::Standard();
   // If no mode is classified drift, the mode with the lowest centre frequency becomes the drift

@@ -77,8 +77,6 @@ constexpr std::size_t kBlockBins = 2048;
 // vmd_internal::kLanes so that a bin's lane does not depend on the chunking).
 constexpr std::size_t kChunkBins = 256;
 static_assert(kBlockBins % kChunkBins == 0 && kChunkBins % vmd_internal::kLanes == 0);
-// KeepPrevious's horizon: keep update n when this many more falls like the last would meet tol.
-constexpr double kLookaheadSteps = 4;
 // Below this many bin-mode updates per iteration, one thread is faster.
 constexpr std::size_t kMinWorkForThreads = 1u << 16;
 
@@ -226,7 +224,13 @@ struct AdmmState {
   double* prev_re = nullptr;  // update n-1 when the last update kept it (has_previous), else stale
   double* prev_im = nullptr;
   bool has_previous = false;
-  double lookahead_steps = 0;  // KeepPrevious's prediction horizon
+  vmd_internal::VmdTuning tuning;  // KeepPrevious's horizon and StopSchedule's parameters
+  bool stop_schedule = false;      // StopSchedule may skip the stopping-rule sums (bin_major only)
+  bool stop_sums_now = true;       // this update computes the stopping-rule sums
+  // The last two updates whose stopping-rule value was computed (0: none) and their values.
+  int stop_last_n = 0, stop_prev_n = 0;
+  double stop_last = 0.0, stop_prev = 0.0;
+  bool stop_missed = false;  // the rule was met after skipped sums: run again computing every update
   std::optional<int> extrapolation_period;  // VmdOptions' period when the record is long enough
   int report_after = 0;        // on_iteration only for updates after this one
   // Frees the working arrays except the iterate starting at keep_re / keep_im (before the modes
@@ -239,8 +243,10 @@ struct AdmmState {
   }
   // The reference's output (update n-1) was overwritten by an in-place update n.
   bool NeedsRerun() const { return !opt.return_last_iterate && !has_previous; }
-  std::vector<double> omega;       // centre frequencies of the newest iterate
-  std::vector<double> omega_prev;  // centre frequencies of the iterate before `omega`
+  std::vector<double> omega;       // centre frequencies for the next update (Eq. 5, or extrapolated)
+  std::vector<double> omega_prev;  // centre frequencies the newest update used
+  // Eq. (5) of the newest iterate and of the one before, never extrapolated: the returned ones.
+  std::vector<double> eq5_omega, eq5_omega_prev;
   int n = 0;                       // updates run
   double u_diff = 0.0;             // the stopping rule's value after update n
 };
@@ -298,7 +304,9 @@ void UpdateBlock(AdmmState& st, const IterateBuffers& io, std::size_t block, con
       c.dst_re = io.dst_re + c0;
       c.dst_im = io.dst_im + c0;
       c.stride = H;
-      vmd_internal::UpdateBinChunk(c, c1 - c0, K, om.data(), st.opt.alpha, st.batch_inversion, st.relative, bs);
+      using vmd_internal::StopSums;
+      const StopSums stop = !st.stop_sums_now ? StopSums::kNone : st.relative ? StopSums::kRelative : StopSums::kAbsolute;
+      vmd_internal::UpdateBinChunk(c, c1 - c0, K, om.data(), st.opt.alpha, st.batch_inversion, stop, bs);
       if (st.use_lambda) DualAscent(st, io.dst_re, io.dst_im, c0, c1);  // Eq. (6)
       continue;
     }
@@ -351,6 +359,7 @@ double UpdateCenterFrequencies(AdmmState& st) {
       total = std::numeric_limits<double>::infinity();  // from zero: not converged
     }
   }
+  if (!st.stop_sums_now) return std::numeric_limits<double>::quiet_NaN();  // diff not summed
   // The reference adds np.spacing(1) (squared signal units) to the absolute rule.
   return opt.stopping_rule == VmdStoppingRule::kAbsolute ? std::abs(st.eps_norm + total) : total;
 }
@@ -363,19 +372,52 @@ double SignalUnits(const AdmmState& st, double u) {
   return std::min(std::ldexp(u, 2 * st.scale_exp), std::numeric_limits<double>::max());
 }
 
+// The stopping rule's fall per update, from its last two computed values (<= 1; 1 when fewer than
+// two were computed or the value rose). Consecutive values: their plain ratio.
+double StopFallPerUpdate(const AdmmState& st) {
+  if (st.stop_prev_n == 0 || !(st.stop_prev > 0) || !std::isfinite(st.stop_prev)) return 1.0;
+  const double ratio = st.stop_last / st.stop_prev;
+  const int gap = st.stop_last_n - st.stop_prev_n;
+  return std::min(1.0, gap == 1 ? ratio : std::pow(ratio, 1.0 / gap));
+}
+
+// The stopping rule's value predicted `steps` updates after the last computed one, falling by
+// `fall` per update.
+double PredictedStopValue(const AdmmState& st, double fall, double steps) {
+  return steps == 0 ? st.stop_last : st.stop_last * std::pow(fall, steps);
+}
+
+// Whether update `next` (about to run) sums the stopping rule (~4 of the kernel's 13 additions
+// and 2 of its 12 multiplications per bin-update). The rule can only be seen met on a computed
+// update whose predecessor was computed too (else a skipped update may have met it first), so
+// `next` is computed when `next` or `next + 1` could meet tol, predicted from the last computed
+// value with a pessimistic fall per update, q = (measured fall)^stop_safety_exponent; also the
+// first two updates, the last one the cap allows (its value is reported) and at least every
+// stop_max_gap updates (a fresh fall). A faster fall than predicted is caught (stop_missed) and
+// the whole iteration run again computing every update: the same bits (DecomposeVmdTuned).
+bool StopSchedule(const AdmmState& st, int next) {
+  if (!st.stop_schedule || st.stop_prev_n == 0) return true;
+  if (next >= st.opt.max_iterations - 1 || next - st.stop_last_n >= st.tuning.stop_max_gap) return true;
+  const double q = std::min(st.tuning.stop_fall_cap, std::pow(StopFallPerUpdate(st), st.tuning.stop_safety_exponent));
+  return PredictedStopValue(st, q, next + 1 - st.stop_last_n) <= st.tol_norm;
+}
+
 // Whether update n+1 (about to run) must keep update n, i.e. run into the second array instead of
 // in place: the reference returns the iterate before the one that meets the rule. Certain for the
-// last update the cap allows and from `keep_from` on; otherwise predicted: the rule's value has
-// fallen by `ratio` (<= 1) in the last update; keep when kLookaheadSteps more such falls would
-// meet tol. A wrong prediction (the rule met by an in-place update) is caught by RunAdmm's caller,
-// which runs the iteration again with keep_from set (same bits: the run is deterministic).
-bool KeepPrevious(const AdmmState& st, double previous_value, int keep_from) {
+// last update the cap allows and from `keep_from` on; otherwise predicted: the rule's value
+// (computed after update n, or predicted from the last computed one) keeps falling as it did
+// between the last two computed updates; keep when lookahead_steps more such falls would meet
+// tol. Never for an update that skips the stopping sums (it cannot be seen meeting the rule). A
+// wrong prediction (the rule met by an in-place update) is caught by DecomposeVmdTuned, which
+// runs the iteration again with keep_from set (same bits: the run is deterministic).
+bool KeepPrevious(const AdmmState& st, int keep_from) {
   if (st.opt.return_last_iterate) return false;
   const int next = st.n + 1;
   if (next >= st.opt.max_iterations - 1 || next >= keep_from) return true;
-  if (!std::isfinite(previous_value)) return false;  // no fall measured yet
-  const double ratio = std::min(1.0, st.u_diff / previous_value);
-  return st.u_diff * std::pow(ratio, st.lookahead_steps) <= st.tol_norm;
+  if (!st.stop_sums_now || st.stop_prev_n == 0) return false;  // skipped, or no fall measured yet
+  const double fall = StopFallPerUpdate(st);
+  const double now = PredictedStopValue(st, fall, st.n - st.stop_last_n);
+  return now * std::pow(fall, st.tuning.lookahead_steps) <= st.tol_norm;
 }
 
 // VmdOptions::omega_extrapolation_period: the Aitken limit of each w_k's last three values
@@ -402,10 +444,10 @@ void RunAdmm(AdmmState& st, int threads, int keep_from) {
   // vmdpy starts from uDiff = tol + eps to enter the loop; with tol >= 1 squared signal units eps
   // is absorbed and it returns its all-zero initial modes. Here the first update always runs.
   st.u_diff = std::numeric_limits<double>::infinity();
-  double previous_value = st.u_diff;
   st.n = 0;
   st.has_previous = false;
   st.omega_prev = st.omega;
+  st.eq5_omega = st.eq5_omega_prev = st.omega;
   std::vector<double> om_snapshot, omega_older = st.omega;
   WorkerPool pool(threads);
   const std::size_t num_blocks = st.num_blocks;
@@ -416,7 +458,8 @@ void RunAdmm(AdmmState& st, int threads, int keep_from) {
     for (std::size_t b = b0; b < b1; ++b) UpdateBlock(st, io, b, om_snapshot);
   };
   while (st.u_diff > st.tol_norm && st.n < opt.max_iterations - 1) {
-    const bool keep = KeepPrevious(st, previous_value, keep_from);
+    st.stop_sums_now = StopSchedule(st, st.n + 1);
+    const bool keep = KeepPrevious(st, keep_from);
     io = {st.cur_re, st.cur_im, st.cur_re, st.cur_im};
     if (keep) {
       st.AllocateSecondIterate();
@@ -429,10 +472,19 @@ void RunAdmm(AdmmState& st, int threads, int keep_from) {
     pool.Run(round);
     omega_older.swap(st.omega_prev);
     st.omega_prev = st.omega;
-    previous_value = st.u_diff;
-    st.u_diff = UpdateCenterFrequencies(st);
+    const double value = UpdateCenterFrequencies(st);  // NaN when the sums were skipped
+    st.eq5_omega_prev.swap(st.eq5_omega);
+    st.eq5_omega = st.omega;
     ++st.n;
-    if (st.extrapolation_period && st.n >= 3 && st.n % *st.extrapolation_period == 0) {
+    if (st.stop_sums_now) {
+      if (value <= st.tol_norm && st.stop_last_n != st.n - 1) st.stop_missed = true;  // see StopSchedule
+      st.stop_prev_n = st.stop_last_n, st.stop_prev = st.stop_last;
+      st.stop_last_n = st.n, st.stop_last = value;
+      st.u_diff = value;
+    }
+    // Eq. (5)'s values are returned (eq5_omega); the last update needs no extrapolation.
+    const bool last = st.u_diff <= st.tol_norm || st.n >= opt.max_iterations - 1;
+    if (st.extrapolation_period && st.n >= 3 && st.n % *st.extrapolation_period == 0 && !last) {
       ExtrapolateCenterFrequencies(st, omega_older);
     }
     st.has_previous = keep;
@@ -442,7 +494,7 @@ void RunAdmm(AdmmState& st, int threads, int keep_from) {
       st.cur_re = io.dst_re;
       st.cur_im = io.dst_im;
     }
-    if (opt.on_iteration && st.n > st.report_after) opt.on_iteration(st.n, SignalUnits(st, st.u_diff));
+    if (opt.on_iteration && st.n > st.report_after) opt.on_iteration(st.n, SignalUnits(st, value));
   }
 }
 
@@ -491,7 +543,7 @@ Result<std::vector<std::vector<double>>> ReconstructModes(VmdSpectrum& sp, const
 // A fresh ADMM state on the spectrum, iterated (RunAdmm with the given keep_from; on_iteration
 // only for updates after report_after).
 std::unique_ptr<AdmmState> IterateAdmm(const VmdSpectrum& sp, const VmdOptions& opt, int threads,
-                                       double lookahead_steps, int keep_from, int report_after) {
+                                       const vmd_internal::VmdTuning& tuning, int keep_from, int report_after) {
   auto st = std::make_unique<AdmmState>(sp, opt);
   st->scale_exp = sp.scale_exp;
   const bool absolute = opt.stopping_rule == VmdStoppingRule::kAbsolute;
@@ -501,10 +553,14 @@ std::unique_ptr<AdmmState> IterateAdmm(const VmdSpectrum& sp, const VmdOptions& 
   // is vmdpy's; otherwise it differs from vmdpy's by less than eps * max|x|^2 squared units.
   st->eps_norm = std::numeric_limits<double>::epsilon();
   st->omega = InitialCenterFrequencies(opt, sp.n_even);
-  st->lookahead_steps = lookahead_steps;
+  st->tuning = tuning;
   if (opt.omega_extrapolation_period && sp.n_in >= opt.omega_extrapolation_min_samples) {
     st->extrapolation_period = opt.omega_extrapolation_period;
   }
+  // Not with the extrapolation: its jumps make the stopping value spike and then fall by 100x
+  // within a few updates, which no fall measured between computed updates predicts (and those
+  // long records are memory-bound, where the skipped arithmetic saves little).
+  st->stop_schedule = tuning.stop_schedule && st->bin_major && !st->extrapolation_period;
   st->report_after = report_after;
   RunAdmm(*st, threads, keep_from);
   return st;
@@ -513,11 +569,11 @@ std::unique_ptr<AdmmState> IterateAdmm(const VmdSpectrum& sp, const VmdOptions& 
 }  // namespace
 
 Result<VmdResult> DecomposeVmd(std::span<const double> signal, const VmdOptions& opt) {
-  return vmd_internal::DecomposeVmdTuned(signal, opt, kLookaheadSteps, nullptr);
+  return vmd_internal::DecomposeVmdTuned(signal, opt, vmd_internal::VmdTuning{}, nullptr);
 }
 
 Result<VmdResult> vmd_internal::DecomposeVmdTuned(std::span<const double> signal, const VmdOptions& opt,
-                                                  double lookahead_steps, int* reruns) {
+                                                  const VmdTuning& tuning, int* reruns) {
   const auto start = std::chrono::steady_clock::now();
   std::string why;
   if (!opt.IsValid(&why)) return InvalidArgument(why);
@@ -538,14 +594,25 @@ Result<VmdResult> vmd_internal::DecomposeVmdTuned(std::span<const double> signal
   VmdSpectrum& sp = *spectrum;
 
   const int threads = ChooseThreads(opt, static_cast<std::size_t>(K) * sp.H, (sp.H + kBlockBins - 1) / kBlockBins);
-  std::unique_ptr<AdmmState> run = IterateAdmm(sp, opt, threads, lookahead_steps, std::numeric_limits<int>::max(), 0);
-  if (run->NeedsRerun()) {
+  std::unique_ptr<AdmmState> run = IterateAdmm(sp, opt, threads, tuning, std::numeric_limits<int>::max(), 0);
+  if (run->stop_missed) {
+    // The rule was seen met after skipped sums (StopSchedule): a skipped update after the last
+    // computed one (stop_prev_n, not met) may have met it first. Run again (deterministic: the
+    // same bits) computing every update and keeping each predecessor from there on.
+    // on_iteration is not called again for the updates already reported.
+    const int keep_from = run->stop_prev_n + 1, reported = run->n;
+    if (reruns) ++*reruns;
+    run.reset();
+    VmdTuning every_update = tuning;
+    every_update.stop_schedule = false;
+    run = IterateAdmm(sp, opt, threads, every_update, keep_from, reported);
+  } else if (run->NeedsRerun()) {
     // The rule was met by an in-place update: run again (deterministic: the same bits), keeping
     // from that update on. on_iteration is not called again for the updates already reported.
     const int keep_from = run->n;
     if (reruns) ++*reruns;
     run.reset();
-    run = IterateAdmm(sp, opt, threads, lookahead_steps, keep_from, keep_from);
+    run = IterateAdmm(sp, opt, threads, tuning, keep_from, keep_from);
   }
   AdmmState& st = *run;
 
@@ -554,7 +621,7 @@ Result<VmdResult> vmd_internal::DecomposeVmdTuned(std::span<const double> signal
   const bool last = opt.return_last_iterate;
   const double* out_re = last ? st.cur_re : st.prev_re;
   const double* out_im = last ? st.cur_im : st.prev_im;
-  const std::vector<double>& out_omega = last ? st.omega : st.omega_prev;
+  const std::vector<double>& out_omega = last ? st.eq5_omega : st.eq5_omega_prev;
   st.ReleaseAllBut(out_re);
 
   VmdResult result;

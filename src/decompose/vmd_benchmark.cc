@@ -69,6 +69,9 @@ void BM_VmdKernel(benchmark::State& state) {
   using namespace gyrocomp::vmd_internal;
   const std::size_t H = static_cast<std::size_t>(state.range(0));
   const bool mode_major = state.range(1) == 1;
+  // Argument 2: the bin-major kernel without the stopping-rule sums (DecomposeVmd's updates that
+  // StopSchedule skips).
+  const StopSums stop = state.range(1) == 2 ? StopSums::kNone : StopSums::kAbsolute;
   const int K = 6;
   const std::size_t KH = K * H;
   std::mt19937 rng(1);
@@ -93,7 +96,7 @@ void BM_VmdKernel(benchmark::State& state) {
       if (!mode_major) {
         BinChunk c{freq.data() + c0, nullptr, nullptr, f_re.data() + c0, f_im.data() + c0, a_re.data() + c0,
                    a_im.data() + c0, a_re.data() + c0, a_im.data() + c0, H};
-        UpdateBinChunk(c, n, K, omega, 2000.0, true, false, sums.data());
+        UpdateBinChunk(c, n, K, omega, 2000.0, true, stop, sums.data());
         continue;
       }
       for (int k = 0; k < K; ++k) {
@@ -113,7 +116,14 @@ void BM_VmdKernel(benchmark::State& state) {
       static_cast<double>(KH) * state.iterations() * 1e-9, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
   state.SetBytesProcessed(static_cast<int64_t>(state.iterations()) * KH * 4 * sizeof(double));
 }
-BENCHMARK(BM_VmdKernel)->Args({20000, 0})->Args({20000, 1})->Args({1000000, 0})->Args({1000000, 1})->UseRealTime();
+BENCHMARK(BM_VmdKernel)
+    ->Args({20000, 0})
+    ->Args({20000, 1})
+    ->Args({20000, 2})
+    ->Args({1000000, 0})
+    ->Args({1000000, 1})
+    ->Args({1000000, 2})
+    ->UseRealTime();
 
 // The machine's streaming bandwidth for the kernel's memory patterns, n = 6,000,000 doubles per
 // array (the K H = 6 x 10^6 of the N = 1M kernel case). Argument 0: in place, re and im arrays

@@ -1,0 +1,170 @@
+// DecomposeVmd's stopping-rule schedule (vmd.cc: StopSchedule): the sums of the stopping rule are
+// skipped on updates where the rule cannot be met yet, and a rule seen met after skipped updates
+// reruns the iteration computing every update. None of it may change a bit of the result: the
+// returned modes, centre frequencies, iteration count and final stopping value are compared with
+// a run that computes the sums on every update (VmdTuning::stop_schedule = false), and with a
+// schedule that always misses (no predicted fall: the meeting update is found late, every time).
+#include "gyrocomp/decompose/vmd.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "test_support.h"
+#include "vmd_kernel.h"
+
+namespace gyrocomp {
+namespace {
+
+using testing::GoldenPath;
+using testing::ReadGoldenCsv;
+using testing::ReadJsonFile;
+using vmd_internal::DecomposeVmdTuned;
+using vmd_internal::VmdTuning;
+
+struct ScheduledRun {
+  VmdResult result;
+  int reruns = 0;
+  std::vector<int> reported;       // on_iteration's update numbers, in call order
+  std::vector<double> values;      // and values (NaN: the sums were skipped on that update)
+};
+
+ScheduledRun Decompose(const std::vector<double>& x, VmdOptions opt, const VmdTuning& tuning) {
+  ScheduledRun run;
+  opt.on_iteration = [&run](int n, double value) {
+    run.reported.push_back(n);
+    run.values.push_back(value);
+  };
+  auto r = DecomposeVmdTuned(x, opt, tuning, &run.reruns);
+  EXPECT_TRUE(r.ok());
+  if (r.ok()) run.result = std::move(*r);
+  return run;
+}
+
+VmdTuning EveryUpdate() {
+  VmdTuning t;
+  t.stop_schedule = false;
+  return t;
+}
+
+// No fall is ever predicted: the sums are computed on updates 1, 2 and then every 8th, never on
+// two consecutive updates after the second, so a rule met later is always seen late.
+VmdTuning AlwaysMisses() {
+  VmdTuning t;
+  t.stop_safety_exponent = 0;
+  t.stop_fall_cap = 1;
+  return t;
+}
+
+void ExpectSameResult(const ScheduledRun& a, const ScheduledRun& b) {
+  EXPECT_EQ(a.result.summary.iterations, b.result.summary.iterations);
+  EXPECT_EQ(a.result.summary.converged, b.result.summary.converged);
+  EXPECT_EQ(a.result.summary.final_update, b.result.summary.final_update);
+  EXPECT_EQ(a.result.summary.center_frequency_cycles_per_sample, b.result.summary.center_frequency_cycles_per_sample);
+  EXPECT_EQ(a.result.modes, b.result.modes);  // bit for bit
+}
+
+// Every value a run reports equals the every-update run's value at the same update, and each
+// update is reported once, in order.
+void ExpectReportedValuesAgree(const ScheduledRun& run, const ScheduledRun& every) {
+  for (std::size_t i = 0; i < run.reported.size(); ++i) {
+    EXPECT_EQ(run.reported[i], static_cast<int>(i) + 1);
+    if (std::isnan(run.values[i]) || i >= every.values.size()) continue;
+    EXPECT_EQ(run.values[i], every.values[i]) << "update " << i + 1;
+  }
+}
+
+std::vector<double> GoldenInput(const std::string& name, VmdOptions* opt, int* golden_iterations) {
+  const auto meta = ReadJsonFile(GoldenPath("vmd/" + name + ".json"));
+  const auto& p = meta.at("params");
+  opt->num_modes = p.at("K").get<int>();
+  opt->alpha = p.at("alpha").get<double>();
+  opt->tau = p.at("tau").get<double>();
+  opt->dc = p.at("DC").get<int>() != 0;
+  opt->tol = p.at("tol").get<double>();
+  opt->max_iterations = p.at("max_iterations").get<int>();
+  *golden_iterations = meta.at("iterations").get<int>();
+  return ReadGoldenCsv(GoldenPath("vmd/" + name + ".input.csv")).at("x");
+}
+
+TEST(VmdStopSchedule, SkippedSumsAndTheirRerunGiveTheSameBitsOnTheGoldenInputs) {
+  for (const char* name : {"three_tones_K3", "tones_tau_K3", "gyro_like_K6", "tones_dc_K4"}) {
+    SCOPED_TRACE(name);
+    VmdOptions opt;
+    int golden_iterations = 0;
+    const std::vector<double> x = GoldenInput(name, &opt, &golden_iterations);
+    const ScheduledRun every = Decompose(x, opt, EveryUpdate());
+    const ScheduledRun dflt = Decompose(x, opt, VmdTuning{});
+    const ScheduledRun miss = Decompose(x, opt, AlwaysMisses());
+    EXPECT_EQ(every.result.summary.iterations, golden_iterations);
+    EXPECT_EQ(every.reruns, 0);
+    ExpectSameResult(dflt, every);
+    ExpectSameResult(miss, every);
+    // Every update computed: all values reported; the default skips some (else it saves nothing)
+    // and needs no rerun here; the missing schedule reruns once.
+    for (double v : every.values) EXPECT_FALSE(std::isnan(v));
+    int skipped = 0;
+    for (double v : dflt.values) skipped += std::isnan(v);
+    EXPECT_GT(skipped, 0);
+    EXPECT_EQ(dflt.reruns, 0);
+    EXPECT_EQ(miss.reruns, 1);
+    // Reported once each; the default exactly the returned updates, the missing schedule up to
+    // where it saw the rule met (late), never twice.
+    ASSERT_EQ(dflt.reported.size(), static_cast<std::size_t>(golden_iterations));
+    EXPECT_EQ(dflt.values.back(), dflt.result.summary.final_update);
+    EXPECT_GE(miss.reported.size(), static_cast<std::size_t>(golden_iterations));
+    ExpectReportedValuesAgree(dflt, every);
+    ExpectReportedValuesAgree(miss, every);
+  }
+}
+
+// The relative rule (Eq. 7) and a run stopped by the cap: the last update's value is computed
+// (it is reported as final_update) and the result is the every-update run's.
+TEST(VmdStopSchedule, RelativeRuleAndTheIterationCapGiveTheSameBits) {
+  VmdOptions opt;
+  int golden_iterations = 0;
+  const std::vector<double> x = GoldenInput("gyro_like_K6", &opt, &golden_iterations);
+  for (int variant = 0; variant < 3; ++variant) {
+    VmdOptions o = opt;
+    if (variant == 0) o.stopping_rule = VmdStoppingRule::kRelative, o.tol = 1e-6;
+    if (variant == 1) o.max_iterations = 60;  // stops at the cap, not converged
+    if (variant == 2) o.return_last_iterate = true;
+    SCOPED_TRACE("variant " + std::to_string(variant));
+    const ScheduledRun every = Decompose(x, o, EveryUpdate());
+    const ScheduledRun dflt = Decompose(x, o, VmdTuning{});
+    const ScheduledRun miss = Decompose(x, o, AlwaysMisses());
+    ExpectSameResult(dflt, every);
+    ExpectSameResult(miss, every);
+    ExpectReportedValuesAgree(dflt, every);
+    ExpectReportedValuesAgree(miss, every);
+    EXPECT_FALSE(std::isnan(dflt.values.back()));
+    if (variant == 1) {
+      EXPECT_FALSE(every.result.summary.converged);
+      EXPECT_EQ(every.result.summary.iterations, 59);
+    }
+  }
+}
+
+// Where the schedule does not apply every update computes its sums: K > 8 (the mode-major kernel
+// sums always) and the centre-frequency extrapolation (its jumps make the value unpredictable).
+TEST(VmdStopSchedule, OffForManyModesAndForTheExtrapolation) {
+  VmdOptions opt;
+  int golden_iterations = 0;
+  const std::vector<double> x = GoldenInput("gyro_like_K6", &opt, &golden_iterations);
+  for (int variant = 0; variant < 2; ++variant) {
+    VmdOptions o = opt;
+    if (variant == 0) o.num_modes = 9;
+    if (variant == 1) o.omega_extrapolation_min_samples = 0;  // forced on this short record
+    SCOPED_TRACE("variant " + std::to_string(variant));
+    const ScheduledRun dflt = Decompose(x, o, VmdTuning{});
+    const ScheduledRun every = Decompose(x, o, EveryUpdate());
+    ExpectSameResult(dflt, every);
+    ASSERT_EQ(dflt.values.size(), every.values.size());
+    for (double v : dflt.values) EXPECT_FALSE(std::isnan(v));
+  }
+}
+
+}  // namespace
+}  // namespace gyrocomp

@@ -57,6 +57,34 @@ BENCHMARK(BM_Vmd)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
+// The average over a real decomposition, CPU time: gyro-like N = 20,000 (359 updates), K = 6,
+// one thread, the whole DecomposeVmd (the forward FFT, the updates with the stopping-rule sums
+// computed or skipped as StopSchedule decides, the Eq. 5 reductions, the 6 inverse FFTs) per
+// bin-update: an upper bound on the kernel's average over the iterations. Not UseRealTime, so
+// the ns_per_bin_update rate is per CPU second (robust on a loaded machine). Argument 1: 0 =
+// DecomposeVmd's schedule, 1 = the stopping sums on every update (VmdTuning::stop_schedule off).
+void BM_VmdCpu(benchmark::State& state) {
+  const auto x = GyroLike(static_cast<std::size_t>(state.range(0)));
+  gyrocomp::VmdOptions opt;
+  opt.num_modes = 6;
+  opt.num_threads = 1;
+  gyrocomp::vmd_internal::VmdTuning tuning;
+  tuning.stop_schedule = state.range(1) == 0;
+  double bin_updates = 0;
+  int iterations = 0;
+  for (auto _ : state) {
+    auto r = gyrocomp::vmd_internal::DecomposeVmdTuned(x, opt, tuning, nullptr);
+    iterations = r.ok() ? r->summary.iterations : -1;
+    bin_updates += r.ok() ? 6.0 * (r->summary.extended_length / 2) * iterations : 0;
+    benchmark::DoNotOptimize(r.ok());
+  }
+  state.counters["vmd_iterations"] = iterations;
+  state.counters["ns_per_bin_update"] =
+      benchmark::Counter(bin_updates * 1e-9, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  state.SetLabel(gyrocomp::vmd_internal::KernelIsa());
+}
+BENCHMARK(BM_VmdCpu)->Args({20000, 0})->Args({20000, 1})->Unit(benchmark::kMillisecond);
+
 // The kernel alone, one thread, K = 6 modes over H bins in 256-bin chunks as DecomposeVmd walks
 // them. Second argument: 0 = the bin-major kernel updating the iterate in place (DecomposeVmd's
 // path for K <= 8: per bin-update 16 bytes of the iterate read and 16 written back), 1 = the

@@ -2,11 +2,13 @@
 //
 // Layout: the one-sided spectrum has H = T/2 bins (0 .. T/2-1 of the extended signal; vmdpy's
 // fftshifted indices T/2 .. T-1). Modes are stored mode-major with separate real and imaginary
-// arrays (u_re[k * H + j]) so that the per-bin loops vectorise. Updates overwrite the iterate in
-// place, except the last ones (the reference returns the iterate before the last: KeepPrevious),
-// which write a second iterate: memory is 2 K H doubles while in place, 4 K H at the end, plus
-// O(H) for the data, the residual / accumulator, lambda and the frequency grid. Options,
-// validation and the initial centre frequencies: vmd_options.cc; threads: vmd_threads.h.
+// arrays (u_re[k * stride + j], stride >= H: ModeStride) so that the per-bin loops vectorise.
+// Updates overwrite the iterate in place, except the last ones (the reference returns the
+// iterate before the last: KeepPrevious), which write a second iterate: memory is 2 K H doubles
+// while in place, 4 K H at the end, plus O(H) for the data, the residual / accumulator, lambda
+// and the frequency grid. The stopping-rule sums are skipped where the rule cannot be met yet
+// (StopSchedule). Options, validation and the initial centre frequencies: vmd_options.cc;
+// threads: vmd_threads.h; the transforms: vmd_spectrum.cc.
 //
 // Parallelism: within one update every bin is independent (mode k's Wiener filter at bin j reads
 // only bin j of f, lambda, the accumulator and the other modes, and the centre frequencies of the
@@ -21,9 +23,8 @@
 #include "gyrocomp/decompose/vmd.h"
 
 #include "vmd_kernel.h"
+#include "vmd_spectrum.h"
 #include "vmd_threads.h"
-
-#include <fftw3.h>
 
 #include <algorithm>
 #include <atomic>
@@ -44,32 +45,11 @@ namespace {
 
 using vmd_internal::CheckProblemSize;
 using vmd_internal::InitialCenterFrequencies;
+using vmd_internal::MirrorAndTransform;
+using vmd_internal::ReconstructModes;
+using vmd_internal::VmdSpectrum;
 using vmd_internal::RunThreads;
 using vmd_internal::WorkerPool;
-
-// FFTW planning is not thread-safe; execution of an existing plan is.
-std::mutex& FftwPlannerMutex() {
-  static std::mutex mutex;
-  return mutex;
-}
-
-template <class T>
-struct FftwFree {
-  void operator()(T* p) const { fftw_free(p); }
-};
-using RealBuffer = std::unique_ptr<double, FftwFree<double>>;
-using ComplexBuffer = std::unique_ptr<fftw_complex, FftwFree<fftw_complex>>;
-
-RealBuffer AllocReal(std::size_t n) { return RealBuffer(fftw_alloc_real(n)); }
-ComplexBuffer AllocComplex(std::size_t n) { return ComplexBuffer(fftw_alloc_complex(n)); }
-
-struct PlanDeleter {
-  void operator()(fftw_plan_s* p) const {
-    std::lock_guard<std::mutex> lock(FftwPlannerMutex());
-    fftw_destroy_plan(p);
-  }
-};
-using Plan = std::unique_ptr<fftw_plan_s, PlanDeleter>;
 
 // Bins per reduction block: fixed, so that sums do not depend on the thread count.
 constexpr std::size_t kBlockBins = 2048;
@@ -77,83 +57,18 @@ constexpr std::size_t kBlockBins = 2048;
 // vmd_internal::kLanes so that a bin's lane does not depend on the chunking).
 constexpr std::size_t kChunkBins = 256;
 static_assert(kBlockBins % kChunkBins == 0 && kChunkBins % vmd_internal::kLanes == 0);
+// The iterate's distance between modes (doubles), >= H: a multiple of 4096 bytes (H a multiple of
+// 512, e.g. N = 16384 or 65536) makes mode k+1's loads 4K-alias mode k's stores of the same bin,
+// which on Zen 4 made the kernel 3x slower (1.66 vs 0.54 ns per bin-update at H = 16384). Padded
+// so that the stride is 32..56 doubles past a multiple of 512 (256..448 bytes past 4 KiB: even
+// 7 strides stay clear of the next multiple), as H = 20,000 (256 bytes) is. Layout only: the
+// arithmetic, and so the results, are the same.
+std::size_t ModeStride(std::size_t H) {
+  const std::size_t r = H % 512;
+  return r >= 32 && r <= 56 ? H : H + (32 + 512 - r) % 512;
+}
 // Below this many bin-mode updates per iteration, one thread is faster.
 constexpr std::size_t kMinWorkForThreads = 1u << 16;
-
-// The mirror-extended, even-length signal's one-sided spectrum (f_hat_plus), its frequency grid
-// and the FFT plans and buffers (reused for the inverse transforms).
-struct VmdSpectrum {
-  std::size_t n_in = 0;    // samples of the record
-  std::size_t n_even = 0;  // even working length (odd input: the last sample repeated)
-  std::size_t offset = 0;  // mirrored samples before the signal (ltemp)
-  std::size_t T = 0;       // extended length
-  std::size_t H = 0;       // one-sided bins 0..H-1
-  int scale_exp = 0;       // the working signal is signal / 2^scale_exp (max |x| in [1, 2))
-  double inv_T = 0.0;
-  RealBuffer time_buf;
-  ComplexBuffer spec_buf;
-  Plan forward, inverse;
-  std::vector<double> f_re, f_im;  // f_hat_plus
-  std::vector<double> freq;        // cycles per sample
-};
-
-// Even working length, mirror extension f[ltemp-1..0], f, f[N-1..N-ltemp], forward FFT, and the
-// one-sided spectrum with vmdpy's frequency grid.
-Result<VmdSpectrum> MirrorAndTransform(std::span<const double> signal, bool mirror_extension) {
-  VmdSpectrum sp;
-  // Even working length (odd input: repeat the last sample; the reference drops it).
-  // Normalise by a power of two (exact: every later operation commutes with it bit for bit, so
-  // results are unchanged) so that extreme but finite inputs (|x| near 1e308 or 1e-300) neither
-  // overflow in the transforms and squared sums nor lose precision to underflow.
-  double max_abs = 0.0;
-  for (double v : signal) max_abs = std::max(max_abs, std::abs(v));
-  sp.scale_exp = max_abs > 0 ? std::ilogb(max_abs) : 0;
-  std::vector<double> f(signal.size());
-  for (std::size_t i = 0; i < f.size(); ++i) f[i] = std::ldexp(signal[i], -sp.scale_exp);
-  if (f.size() % 2) f.push_back(f.back());
-  sp.n_in = signal.size();
-  sp.n_even = f.size();
-
-  // Mirror extension: f[ltemp-1..0], f, f[N-1..N-ltemp].
-  const std::size_t ltemp = mirror_extension ? sp.n_even / 2 : 0;
-  sp.T = sp.n_even + 2 * ltemp;
-  sp.H = sp.T / 2;  // one-sided bins 0..H-1
-  sp.offset = ltemp;
-  const std::size_t T = sp.T, H = sp.H, n_even = sp.n_even;
-
-  sp.time_buf = AllocReal(T);
-  sp.spec_buf = AllocComplex(H + 1);
-  if (!sp.time_buf || !sp.spec_buf) return InternalError("VMD: out of memory for FFT buffers");
-  double* tb = sp.time_buf.get();
-  for (std::size_t i = 0; i < ltemp; ++i) tb[i] = f[ltemp - 1 - i];
-  std::copy(f.begin(), f.end(), tb + ltemp);
-  for (std::size_t i = 0; i < ltemp; ++i) tb[ltemp + n_even + i] = f[n_even - 1 - i];
-
-  {
-    std::lock_guard<std::mutex> lock(FftwPlannerMutex());
-    // FFTW_ESTIMATE does not touch the arrays and is deterministic run to run.
-    sp.forward.reset(fftw_plan_dft_r2c_1d(static_cast<int>(T), tb, sp.spec_buf.get(), FFTW_ESTIMATE));
-    sp.inverse.reset(fftw_plan_dft_c2r_1d(static_cast<int>(T), sp.spec_buf.get(), tb, FFTW_ESTIMATE));
-  }
-  if (!sp.forward || !sp.inverse) return InternalError("VMD: FFTW planning failed");
-  fftw_execute(sp.forward.get());
-  f.clear();
-  f.shrink_to_fit();  // the working copy is no longer needed (the spectrum is)
-
-  // f_hat_plus on the one-sided grid; the frequency grid exactly as vmdpy computes it:
-  // freqs = arange(1, T+1)/T - 0.5 - 1/T, positive half = indices T/2 .. T-1.
-  sp.f_re.resize(H);
-  sp.f_im.resize(H);
-  sp.freq.resize(H);
-  sp.inv_T = 1.0 / static_cast<double>(T);
-  for (std::size_t j = 0; j < H; ++j) {
-    sp.f_re[j] = sp.spec_buf.get()[j][0];
-    sp.f_im[j] = sp.spec_buf.get()[j][1];
-    const double t = static_cast<double>(H + j + 1) / static_cast<double>(T);
-    sp.freq[j] = (t - 0.5) - sp.inv_T;
-  }
-  return sp;
-}
 
 // Threads for the iteration: as asked, else up to 2 when the work is large enough; never more
 // than there are blocks.
@@ -168,11 +83,12 @@ int ChooseThreads(const VmdOptions& opt, std::size_t work, std::size_t num_block
 // sum_uk, lambda, the per-block partial sums and the centre frequencies.
 struct AdmmState {
   AdmmState(const VmdSpectrum& sp, const VmdOptions& options)
-      : spectrum(sp), opt(options), K(options.num_modes), H(sp.H), use_lambda(options.tau != 0.0),
+      : spectrum(sp), opt(options), K(options.num_modes), H(sp.H), stride(ModeStride(sp.H)),
+        use_lambda(options.tau != 0.0),
         relative(options.stopping_rule == VmdStoppingRule::kRelative),
         bin_major(options.num_modes <= vmd_internal::kMaxModesAtOnce),
         batch_inversion(vmd_internal::BatchInversionSafe(options.num_modes, options.alpha)) {
-    const std::size_t KH = static_cast<std::size_t>(K) * H;
+    const std::size_t KH = static_cast<std::size_t>(K) * stride;
     ua_re.assign(KH, 0.0);
     ua_im.assign(KH, 0.0);
     if (bin_major) {  // the residual f - sum_uk, all modes zero
@@ -192,7 +108,7 @@ struct AdmmState {
   // The second iterate's storage, allocated at the first update that keeps its predecessor.
   void AllocateSecondIterate() {
     if (!ub_re.empty()) return;
-    const std::size_t KH = static_cast<std::size_t>(K) * H;
+    const std::size_t KH = static_cast<std::size_t>(K) * stride;
     ub_re.assign(KH, 0.0);
     ub_im.assign(KH, 0.0);
   }
@@ -203,6 +119,7 @@ struct AdmmState {
   const VmdOptions& opt;
   const int K;
   const std::size_t H;
+  const std::size_t stride;  // mode k of an iterate at [k * stride, k * stride + H) (ModeStride)
   const bool use_lambda;
   const bool relative;
   const bool bin_major;        // K <= kMaxModesAtOnce: UpdateBinChunk, s_* hold f - sum_uk
@@ -263,14 +180,13 @@ struct IterateBuffers {
 
 // Eq. (6) on bins [j0, j1): lambda += tau (sum_k u_k - f).
 void DualAscent(AdmmState& st, const double* u_re, const double* u_im, std::size_t j0, std::size_t j1) {
-  const std::size_t H = st.H;
   const double tau = st.opt.tau;
   const VmdSpectrum& sp = st.spectrum;
   for (std::size_t j = j0; j < j1; ++j) {
     double ar = u_re[j], ai = u_im[j];
     for (int k = 1; k < st.K; ++k) {
-      ar += u_re[static_cast<std::size_t>(k) * H + j];
-      ai += u_im[static_cast<std::size_t>(k) * H + j];
+      ar += u_re[static_cast<std::size_t>(k) * st.stride + j];
+      ai += u_im[static_cast<std::size_t>(k) * st.stride + j];
     }
     st.l_re[j] = st.l_re[j] + tau * (ar - sp.f_re[j]);
     st.l_im[j] = st.l_im[j] + tau * (ai - sp.f_im[j]);
@@ -303,7 +219,7 @@ void UpdateBlock(AdmmState& st, const IterateBuffers& io, std::size_t block, con
       c.src_im = io.src_im + c0;
       c.dst_re = io.dst_re + c0;
       c.dst_im = io.dst_im + c0;
-      c.stride = H;
+      c.stride = st.stride;
       using vmd_internal::StopSums;
       const StopSums stop = !st.stop_sums_now ? StopSums::kNone : st.relative ? StopSums::kRelative : StopSums::kAbsolute;
       vmd_internal::UpdateBinChunk(c, c1 - c0, K, om.data(), st.opt.alpha, st.batch_inversion, stop, bs);
@@ -311,8 +227,8 @@ void UpdateBlock(AdmmState& st, const IterateBuffers& io, std::size_t block, con
       continue;
     }
     for (int k = 0; k < K; ++k) {  // many modes: one mode at a time per chunk
-      const std::size_t kk = static_cast<std::size_t>(k) * H + c0;
-      const std::size_t prev = (k == 0) ? static_cast<std::size_t>(K - 1) * H + c0 : kk - H;
+      const std::size_t kk = static_cast<std::size_t>(k) * st.stride + c0;
+      const std::size_t prev = (k == 0) ? static_cast<std::size_t>(K - 1) * st.stride + c0 : kk - st.stride;
       vmd_internal::ModeChunk c;
       c.freq = sp.freq.data() + c0;
       c.f_re = sp.f_re.data() + c0;
@@ -498,48 +414,6 @@ void RunAdmm(AdmmState& st, int threads, int keep_from) {
   }
 }
 
-// Reconstruction (vmdpy): Hermitian spectrum with X[0] = Re U_0, X[j] = U_j, and the Nyquist
-// bin = Re U_{H-1} (the reference copies conj(U_{H-1}) there; real(ifft) keeps its real part);
-// inverse FFT / T, keep the middle N samples (unmirror). Consumes the spectrum's buffers.
-Result<std::vector<std::vector<double>>> ReconstructModes(VmdSpectrum& sp, const double* out_re,
-                                                          const double* out_im, int K, std::size_t n_in,
-                                                          int threads) {
-  const std::size_t T = sp.T, H = sp.H;
-  std::vector<std::vector<double>> modes(K, std::vector<double>(n_in));
-  const int ifft_threads = std::min(threads, K);
-  std::vector<RealBuffer> t_bufs;
-  std::vector<ComplexBuffer> s_bufs;
-  // Thread 0 reuses the forward transform's buffers (same size and alignment as the plan's).
-  t_bufs.push_back(std::move(sp.time_buf));
-  s_bufs.push_back(std::move(sp.spec_buf));
-  for (int t = 1; t < ifft_threads; ++t) {
-    t_bufs.push_back(AllocReal(T));
-    s_bufs.push_back(AllocComplex(H + 1));
-    if (!t_bufs.back() || !s_bufs.back()) return InternalError("VMD: out of memory for FFT buffers");
-  }
-  const double scale = std::ldexp(1.0, sp.scale_exp);
-  RunThreads(ifft_threads, [&](int t) {
-    fftw_complex* X = s_bufs[t].get();
-    double* y = t_bufs[t].get();
-    for (int k = t; k < K; k += ifft_threads) {
-      const double* ur = out_re + static_cast<std::size_t>(k) * H;
-      const double* ui = out_im + static_cast<std::size_t>(k) * H;
-      for (std::size_t j = 0; j < H; ++j) {
-        X[j][0] = ur[j];
-        X[j][1] = ui[j];
-      }
-      X[0][1] = 0.0;
-      X[H][0] = ur[H - 1];
-      X[H][1] = 0.0;
-      fftw_execute_dft_c2r(sp.inverse.get(), X, y);
-      std::vector<double>& mode = modes[k];
-      // Undo the normalisation: a multiplication by a power of two (exact).
-      for (std::size_t i = 0; i < n_in; ++i) mode[i] = (y[sp.offset + i] * sp.inv_T) * scale;
-    }
-  });
-  return modes;
-}
-
 // A fresh ADMM state on the spectrum, iterated (RunAdmm with the given keep_from; on_iteration
 // only for updates after report_after).
 std::unique_ptr<AdmmState> IterateAdmm(const VmdSpectrum& sp, const VmdOptions& opt, int threads,
@@ -625,7 +499,7 @@ Result<VmdResult> vmd_internal::DecomposeVmdTuned(std::span<const double> signal
   st.ReleaseAllBut(out_re);
 
   VmdResult result;
-  Result<std::vector<std::vector<double>>> modes = ReconstructModes(sp, out_re, out_im, K, n_in, threads);
+  Result<std::vector<std::vector<double>>> modes = ReconstructModes(sp, out_re, out_im, st.stride, K, n_in, threads);
   if (!modes.ok()) return modes.error();
   result.modes = std::move(*modes);
   for (int k = 0; k < K; ++k) {

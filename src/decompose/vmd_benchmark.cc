@@ -83,7 +83,9 @@ void BM_VmdCpu(benchmark::State& state) {
       benchmark::Counter(bin_updates * 1e-9, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
   state.SetLabel(gyrocomp::vmd_internal::KernelIsa());
 }
-BENCHMARK(BM_VmdCpu)->Args({20000, 0})->Args({20000, 1})->Unit(benchmark::kMillisecond);
+// N = 16384: H a multiple of 512, where an unpadded mode stride (4 KiB multiple) 4K-aliases
+// (vmd.cc: ModeStride).
+BENCHMARK(BM_VmdCpu)->Args({20000, 0})->Args({20000, 1})->Args({16384, 0})->Unit(benchmark::kMillisecond);
 
 // The kernel alone, one thread, K = 6 modes over H bins in 256-bin chunks as DecomposeVmd walks
 // them. Second argument: 0 = the bin-major kernel updating the iterate in place (DecomposeVmd's

@@ -308,11 +308,11 @@ double PredictedStopValue(const AdmmState& st, double fall, double steps) {
 // update whose predecessor was computed too (else a skipped update may have met it first), so
 // `next` is computed when `next` or `next + 1` could meet tol, predicted from the last computed
 // value with a pessimistic fall per update, q = (measured fall)^stop_safety_exponent; also the
-// first two updates, the last one the cap allows (its value is reported) and at least every
-// stop_max_gap updates (a fresh fall). A faster fall than predicted is caught (stop_missed) and
+// first stop_warmup_updates, the last one the cap allows (its value is reported) and at least
+// every stop_max_gap updates (a fresh fall). A faster fall than predicted is caught (stop_missed) and
 // the whole iteration run again computing every update: the same bits (DecomposeVmdTuned).
 bool StopSchedule(const AdmmState& st, int next) {
-  if (!st.stop_schedule || st.stop_prev_n == 0) return true;
+  if (!st.stop_schedule || st.stop_prev_n == 0 || next <= st.tuning.stop_warmup_updates) return true;
   if (next >= st.opt.max_iterations - 1 || next - st.stop_last_n >= st.tuning.stop_max_gap) return true;
   const double q = std::min(st.tuning.stop_fall_cap, std::pow(StopFallPerUpdate(st), st.tuning.stop_safety_exponent));
   return PredictedStopValue(st, q, next + 1 - st.stop_last_n) <= st.tol_norm;

@@ -141,9 +141,13 @@ struct VmdTuning {
   // (pessimistic), computing at least every stop_max_gap updates. Exponent 0 with cap 1 predicts
   // no fall: the meeting update is then found late (unless it falls on a computed pair) and the
   // iteration run again.
-  // Defaults: no rerun on the four golden inputs, the 20k / 40k soak and side-by-side records and
-  // two MPU-6050 logs (K = 4, 6), computing the sums on 13-47% of the updates (docs/performance.md).
+  // Defaults: no rerun on the four golden inputs, the 20k / 40k soak and side-by-side records,
+  // two MPU-6050 logs (K = 4, 6) and two pure tones, computing the sums on 16-52% of the updates
+  // (docs/performance.md).
   bool stop_schedule = true;
+  // The first updates always compute the sums: early on the value can rise and then collapse
+  // by 1e9 within three updates (two pure tones), which no measured fall predicts.
+  int stop_warmup_updates = 16;
   double stop_safety_exponent = 8;
   double stop_fall_cap = 0.5;  // the assumed fall per update is at least this steep (<= it)
   int stop_max_gap = 8;

@@ -47,6 +47,7 @@ using vmd_internal::CheckProblemSize;
 using vmd_internal::InitialCenterFrequencies;
 using vmd_internal::MirrorAndTransform;
 using vmd_internal::ReconstructModes;
+using vmd_internal::AlignedVector;
 using vmd_internal::VmdSpectrum;
 using vmd_internal::RunThreads;
 using vmd_internal::WorkerPool;
@@ -60,12 +61,15 @@ static_assert(kBlockBins % kChunkBins == 0 && kChunkBins % vmd_internal::kLanes 
 // The iterate's distance between modes (doubles), >= H: a multiple of 4096 bytes (H a multiple of
 // 512, e.g. N = 16384 or 65536) makes mode k+1's loads 4K-alias mode k's stores of the same bin,
 // which on Zen 4 made the kernel 3x slower (1.66 vs 0.54 ns per bin-update at H = 16384). Padded
-// so that the stride is 32..56 doubles past a multiple of 512 (256..448 bytes past 4 KiB: even
-// 7 strides stay clear of the next multiple), as H = 20,000 (256 bytes) is. Layout only: the
-// arithmetic, and so the results, are the same.
+// to a multiple of 8 (every mode starts on a cache line) that is 32..56 doubles past a multiple of
+// 512 (256..448 bytes past 4 KiB: even 7 strides stay clear of the next multiple), as H = 20,000
+// (256 bytes) is. Layout only: the arithmetic, and so the results, are the same.
 std::size_t ModeStride(std::size_t H) {
-  const std::size_t r = H % 512;
-  return r >= 32 && r <= 56 ? H : H + (32 + 512 - r) % 512;
+  std::size_t s = (H + 7) / 8 * 8;
+  const std::size_t r = s % 512;
+  if (r < 32) s += 32 - r;
+  if (r > 56) s += 512 - r + 32;
+  return s;
 }
 // Below this many bin-mode updates per iteration, one thread is faster.
 constexpr std::size_t kMinWorkForThreads = 1u << 16;
@@ -124,9 +128,10 @@ struct AdmmState {
   const bool relative;
   const bool bin_major;        // K <= kMaxModesAtOnce: UpdateBinChunk, s_* hold f - sum_uk
   const bool batch_inversion;  // UpdateBinChunk's reciprocals from one division per bin
-  std::vector<double> ua_re, ua_im, ub_re, ub_im;  // storage of the iterates (ub_*: only when kept)
-  std::vector<double> s_re, s_im;                  // sum_uk, or f - sum_uk when bin_major
-  std::vector<double> l_re, l_im;                  // lambda (empty when tau = 0)
+  // 64-byte aligned (vmd_spectrum.h: AlignedVector); mode k at k * stride, stride a multiple of 8.
+  AlignedVector ua_re, ua_im, ub_re, ub_im;  // storage of the iterates (ub_*: only when kept)
+  AlignedVector s_re, s_im;                  // sum_uk, or f - sum_uk when bin_major
+  AlignedVector l_re, l_im;                  // lambda (empty when tau = 0)
   std::size_t num_blocks = 0;
   std::vector<vmd_internal::LaneSums> sums;  // sums[block * K + k]: mode k over the block's bins
   // The stopping rule in the normalised units of the working signal (signal / 2^scale_exp):
@@ -153,7 +158,7 @@ struct AdmmState {
   // Frees the working arrays except the iterate starting at keep_re / keep_im (before the modes
   // are reconstructed: the peak memory is then one iterate plus the modes).
   void ReleaseAllBut(const double* keep_re) {
-    auto release = [](std::vector<double>& v) { std::vector<double>().swap(v); };
+    auto release = [](AlignedVector& v) { AlignedVector().swap(v); };
     if (keep_re != ua_re.data()) release(ua_re), release(ua_im);
     if (keep_re != ub_re.data()) release(ub_re), release(ub_im);
     release(s_re), release(s_im), release(l_re), release(l_im);

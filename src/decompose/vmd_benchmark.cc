@@ -16,6 +16,7 @@
 
 #include "gyrocomp/decompose/vmd.h"
 #include "vmd_kernel.h"
+#include "vmd_spectrum.h"
 
 namespace {
 
@@ -62,14 +63,18 @@ BENCHMARK(BM_Vmd)
 // computed or skipped as StopSchedule decides, the Eq. 5 reductions, the 6 inverse FFTs) per
 // bin-update: an upper bound on the kernel's average over the iterations. Not UseRealTime, so
 // the ns_per_bin_update rate is per CPU second (robust on a loaded machine). Argument 1: 0 =
-// DecomposeVmd's schedule, 1 = the stopping sums on every update (VmdTuning::stop_schedule off).
+// DecomposeVmd's schedule, 1 = the stopping sums on every update (VmdTuning::stop_schedule off),
+// 2 = one update only (max_iterations 2): the fixed costs. The per-update cost of a real
+// decomposition is (time of /0 - time of /2) / (updates of /0 - 1), which leaves out the
+// transforms, planning and allocation (docs/performance.md).
 void BM_VmdCpu(benchmark::State& state) {
   const auto x = GyroLike(static_cast<std::size_t>(state.range(0)));
   gyrocomp::VmdOptions opt;
   opt.num_modes = 6;
   opt.num_threads = 1;
   gyrocomp::vmd_internal::VmdTuning tuning;
-  tuning.stop_schedule = state.range(1) == 0;
+  tuning.stop_schedule = state.range(1) != 1;
+  if (state.range(1) == 2) opt.max_iterations = 2;
   double bin_updates = 0;
   int iterations = 0;
   for (auto _ : state) {
@@ -85,7 +90,12 @@ void BM_VmdCpu(benchmark::State& state) {
 }
 // N = 16384: H a multiple of 512, where an unpadded mode stride (4 KiB multiple) 4K-aliases
 // (vmd.cc: ModeStride).
-BENCHMARK(BM_VmdCpu)->Args({20000, 0})->Args({20000, 1})->Args({16384, 0})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_VmdCpu)
+    ->Args({20000, 0})
+    ->Args({20000, 1})
+    ->Args({20000, 2})
+    ->Args({16384, 0})
+    ->Unit(benchmark::kMillisecond);
 
 // The kernel alone, one thread, K = 6 modes over H bins in 256-bin chunks as DecomposeVmd walks
 // them. Second argument: 0 = the bin-major kernel updating the iterate in place (DecomposeVmd's
@@ -106,8 +116,10 @@ void BM_VmdKernel(benchmark::State& state) {
   const std::size_t KH = K * H;
   std::mt19937 rng(1);
   std::normal_distribution<double> g(0, 1);
-  std::vector<double> freq(H), f_re(H), f_im(H), s_re(H, 0), s_im(H, 0);
-  std::vector<double> a_re(KH), a_im(KH), b_re(mode_major ? KH : 0, 0), b_im(mode_major ? KH : 0, 0);
+  // 64-byte aligned, as DecomposeVmd's arrays (AlignedVector).
+  using gyrocomp::vmd_internal::AlignedVector;
+  AlignedVector freq(H), f_re(H), f_im(H), s_re(H, 0), s_im(H, 0);
+  AlignedVector a_re(KH), a_im(KH), b_re(mode_major ? KH : 0, 0), b_im(mode_major ? KH : 0, 0);
   for (std::size_t j = 0; j < H; ++j) {
     freq[j] = 0.5 * j / H;
     f_re[j] = g(rng);

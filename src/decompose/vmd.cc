@@ -225,6 +225,7 @@ void UpdateBlock(AdmmState& st, const IterateBuffers& io, std::size_t block, con
       c.dst_re = io.dst_re + c0;
       c.dst_im = io.dst_im + c0;
       c.stride = st.stride;
+      c.two_pass = vmd_internal::UseTwoPass(K, st.stride);
       using vmd_internal::StopSums;
       const StopSums stop = !st.stop_sums_now ? StopSums::kNone : st.relative ? StopSums::kRelative : StopSums::kAbsolute;
       vmd_internal::UpdateBinChunk(c, c1 - c0, K, om.data(), st.opt.alpha, st.batch_inversion, stop, bs);

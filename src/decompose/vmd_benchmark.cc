@@ -110,7 +110,8 @@ void BM_VmdKernel(benchmark::State& state) {
   const std::size_t H = static_cast<std::size_t>(state.range(0));
   const bool mode_major = state.range(1) == 1;
   // Argument 2: the bin-major kernel without the stopping-rule sums (DecomposeVmd's updates that
-  // StopSchedule skips).
+  // StopSchedule skips). 0 and 2 pick one or two passes as DecomposeVmd does (UseTwoPass: two at
+  // 20k, one at 1M); 3 = 0 forced to one pass.
   const StopSums stop = state.range(1) == 2 ? StopSums::kNone : StopSums::kAbsolute;
   const int K = 6;
   const std::size_t KH = K * H;
@@ -138,6 +139,7 @@ void BM_VmdKernel(benchmark::State& state) {
       if (!mode_major) {
         BinChunk c{freq.data() + c0, nullptr, nullptr, f_re.data() + c0, f_im.data() + c0, a_re.data() + c0,
                    a_im.data() + c0, a_re.data() + c0, a_im.data() + c0, H};
+        c.two_pass = state.range(1) == 3 ? false : UseTwoPass(K, H);  // as DecomposeVmd, or forced one-pass
         UpdateBinChunk(c, n, K, omega, 2000.0, true, stop, sums.data());
         continue;
       }
@@ -162,6 +164,7 @@ BENCHMARK(BM_VmdKernel)
     ->Args({20000, 0})
     ->Args({20000, 1})
     ->Args({20000, 2})
+    ->Args({20000, 3})
     ->Args({1000000, 0})
     ->Args({1000000, 1})
     ->Args({1000000, 2})

@@ -89,6 +89,7 @@ inline __attribute__((always_inline)) void UpdateChunk(const ModeChunk& c, std::
 // ---- bin-major kernel: all modes of a vector of bins --------------------------------------------
 
 #define GYROCOMP_INLINE inline __attribute__((always_inline))
+#define GYROCOMP_INLINE_LAMBDA __attribute__((always_inline))
 
 GYROCOMP_INLINE void Ld(Vec& v, const double* p) { v = Load(p); }
 GYROCOMP_INLINE void Ld(double& v, const double* p) { v = *p; }
@@ -138,9 +139,9 @@ GYROCOMP_INLINE void RecipStep(const double* freq_in, std::size_t i, const doubl
 // Bins i .. i + width(V) - 1, every mode in Gauss-Seidel order (pass 2). Eq. (4) as UpdateBin,
 // except that the running quantity is the residual r = f - sum_uk (updated as
 // r <- (r - u_{k-1}) + u_k^old), which saves the subtraction f - sum_uk: two fewer additions per
-// bin-update. `rcp`: pass 1's buffer, offset to the sub-chunk (bin i at rcp[k * kRecipBins + i]).
-template <class V, int K, bool kLambda, StopSums kStop>
-GYROCOMP_INLINE void BinStep(const BinChunk& c, std::size_t i, const double* rcp, ModeAcc<V> (&acc)[K]) {
+// bin-update. rcp_at(k): the reciprocal of mode k for these bins (pass 1's buffer, or registers).
+template <class V, int K, bool kLambda, StopSums kStop, class RcpAt>
+GYROCOMP_INLINE void BinStep(const BinChunk& c, std::size_t i, const RcpAt& rcp_at, ModeAcc<V> (&acc)[K]) {
   V freq, r_re, r_im, pr, pi;
   Ld(freq, c.freq + i);
   Ld(r_re, c.r_re + i);
@@ -149,10 +150,10 @@ GYROCOMP_INLINE void BinStep(const BinChunk& c, std::size_t i, const double* rcp
   Ld(pi, c.src_im + (K - 1) * c.stride + i);
   for (int k = 0; k < K; ++k) {
     const std::size_t at = k * c.stride + i;
-    V o_re, o_im, rk;
+    V o_re, o_im;
     Ld(o_re, c.src_re + at);
     Ld(o_im, c.src_im + at);
-    Ld(rk, rcp + k * kRecipBins + i);
+    const V rk = rcp_at(k);
     r_re = (r_re - pr) + o_re;  // f - sum_uk
     r_im = (r_im - pi) + o_im;
     V nr = r_re, ni = r_im;
@@ -181,35 +182,47 @@ GYROCOMP_INLINE void BinStep(const BinChunk& c, std::size_t i, const double* rcp
   St(c.r_im + i, r_im);
 }
 
-// Bins [0, n), n <= kRecipBins: pass 1 (reciprocals) then pass 2 (Eq. 4 and the sums).
-template <int K, bool kLambda, StopSums kStop>
-GYROCOMP_INLINE void BinSubChunk(const BinChunk& c, std::size_t n, const double (&omega)[K], double alpha, bool batch,
-                                 LaneSums* sums) {
-  alignas(64) double rcp[K * kRecipBins];
-  std::size_t i = 0;
-  for (; i + kLanes <= n; i += kLanes) RecipStep<Vec, K>(c.freq, i, omega, alpha, batch, rcp);
-  for (; i < n; ++i) RecipStep<double, K>(c.freq, i, omega, alpha, batch, rcp);
-  // Only the sums this variant adds are held in registers (32 vector registers: an unused
-  // accumulator carried through the loop would cost a spill).
-  constexpr bool kDiff = kStop != StopSums::kNone, kOld = kStop == StopSums::kRelative;
-  ModeAcc<Vec> acc[K];
+// The same bins and operations in one pass (the reciprocals of the vector computed in registers
+// just before its modes): for iterates that stream from memory, where a separate reciprocal pass
+// would leave the memory idle (BinChunk::two_pass).
+template <class V, int K, bool kLambda, StopSums kStop>
+GYROCOMP_INLINE void FusedStep(const BinChunk& c, std::size_t i, const double (&omega)[K], double alpha, bool batch,
+                               ModeAcc<V> (&acc)[K]) {
+  V freq, rcp[K];
+  Ld(freq, c.freq + i);
+  Reciprocals<V, K>(freq, omega, alpha, batch, rcp);
+  BinStep<V, K, kLambda, kStop>(c, i, [&rcp](int k) GYROCOMP_INLINE_LAMBDA { return rcp[k]; }, acc);
+}
+
+// The sums of this variant between LaneSums and registers (only those it adds: 32 vector
+// registers, and an unused accumulator carried through the loop would cost a spill).
+template <int K, StopSums kStop>
+GYROCOMP_INLINE void LoadSums(const LaneSums* sums, ModeAcc<Vec> (&acc)[K]) {
   for (int k = 0; k < K; ++k) {
     acc[k].fp = Load(sums[k].freq_power);
     acc[k].p = Load(sums[k].power);
-    if constexpr (kDiff) acc[k].df = Load(sums[k].diff);
-    if constexpr (kOld) acc[k].op = Load(sums[k].old_power);
+    if constexpr (kStop != StopSums::kNone) acc[k].df = Load(sums[k].diff);
+    if constexpr (kStop == StopSums::kRelative) acc[k].op = Load(sums[k].old_power);
   }
-  for (i = 0; i + kLanes <= n; i += kLanes) BinStep<Vec, K, kLambda, kStop>(c, i, rcp, acc);
+}
+template <int K, StopSums kStop>
+GYROCOMP_INLINE void StoreSums(const ModeAcc<Vec> (&acc)[K], LaneSums* sums) {
   for (int k = 0; k < K; ++k) {
     Store(sums[k].freq_power, acc[k].fp);
     Store(sums[k].power, acc[k].p);
-    if constexpr (kDiff) Store(sums[k].diff, acc[k].df);
-    if constexpr (kOld) Store(sums[k].old_power, acc[k].op);
+    if constexpr (kStop != StopSums::kNone) Store(sums[k].diff, acc[k].df);
+    if constexpr (kStop == StopSums::kRelative) Store(sums[k].old_power, acc[k].op);
   }
-  for (std::size_t l = 0; i < n; ++i, ++l) {  // tail: bin i in lane l, the same operations
+}
+
+// The tail bins [i, n) one at a time, bin i in lane l = i - (first tail bin): step(i, a) runs
+// one bin on the scalar accumulators a.
+template <int K, class Step>
+GYROCOMP_INLINE void Tail(std::size_t i, std::size_t n, LaneSums* sums, const Step& step) {
+  for (std::size_t l = 0; i < n; ++i, ++l) {
     ModeAcc<double> a[K];
     for (int k = 0; k < K; ++k) a[k] = {sums[k].freq_power[l], sums[k].power[l], sums[k].diff[l], sums[k].old_power[l]};
-    BinStep<double, K, kLambda, kStop>(c, i, rcp, a);
+    step(i, a);
     for (int k = 0; k < K; ++k) {
       sums[k].freq_power[l] = a[k].fp;
       sums[k].power[l] = a[k].p;
@@ -219,11 +232,53 @@ GYROCOMP_INLINE void BinSubChunk(const BinChunk& c, std::size_t n, const double 
   }
 }
 
+// Bins [0, n), n <= kRecipBins: pass 1 (reciprocals) then pass 2 (Eq. 4 and the sums).
+template <int K, bool kLambda, StopSums kStop>
+GYROCOMP_INLINE void BinSubChunk(const BinChunk& c, std::size_t n, const double (&omega)[K], double alpha, bool batch,
+                                 LaneSums* sums) {
+  alignas(64) double rcp[K * kRecipBins];
+  std::size_t i = 0;
+  for (; i + kLanes <= n; i += kLanes) RecipStep<Vec, K>(c.freq, i, omega, alpha, batch, rcp);
+  for (; i < n; ++i) RecipStep<double, K>(c.freq, i, omega, alpha, batch, rcp);
+  ModeAcc<Vec> acc[K];
+  LoadSums<K, kStop>(sums, acc);
+  for (i = 0; i + kLanes <= n; i += kLanes) {
+    BinStep<Vec, K, kLambda, kStop>(c, i, [&rcp, i](int k) GYROCOMP_INLINE_LAMBDA {
+      Vec r;
+      Ld(r, rcp + k * kRecipBins + i);
+      return r;
+    }, acc);
+  }
+  StoreSums<K, kStop>(acc, sums);
+  Tail<K>(i, n, sums, [&](std::size_t j, ModeAcc<double> (&a)[K]) GYROCOMP_INLINE_LAMBDA {
+    BinStep<double, K, kLambda, kStop>(c, j, [&rcp, j](int k) GYROCOMP_INLINE_LAMBDA { return rcp[k * kRecipBins + j]; }, a);
+  });
+}
+
+// Bins [0, n) in one pass (FusedStep).
+template <int K, bool kLambda, StopSums kStop>
+GYROCOMP_INLINE void BinChunkFused(const BinChunk& c, std::size_t n, const double (&omega)[K], double alpha, bool batch,
+                                   LaneSums* sums) {
+  ModeAcc<Vec> acc[K];
+  LoadSums<K, kStop>(sums, acc);
+  std::size_t i = 0;
+  for (; i + kLanes <= n; i += kLanes) FusedStep<Vec, K, kLambda, kStop>(c, i, omega, alpha, batch, acc);
+  StoreSums<K, kStop>(acc, sums);
+  Tail<K>(i, n, sums, [&](std::size_t j, ModeAcc<double> (&a)[K]) GYROCOMP_INLINE_LAMBDA {
+    FusedStep<double, K, kLambda, kStop>(c, j, omega, alpha, batch, a);
+  });
+}
+
 template <int K, bool kLambda, StopSums kStop>
 GYROCOMP_INLINE void BinChunkBody(const BinChunk& chunk, std::size_t n, const double* omega_in, double alpha,
                                   bool batch, LaneSums* sums) {
   double omega[K];
   for (int k = 0; k < K; ++k) omega[k] = omega_in[k];
+  if (!chunk.two_pass) {
+    const BinChunk c = chunk;  // a local copy: the compiler need not reload the pointers after stores
+    BinChunkFused<K, kLambda, kStop>(c, n, omega, alpha, batch, sums);
+    return;
+  }
   // Sub-chunks start at multiples of kRecipBins (a multiple of kLanes): a bin keeps its lane.
   for (std::size_t s0 = 0; s0 < n; s0 += kRecipBins) {
     BinChunk c = chunk;  // a local copy: the compiler need not reload the pointers after stores

@@ -190,11 +190,12 @@ TEST(VmdKernel, BinMajorPathsEqualTheScalarDefinitionBitForBitForEveryK) {
     for (int K = 1; K <= kMaxModesAtOnce; ++K) {
       std::vector<double> omega(K);
       for (int k = 0; k < K; ++k) omega[k] = 0.5 * k / K + 0.01;
-      for (int variant = 0; variant < 12; ++variant) {
-        const bool lambda = variant & 1, batch = variant & 2;
-        const StopSums stop = static_cast<StopSums>(variant / 4);  // none, absolute, relative
+      for (int variant = 0; variant < 24; ++variant) {
+        const bool lambda = variant & 1, batch = variant & 2, two_pass = variant & 4;
+        const StopSums stop = static_cast<StopSums>(variant / 8);  // none, absolute, relative
         SCOPED_TRACE(name + " K=" + std::to_string(K) + " lambda=" + std::to_string(lambda) +
-                     " stop=" + std::to_string(variant / 4) + " batch=" + std::to_string(batch));
+                     " stop=" + std::to_string(variant / 8) + " batch=" + std::to_string(batch) +
+                     " two_pass=" + std::to_string(two_pass));
         ModeArrays expect(n, K), got(n, K);
         // Sums start from nonzero values: kNone must leave diff and old_power as they are.
         std::vector<LaneSums> se(K), sg(K);
@@ -206,7 +207,9 @@ TEST(VmdKernel, BinMajorPathsEqualTheScalarDefinitionBitForBitForEveryK) {
           }
         }
         ScalarAllModes(expect, lambda, stop, batch, omega, 2000.0, se);
-        UpdateBinChunkOn(path, got.Chunk(lambda), n, K, omega.data(), 2000.0, batch, stop, sg.data());
+        BinChunk chunk = got.Chunk(lambda);
+        chunk.two_pass = two_pass;
+        UpdateBinChunkOn(path, chunk, n, K, omega.data(), 2000.0, batch, stop, sg.data());
         ASSERT_EQ(got.u_re, expect.u_re);
         ASSERT_EQ(got.u_im, expect.u_im);
         ASSERT_EQ(got.r_re, expect.r_re);

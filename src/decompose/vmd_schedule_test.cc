@@ -110,7 +110,9 @@ TEST(VmdStopSchedule, SkippedSumsAndTheirRerunGiveTheSameBitsOnTheGoldenInputs) 
     for (double v : every.values) EXPECT_FALSE(std::isnan(v));
     int skipped = 0;
     for (double v : dflt.values) skipped += std::isnan(v);
-    if (golden_iterations > 2 * VmdTuning{}.stop_warmup_updates) EXPECT_GT(skipped, 0);  // not three_tones (27)
+    if (golden_iterations > 2 * VmdTuning{}.stop_warmup_updates) {  // not three_tones (27)
+      EXPECT_GT(skipped, 0);
+    }
     EXPECT_EQ(dflt.reruns, 0);
     EXPECT_EQ(miss.reruns, 1);
     // Reported once each; the default exactly the returned updates, the missing schedule up to

@@ -2,11 +2,13 @@
 //
 // Layout: the one-sided spectrum has H = T/2 bins (0 .. T/2-1 of the extended signal; vmdpy's
 // fftshifted indices T/2 .. T-1). Modes are stored mode-major with separate real and imaginary
-// arrays (u_re[k * H + j]) so that the per-bin loops vectorise. Updates overwrite the iterate in
-// place, except the last ones (the reference returns the iterate before the last: KeepPrevious),
-// which write a second iterate: memory is 2 K H doubles while in place, 4 K H at the end, plus
-// O(H) for the data, the residual / accumulator, lambda and the frequency grid. Options,
-// validation and the initial centre frequencies: vmd_options.cc; threads: vmd_threads.h.
+// arrays (u_re[k * stride + j], stride >= H: ModeStride) so that the per-bin loops vectorise.
+// Updates overwrite the iterate in place, except the last ones (the reference returns the
+// iterate before the last: KeepPrevious), which write a second iterate: memory is 2 K H doubles
+// while in place, 4 K H at the end, plus O(H) for the data, the residual / accumulator, lambda
+// and the frequency grid. The stopping-rule sums are skipped where the rule cannot be met yet
+// (StopSchedule). Options, validation and the initial centre frequencies: vmd_options.cc;
+// threads: vmd_threads.h; the transforms: vmd_spectrum.cc.
 //
 // Parallelism: within one update every bin is independent (mode k's Wiener filter at bin j reads
 // only bin j of f, lambda, the accumulator and the other modes, and the centre frequencies of the
@@ -21,9 +23,8 @@
 #include "gyrocomp/decompose/vmd.h"
 
 #include "vmd_kernel.h"
+#include "vmd_spectrum.h"
 #include "vmd_threads.h"
-
-#include <fftw3.h>
 
 #include <algorithm>
 #include <atomic>
@@ -44,32 +45,12 @@ namespace {
 
 using vmd_internal::CheckProblemSize;
 using vmd_internal::InitialCenterFrequencies;
+using vmd_internal::MirrorAndTransform;
+using vmd_internal::ReconstructModes;
+using vmd_internal::AlignedVector;
+using vmd_internal::VmdSpectrum;
 using vmd_internal::RunThreads;
 using vmd_internal::WorkerPool;
-
-// FFTW planning is not thread-safe; execution of an existing plan is.
-std::mutex& FftwPlannerMutex() {
-  static std::mutex mutex;
-  return mutex;
-}
-
-template <class T>
-struct FftwFree {
-  void operator()(T* p) const { fftw_free(p); }
-};
-using RealBuffer = std::unique_ptr<double, FftwFree<double>>;
-using ComplexBuffer = std::unique_ptr<fftw_complex, FftwFree<fftw_complex>>;
-
-RealBuffer AllocReal(std::size_t n) { return RealBuffer(fftw_alloc_real(n)); }
-ComplexBuffer AllocComplex(std::size_t n) { return ComplexBuffer(fftw_alloc_complex(n)); }
-
-struct PlanDeleter {
-  void operator()(fftw_plan_s* p) const {
-    std::lock_guard<std::mutex> lock(FftwPlannerMutex());
-    fftw_destroy_plan(p);
-  }
-};
-using Plan = std::unique_ptr<fftw_plan_s, PlanDeleter>;
 
 // Bins per reduction block: fixed, so that sums do not depend on the thread count.
 constexpr std::size_t kBlockBins = 2048;
@@ -77,85 +58,21 @@ constexpr std::size_t kBlockBins = 2048;
 // vmd_internal::kLanes so that a bin's lane does not depend on the chunking).
 constexpr std::size_t kChunkBins = 256;
 static_assert(kBlockBins % kChunkBins == 0 && kChunkBins % vmd_internal::kLanes == 0);
-// KeepPrevious's horizon: keep update n when this many more falls like the last would meet tol.
-constexpr double kLookaheadSteps = 4;
+// The iterate's distance between modes (doubles), >= H: a multiple of 4096 bytes (H a multiple of
+// 512, e.g. N = 16384 or 65536) makes mode k+1's loads 4K-alias mode k's stores of the same bin,
+// which on Zen 4 made the kernel 3x slower (1.66 vs 0.54 ns per bin-update at H = 16384). Padded
+// to a multiple of 8 (every mode starts on a cache line) that is 32..56 doubles past a multiple of
+// 512 (256..448 bytes past 4 KiB: even 7 strides stay clear of the next multiple), as H = 20,000
+// (256 bytes) is. Layout only: the arithmetic, and so the results, are the same.
+std::size_t ModeStride(std::size_t H) {
+  std::size_t s = (H + 7) / 8 * 8;
+  const std::size_t r = s % 512;
+  if (r < 32) s += 32 - r;
+  if (r > 56) s += 512 - r + 32;
+  return s;
+}
 // Below this many bin-mode updates per iteration, one thread is faster.
 constexpr std::size_t kMinWorkForThreads = 1u << 16;
-
-// The mirror-extended, even-length signal's one-sided spectrum (f_hat_plus), its frequency grid
-// and the FFT plans and buffers (reused for the inverse transforms).
-struct VmdSpectrum {
-  std::size_t n_in = 0;    // samples of the record
-  std::size_t n_even = 0;  // even working length (odd input: the last sample repeated)
-  std::size_t offset = 0;  // mirrored samples before the signal (ltemp)
-  std::size_t T = 0;       // extended length
-  std::size_t H = 0;       // one-sided bins 0..H-1
-  int scale_exp = 0;       // the working signal is signal / 2^scale_exp (max |x| in [1, 2))
-  double inv_T = 0.0;
-  RealBuffer time_buf;
-  ComplexBuffer spec_buf;
-  Plan forward, inverse;
-  std::vector<double> f_re, f_im;  // f_hat_plus
-  std::vector<double> freq;        // cycles per sample
-};
-
-// Even working length, mirror extension f[ltemp-1..0], f, f[N-1..N-ltemp], forward FFT, and the
-// one-sided spectrum with vmdpy's frequency grid.
-Result<VmdSpectrum> MirrorAndTransform(std::span<const double> signal, bool mirror_extension) {
-  VmdSpectrum sp;
-  // Even working length (odd input: repeat the last sample; the reference drops it).
-  // Normalise by a power of two (exact: every later operation commutes with it bit for bit, so
-  // results are unchanged) so that extreme but finite inputs (|x| near 1e308 or 1e-300) neither
-  // overflow in the transforms and squared sums nor lose precision to underflow.
-  double max_abs = 0.0;
-  for (double v : signal) max_abs = std::max(max_abs, std::abs(v));
-  sp.scale_exp = max_abs > 0 ? std::ilogb(max_abs) : 0;
-  std::vector<double> f(signal.size());
-  for (std::size_t i = 0; i < f.size(); ++i) f[i] = std::ldexp(signal[i], -sp.scale_exp);
-  if (f.size() % 2) f.push_back(f.back());
-  sp.n_in = signal.size();
-  sp.n_even = f.size();
-
-  // Mirror extension: f[ltemp-1..0], f, f[N-1..N-ltemp].
-  const std::size_t ltemp = mirror_extension ? sp.n_even / 2 : 0;
-  sp.T = sp.n_even + 2 * ltemp;
-  sp.H = sp.T / 2;  // one-sided bins 0..H-1
-  sp.offset = ltemp;
-  const std::size_t T = sp.T, H = sp.H, n_even = sp.n_even;
-
-  sp.time_buf = AllocReal(T);
-  sp.spec_buf = AllocComplex(H + 1);
-  if (!sp.time_buf || !sp.spec_buf) return InternalError("VMD: out of memory for FFT buffers");
-  double* tb = sp.time_buf.get();
-  for (std::size_t i = 0; i < ltemp; ++i) tb[i] = f[ltemp - 1 - i];
-  std::copy(f.begin(), f.end(), tb + ltemp);
-  for (std::size_t i = 0; i < ltemp; ++i) tb[ltemp + n_even + i] = f[n_even - 1 - i];
-
-  {
-    std::lock_guard<std::mutex> lock(FftwPlannerMutex());
-    // FFTW_ESTIMATE does not touch the arrays and is deterministic run to run.
-    sp.forward.reset(fftw_plan_dft_r2c_1d(static_cast<int>(T), tb, sp.spec_buf.get(), FFTW_ESTIMATE));
-    sp.inverse.reset(fftw_plan_dft_c2r_1d(static_cast<int>(T), sp.spec_buf.get(), tb, FFTW_ESTIMATE));
-  }
-  if (!sp.forward || !sp.inverse) return InternalError("VMD: FFTW planning failed");
-  fftw_execute(sp.forward.get());
-  f.clear();
-  f.shrink_to_fit();  // the working copy is no longer needed (the spectrum is)
-
-  // f_hat_plus on the one-sided grid; the frequency grid exactly as vmdpy computes it:
-  // freqs = arange(1, T+1)/T - 0.5 - 1/T, positive half = indices T/2 .. T-1.
-  sp.f_re.resize(H);
-  sp.f_im.resize(H);
-  sp.freq.resize(H);
-  sp.inv_T = 1.0 / static_cast<double>(T);
-  for (std::size_t j = 0; j < H; ++j) {
-    sp.f_re[j] = sp.spec_buf.get()[j][0];
-    sp.f_im[j] = sp.spec_buf.get()[j][1];
-    const double t = static_cast<double>(H + j + 1) / static_cast<double>(T);
-    sp.freq[j] = (t - 0.5) - sp.inv_T;
-  }
-  return sp;
-}
 
 // Threads for the iteration: as asked, else up to 2 when the work is large enough; never more
 // than there are blocks.
@@ -170,11 +87,12 @@ int ChooseThreads(const VmdOptions& opt, std::size_t work, std::size_t num_block
 // sum_uk, lambda, the per-block partial sums and the centre frequencies.
 struct AdmmState {
   AdmmState(const VmdSpectrum& sp, const VmdOptions& options)
-      : spectrum(sp), opt(options), K(options.num_modes), H(sp.H), use_lambda(options.tau != 0.0),
+      : spectrum(sp), opt(options), K(options.num_modes), H(sp.H), stride(ModeStride(sp.H)),
+        use_lambda(options.tau != 0.0),
         relative(options.stopping_rule == VmdStoppingRule::kRelative),
         bin_major(options.num_modes <= vmd_internal::kMaxModesAtOnce),
         batch_inversion(vmd_internal::BatchInversionSafe(options.num_modes, options.alpha)) {
-    const std::size_t KH = static_cast<std::size_t>(K) * H;
+    const std::size_t KH = static_cast<std::size_t>(K) * stride;
     ua_re.assign(KH, 0.0);
     ua_im.assign(KH, 0.0);
     if (bin_major) {  // the residual f - sum_uk, all modes zero
@@ -194,7 +112,7 @@ struct AdmmState {
   // The second iterate's storage, allocated at the first update that keeps its predecessor.
   void AllocateSecondIterate() {
     if (!ub_re.empty()) return;
-    const std::size_t KH = static_cast<std::size_t>(K) * H;
+    const std::size_t KH = static_cast<std::size_t>(K) * stride;
     ub_re.assign(KH, 0.0);
     ub_im.assign(KH, 0.0);
   }
@@ -205,13 +123,15 @@ struct AdmmState {
   const VmdOptions& opt;
   const int K;
   const std::size_t H;
+  const std::size_t stride;  // mode k of an iterate at [k * stride, k * stride + H) (ModeStride)
   const bool use_lambda;
   const bool relative;
   const bool bin_major;        // K <= kMaxModesAtOnce: UpdateBinChunk, s_* hold f - sum_uk
   const bool batch_inversion;  // UpdateBinChunk's reciprocals from one division per bin
-  std::vector<double> ua_re, ua_im, ub_re, ub_im;  // storage of the iterates (ub_*: only when kept)
-  std::vector<double> s_re, s_im;                  // sum_uk, or f - sum_uk when bin_major
-  std::vector<double> l_re, l_im;                  // lambda (empty when tau = 0)
+  // 64-byte aligned (vmd_spectrum.h: AlignedVector); mode k at k * stride, stride a multiple of 8.
+  AlignedVector ua_re, ua_im, ub_re, ub_im;  // storage of the iterates (ub_*: only when kept)
+  AlignedVector s_re, s_im;                  // sum_uk, or f - sum_uk when bin_major
+  AlignedVector l_re, l_im;                  // lambda (empty when tau = 0)
   std::size_t num_blocks = 0;
   std::vector<vmd_internal::LaneSums> sums;  // sums[block * K + k]: mode k over the block's bins
   // The stopping rule in the normalised units of the working signal (signal / 2^scale_exp):
@@ -226,21 +146,29 @@ struct AdmmState {
   double* prev_re = nullptr;  // update n-1 when the last update kept it (has_previous), else stale
   double* prev_im = nullptr;
   bool has_previous = false;
-  double lookahead_steps = 0;  // KeepPrevious's prediction horizon
+  vmd_internal::VmdTuning tuning;  // KeepPrevious's horizon and StopSchedule's parameters
+  bool stop_schedule = false;      // StopSchedule may skip the stopping-rule sums (bin_major only)
+  bool stop_sums_now = true;       // this update computes the stopping-rule sums
+  // The last two updates whose stopping-rule value was computed (0: none) and their values.
+  int stop_last_n = 0, stop_prev_n = 0;
+  double stop_last = 0.0, stop_prev = 0.0;
+  bool stop_missed = false;  // the rule was met after skipped sums: run again computing every update
   std::optional<int> extrapolation_period;  // VmdOptions' period when the record is long enough
   int report_after = 0;        // on_iteration only for updates after this one
   // Frees the working arrays except the iterate starting at keep_re / keep_im (before the modes
   // are reconstructed: the peak memory is then one iterate plus the modes).
   void ReleaseAllBut(const double* keep_re) {
-    auto release = [](std::vector<double>& v) { std::vector<double>().swap(v); };
+    auto release = [](AlignedVector& v) { AlignedVector().swap(v); };
     if (keep_re != ua_re.data()) release(ua_re), release(ua_im);
     if (keep_re != ub_re.data()) release(ub_re), release(ub_im);
     release(s_re), release(s_im), release(l_re), release(l_im);
   }
   // The reference's output (update n-1) was overwritten by an in-place update n.
   bool NeedsRerun() const { return !opt.return_last_iterate && !has_previous; }
-  std::vector<double> omega;       // centre frequencies of the newest iterate
-  std::vector<double> omega_prev;  // centre frequencies of the iterate before `omega`
+  std::vector<double> omega;       // centre frequencies for the next update (Eq. 5, or extrapolated)
+  std::vector<double> omega_prev;  // centre frequencies the newest update used
+  // Eq. (5) of the newest iterate and of the one before, never extrapolated: the returned ones.
+  std::vector<double> eq5_omega, eq5_omega_prev;
   int n = 0;                       // updates run
   double u_diff = 0.0;             // the stopping rule's value after update n
 };
@@ -257,14 +185,13 @@ struct IterateBuffers {
 
 // Eq. (6) on bins [j0, j1): lambda += tau (sum_k u_k - f).
 void DualAscent(AdmmState& st, const double* u_re, const double* u_im, std::size_t j0, std::size_t j1) {
-  const std::size_t H = st.H;
   const double tau = st.opt.tau;
   const VmdSpectrum& sp = st.spectrum;
   for (std::size_t j = j0; j < j1; ++j) {
     double ar = u_re[j], ai = u_im[j];
     for (int k = 1; k < st.K; ++k) {
-      ar += u_re[static_cast<std::size_t>(k) * H + j];
-      ai += u_im[static_cast<std::size_t>(k) * H + j];
+      ar += u_re[static_cast<std::size_t>(k) * st.stride + j];
+      ai += u_im[static_cast<std::size_t>(k) * st.stride + j];
     }
     st.l_re[j] = st.l_re[j] + tau * (ar - sp.f_re[j]);
     st.l_im[j] = st.l_im[j] + tau * (ai - sp.f_im[j]);
@@ -297,14 +224,17 @@ void UpdateBlock(AdmmState& st, const IterateBuffers& io, std::size_t block, con
       c.src_im = io.src_im + c0;
       c.dst_re = io.dst_re + c0;
       c.dst_im = io.dst_im + c0;
-      c.stride = H;
-      vmd_internal::UpdateBinChunk(c, c1 - c0, K, om.data(), st.opt.alpha, st.batch_inversion, st.relative, bs);
+      c.stride = st.stride;
+      c.two_pass = vmd_internal::UseTwoPass(K, st.stride);
+      using vmd_internal::StopSums;
+      const StopSums stop = !st.stop_sums_now ? StopSums::kNone : st.relative ? StopSums::kRelative : StopSums::kAbsolute;
+      vmd_internal::UpdateBinChunk(c, c1 - c0, K, om.data(), st.opt.alpha, st.batch_inversion, stop, bs);
       if (st.use_lambda) DualAscent(st, io.dst_re, io.dst_im, c0, c1);  // Eq. (6)
       continue;
     }
     for (int k = 0; k < K; ++k) {  // many modes: one mode at a time per chunk
-      const std::size_t kk = static_cast<std::size_t>(k) * H + c0;
-      const std::size_t prev = (k == 0) ? static_cast<std::size_t>(K - 1) * H + c0 : kk - H;
+      const std::size_t kk = static_cast<std::size_t>(k) * st.stride + c0;
+      const std::size_t prev = (k == 0) ? static_cast<std::size_t>(K - 1) * st.stride + c0 : kk - st.stride;
       vmd_internal::ModeChunk c;
       c.freq = sp.freq.data() + c0;
       c.f_re = sp.f_re.data() + c0;
@@ -351,6 +281,7 @@ double UpdateCenterFrequencies(AdmmState& st) {
       total = std::numeric_limits<double>::infinity();  // from zero: not converged
     }
   }
+  if (!st.stop_sums_now) return std::numeric_limits<double>::quiet_NaN();  // diff not summed
   // The reference adds np.spacing(1) (squared signal units) to the absolute rule.
   return opt.stopping_rule == VmdStoppingRule::kAbsolute ? std::abs(st.eps_norm + total) : total;
 }
@@ -363,19 +294,52 @@ double SignalUnits(const AdmmState& st, double u) {
   return std::min(std::ldexp(u, 2 * st.scale_exp), std::numeric_limits<double>::max());
 }
 
+// The stopping rule's fall per update, from its last two computed values (<= 1; 1 when fewer than
+// two were computed or the value rose). Consecutive values: their plain ratio.
+double StopFallPerUpdate(const AdmmState& st) {
+  if (st.stop_prev_n == 0 || !(st.stop_prev > 0) || !std::isfinite(st.stop_prev)) return 1.0;
+  const double ratio = st.stop_last / st.stop_prev;
+  const int gap = st.stop_last_n - st.stop_prev_n;
+  return std::min(1.0, gap == 1 ? ratio : std::pow(ratio, 1.0 / gap));
+}
+
+// The stopping rule's value predicted `steps` updates after the last computed one, falling by
+// `fall` per update.
+double PredictedStopValue(const AdmmState& st, double fall, double steps) {
+  return steps == 0 ? st.stop_last : st.stop_last * std::pow(fall, steps);
+}
+
+// Whether update `next` (about to run) sums the stopping rule (~4 of the kernel's 13 additions
+// and 2 of its 12 multiplications per bin-update). The rule can only be seen met on a computed
+// update whose predecessor was computed too (else a skipped update may have met it first), so
+// `next` is computed when `next` or `next + 1` could meet tol, predicted from the last computed
+// value with a pessimistic fall per update, q = (measured fall)^stop_safety_exponent; also the
+// first stop_warmup_updates, the last one the cap allows (its value is reported) and at least
+// every stop_max_gap updates (a fresh fall). A faster fall than predicted is caught (stop_missed) and
+// the whole iteration run again computing every update: the same bits (DecomposeVmdTuned).
+bool StopSchedule(const AdmmState& st, int next) {
+  if (!st.stop_schedule || st.stop_prev_n == 0 || next <= st.tuning.stop_warmup_updates) return true;
+  if (next >= st.opt.max_iterations - 1 || next - st.stop_last_n >= st.tuning.stop_max_gap) return true;
+  const double q = std::min(st.tuning.stop_fall_cap, std::pow(StopFallPerUpdate(st), st.tuning.stop_safety_exponent));
+  return PredictedStopValue(st, q, next + 1 - st.stop_last_n) <= st.tol_norm;
+}
+
 // Whether update n+1 (about to run) must keep update n, i.e. run into the second array instead of
 // in place: the reference returns the iterate before the one that meets the rule. Certain for the
-// last update the cap allows and from `keep_from` on; otherwise predicted: the rule's value has
-// fallen by `ratio` (<= 1) in the last update; keep when kLookaheadSteps more such falls would
-// meet tol. A wrong prediction (the rule met by an in-place update) is caught by RunAdmm's caller,
-// which runs the iteration again with keep_from set (same bits: the run is deterministic).
-bool KeepPrevious(const AdmmState& st, double previous_value, int keep_from) {
+// last update the cap allows and from `keep_from` on; otherwise predicted: the rule's value
+// (computed after update n, or predicted from the last computed one) keeps falling as it did
+// between the last two computed updates; keep when lookahead_steps more such falls would meet
+// tol. Never for an update that skips the stopping sums (it cannot be seen meeting the rule). A
+// wrong prediction (the rule met by an in-place update) is caught by DecomposeVmdTuned, which
+// runs the iteration again with keep_from set (same bits: the run is deterministic).
+bool KeepPrevious(const AdmmState& st, int keep_from) {
   if (st.opt.return_last_iterate) return false;
   const int next = st.n + 1;
   if (next >= st.opt.max_iterations - 1 || next >= keep_from) return true;
-  if (!std::isfinite(previous_value)) return false;  // no fall measured yet
-  const double ratio = std::min(1.0, st.u_diff / previous_value);
-  return st.u_diff * std::pow(ratio, st.lookahead_steps) <= st.tol_norm;
+  if (!st.stop_sums_now || st.stop_prev_n == 0) return false;  // skipped, or no fall measured yet
+  const double fall = StopFallPerUpdate(st);
+  const double now = PredictedStopValue(st, fall, st.n - st.stop_last_n);
+  return now * std::pow(fall, st.tuning.lookahead_steps) <= st.tol_norm;
 }
 
 // VmdOptions::omega_extrapolation_period: the Aitken limit of each w_k's last three values
@@ -402,10 +366,10 @@ void RunAdmm(AdmmState& st, int threads, int keep_from) {
   // vmdpy starts from uDiff = tol + eps to enter the loop; with tol >= 1 squared signal units eps
   // is absorbed and it returns its all-zero initial modes. Here the first update always runs.
   st.u_diff = std::numeric_limits<double>::infinity();
-  double previous_value = st.u_diff;
   st.n = 0;
   st.has_previous = false;
   st.omega_prev = st.omega;
+  st.eq5_omega = st.eq5_omega_prev = st.omega;
   std::vector<double> om_snapshot, omega_older = st.omega;
   WorkerPool pool(threads);
   const std::size_t num_blocks = st.num_blocks;
@@ -416,7 +380,8 @@ void RunAdmm(AdmmState& st, int threads, int keep_from) {
     for (std::size_t b = b0; b < b1; ++b) UpdateBlock(st, io, b, om_snapshot);
   };
   while (st.u_diff > st.tol_norm && st.n < opt.max_iterations - 1) {
-    const bool keep = KeepPrevious(st, previous_value, keep_from);
+    st.stop_sums_now = StopSchedule(st, st.n + 1);
+    const bool keep = KeepPrevious(st, keep_from);
     io = {st.cur_re, st.cur_im, st.cur_re, st.cur_im};
     if (keep) {
       st.AllocateSecondIterate();
@@ -429,10 +394,19 @@ void RunAdmm(AdmmState& st, int threads, int keep_from) {
     pool.Run(round);
     omega_older.swap(st.omega_prev);
     st.omega_prev = st.omega;
-    previous_value = st.u_diff;
-    st.u_diff = UpdateCenterFrequencies(st);
+    const double value = UpdateCenterFrequencies(st);  // NaN when the sums were skipped
+    st.eq5_omega_prev.swap(st.eq5_omega);
+    st.eq5_omega = st.omega;
     ++st.n;
-    if (st.extrapolation_period && st.n >= 3 && st.n % *st.extrapolation_period == 0) {
+    if (st.stop_sums_now) {
+      if (value <= st.tol_norm && st.stop_last_n != st.n - 1) st.stop_missed = true;  // see StopSchedule
+      st.stop_prev_n = st.stop_last_n, st.stop_prev = st.stop_last;
+      st.stop_last_n = st.n, st.stop_last = value;
+      st.u_diff = value;
+    }
+    // Eq. (5)'s values are returned (eq5_omega); the last update needs no extrapolation.
+    const bool last = st.u_diff <= st.tol_norm || st.n >= opt.max_iterations - 1;
+    if (st.extrapolation_period && st.n >= 3 && st.n % *st.extrapolation_period == 0 && !last) {
       ExtrapolateCenterFrequencies(st, omega_older);
     }
     st.has_previous = keep;
@@ -442,56 +416,14 @@ void RunAdmm(AdmmState& st, int threads, int keep_from) {
       st.cur_re = io.dst_re;
       st.cur_im = io.dst_im;
     }
-    if (opt.on_iteration && st.n > st.report_after) opt.on_iteration(st.n, SignalUnits(st, st.u_diff));
+    if (opt.on_iteration && st.n > st.report_after) opt.on_iteration(st.n, SignalUnits(st, value));
   }
-}
-
-// Reconstruction (vmdpy): Hermitian spectrum with X[0] = Re U_0, X[j] = U_j, and the Nyquist
-// bin = Re U_{H-1} (the reference copies conj(U_{H-1}) there; real(ifft) keeps its real part);
-// inverse FFT / T, keep the middle N samples (unmirror). Consumes the spectrum's buffers.
-Result<std::vector<std::vector<double>>> ReconstructModes(VmdSpectrum& sp, const double* out_re,
-                                                          const double* out_im, int K, std::size_t n_in,
-                                                          int threads) {
-  const std::size_t T = sp.T, H = sp.H;
-  std::vector<std::vector<double>> modes(K, std::vector<double>(n_in));
-  const int ifft_threads = std::min(threads, K);
-  std::vector<RealBuffer> t_bufs;
-  std::vector<ComplexBuffer> s_bufs;
-  // Thread 0 reuses the forward transform's buffers (same size and alignment as the plan's).
-  t_bufs.push_back(std::move(sp.time_buf));
-  s_bufs.push_back(std::move(sp.spec_buf));
-  for (int t = 1; t < ifft_threads; ++t) {
-    t_bufs.push_back(AllocReal(T));
-    s_bufs.push_back(AllocComplex(H + 1));
-    if (!t_bufs.back() || !s_bufs.back()) return InternalError("VMD: out of memory for FFT buffers");
-  }
-  const double scale = std::ldexp(1.0, sp.scale_exp);
-  RunThreads(ifft_threads, [&](int t) {
-    fftw_complex* X = s_bufs[t].get();
-    double* y = t_bufs[t].get();
-    for (int k = t; k < K; k += ifft_threads) {
-      const double* ur = out_re + static_cast<std::size_t>(k) * H;
-      const double* ui = out_im + static_cast<std::size_t>(k) * H;
-      for (std::size_t j = 0; j < H; ++j) {
-        X[j][0] = ur[j];
-        X[j][1] = ui[j];
-      }
-      X[0][1] = 0.0;
-      X[H][0] = ur[H - 1];
-      X[H][1] = 0.0;
-      fftw_execute_dft_c2r(sp.inverse.get(), X, y);
-      std::vector<double>& mode = modes[k];
-      // Undo the normalisation: a multiplication by a power of two (exact).
-      for (std::size_t i = 0; i < n_in; ++i) mode[i] = (y[sp.offset + i] * sp.inv_T) * scale;
-    }
-  });
-  return modes;
 }
 
 // A fresh ADMM state on the spectrum, iterated (RunAdmm with the given keep_from; on_iteration
 // only for updates after report_after).
 std::unique_ptr<AdmmState> IterateAdmm(const VmdSpectrum& sp, const VmdOptions& opt, int threads,
-                                       double lookahead_steps, int keep_from, int report_after) {
+                                       const vmd_internal::VmdTuning& tuning, int keep_from, int report_after) {
   auto st = std::make_unique<AdmmState>(sp, opt);
   st->scale_exp = sp.scale_exp;
   const bool absolute = opt.stopping_rule == VmdStoppingRule::kAbsolute;
@@ -501,10 +433,14 @@ std::unique_ptr<AdmmState> IterateAdmm(const VmdSpectrum& sp, const VmdOptions& 
   // is vmdpy's; otherwise it differs from vmdpy's by less than eps * max|x|^2 squared units.
   st->eps_norm = std::numeric_limits<double>::epsilon();
   st->omega = InitialCenterFrequencies(opt, sp.n_even);
-  st->lookahead_steps = lookahead_steps;
+  st->tuning = tuning;
   if (opt.omega_extrapolation_period && sp.n_in >= opt.omega_extrapolation_min_samples) {
     st->extrapolation_period = opt.omega_extrapolation_period;
   }
+  // Not with the extrapolation: its jumps make the stopping value spike and then fall by 100x
+  // within a few updates, which no fall measured between computed updates predicts (and those
+  // long records are memory-bound, where the skipped arithmetic saves little).
+  st->stop_schedule = tuning.stop_schedule && st->bin_major && !st->extrapolation_period;
   st->report_after = report_after;
   RunAdmm(*st, threads, keep_from);
   return st;
@@ -513,11 +449,11 @@ std::unique_ptr<AdmmState> IterateAdmm(const VmdSpectrum& sp, const VmdOptions& 
 }  // namespace
 
 Result<VmdResult> DecomposeVmd(std::span<const double> signal, const VmdOptions& opt) {
-  return vmd_internal::DecomposeVmdTuned(signal, opt, kLookaheadSteps, nullptr);
+  return vmd_internal::DecomposeVmdTuned(signal, opt, vmd_internal::VmdTuning{}, nullptr);
 }
 
 Result<VmdResult> vmd_internal::DecomposeVmdTuned(std::span<const double> signal, const VmdOptions& opt,
-                                                  double lookahead_steps, int* reruns) {
+                                                  const VmdTuning& tuning, int* reruns) {
   const auto start = std::chrono::steady_clock::now();
   std::string why;
   if (!opt.IsValid(&why)) return InvalidArgument(why);
@@ -538,14 +474,25 @@ Result<VmdResult> vmd_internal::DecomposeVmdTuned(std::span<const double> signal
   VmdSpectrum& sp = *spectrum;
 
   const int threads = ChooseThreads(opt, static_cast<std::size_t>(K) * sp.H, (sp.H + kBlockBins - 1) / kBlockBins);
-  std::unique_ptr<AdmmState> run = IterateAdmm(sp, opt, threads, lookahead_steps, std::numeric_limits<int>::max(), 0);
-  if (run->NeedsRerun()) {
+  std::unique_ptr<AdmmState> run = IterateAdmm(sp, opt, threads, tuning, std::numeric_limits<int>::max(), 0);
+  if (run->stop_missed) {
+    // The rule was seen met after skipped sums (StopSchedule): a skipped update after the last
+    // computed one (stop_prev_n, not met) may have met it first. Run again (deterministic: the
+    // same bits) computing every update and keeping each predecessor from there on.
+    // on_iteration is not called again for the updates already reported.
+    const int keep_from = run->stop_prev_n + 1, reported = run->n;
+    if (reruns) ++*reruns;
+    run.reset();
+    VmdTuning every_update = tuning;
+    every_update.stop_schedule = false;
+    run = IterateAdmm(sp, opt, threads, every_update, keep_from, reported);
+  } else if (run->NeedsRerun()) {
     // The rule was met by an in-place update: run again (deterministic: the same bits), keeping
     // from that update on. on_iteration is not called again for the updates already reported.
     const int keep_from = run->n;
     if (reruns) ++*reruns;
     run.reset();
-    run = IterateAdmm(sp, opt, threads, lookahead_steps, keep_from, keep_from);
+    run = IterateAdmm(sp, opt, threads, tuning, keep_from, keep_from);
   }
   AdmmState& st = *run;
 
@@ -554,11 +501,11 @@ Result<VmdResult> vmd_internal::DecomposeVmdTuned(std::span<const double> signal
   const bool last = opt.return_last_iterate;
   const double* out_re = last ? st.cur_re : st.prev_re;
   const double* out_im = last ? st.cur_im : st.prev_im;
-  const std::vector<double>& out_omega = last ? st.omega : st.omega_prev;
+  const std::vector<double>& out_omega = last ? st.eq5_omega : st.eq5_omega_prev;
   st.ReleaseAllBut(out_re);
 
   VmdResult result;
-  Result<std::vector<std::vector<double>>> modes = ReconstructModes(sp, out_re, out_im, K, n_in, threads);
+  Result<std::vector<std::vector<double>>> modes = ReconstructModes(sp, out_re, out_im, st.stride, K, n_in, threads);
   if (!modes.ok()) return modes.error();
   result.modes = std::move(*modes);
   for (int k = 0; k < K; ++k) {

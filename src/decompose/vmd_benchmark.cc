@@ -16,6 +16,7 @@
 
 #include "gyrocomp/decompose/vmd.h"
 #include "vmd_kernel.h"
+#include "vmd_spectrum.h"
 
 namespace {
 
@@ -57,6 +58,45 @@ BENCHMARK(BM_Vmd)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
+// The average over a real decomposition, CPU time: gyro-like N = 20,000 (359 updates), K = 6,
+// one thread, the whole DecomposeVmd (the forward FFT, the updates with the stopping-rule sums
+// computed or skipped as StopSchedule decides, the Eq. 5 reductions, the 6 inverse FFTs) per
+// bin-update: an upper bound on the kernel's average over the iterations. Not UseRealTime, so
+// the ns_per_bin_update rate is per CPU second (robust on a loaded machine). Argument 1: 0 =
+// DecomposeVmd's schedule, 1 = the stopping sums on every update (VmdTuning::stop_schedule off),
+// 2 = one update only (max_iterations 2): the fixed costs. The per-update cost of a real
+// decomposition is (time of /0 - time of /2) / (updates of /0 - 1), which leaves out the
+// transforms, planning and allocation (docs/performance.md).
+void BM_VmdCpu(benchmark::State& state) {
+  const auto x = GyroLike(static_cast<std::size_t>(state.range(0)));
+  gyrocomp::VmdOptions opt;
+  opt.num_modes = 6;
+  opt.num_threads = 1;
+  gyrocomp::vmd_internal::VmdTuning tuning;
+  tuning.stop_schedule = state.range(1) != 1;
+  if (state.range(1) == 2) opt.max_iterations = 2;
+  double bin_updates = 0;
+  int iterations = 0;
+  for (auto _ : state) {
+    auto r = gyrocomp::vmd_internal::DecomposeVmdTuned(x, opt, tuning, nullptr);
+    iterations = r.ok() ? r->summary.iterations : -1;
+    bin_updates += r.ok() ? 6.0 * (r->summary.extended_length / 2) * iterations : 0;
+    benchmark::DoNotOptimize(r.ok());
+  }
+  state.counters["vmd_iterations"] = iterations;
+  state.counters["ns_per_bin_update"] =
+      benchmark::Counter(bin_updates * 1e-9, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  state.SetLabel(gyrocomp::vmd_internal::KernelIsa());
+}
+// N = 16384: H a multiple of 512, where an unpadded mode stride (4 KiB multiple) 4K-aliases
+// (vmd.cc: ModeStride).
+BENCHMARK(BM_VmdCpu)
+    ->Args({20000, 0})
+    ->Args({20000, 1})
+    ->Args({20000, 2})
+    ->Args({16384, 0})
+    ->Unit(benchmark::kMillisecond);
+
 // The kernel alone, one thread, K = 6 modes over H bins in 256-bin chunks as DecomposeVmd walks
 // them. Second argument: 0 = the bin-major kernel updating the iterate in place (DecomposeVmd's
 // path for K <= 8: per bin-update 16 bytes of the iterate read and 16 written back), 1 = the
@@ -69,12 +109,18 @@ void BM_VmdKernel(benchmark::State& state) {
   using namespace gyrocomp::vmd_internal;
   const std::size_t H = static_cast<std::size_t>(state.range(0));
   const bool mode_major = state.range(1) == 1;
+  // Argument 2: the bin-major kernel without the stopping-rule sums (DecomposeVmd's updates that
+  // StopSchedule skips). 0 and 2 pick one or two passes as DecomposeVmd does (UseTwoPass: two at
+  // 20k, one at 1M); 3 = 0 forced to one pass.
+  const StopSums stop = state.range(1) == 2 ? StopSums::kNone : StopSums::kAbsolute;
   const int K = 6;
   const std::size_t KH = K * H;
   std::mt19937 rng(1);
   std::normal_distribution<double> g(0, 1);
-  std::vector<double> freq(H), f_re(H), f_im(H), s_re(H, 0), s_im(H, 0);
-  std::vector<double> a_re(KH), a_im(KH), b_re(mode_major ? KH : 0, 0), b_im(mode_major ? KH : 0, 0);
+  // 64-byte aligned, as DecomposeVmd's arrays (AlignedVector).
+  using gyrocomp::vmd_internal::AlignedVector;
+  AlignedVector freq(H), f_re(H), f_im(H), s_re(H, 0), s_im(H, 0);
+  AlignedVector a_re(KH), a_im(KH), b_re(mode_major ? KH : 0, 0), b_im(mode_major ? KH : 0, 0);
   for (std::size_t j = 0; j < H; ++j) {
     freq[j] = 0.5 * j / H;
     f_re[j] = g(rng);
@@ -93,7 +139,8 @@ void BM_VmdKernel(benchmark::State& state) {
       if (!mode_major) {
         BinChunk c{freq.data() + c0, nullptr, nullptr, f_re.data() + c0, f_im.data() + c0, a_re.data() + c0,
                    a_im.data() + c0, a_re.data() + c0, a_im.data() + c0, H};
-        UpdateBinChunk(c, n, K, omega, 2000.0, true, false, sums.data());
+        c.two_pass = state.range(1) == 3 ? false : UseTwoPass(K, H);  // as DecomposeVmd, or forced one-pass
+        UpdateBinChunk(c, n, K, omega, 2000.0, true, stop, sums.data());
         continue;
       }
       for (int k = 0; k < K; ++k) {
@@ -113,7 +160,15 @@ void BM_VmdKernel(benchmark::State& state) {
       static_cast<double>(KH) * state.iterations() * 1e-9, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
   state.SetBytesProcessed(static_cast<int64_t>(state.iterations()) * KH * 4 * sizeof(double));
 }
-BENCHMARK(BM_VmdKernel)->Args({20000, 0})->Args({20000, 1})->Args({1000000, 0})->Args({1000000, 1})->UseRealTime();
+BENCHMARK(BM_VmdKernel)
+    ->Args({20000, 0})
+    ->Args({20000, 1})
+    ->Args({20000, 2})
+    ->Args({20000, 3})
+    ->Args({1000000, 0})
+    ->Args({1000000, 1})
+    ->Args({1000000, 2})
+    ->UseRealTime();
 
 // The machine's streaming bandwidth for the kernel's memory patterns, n = 6,000,000 doubles per
 // array (the K H = 6 x 10^6 of the N = 1M kernel case). Argument 0: in place, re and im arrays

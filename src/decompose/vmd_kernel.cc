@@ -10,6 +10,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <algorithm>
 
 namespace gyrocomp::vmd_internal {
 namespace {
@@ -88,6 +89,7 @@ inline __attribute__((always_inline)) void UpdateChunk(const ModeChunk& c, std::
 // ---- bin-major kernel: all modes of a vector of bins --------------------------------------------
 
 #define GYROCOMP_INLINE inline __attribute__((always_inline))
+#define GYROCOMP_INLINE_LAMBDA __attribute__((always_inline))
 
 GYROCOMP_INLINE void Ld(Vec& v, const double* p) { v = Load(p); }
 GYROCOMP_INLINE void Ld(double& v, const double* p) { v = *p; }
@@ -124,18 +126,26 @@ GYROCOMP_INLINE void Reciprocals(V freq, const double (&omega)[K], double alpha,
   rcp[0] = inv;
 }
 
-// Bins i .. i + width(V) - 1, every mode in Gauss-Seidel order. Eq. (4) as UpdateBin, except that
-// the running quantity is the residual r = f - sum_uk (updated as r <- (r - u_{k-1}) + u_k^old),
-// which saves the subtraction f - sum_uk: two fewer additions per bin-update.
-template <class V, int K, bool kLambda, bool kRelative>
-GYROCOMP_INLINE void BinStep(const BinChunk& c, std::size_t i, const double (&omega)[K], double alpha, bool batch,
-                             ModeAcc<V> (&acc)[K]) {
+// The K reciprocals of bins i .. i + width(V) - 1 into rcp[k * kRecipBins + i] (pass 1).
+template <class V, int K>
+GYROCOMP_INLINE void RecipStep(const double* freq_in, std::size_t i, const double (&omega)[K], double alpha,
+                               bool batch, double* rcp_out) {
+  V freq, rcp[K];
+  Ld(freq, freq_in + i);
+  Reciprocals<V, K>(freq, omega, alpha, batch, rcp);
+  for (int k = 0; k < K; ++k) St(rcp_out + k * kRecipBins + i, rcp[k]);
+}
+
+// Bins i .. i + width(V) - 1, every mode in Gauss-Seidel order (pass 2). Eq. (4) as UpdateBin,
+// except that the running quantity is the residual r = f - sum_uk (updated as
+// r <- (r - u_{k-1}) + u_k^old), which saves the subtraction f - sum_uk: two fewer additions per
+// bin-update. rcp_at(k): the reciprocal of mode k for these bins (pass 1's buffer, or registers).
+template <class V, int K, bool kLambda, StopSums kStop, class RcpAt>
+GYROCOMP_INLINE void BinStep(const BinChunk& c, std::size_t i, const RcpAt& rcp_at, ModeAcc<V> (&acc)[K]) {
   V freq, r_re, r_im, pr, pi;
   Ld(freq, c.freq + i);
   Ld(r_re, c.r_re + i);
   Ld(r_im, c.r_im + i);
-  V rcp[K];
-  Reciprocals<V, K>(freq, omega, alpha, batch, rcp);
   Ld(pr, c.src_re + (K - 1) * c.stride + i);  // mode 0's predecessor: mode K-1 of the last update
   Ld(pi, c.src_im + (K - 1) * c.stride + i);
   for (int k = 0; k < K; ++k) {
@@ -143,6 +153,7 @@ GYROCOMP_INLINE void BinStep(const BinChunk& c, std::size_t i, const double (&om
     V o_re, o_im;
     Ld(o_re, c.src_re + at);
     Ld(o_im, c.src_im + at);
+    const V rk = rcp_at(k);
     r_re = (r_re - pr) + o_re;  // f - sum_uk
     r_im = (r_im - pi) + o_im;
     V nr = r_re, ni = r_im;
@@ -153,15 +164,17 @@ GYROCOMP_INLINE void BinStep(const BinChunk& c, std::size_t i, const double (&om
       nr = nr - l_re * 0.5;
       ni = ni - l_im * 0.5;
     }
-    const V ur = nr * rcp[k], ui = ni * rcp[k];  // Eq. (4)
+    const V ur = nr * rk, ui = ni * rk;  // Eq. (4)
     St(c.dst_re + at, ur);
     St(c.dst_im + at, ui);
     const V pw = ur * ur + ui * ui;
     acc[k].fp += freq * pw;  // Eq. (5) numerator
     acc[k].p += pw;          // Eq. (5) denominator
-    const V dr = ur - o_re, di = ui - o_im;
-    acc[k].df += dr * dr + di * di;  // stopping rule
-    if constexpr (kRelative) acc[k].op += o_re * o_re + o_im * o_im;
+    if constexpr (kStop != StopSums::kNone) {
+      const V dr = ur - o_re, di = ui - o_im;
+      acc[k].df += dr * dr + di * di;  // stopping rule
+    }
+    if constexpr (kStop == StopSums::kRelative) acc[k].op += o_re * o_re + o_im * o_im;
     pr = ur;
     pi = ui;
   }
@@ -169,28 +182,47 @@ GYROCOMP_INLINE void BinStep(const BinChunk& c, std::size_t i, const double (&om
   St(c.r_im + i, r_im);
 }
 
-template <int K, bool kLambda, bool kRelative>
-GYROCOMP_INLINE void BinChunkBody(const BinChunk& chunk, std::size_t n, const double* omega_in, double alpha,
-                                  bool batch, LaneSums* sums) {
-  const BinChunk c = chunk;  // a local copy: the compiler need not reload the pointers after stores
-  double omega[K];
-  for (int k = 0; k < K; ++k) omega[k] = omega_in[k];
-  ModeAcc<Vec> acc[K];
+// The same bins and operations in one pass (the reciprocals of the vector computed in registers
+// just before its modes): for iterates that stream from memory, where a separate reciprocal pass
+// would leave the memory idle (BinChunk::two_pass).
+template <class V, int K, bool kLambda, StopSums kStop>
+GYROCOMP_INLINE void FusedStep(const BinChunk& c, std::size_t i, const double (&omega)[K], double alpha, bool batch,
+                               ModeAcc<V> (&acc)[K]) {
+  V freq, rcp[K];
+  Ld(freq, c.freq + i);
+  Reciprocals<V, K>(freq, omega, alpha, batch, rcp);
+  BinStep<V, K, kLambda, kStop>(c, i, [&rcp](int k) GYROCOMP_INLINE_LAMBDA { return rcp[k]; }, acc);
+}
+
+// The sums of this variant between LaneSums and registers (only those it adds: 32 vector
+// registers, and an unused accumulator carried through the loop would cost a spill).
+template <int K, StopSums kStop>
+GYROCOMP_INLINE void LoadSums(const LaneSums* sums, ModeAcc<Vec> (&acc)[K]) {
   for (int k = 0; k < K; ++k) {
-    acc[k] = {Load(sums[k].freq_power), Load(sums[k].power), Load(sums[k].diff), Load(sums[k].old_power)};
+    acc[k].fp = Load(sums[k].freq_power);
+    acc[k].p = Load(sums[k].power);
+    if constexpr (kStop != StopSums::kNone) acc[k].df = Load(sums[k].diff);
+    if constexpr (kStop == StopSums::kRelative) acc[k].op = Load(sums[k].old_power);
   }
-  std::size_t i = 0;
-  for (; i + kLanes <= n; i += kLanes) BinStep<Vec, K, kLambda, kRelative>(c, i, omega, alpha, batch, acc);
+}
+template <int K, StopSums kStop>
+GYROCOMP_INLINE void StoreSums(const ModeAcc<Vec> (&acc)[K], LaneSums* sums) {
   for (int k = 0; k < K; ++k) {
     Store(sums[k].freq_power, acc[k].fp);
     Store(sums[k].power, acc[k].p);
-    Store(sums[k].diff, acc[k].df);
-    Store(sums[k].old_power, acc[k].op);
+    if constexpr (kStop != StopSums::kNone) Store(sums[k].diff, acc[k].df);
+    if constexpr (kStop == StopSums::kRelative) Store(sums[k].old_power, acc[k].op);
   }
-  for (std::size_t l = 0; i < n; ++i, ++l) {  // tail: bin i in lane l, the same operations
+}
+
+// The tail bins [i, n) one at a time, bin i in lane l = i - (first tail bin): step(i, a) runs
+// one bin on the scalar accumulators a.
+template <int K, class Step>
+GYROCOMP_INLINE void Tail(std::size_t i, std::size_t n, LaneSums* sums, const Step& step) {
+  for (std::size_t l = 0; i < n; ++i, ++l) {
     ModeAcc<double> a[K];
     for (int k = 0; k < K; ++k) a[k] = {sums[k].freq_power[l], sums[k].power[l], sums[k].diff[l], sums[k].old_power[l]};
-    BinStep<double, K, kLambda, kRelative>(c, i, omega, alpha, batch, a);
+    step(i, a);
     for (int k = 0; k < K; ++k) {
       sums[k].freq_power[l] = a[k].fp;
       sums[k].power[l] = a[k].p;
@@ -200,50 +232,115 @@ GYROCOMP_INLINE void BinChunkBody(const BinChunk& chunk, std::size_t n, const do
   }
 }
 
+// Bins [0, n), n <= kRecipBins: pass 1 (reciprocals) then pass 2 (Eq. 4 and the sums).
+template <int K, bool kLambda, StopSums kStop>
+GYROCOMP_INLINE void BinSubChunk(const BinChunk& c, std::size_t n, const double (&omega)[K], double alpha, bool batch,
+                                 LaneSums* sums) {
+  alignas(64) double rcp[K * kRecipBins];
+  std::size_t i = 0;
+  for (; i + kLanes <= n; i += kLanes) RecipStep<Vec, K>(c.freq, i, omega, alpha, batch, rcp);
+  for (; i < n; ++i) RecipStep<double, K>(c.freq, i, omega, alpha, batch, rcp);
+  ModeAcc<Vec> acc[K];
+  LoadSums<K, kStop>(sums, acc);
+  for (i = 0; i + kLanes <= n; i += kLanes) {
+    BinStep<Vec, K, kLambda, kStop>(c, i, [&rcp, i](int k) GYROCOMP_INLINE_LAMBDA {
+      Vec r;
+      Ld(r, rcp + k * kRecipBins + i);
+      return r;
+    }, acc);
+  }
+  StoreSums<K, kStop>(acc, sums);
+  Tail<K>(i, n, sums, [&](std::size_t j, ModeAcc<double> (&a)[K]) GYROCOMP_INLINE_LAMBDA {
+    BinStep<double, K, kLambda, kStop>(c, j, [&rcp, j](int k) GYROCOMP_INLINE_LAMBDA { return rcp[k * kRecipBins + j]; }, a);
+  });
+}
+
+// Bins [0, n) in one pass (FusedStep).
+template <int K, bool kLambda, StopSums kStop>
+GYROCOMP_INLINE void BinChunkFused(const BinChunk& c, std::size_t n, const double (&omega)[K], double alpha, bool batch,
+                                   LaneSums* sums) {
+  ModeAcc<Vec> acc[K];
+  LoadSums<K, kStop>(sums, acc);
+  std::size_t i = 0;
+  for (; i + kLanes <= n; i += kLanes) FusedStep<Vec, K, kLambda, kStop>(c, i, omega, alpha, batch, acc);
+  StoreSums<K, kStop>(acc, sums);
+  Tail<K>(i, n, sums, [&](std::size_t j, ModeAcc<double> (&a)[K]) GYROCOMP_INLINE_LAMBDA {
+    FusedStep<double, K, kLambda, kStop>(c, j, omega, alpha, batch, a);
+  });
+}
+
+template <int K, bool kLambda, StopSums kStop>
+GYROCOMP_INLINE void BinChunkBody(const BinChunk& chunk, std::size_t n, const double* omega_in, double alpha,
+                                  bool batch, LaneSums* sums) {
+  double omega[K];
+  for (int k = 0; k < K; ++k) omega[k] = omega_in[k];
+  if (!chunk.two_pass) {
+    const BinChunk c = chunk;  // a local copy: the compiler need not reload the pointers after stores
+    BinChunkFused<K, kLambda, kStop>(c, n, omega, alpha, batch, sums);
+    return;
+  }
+  // Sub-chunks start at multiples of kRecipBins (a multiple of kLanes): a bin keeps its lane.
+  for (std::size_t s0 = 0; s0 < n; s0 += kRecipBins) {
+    BinChunk c = chunk;  // a local copy: the compiler need not reload the pointers after stores
+    c.freq += s0, c.r_re += s0, c.r_im += s0, c.src_re += s0, c.src_im += s0, c.dst_re += s0, c.dst_im += s0;
+    if (c.l_re) c.l_re += s0, c.l_im += s0;
+    BinSubChunk<K, kLambda, kStop>(c, std::min(kRecipBins, n - s0), omega, alpha, batch, sums);
+  }
+}
+
 using BinFn = void (*)(const BinChunk&, std::size_t, const double*, double, bool, LaneSums*);
 
-template <int K, bool kLambda, bool kRelative>
+template <int K, bool kLambda, StopSums kStop>
 __attribute__((target("avx512f"))) void BinAvx512f(const BinChunk& c, std::size_t n, const double* omega, double alpha,
                                                    bool batch, LaneSums* sums) {
-  BinChunkBody<K, kLambda, kRelative>(c, n, omega, alpha, batch, sums);
+  BinChunkBody<K, kLambda, kStop>(c, n, omega, alpha, batch, sums);
 }
-template <int K, bool kLambda, bool kRelative>
+template <int K, bool kLambda, StopSums kStop>
 __attribute__((target("avx2"))) void BinAvx2(const BinChunk& c, std::size_t n, const double* omega, double alpha,
                                              bool batch, LaneSums* sums) {
-  BinChunkBody<K, kLambda, kRelative>(c, n, omega, alpha, batch, sums);
+  BinChunkBody<K, kLambda, kStop>(c, n, omega, alpha, batch, sums);
 }
-template <int K, bool kLambda, bool kRelative>
+template <int K, bool kLambda, StopSums kStop>
 void BinBaseline(const BinChunk& c, std::size_t n, const double* omega, double alpha, bool batch, LaneSums* sums) {
-  BinChunkBody<K, kLambda, kRelative>(c, n, omega, alpha, batch, sums);
+  BinChunkBody<K, kLambda, kStop>(c, n, omega, alpha, batch, sums);
 }
 
-template <int K, bool kLambda, bool kRelative>
+template <int K, bool kLambda, StopSums kStop>
 BinFn SelectBinPath(KernelPath path) {
   switch (path) {
-    case KernelPath::kAvx512f: return BinAvx512f<K, kLambda, kRelative>;
-    case KernelPath::kAvx2: return BinAvx2<K, kLambda, kRelative>;
+    case KernelPath::kAvx512f: return BinAvx512f<K, kLambda, kStop>;
+    case KernelPath::kAvx2: return BinAvx2<K, kLambda, kStop>;
     case KernelPath::kBaseline: break;
   }
-  return BinBaseline<K, kLambda, kRelative>;
+  return BinBaseline<K, kLambda, kStop>;
+}
+
+template <int K, bool kLambda>
+BinFn SelectBinStop(KernelPath path, StopSums stop) {
+  switch (stop) {
+    case StopSums::kNone: return SelectBinPath<K, kLambda, StopSums::kNone>(path);
+    case StopSums::kAbsolute: return SelectBinPath<K, kLambda, StopSums::kAbsolute>(path);
+    case StopSums::kRelative: break;
+  }
+  return SelectBinPath<K, kLambda, StopSums::kRelative>(path);
 }
 
 template <int K>
-BinFn SelectBinK(KernelPath path, bool lambda, bool relative) {
-  if (lambda) return relative ? SelectBinPath<K, true, true>(path) : SelectBinPath<K, true, false>(path);
-  return relative ? SelectBinPath<K, false, true>(path) : SelectBinPath<K, false, false>(path);
+BinFn SelectBinK(KernelPath path, bool lambda, StopSums stop) {
+  return lambda ? SelectBinStop<K, true>(path, stop) : SelectBinStop<K, false>(path, stop);
 }
 
-BinFn SelectBin(KernelPath path, int K, bool lambda, bool relative) {
+BinFn SelectBin(KernelPath path, int K, bool lambda, StopSums stop) {
   static_assert(kMaxModesAtOnce == 8, "SelectBin lists K = 1 .. 8");
   switch (K) {
-    case 1: return SelectBinK<1>(path, lambda, relative);
-    case 2: return SelectBinK<2>(path, lambda, relative);
-    case 3: return SelectBinK<3>(path, lambda, relative);
-    case 4: return SelectBinK<4>(path, lambda, relative);
-    case 5: return SelectBinK<5>(path, lambda, relative);
-    case 6: return SelectBinK<6>(path, lambda, relative);
-    case 7: return SelectBinK<7>(path, lambda, relative);
-    case 8: return SelectBinK<8>(path, lambda, relative);
+    case 1: return SelectBinK<1>(path, lambda, stop);
+    case 2: return SelectBinK<2>(path, lambda, stop);
+    case 3: return SelectBinK<3>(path, lambda, stop);
+    case 4: return SelectBinK<4>(path, lambda, stop);
+    case 5: return SelectBinK<5>(path, lambda, stop);
+    case 6: return SelectBinK<6>(path, lambda, stop);
+    case 7: return SelectBinK<7>(path, lambda, stop);
+    case 8: return SelectBinK<8>(path, lambda, stop);
     default: return nullptr;
   }
 }
@@ -324,14 +421,14 @@ bool BatchInversionSafe(int num_modes, double alpha) {
 }
 
 void UpdateBinChunkOn(KernelPath path, const BinChunk& c, std::size_t n, int num_modes, const double* omega,
-                      double alpha, bool batch_inversion, bool relative, LaneSums* sums) {
-  SelectBin(path, num_modes, c.l_re != nullptr, relative)(c, n, omega, alpha, batch_inversion, sums);
+                      double alpha, bool batch_inversion, StopSums stop, LaneSums* sums) {
+  SelectBin(path, num_modes, c.l_re != nullptr, stop)(c, n, omega, alpha, batch_inversion, sums);
 }
 
 void UpdateBinChunk(const BinChunk& c, std::size_t n, int num_modes, const double* omega, double alpha,
-                    bool batch_inversion, bool relative, LaneSums* sums) {
+                    bool batch_inversion, StopSums stop, LaneSums* sums) {
   static const KernelPath best = BestPath();
-  UpdateBinChunkOn(best, c, n, num_modes, omega, alpha, batch_inversion, relative, sums);
+  UpdateBinChunkOn(best, c, n, num_modes, omega, alpha, batch_inversion, stop, sums);
 }
 
 const char* KernelIsa() {

@@ -83,8 +83,20 @@ struct BinChunk {
   const double* src_im;
   double* dst_re;        // new iterate, mode 0
   double* dst_im;
-  std::size_t stride;    // distance between modes (H)
+  std::size_t stride;    // distance between modes (>= H)
+  // Reciprocals of a 256-bin sub-chunk first, then Eq. (4) (in cache: the passes overlap better),
+  // or both per vector in one pass (iterates streaming from memory: no pass leaves the memory
+  // idle). The same operations either way: the same bits. UseTwoPass says which.
+  bool two_pass = true;
 };
+
+// Whether the iterate (K modes, `stride` bins each, re and im) is small enough for the two-pass
+// kernel: measured on the 2-core Zen 4 (32 MiB L3): two-pass faster up to H = 100k (9.6 MB),
+// slower from 200k (19 MB; 1.3 vs 0.95 ns per bin-update at 1M).
+constexpr std::size_t kTwoPassMaxIterateBytes = std::size_t{12} << 20;
+inline bool UseTwoPass(int num_modes, std::size_t stride) {
+  return static_cast<std::size_t>(num_modes) * stride * 2 * sizeof(double) <= kTwoPassMaxIterateBytes;
+}
 
 // Reciprocals of the K denominators of Eq. (4), D_k = 1 + alpha (freq - omega_k)^2 (all >= 1), by
 // batch inversion: prefix products P_k = D_0 ... D_k, one division 1 / P_{K-1}, then backwards
@@ -93,15 +105,26 @@ struct BinChunk {
 // that (1 + alpha / 4)^K > 2^1000), every reciprocal is a direct division instead.
 bool BatchInversionSafe(int num_modes, double alpha);
 
+// Which stopping-rule sums UpdateBinChunk adds (LaneSums::diff, and old_power for Eq. 7). kNone
+// leaves both untouched: DecomposeVmd skips them on updates where the rule cannot be met yet
+// (vmd.cc: StopSchedule); Eq. (4) and the Eq. (5) sums are the same bits either way.
+enum class StopSums { kNone, kAbsolute, kRelative };
+
 // Eq. (4) and the Eq. (5) / stopping-rule sums for all K (<= kMaxModesAtOnce) modes on n bins;
 // sums[k] receives mode k. The running quantity is the residual r = f - sum_uk, updated per mode
 // as r <- (r - u_{k-1}) + u_k^old (one subtraction fewer than keeping sum_uk). batch_inversion:
-// pass BatchInversionSafe(num_modes, alpha). old_power (Eq. 7's denominator) is summed only when
-// `relative`.
+// pass BatchInversionSafe(num_modes, alpha). diff is summed unless stop = kNone, old_power (Eq. 7's
+// denominator) only for kRelative.
+// With BinChunk::two_pass, two passes per sub-chunk of kRecipBins bins: the K reciprocals of every
+// bin into a buffer on the stack, then Eq. (4). The reciprocals depend only on the bin and the
+// centre frequencies, so the passes give the same bits as one; separated, each pass's vectors are
+// independent of each other and the out-of-order core overlaps them (0.67 vs 0.82 ns per
+// bin-update at N = 20k; docs/performance.md). Without it, one pass (iterates in memory).
+constexpr std::size_t kRecipBins = 256;
 void UpdateBinChunk(const BinChunk& c, std::size_t n, int num_modes, const double* omega, double alpha,
-                    bool batch_inversion, bool relative, LaneSums* sums);
+                    bool batch_inversion, StopSums stop, LaneSums* sums);
 void UpdateBinChunkOn(KernelPath path, const BinChunk& c, std::size_t n, int num_modes, const double* omega,
-                      double alpha, bool batch_inversion, bool relative, LaneSums* sums);
+                      double alpha, bool batch_inversion, StopSums stop, LaneSums* sums);
 
 // The instruction set the dispatcher picks on this machine ("avx512f", "avx2", "baseline"), for
 // benchmark and log output.
@@ -120,10 +143,32 @@ std::vector<double> InitialCenterFrequencies(const VmdOptions& opt, std::size_t 
 // Refuses a K the record cannot hold (K > N / 2) or a working set above max_memory_bytes.
 Status CheckProblemSize(const VmdOptions& opt, std::size_t n);
 
-// DecomposeVmd with its in-place prediction horizon exposed (vmd.cc: KeepPrevious; DecomposeVmd
-// uses 4). lookahead_steps = 0 never predicts, so every converged run is run a second time:
-// tests use it to check that the rerun gives the same bits. *reruns (if given) counts reruns.
-Result<VmdResult> DecomposeVmdTuned(std::span<const double> signal, const VmdOptions& opt, double lookahead_steps,
+// DecomposeVmd's internal schedules (vmd.cc). None changes a bit of the result, only memory
+// traffic, work and how often the iteration is run again.
+struct VmdTuning {
+  // KeepPrevious's horizon: keep update n when this many more falls of the stopping value like
+  // the last would meet tol. 0 never predicts, so every converged run is run a second time.
+  double lookahead_steps = 4;
+  // StopSchedule: skip the stopping-rule sums on updates where the rule cannot be met yet,
+  // predicted with a fall per update of min(stop_fall_cap, (measured fall)^stop_safety_exponent)
+  // (pessimistic), computing at least every stop_max_gap updates. Exponent 0 with cap 1 predicts
+  // no fall: the meeting update is then found late (unless it falls on a computed pair) and the
+  // iteration run again.
+  // Defaults: no rerun on the four golden inputs, the 20k / 40k soak and side-by-side records,
+  // two MPU-6050 logs (K = 4, 6) and two pure tones, computing the sums on 16-52% of the updates
+  // (docs/performance.md).
+  bool stop_schedule = true;
+  // The first updates always compute the sums: early on the value can rise and then collapse
+  // by 1e9 within three updates (two pure tones), which no measured fall predicts.
+  int stop_warmup_updates = 16;
+  double stop_safety_exponent = 8;
+  double stop_fall_cap = 0.5;  // the assumed fall per update is at least this steep (<= it)
+  int stop_max_gap = 8;
+};
+
+// DecomposeVmd with its schedules exposed (DecomposeVmd uses VmdTuning{}): tests use them to
+// check that reruns give the same bits. *reruns (if given) counts reruns.
+Result<VmdResult> DecomposeVmdTuned(std::span<const double> signal, const VmdOptions& opt, const VmdTuning& tuning,
                                     int* reruns);
 
 }  // namespace gyrocomp::vmd_internal

@@ -125,7 +125,7 @@ struct ModeArrays {
 
 // The definition, one bin at a time: D_k, the reciprocals (batch inversion as documented in
 // vmd_kernel.h, or direct), then Eq. (4) per mode on the residual r = f - sum_uk.
-void ScalarAllModes(ModeArrays& a, bool lambda, bool relative, bool batch, const std::vector<double>& omega,
+void ScalarAllModes(ModeArrays& a, bool lambda, StopSums stop, bool batch, const std::vector<double>& omega,
                     double alpha, std::vector<LaneSums>& acc) {
   const std::size_t K = a.K;
   for (std::size_t j = 0; j < a.n; ++j) {
@@ -164,9 +164,11 @@ void ScalarAllModes(ModeArrays& a, bool lambda, bool relative, bool batch, const
       const double pw = ur * ur + ui * ui;
       acc[k].freq_power[l] += a.freq[j] * pw;
       acc[k].power[l] += pw;
-      const double dr = ur - o_re, di = ui - o_im;
-      acc[k].diff[l] += dr * dr + di * di;
-      if (relative) acc[k].old_power[l] += o_re * o_re + o_im * o_im;
+      if (stop != StopSums::kNone) {
+        const double dr = ur - o_re, di = ui - o_im;
+        acc[k].diff[l] += dr * dr + di * di;
+      }
+      if (stop == StopSums::kRelative) acc[k].old_power[l] += o_re * o_re + o_im * o_im;
       pr = ur;
       pi = ui;
     }
@@ -188,15 +190,26 @@ TEST(VmdKernel, BinMajorPathsEqualTheScalarDefinitionBitForBitForEveryK) {
     for (int K = 1; K <= kMaxModesAtOnce; ++K) {
       std::vector<double> omega(K);
       for (int k = 0; k < K; ++k) omega[k] = 0.5 * k / K + 0.01;
-      for (int variant = 0; variant < 8; ++variant) {
-        const bool lambda = variant & 1, relative = variant & 2, batch = variant & 4;
+      for (int variant = 0; variant < 24; ++variant) {
+        const bool lambda = variant & 1, batch = variant & 2, two_pass = variant & 4;
+        const StopSums stop = static_cast<StopSums>(variant / 8);  // none, absolute, relative
         SCOPED_TRACE(name + " K=" + std::to_string(K) + " lambda=" + std::to_string(lambda) +
-                     " relative=" + std::to_string(relative) + " batch=" + std::to_string(batch));
+                     " stop=" + std::to_string(variant / 8) + " batch=" + std::to_string(batch) +
+                     " two_pass=" + std::to_string(two_pass));
         ModeArrays expect(n, K), got(n, K);
+        // Sums start from nonzero values: kNone must leave diff and old_power as they are.
         std::vector<LaneSums> se(K), sg(K);
-        for (int k = 0; k < K; ++k) se[k].Clear(), sg[k].Clear();
-        ScalarAllModes(expect, lambda, relative, batch, omega, 2000.0, se);
-        UpdateBinChunkOn(path, got.Chunk(lambda), n, K, omega.data(), 2000.0, batch, relative, sg.data());
+        for (int k = 0; k < K; ++k) {
+          for (std::size_t l = 0; l < kLanes; ++l) {
+            const double v = 1.0 + k + 0.125 * l;
+            se[k].freq_power[l] = se[k].power[l] = se[k].diff[l] = se[k].old_power[l] = v;
+            sg[k].freq_power[l] = sg[k].power[l] = sg[k].diff[l] = sg[k].old_power[l] = v;
+          }
+        }
+        ScalarAllModes(expect, lambda, stop, batch, omega, 2000.0, se);
+        BinChunk chunk = got.Chunk(lambda);
+        chunk.two_pass = two_pass;
+        UpdateBinChunkOn(path, chunk, n, K, omega.data(), 2000.0, batch, stop, sg.data());
         ASSERT_EQ(got.u_re, expect.u_re);
         ASSERT_EQ(got.u_im, expect.u_im);
         ASSERT_EQ(got.r_re, expect.r_re);
@@ -230,8 +243,8 @@ TEST(VmdKernel, BatchInversionAgreesWithDirectDivisionToAFewRoundings) {
     ModeArrays batch(n, K), direct(n, K);
     std::vector<LaneSums> sb(K), sd(K);
     for (int k = 0; k < K; ++k) sb[k].Clear(), sd[k].Clear();
-    UpdateBinChunk(batch.Chunk(false), n, K, omega.data(), 2000.0, true, false, sb.data());
-    UpdateBinChunk(direct.Chunk(false), n, K, omega.data(), 2000.0, false, false, sd.data());
+    UpdateBinChunk(batch.Chunk(false), n, K, omega.data(), 2000.0, true, StopSums::kAbsolute, sb.data());
+    UpdateBinChunk(direct.Chunk(false), n, K, omega.data(), 2000.0, false, StopSums::kAbsolute, sd.data());
     const double bound = 2 * (2 * K + 1) * 0x1p-53;
     double worst = 0;
     for (std::size_t i = 0; i < n; ++i) {  // mode 0
@@ -256,7 +269,7 @@ TEST(VmdKernel, BatchInversionIsRefusedWhereItsProductsCouldOverflow) {
   for (int k = 0; k < 8; ++k) omega[k] = 0.06 * k;
   std::vector<LaneSums> s(8);
   for (auto& x : s) x.Clear();
-  UpdateBinChunk(a.Chunk(false), n, 8, omega.data(), 1e40, BatchInversionSafe(8, 1e40), false, s.data());
+  UpdateBinChunk(a.Chunk(false), n, 8, omega.data(), 1e40, BatchInversionSafe(8, 1e40), StopSums::kAbsolute, s.data());
   for (double v : a.u_re) EXPECT_TRUE(std::isfinite(v));
 }
 

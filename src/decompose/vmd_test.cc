@@ -183,7 +183,9 @@ TEST(Vmd, InPlaceUpdatesAndTheirRerunGiveTheSameBits) {
     auto a = DecomposeVmd(input, opt);
     const std::vector<int> reported_default = reported;
     reported.clear();
-    auto b = vmd_internal::DecomposeVmdTuned(input, opt, 0.0, &reruns);
+    vmd_internal::VmdTuning never_predict;
+    never_predict.lookahead_steps = 0;
+    auto b = vmd_internal::DecomposeVmdTuned(input, opt, never_predict, &reruns);
     ASSERT_TRUE(a.ok() && b.ok());
     EXPECT_EQ(reruns, 1);
     EXPECT_EQ(b->summary.iterations, meta.at("iterations").get<int>());
@@ -197,7 +199,7 @@ TEST(Vmd, InPlaceUpdatesAndTheirRerunGiveTheSameBits) {
     // The last iterate needs no predecessor: fully in place, never repeated.
     opt.return_last_iterate = true;
     reruns = 0;
-    auto c = vmd_internal::DecomposeVmdTuned(input, opt, 0.0, &reruns);
+    auto c = vmd_internal::DecomposeVmdTuned(input, opt, never_predict, &reruns);
     ASSERT_TRUE(c.ok());
     EXPECT_EQ(reruns, 0);
     EXPECT_EQ(c->summary.iterations, a->summary.iterations);

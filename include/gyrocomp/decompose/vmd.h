@@ -103,7 +103,10 @@ struct VmdOptions {
   // than they save). Results are bit-identical for any value.
   std::optional<int> num_threads;
   // Called after every update with the update count and the stopping quantity (for progress
-  // displays). Empty: not called. Does not change the result.
+  // displays), or NaN on updates that skip the stopping-rule sums (far from tol, K <= 8, without
+  // the centre-frequency extrapolation: the sums are computed only where the rule could be met).
+  // Each update is reported once; when a run is repeated internally, updates past the returned
+  // count may have been reported. Empty: not called. Does not change the result.
   std::function<void(int iteration, double update)> on_iteration;
   // Largest working set DecomposeVmd may allocate, bytes (K modes x N bins x two complex iterates
   // and the accumulator, ~48 K N bytes, plus the modes returned). Checked before allocating: a
@@ -129,6 +132,7 @@ struct VmdSummary {
   double final_update = 0.0;
   // Centre frequency of each returned mode, in the algorithm's order (mode k started from the
   // k-th initial frequency): cycles per sample (0 .. 0.5) and Hz (= cycles per sample * fs_hz).
+  // Eq. (5) of the returned modes, never an extrapolated value (omega_extrapolation_period).
   std::vector<double> center_frequency_cycles_per_sample;
   std::vector<double> center_frequency_hz;
   double fs_hz = 1.0;

@@ -91,7 +91,21 @@ inline __attribute__((always_inline)) void UpdateChunk(const ModeChunk& c, std::
 #define GYROCOMP_INLINE inline __attribute__((always_inline))
 #define GYROCOMP_INLINE_LAMBDA __attribute__((always_inline))
 
+// The pass's vector: kLanes doubles (one zmm register) on the AVX-512 path; on the AVX2 and
+// baseline paths a native ymm / xmm vector, the kernel walking each block of kLanes bins in
+// kLanes / width passes (BinSubChunk). GCC compiles the 64-byte vector on a 256-bit target
+// through the stack (3.0 ns per bin-update with AVX2, 3.5 with SSE2, against 0.6 with AVX-512;
+// docs/performance.md).
+typedef double Vec4 __attribute__((vector_size(4 * sizeof(double))));
+typedef double Vec2 __attribute__((vector_size(2 * sizeof(double))));
+template <class V>
+constexpr std::size_t kWidth = sizeof(V) / sizeof(double);
+
 GYROCOMP_INLINE void Ld(Vec& v, const double* p) { v = Load(p); }
+GYROCOMP_INLINE void Ld(Vec4& v, const double* p) { std::memcpy(&v, p, sizeof(v)); }
+GYROCOMP_INLINE void Ld(Vec2& v, const double* p) { std::memcpy(&v, p, sizeof(v)); }
+GYROCOMP_INLINE void St(double* p, Vec4 v) { std::memcpy(p, &v, sizeof(v)); }
+GYROCOMP_INLINE void St(double* p, Vec2 v) { std::memcpy(p, &v, sizeof(v)); }
 GYROCOMP_INLINE void Ld(double& v, const double* p) { v = *p; }
 GYROCOMP_INLINE void St(double* p, Vec v) { Store(p, v); }
 GYROCOMP_INLINE void St(double* p, double v) { *p = v; }
@@ -194,24 +208,24 @@ GYROCOMP_INLINE void FusedStep(const BinChunk& c, std::size_t i, const double (&
   BinStep<V, K, kLambda, kStop>(c, i, [&rcp](int k) GYROCOMP_INLINE_LAMBDA { return rcp[k]; }, acc);
 }
 
-// The sums of this variant between LaneSums and registers (only those it adds: 32 vector
-// registers, and an unused accumulator carried through the loop would cost a spill).
-template <int K, StopSums kStop>
-GYROCOMP_INLINE void LoadSums(const LaneSums* sums, ModeAcc<Vec> (&acc)[K]) {
+// The sums of this variant, lanes [h, h + width(V)), between LaneSums and registers (only those
+// it adds: an unused accumulator carried through the loop would cost a spill).
+template <class V, int K, StopSums kStop>
+GYROCOMP_INLINE void LoadSums(const LaneSums* sums, std::size_t h, ModeAcc<V> (&acc)[K]) {
   for (int k = 0; k < K; ++k) {
-    acc[k].fp = Load(sums[k].freq_power);
-    acc[k].p = Load(sums[k].power);
-    if constexpr (kStop != StopSums::kNone) acc[k].df = Load(sums[k].diff);
-    if constexpr (kStop == StopSums::kRelative) acc[k].op = Load(sums[k].old_power);
+    Ld(acc[k].fp, sums[k].freq_power + h);
+    Ld(acc[k].p, sums[k].power + h);
+    if constexpr (kStop != StopSums::kNone) Ld(acc[k].df, sums[k].diff + h);
+    if constexpr (kStop == StopSums::kRelative) Ld(acc[k].op, sums[k].old_power + h);
   }
 }
-template <int K, StopSums kStop>
-GYROCOMP_INLINE void StoreSums(const ModeAcc<Vec> (&acc)[K], LaneSums* sums) {
+template <class V, int K, StopSums kStop>
+GYROCOMP_INLINE void StoreSums(const ModeAcc<V> (&acc)[K], std::size_t h, LaneSums* sums) {
   for (int k = 0; k < K; ++k) {
-    Store(sums[k].freq_power, acc[k].fp);
-    Store(sums[k].power, acc[k].p);
-    if constexpr (kStop != StopSums::kNone) Store(sums[k].diff, acc[k].df);
-    if constexpr (kStop == StopSums::kRelative) Store(sums[k].old_power, acc[k].op);
+    St(sums[k].freq_power + h, acc[k].fp);
+    St(sums[k].power + h, acc[k].p);
+    if constexpr (kStop != StopSums::kNone) St(sums[k].diff + h, acc[k].df);
+    if constexpr (kStop == StopSums::kRelative) St(sums[k].old_power + h, acc[k].op);
   }
 }
 
@@ -232,51 +246,59 @@ GYROCOMP_INLINE void Tail(std::size_t i, std::size_t n, LaneSums* sums, const St
   }
 }
 
-// Bins [0, n), n <= kRecipBins: pass 1 (reciprocals) then pass 2 (Eq. 4 and the sums).
-template <int K, bool kLambda, StopSums kStop>
+// Bins [0, n), n <= kRecipBins: pass 1 (reciprocals) then pass 2 (Eq. 4 and the sums). Pass 2
+// walks the lanes [h, h + width(V)) of every block of kLanes bins, for each h in turn: every
+// bin gets the same operations and every lane its bins in increasing order, for any width.
+template <class V, int K, bool kLambda, StopSums kStop>
 GYROCOMP_INLINE void BinSubChunk(const BinChunk& c, std::size_t n, const double (&omega)[K], double alpha, bool batch,
                                  LaneSums* sums) {
+  constexpr std::size_t kW = kWidth<V>;
   alignas(64) double rcp[K * kRecipBins];
+  const std::size_t n_body = n - n % kLanes;
   std::size_t i = 0;
-  for (; i + kLanes <= n; i += kLanes) RecipStep<Vec, K>(c.freq, i, omega, alpha, batch, rcp);
+  for (; i < n_body; i += kW) RecipStep<V, K>(c.freq, i, omega, alpha, batch, rcp);
   for (; i < n; ++i) RecipStep<double, K>(c.freq, i, omega, alpha, batch, rcp);
-  ModeAcc<Vec> acc[K];
-  LoadSums<K, kStop>(sums, acc);
-  for (i = 0; i + kLanes <= n; i += kLanes) {
-    BinStep<Vec, K, kLambda, kStop>(c, i, [&rcp, i](int k) GYROCOMP_INLINE_LAMBDA {
-      Vec r;
-      Ld(r, rcp + k * kRecipBins + i);
-      return r;
-    }, acc);
+  for (std::size_t h = 0; h < kLanes; h += kW) {
+    ModeAcc<V> acc[K];
+    LoadSums<V, K, kStop>(sums, h, acc);
+    for (i = h; i < n_body; i += kLanes) {
+      BinStep<V, K, kLambda, kStop>(c, i, [&rcp, i](int k) GYROCOMP_INLINE_LAMBDA {
+        V r;
+        Ld(r, rcp + k * kRecipBins + i);
+        return r;
+      }, acc);
+    }
+    StoreSums<V, K, kStop>(acc, h, sums);
   }
-  StoreSums<K, kStop>(acc, sums);
-  Tail<K>(i, n, sums, [&](std::size_t j, ModeAcc<double> (&a)[K]) GYROCOMP_INLINE_LAMBDA {
+  Tail<K>(n_body, n, sums, [&](std::size_t j, ModeAcc<double> (&a)[K]) GYROCOMP_INLINE_LAMBDA {
     BinStep<double, K, kLambda, kStop>(c, j, [&rcp, j](int k) GYROCOMP_INLINE_LAMBDA { return rcp[k * kRecipBins + j]; }, a);
   });
 }
 
-// Bins [0, n) in one pass (FusedStep).
-template <int K, bool kLambda, StopSums kStop>
+// Bins [0, n) in one pass (FusedStep), lanes [h, h + width(V)) of every block for each h in turn.
+template <class V, int K, bool kLambda, StopSums kStop>
 GYROCOMP_INLINE void BinChunkFused(const BinChunk& c, std::size_t n, const double (&omega)[K], double alpha, bool batch,
                                    LaneSums* sums) {
-  ModeAcc<Vec> acc[K];
-  LoadSums<K, kStop>(sums, acc);
-  std::size_t i = 0;
-  for (; i + kLanes <= n; i += kLanes) FusedStep<Vec, K, kLambda, kStop>(c, i, omega, alpha, batch, acc);
-  StoreSums<K, kStop>(acc, sums);
-  Tail<K>(i, n, sums, [&](std::size_t j, ModeAcc<double> (&a)[K]) GYROCOMP_INLINE_LAMBDA {
+  const std::size_t n_body = n - n % kLanes;
+  for (std::size_t h = 0; h < kLanes; h += kWidth<V>) {
+    ModeAcc<V> acc[K];
+    LoadSums<V, K, kStop>(sums, h, acc);
+    for (std::size_t i = h; i < n_body; i += kLanes) FusedStep<V, K, kLambda, kStop>(c, i, omega, alpha, batch, acc);
+    StoreSums<V, K, kStop>(acc, h, sums);
+  }
+  Tail<K>(n_body, n, sums, [&](std::size_t j, ModeAcc<double> (&a)[K]) GYROCOMP_INLINE_LAMBDA {
     FusedStep<double, K, kLambda, kStop>(c, j, omega, alpha, batch, a);
   });
 }
 
-template <int K, bool kLambda, StopSums kStop>
+template <class V, int K, bool kLambda, StopSums kStop>
 GYROCOMP_INLINE void BinChunkBody(const BinChunk& chunk, std::size_t n, const double* omega_in, double alpha,
                                   bool batch, LaneSums* sums) {
   double omega[K];
   for (int k = 0; k < K; ++k) omega[k] = omega_in[k];
   if (!chunk.two_pass) {
     const BinChunk c = chunk;  // a local copy: the compiler need not reload the pointers after stores
-    BinChunkFused<K, kLambda, kStop>(c, n, omega, alpha, batch, sums);
+    BinChunkFused<V, K, kLambda, kStop>(c, n, omega, alpha, batch, sums);
     return;
   }
   // Sub-chunks start at multiples of kRecipBins (a multiple of kLanes): a bin keeps its lane.
@@ -284,7 +306,7 @@ GYROCOMP_INLINE void BinChunkBody(const BinChunk& chunk, std::size_t n, const do
     BinChunk c = chunk;  // a local copy: the compiler need not reload the pointers after stores
     c.freq += s0, c.r_re += s0, c.r_im += s0, c.src_re += s0, c.src_im += s0, c.dst_re += s0, c.dst_im += s0;
     if (c.l_re) c.l_re += s0, c.l_im += s0;
-    BinSubChunk<K, kLambda, kStop>(c, std::min(kRecipBins, n - s0), omega, alpha, batch, sums);
+    BinSubChunk<V, K, kLambda, kStop>(c, std::min(kRecipBins, n - s0), omega, alpha, batch, sums);
   }
 }
 
@@ -293,16 +315,16 @@ using BinFn = void (*)(const BinChunk&, std::size_t, const double*, double, bool
 template <int K, bool kLambda, StopSums kStop>
 __attribute__((target("avx512f"))) void BinAvx512f(const BinChunk& c, std::size_t n, const double* omega, double alpha,
                                                    bool batch, LaneSums* sums) {
-  BinChunkBody<K, kLambda, kStop>(c, n, omega, alpha, batch, sums);
+  BinChunkBody<Vec, K, kLambda, kStop>(c, n, omega, alpha, batch, sums);
 }
 template <int K, bool kLambda, StopSums kStop>
 __attribute__((target("avx2"))) void BinAvx2(const BinChunk& c, std::size_t n, const double* omega, double alpha,
                                              bool batch, LaneSums* sums) {
-  BinChunkBody<K, kLambda, kStop>(c, n, omega, alpha, batch, sums);
+  BinChunkBody<Vec4, K, kLambda, kStop>(c, n, omega, alpha, batch, sums);
 }
 template <int K, bool kLambda, StopSums kStop>
 void BinBaseline(const BinChunk& c, std::size_t n, const double* omega, double alpha, bool batch, LaneSums* sums) {
-  BinChunkBody<K, kLambda, kStop>(c, n, omega, alpha, batch, sums);
+  BinChunkBody<Vec2, K, kLambda, kStop>(c, n, omega, alpha, batch, sums);
 }
 
 template <int K, bool kLambda, StopSums kStop>

@@ -1,7 +1,8 @@
 // The VMD inner kernel: see vmd_kernel.h. Compiled with -ffp-contract=off (CMakeLists.txt).
 //
-// Vectorisation: GCC vector extensions of kLanes doubles (the compiler lowers one to a 512-bit,
-// two 256-bit or four 128-bit registers); the kernel is compiled three times (target
+// Vectorisation: GCC vector extensions: kLanes doubles (one 512-bit register) on the AVX-512 path,
+// and for the bin-major kernel a native 256-bit / 128-bit vector on the AVX2 / baseline paths
+// (a 64-byte vector there compiles to stack traffic); the kernel is compiled three times (target
 // attributes AVX-512F, AVX2 and the x86-64 baseline) and the best path the CPU supports is
 // picked at the first call (no -march=native: the binary runs on any x86-64). Every lane does the same IEEE operations in the same order on
 // every path (add, subtract, multiply, divide are correctly rounded; no reassociation, no FMA),
@@ -101,13 +102,12 @@ typedef double Vec2 __attribute__((vector_size(2 * sizeof(double))));
 template <class V>
 constexpr std::size_t kWidth = sizeof(V) / sizeof(double);
 
-GYROCOMP_INLINE void Ld(Vec& v, const double* p) { v = Load(p); }
-GYROCOMP_INLINE void Ld(Vec4& v, const double* p) { std::memcpy(&v, p, sizeof(v)); }
-GYROCOMP_INLINE void Ld(Vec2& v, const double* p) { std::memcpy(&v, p, sizeof(v)); }
-GYROCOMP_INLINE void St(double* p, Vec4 v) { std::memcpy(p, &v, sizeof(v)); }
-GYROCOMP_INLINE void St(double* p, Vec2 v) { std::memcpy(p, &v, sizeof(v)); }
+// Unaligned load / store of any of the vector types (Vec, Vec4, Vec2), or of one double (tails).
+template <class V>
+GYROCOMP_INLINE void Ld(V& v, const double* p) { std::memcpy(&v, p, sizeof(v)); }
+template <class V>
+GYROCOMP_INLINE void St(double* p, const V& v) { std::memcpy(p, &v, sizeof(v)); }
 GYROCOMP_INLINE void Ld(double& v, const double* p) { v = *p; }
-GYROCOMP_INLINE void St(double* p, Vec v) { Store(p, v); }
 GYROCOMP_INLINE void St(double* p, double v) { *p = v; }
 
 // Accumulators of one mode (kLanes lanes as a Vec, or one lane as a double in the tail).

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <system_error>
 
 #include "vmd_threads.h"
 
@@ -11,6 +12,35 @@ namespace gyrocomp::vmd_internal {
 std::mutex& FftwPlannerMutex() {
   static std::mutex mutex;
   return mutex;
+}
+
+namespace {
+
+Plan PlanInverse(std::size_t T, fftw_complex* spec, double* time) {
+  std::lock_guard<std::mutex> lock(FftwPlannerMutex());
+  return Plan(fftw_plan_dft_c2r_1d(static_cast<int>(T), spec, time, FFTW_ESTIMATE));
+}
+
+// The inverse plan on a helper thread (the same planner call as on the caller's, after the
+// forward plan as before: the same plan, the same bits). Planning does not touch the arrays
+// (FFTW_ESTIMATE), which the caller keeps using; a planner call never overlaps another (the
+// mutex). If no thread can be started, the plan is made here.
+void StartInversePlan(VmdSpectrum& sp) {
+  const std::size_t T = sp.T;
+  fftw_complex* spec = sp.spec_buf.get();
+  double* time = sp.time_buf.get();
+  try {
+    sp.inverse_pending = std::async(std::launch::async, [T, spec, time] { return PlanInverse(T, spec, time); });
+  } catch (const std::system_error&) {
+    sp.inverse = PlanInverse(T, spec, time);
+  }
+}
+
+}  // namespace
+
+fftw_plan_s* VmdSpectrum::InversePlan() {
+  if (inverse_pending.valid()) inverse = inverse_pending.get();
+  return inverse.get();
 }
 
 // Even working length, mirror extension f[ltemp-1..0], f, f[N-1..N-ltemp], forward FFT, and the
@@ -49,9 +79,9 @@ Result<VmdSpectrum> MirrorAndTransform(std::span<const double> signal, bool mirr
     std::lock_guard<std::mutex> lock(FftwPlannerMutex());
     // FFTW_ESTIMATE does not touch the arrays and is deterministic run to run.
     sp.forward.reset(fftw_plan_dft_r2c_1d(static_cast<int>(T), tb, sp.spec_buf.get(), FFTW_ESTIMATE));
-    sp.inverse.reset(fftw_plan_dft_c2r_1d(static_cast<int>(T), sp.spec_buf.get(), tb, FFTW_ESTIMATE));
   }
-  if (!sp.forward || !sp.inverse) return InternalError("VMD: FFTW planning failed");
+  if (!sp.forward) return InternalError("VMD: FFTW planning failed");
+  StartInversePlan(sp);
   fftw_execute(sp.forward.get());
   f.clear();
   f.shrink_to_fit();  // the working copy is no longer needed (the spectrum is)
@@ -78,6 +108,8 @@ Result<std::vector<std::vector<double>>> ReconstructModes(VmdSpectrum& sp, const
                                                           const double* out_im, std::size_t stride, int K,
                                                           std::size_t n_in, int threads) {
   const std::size_t T = sp.T, H = sp.H;
+  fftw_plan_s* inverse = sp.InversePlan();
+  if (!inverse) return InternalError("VMD: FFTW planning failed");
   std::vector<std::vector<double>> modes(K, std::vector<double>(n_in));
   const int ifft_threads = std::min(threads, K);
   std::vector<RealBuffer> t_bufs;
@@ -104,7 +136,7 @@ Result<std::vector<std::vector<double>>> ReconstructModes(VmdSpectrum& sp, const
       X[0][1] = 0.0;
       X[H][0] = ur[H - 1];
       X[H][1] = 0.0;
-      fftw_execute_dft_c2r(sp.inverse.get(), X, y);
+      fftw_execute_dft_c2r(inverse, X, y);
       std::vector<double>& mode = modes[k];
       // Undo the normalisation: a multiplication by a power of two (exact).
       for (std::size_t i = 0; i < n_in; ++i) mode[i] = (y[sp.offset + i] * sp.inv_T) * scale;

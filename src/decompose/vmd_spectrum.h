@@ -6,6 +6,7 @@
 #include <fftw3.h>
 
 #include <cstddef>
+#include <future>
 #include <memory>
 #include <mutex>
 #include <new>
@@ -65,7 +66,13 @@ struct VmdSpectrum {
   double inv_T = 0.0;
   RealBuffer time_buf;
   ComplexBuffer spec_buf;
-  Plan forward, inverse;
+  Plan forward;
+  // The inverse plan, made on a helper thread while the forward transform and the iterations run
+  // (FFTW_ESTIMATE planning at T = 40,000 costs 3-4 ms, ~40x the transform; docs/performance.md):
+  // InversePlan() waits for it. The future's destructor waits too, on every return path.
+  std::future<Plan> inverse_pending;
+  Plan inverse;
+  fftw_plan_s* InversePlan();
   AlignedVector f_re, f_im;  // f_hat_plus
   AlignedVector freq;        // cycles per sample
 };

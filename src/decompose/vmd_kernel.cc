@@ -1,11 +1,11 @@
 // The VMD inner kernel: see vmd_kernel.h. Compiled with -ffp-contract=off (CMakeLists.txt).
 //
 // Vectorisation: GCC vector extensions: kLanes doubles (one 512-bit register) on the AVX-512 path,
-// and for the bin-major kernel a native 256-bit / 128-bit vector on the AVX2 / baseline paths
-// (a 64-byte vector there compiles to stack traffic); the kernel is compiled three times (target
-// attributes AVX-512F, AVX2 and the x86-64 baseline) and the best path the CPU supports is
-// picked at the first call (no -march=native: the binary runs on any x86-64). Every lane does the same IEEE operations in the same order on
-// every path (add, subtract, multiply, divide are correctly rounded; no reassociation, no FMA),
+// a native 256-bit / 128-bit vector on the AVX2 / baseline paths (a 64-byte vector there compiles
+// to stack traffic); the kernels are compiled three times (target attributes AVX-512F, AVX2 and
+// the x86-64 baseline) and the best path the CPU supports is picked at the first call (no
+// -march=native: the binary runs on any x86-64). Every lane does the same IEEE operations in the
+// same order on every path (add, subtract, multiply, divide are correctly rounded; no reassociation, no FMA),
 // so the paths give bit-identical results.
 #include "vmd_kernel.h"
 
@@ -16,87 +16,15 @@
 namespace gyrocomp::vmd_internal {
 namespace {
 
-typedef double Vec __attribute__((vector_size(kLanes * sizeof(double))));
-
-inline __attribute__((always_inline)) Vec Load(const double* p) {
-  Vec v;
-  std::memcpy(&v, p, sizeof(v));
-  return v;
-}
-inline __attribute__((always_inline)) void Store(double* p, Vec v) { std::memcpy(p, &v, sizeof(v)); }
-
-// One bin (scalar tail), lane l: the same operations as one lane of the vector body.
-template <bool kLambda>
-inline __attribute__((always_inline)) void UpdateBin(const ModeChunk& c, std::size_t i, std::size_t l,
-                                                      double wk, double alpha, LaneSums& acc) {
-  const double sr = (c.prev_re[i] + c.s_re[i]) - c.old_re[i];
-  const double si = (c.prev_im[i] + c.s_im[i]) - c.old_im[i];
-  c.s_re[i] = sr;
-  c.s_im[i] = si;
-  const double d = c.freq[i] - wk;
-  const double rcp = 1.0 / (1.0 + alpha * (d * d));
-  double nr = c.f_re[i] - sr, ni = c.f_im[i] - si;
-  if constexpr (kLambda) {
-    nr = nr - c.l_re[i] * 0.5;
-    ni = ni - c.l_im[i] * 0.5;
-  }
-  const double ur = nr * rcp, ui = ni * rcp;
-  c.u_re[i] = ur;
-  c.u_im[i] = ui;
-  const double pw = ur * ur + ui * ui;
-  acc.freq_power[l] += c.freq[i] * pw;
-  acc.power[l] += pw;
-  const double dr = ur - c.old_re[i], di = ui - c.old_im[i];
-  acc.diff[l] += dr * dr + di * di;
-  acc.old_power[l] += c.old_re[i] * c.old_re[i] + c.old_im[i] * c.old_im[i];
-}
-
-template <bool kLambda>
-inline __attribute__((always_inline)) void UpdateChunk(const ModeChunk& c, std::size_t n, double wk,
-                                                        double alpha, LaneSums& acc) {
-  Vec fp = Load(acc.freq_power), p = Load(acc.power), df = Load(acc.diff), op = Load(acc.old_power);
-  std::size_t i = 0;
-  for (; i + kLanes <= n; i += kLanes) {
-    const Vec o_re = Load(c.old_re + i), o_im = Load(c.old_im + i);
-    const Vec sr = (Load(c.prev_re + i) + Load(c.s_re + i)) - o_re;
-    const Vec si = (Load(c.prev_im + i) + Load(c.s_im + i)) - o_im;
-    Store(c.s_re + i, sr);
-    Store(c.s_im + i, si);
-    const Vec freq = Load(c.freq + i);
-    const Vec d = freq - wk;
-    const Vec rcp = 1.0 / (1.0 + alpha * (d * d));  // Eq. (4) denominator, one division per bin
-    Vec nr = Load(c.f_re + i) - sr, ni = Load(c.f_im + i) - si;
-    if constexpr (kLambda) {
-      nr = nr - Load(c.l_re + i) * 0.5;
-      ni = ni - Load(c.l_im + i) * 0.5;
-    }
-    const Vec ur = nr * rcp, ui = ni * rcp;
-    Store(c.u_re + i, ur);
-    Store(c.u_im + i, ui);
-    const Vec pw = ur * ur + ui * ui;
-    fp += freq * pw;  // Eq. (5) numerator
-    p += pw;          // Eq. (5) denominator
-    const Vec dr = ur - o_re, di = ui - o_im;
-    df += dr * dr + di * di;  // stopping rule
-    op += o_re * o_re + o_im * o_im;
-  }
-  Store(acc.freq_power, fp);
-  Store(acc.power, p);
-  Store(acc.diff, df);
-  Store(acc.old_power, op);
-  for (std::size_t l = 0; i < n; ++i, ++l) UpdateBin<kLambda>(c, i, l, wk, alpha, acc);
-}
-
-// ---- bin-major kernel: all modes of a vector of bins --------------------------------------------
-
 #define GYROCOMP_INLINE inline __attribute__((always_inline))
 #define GYROCOMP_INLINE_LAMBDA __attribute__((always_inline))
 
-// The pass's vector: kLanes doubles (one zmm register) on the AVX-512 path; on the AVX2 and
-// baseline paths a native ymm / xmm vector, the kernel walking each block of kLanes bins in
-// kLanes / width passes (BinSubChunk). GCC compiles the 64-byte vector on a 256-bit target
-// through the stack (3.0 ns per bin-update with AVX2, 3.5 with SSE2, against 0.6 with AVX-512;
-// docs/performance.md).
+// The kernels' vector: kLanes doubles (one zmm register) on the AVX-512 path; on the AVX2 and
+// baseline paths a native ymm / xmm vector, the kernels walking each block of kLanes bins in
+// kLanes / width passes, lanes [h, h + width) at a time (UpdateChunk, BinSubChunk). GCC compiles
+// the 64-byte vector on a 256-bit target through the stack (3.0 ns per bin-update with AVX2,
+// 3.5 with SSE2, against 0.6 with AVX-512; docs/performance.md).
+typedef double Vec __attribute__((vector_size(kLanes * sizeof(double))));
 typedef double Vec4 __attribute__((vector_size(4 * sizeof(double))));
 typedef double Vec2 __attribute__((vector_size(2 * sizeof(double))));
 template <class V>
@@ -110,11 +38,89 @@ GYROCOMP_INLINE void St(double* p, const V& v) { std::memcpy(p, &v, sizeof(v)); 
 GYROCOMP_INLINE void Ld(double& v, const double* p) { v = *p; }
 GYROCOMP_INLINE void St(double* p, double v) { *p = v; }
 
-// Accumulators of one mode (kLanes lanes as a Vec, or one lane as a double in the tail).
+// Accumulators of one mode (width(V) lanes, or one lane as a double in the tail).
 template <class V>
 struct ModeAcc {
   V fp, p, df, op;
 };
+
+// The lanes [h, h + width(V)) of a LaneSums, to and from registers.
+template <class V>
+GYROCOMP_INLINE void LoadLanes(const LaneSums& s, std::size_t h, ModeAcc<V>& a) {
+  Ld(a.fp, s.freq_power + h);
+  Ld(a.p, s.power + h);
+  Ld(a.df, s.diff + h);
+  Ld(a.op, s.old_power + h);
+}
+template <class V>
+GYROCOMP_INLINE void StoreLanes(const ModeAcc<V>& a, std::size_t h, LaneSums& s) {
+  St(s.freq_power + h, a.fp);
+  St(s.power + h, a.p);
+  St(s.diff + h, a.df);
+  St(s.old_power + h, a.op);
+}
+
+// ---- mode-major kernel: one mode over a chunk of bins (K > kMaxModesAtOnce) ---------------------
+
+// Bins [i, i + width(V)) of one mode (V = double: one bin, the tail).
+template <class V, bool kLambda>
+GYROCOMP_INLINE void ModeStep(const ModeChunk& c, std::size_t i, double wk, double alpha, ModeAcc<V>& a) {
+  V o_re, o_im, prev, s, f, freq;
+  Ld(o_re, c.old_re + i);
+  Ld(o_im, c.old_im + i);
+  Ld(prev, c.prev_re + i);
+  Ld(s, c.s_re + i);
+  const V sr = (prev + s) - o_re;  // sum_uk = (u_{k-1} + sum_uk) - u_k^old
+  Ld(prev, c.prev_im + i);
+  Ld(s, c.s_im + i);
+  const V si = (prev + s) - o_im;
+  St(c.s_re + i, sr);
+  St(c.s_im + i, si);
+  Ld(freq, c.freq + i);
+  const V d = freq - wk;
+  const V rcp = 1.0 / (1.0 + alpha * (d * d));  // Eq. (4) denominator, one division per bin
+  Ld(f, c.f_re + i);
+  V nr = f - sr;
+  Ld(f, c.f_im + i);
+  V ni = f - si;
+  if constexpr (kLambda) {
+    V l;
+    Ld(l, c.l_re + i);
+    nr = nr - l * 0.5;
+    Ld(l, c.l_im + i);
+    ni = ni - l * 0.5;
+  }
+  const V ur = nr * rcp, ui = ni * rcp;
+  St(c.u_re + i, ur);
+  St(c.u_im + i, ui);
+  const V pw = ur * ur + ui * ui;
+  a.fp += freq * pw;  // Eq. (5) numerator
+  a.p += pw;          // Eq. (5) denominator
+  const V dr = ur - o_re, di = ui - o_im;
+  a.df += dr * dr + di * di;  // stopping rule
+  a.op += o_re * o_re + o_im * o_im;
+}
+
+// Bins [0, n) of one mode: lanes [h, h + width(V)) of every block of kLanes bins for each h in
+// turn (every lane its bins in increasing order, for any width), then the tail bin by bin.
+template <class V, bool kLambda>
+GYROCOMP_INLINE void UpdateChunk(const ModeChunk& c, std::size_t n, double wk, double alpha, LaneSums& sums) {
+  const std::size_t n_body = n - n % kLanes;
+  for (std::size_t h = 0; h < kLanes; h += kWidth<V>) {
+    ModeAcc<V> a;
+    LoadLanes(sums, h, a);
+    for (std::size_t i = h; i < n_body; i += kLanes) ModeStep<V, kLambda>(c, i, wk, alpha, a);
+    StoreLanes(a, h, sums);
+  }
+  for (std::size_t i = n_body, l = 0; i < n; ++i, ++l) {
+    ModeAcc<double> a;
+    LoadLanes(sums, l, a);
+    ModeStep<double, kLambda>(c, i, wk, alpha, a);
+    StoreLanes(a, l, sums);
+  }
+}
+
+// ---- bin-major kernel: all modes of a vector of bins --------------------------------------------
 
 // Eq. (4) denominators D_k = 1 + alpha (freq - omega_k)^2 and their reciprocals: batch inversion
 // (vmd_kernel.h) or, when it could overflow, one division each.
@@ -385,16 +391,16 @@ namespace {
 template <bool kLambda>
 __attribute__((target("avx512f"))) void ChunkAvx512f(const ModeChunk& c, std::size_t n, double wk, double alpha,
                                                      LaneSums& acc) {
-  UpdateChunk<kLambda>(c, n, wk, alpha, acc);
+  UpdateChunk<Vec, kLambda>(c, n, wk, alpha, acc);
 }
 template <bool kLambda>
 __attribute__((target("avx2"))) void ChunkAvx2(const ModeChunk& c, std::size_t n, double wk, double alpha,
                                                LaneSums& acc) {
-  UpdateChunk<kLambda>(c, n, wk, alpha, acc);
+  UpdateChunk<Vec4, kLambda>(c, n, wk, alpha, acc);
 }
 template <bool kLambda>
 void ChunkBaseline(const ModeChunk& c, std::size_t n, double wk, double alpha, LaneSums& acc) {
-  UpdateChunk<kLambda>(c, n, wk, alpha, acc);
+  UpdateChunk<Vec2, kLambda>(c, n, wk, alpha, acc);
 }
 
 using ChunkFn = void (*)(const ModeChunk&, std::size_t, double, double, LaneSums&);

@@ -9,14 +9,10 @@
 #include <sstream>
 #include <thread>
 
+#include "gyrocomp/core/format.h"
+
 namespace gyrocomp {
 namespace {
-
-std::string Num(double v) {
-  std::ostringstream os;
-  os << v;
-  return os.str();
-}
 
 std::span<const double> MiddleWindow(const std::vector<double>& x, std::optional<std::size_t> max_samples) {
   if (!max_samples || x.size() <= *max_samples) return x;
@@ -63,14 +59,14 @@ bool ClassifierOptions::IsValid(std::string* error) const {
     return false;
   };
   if (!std::isfinite(drift_max_se) || drift_max_se < 0) {
-    return fail("drift_max_se = " + Num(drift_max_se) + ": must be finite and >= 0");
+    return fail("drift_max_se = " + FormatNumber(drift_max_se) + ": must be finite and >= 0");
   }
-  if (!std::isfinite(noise_min_se)) return fail("noise_min_se = " + Num(noise_min_se) + ": must be finite");
+  if (!std::isfinite(noise_min_se)) return fail("noise_min_se = " + FormatNumber(noise_min_se) + ": must be finite");
   if (noise_min_se < drift_max_se) {
-    return fail("noise_min_se = " + Num(noise_min_se) + ": must be >= drift_max_se = " + Num(drift_max_se));
+    return fail("noise_min_se = " + FormatNumber(noise_min_se) + ": must be >= drift_max_se = " + FormatNumber(drift_max_se));
   }
   if (drift_max_frequency_hz && !(*drift_max_frequency_hz > 0)) {
-    return fail("drift_max_frequency_hz = " + Num(*drift_max_frequency_hz) + ": must be > 0 when set");
+    return fail("drift_max_frequency_hz = " + FormatNumber(*drift_max_frequency_hz) + ": must be > 0 when set");
   }
   return true;
 }

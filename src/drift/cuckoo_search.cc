@@ -13,14 +13,10 @@
 #include <thread>
 #include <utility>
 
+#include "gyrocomp/core/format.h"
+
 namespace gyrocomp {
 namespace {
-
-std::string Num(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
 
 double Sanitize(double v) { return std::isfinite(v) ? v : std::numeric_limits<double>::infinity(); }
 
@@ -55,11 +51,11 @@ bool CuckooSearchOptions::IsValid(std::string* error) const {
   };
   if (num_nests < 2) return fail("num_nests = " + std::to_string(num_nests) + ": must be >= 2");
   if (!(discovery_probability >= 0.0 && discovery_probability <= 1.0))
-    return fail("discovery_probability = " + Num(discovery_probability) + ": must be in [0, 1]");
+    return fail("discovery_probability = " + FormatNumber(discovery_probability) + ": must be in [0, 1]");
   if (!(levy_beta > 0.0 && levy_beta <= 2.0))
-    return fail("levy_beta = " + Num(levy_beta) + ": must be in (0, 2]");
+    return fail("levy_beta = " + FormatNumber(levy_beta) + ": must be in (0, 2]");
   if (!(step_scale > 0.0) || !std::isfinite(step_scale))
-    return fail("step_scale = " + Num(step_scale) + ": must be > 0");
+    return fail("step_scale = " + FormatNumber(step_scale) + ": must be > 0");
   if (max_generations < 0)
     return fail("max_generations = " + std::to_string(max_generations) + ": must be >= 0");
   if (max_evaluations && *max_evaluations < num_nests)
@@ -118,10 +114,10 @@ Result<Space> MakeSpace(std::span<const SearchDimension> dimensions) {
   for (const SearchDimension& d : dimensions) {
     const std::string name = "SearchDimension '" + d.name + "'";
     if (!std::isfinite(d.lower) || !std::isfinite(d.upper) || !(d.lower < d.upper))
-      return InvalidArgument(name + ": bounds [" + Num(d.lower) + ", " + Num(d.upper) +
+      return InvalidArgument(name + ": bounds [" + FormatNumber(d.lower) + ", " + FormatNumber(d.upper) +
                              "]: need finite lower < upper");
     if (d.log_scale && !(d.lower > 0.0))
-      return InvalidArgument(name + ": log_scale needs lower > 0, got " + Num(d.lower));
+      return InvalidArgument(name + ": log_scale needs lower > 0, got " + FormatNumber(d.lower));
     space.lo.push_back(d.log_scale ? std::log10(d.lower) : d.lower);
     space.hi.push_back(d.log_scale ? std::log10(d.upper) : d.upper);
     space.log.push_back(d.log_scale);

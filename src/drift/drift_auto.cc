@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "drift_model_internal.h"
+#include "gyrocomp/core/format.h"
 
 namespace gyrocomp::drift_internal {
 namespace {
@@ -16,16 +17,9 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // heats once, 25 -> 60 C of -40..60 C (35%): not enough.
 constexpr double kMemoryCoverage = 0.5;
 
-std::string Num(double v) {
-  std::ostringstream s;
-  s.precision(4);
-  s << v;
-  return s.str();
-}
-
 std::string CandidateName(DriftModelKind kind, DriftInputSet inputs, const DriftFitOptions& o) {
   std::string name = std::string(DriftModelKindName(kind)) + "(" + DriftInputSetName(inputs);
-  if (inputs == DriftInputSet::kTempAndLag) name += " tau=" + Num(o.state.lag_tau_s) + " s";
+  if (inputs == DriftInputSet::kTempAndLag) name += " tau=" + FormatNumber(o.state.lag_tau_s, 4) + " s";
   return name + ")";
 }
 
@@ -159,7 +153,7 @@ std::size_t ChooseStructured(const DriftInputs& inputs, std::span<const double> 
     if (!c[i].model || incumbent.empty()) continue;
     const std::vector<double> challenger = BlockFoldRmse(inputs, target, c[i], o);
     const PairedGain g = PairedFoldGain(incumbent, challenger);
-    why << "; " << c[i].score.name << " gains " << Num(g.mean) << " +- " << Num(g.sd);
+    why << "; " << c[i].score.name << " gains " << FormatNumber(g.mean, 4) << " +- " << FormatNumber(g.sd, 4);
     if (!g.ChallengerWins()) continue;
     best = i;
     incumbent = challenger;
@@ -170,14 +164,14 @@ std::size_t ChooseStructured(const DriftInputs& inputs, std::span<const double> 
 
 std::string SelectionReason(const std::vector<Candidate>& all, std::size_t best, const CvPlan& plan) {
   std::ostringstream s;
-  s << "auto chose " << all[best].score.name << ": CV RMSE " << Num(all[best].score.cv_rmse) << " ("
+  s << "auto chose " << all[best].score.name << ": CV RMSE " << FormatNumber(all[best].score.cv_rmse, 4) << " ("
     << DriftCvSchemeName(plan.scheme) << ", " << plan.folds << " folds";
   if (plan.scheme == DriftCvScheme::kThermalSegments) s << " leaving out whole segments of " << plan.segments;
   s << "); others:";
   for (std::size_t i = 0; i < all.size(); ++i) {
     if (i == best) continue;
     s << " " << all[i].score.name << " ";
-    if (std::isfinite(all[i].score.cv_rmse)) s << Num(all[i].score.cv_rmse);
+    if (std::isfinite(all[i].score.cv_rmse)) s << FormatNumber(all[i].score.cv_rmse, 4);
     if (!all[i].score.note.empty()) s << " (" << all[i].score.note << ")";
     s << (i + 1 < all.size() ? ";" : "");
   }
@@ -262,7 +256,7 @@ Result<DriftModel> FitAuto(const DriftInputs& inputs, std::span<const double> ta
   for (const Candidate& k : all) model.summary.candidates.push_back(k.score);
   model.summary.selection_reason = SelectionReason(all, best, plan) + "; " + state_reason +
                                    "; a kernel model must beat the chosen structured one by one standard error of "
-                                   "its fold scores (" + Num(se) + ")";
+                                   "its fold scores (" + FormatNumber(se, 4) + ")";
   return model;
 }
 
@@ -322,7 +316,7 @@ std::string DescribeIdentifiability(const DriftInputs& inputs, const DriftFitOpt
   auto part = [&](const char* what, const Coverage& c) {
     std::ostringstream s;
     if (!c.count) s << what << ": none";
-    else s << what << " over " << Num(c.lo) << ".." << Num(c.hi) << " C (" << Num(100.0 * c.count / n) << "% of samples)";
+    else s << what << " over " << FormatNumber(c.lo, 4) << ".." << FormatNumber(c.hi, 4) << " C (" << FormatNumber(100.0 * c.count / n, 4) << "% of samples)";
     return s.str();
   };
   std::ostringstream s;

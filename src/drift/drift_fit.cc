@@ -7,16 +7,11 @@
 #include <sstream>
 
 #include "drift_model_internal.h"
+#include "gyrocomp/core/format.h"
 
 namespace gyrocomp {
 namespace drift_internal {
 namespace {
-
-std::string Num(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
 
 // Range of a column.
 void MinMax(const std::vector<double>& c, double* lo, double* hi) {
@@ -118,7 +113,7 @@ Result<KernelTest> TestKernel(const FitData& d, const DriftFitOptions& o, const 
   t.keep = g.ChallengerWins();
   std::ostringstream m;
   m << "hybrid: kernel " << (t.keep ? "kept" : "dropped") << ": its CV gain over the structured part on "
-    << g.blocks << " contiguous blocks is " << Num(g.mean) << " +- " << Num(g.sd) << " (mean +- block-to-block SD; kept "
+    << g.blocks << " contiguous blocks is " << FormatNumber(g.mean) << " +- " << FormatNumber(g.sd) << " (mean +- block-to-block SD; kept "
     << "only when mean > SD)";
   if (!t.keep) m << "; the model is its structured part: the kernel would learn noise (flicker wander), not drift";
   t.decision = m.str();
@@ -224,7 +219,7 @@ Result<FitData> PrepareFitData(const DriftInputs& inputs, std::span<const double
   d.train_period_s = static_cast<double>(d.block) / inputs.fs_hz;
   if (d.yd.size() < 2 * static_cast<std::size_t>(o.cv_folds))
     return InvalidInput("FitDriftModel: the record gives " + std::to_string(d.yd.size()) + " training samples of " +
-                        Num(d.train_period_s) + " s; " + std::to_string(o.cv_folds) +
+                        FormatNumber(d.train_period_s) + " s; " + std::to_string(o.cv_folds) +
                         "-fold blocked CV needs at least " + std::to_string(2 * o.cv_folds) +
                         " (shorter train_period_s or a longer record)");
   // The segment plan reads the centred dT/dt whatever the model's state.
@@ -328,7 +323,7 @@ Status CheckFitArguments(const DriftInputs& inputs, std::span<const double> targ
   std::string why;
   if (!o.IsValid(&why)) return InvalidArgument(why);
   if (!(inputs.fs_hz > 0.0) || !std::isfinite(inputs.fs_hz))
-    return InvalidArgument("FitDriftModel: fs_hz = " + Num(inputs.fs_hz) + ": must be > 0");
+    return InvalidArgument("FitDriftModel: fs_hz = " + FormatNumber(inputs.fs_hz) + ": must be > 0");
   if (target.size() != inputs.temp_c.size())
     return InvalidInput("FitDriftModel: " + std::to_string(target.size()) + " target values for " +
                         std::to_string(inputs.temp_c.size()) + " temperature samples");

@@ -6,20 +6,15 @@
 #include <sstream>
 
 #include "drift_model_internal.h"
+#include "gyrocomp/core/format.h"
 
 namespace gyrocomp {
 namespace {
 
-std::string Num(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
-
 bool ValidDimension(const SearchDimension& d, const std::string& field, std::string* error) {
   if (!std::isfinite(d.lower) || !std::isfinite(d.upper) || !(d.lower > 0.0) || !(d.lower < d.upper)) {
     if (error)
-      *error = "SvrSearchOptions::" + field + " = [" + Num(d.lower) + ", " + Num(d.upper) +
+      *error = "SvrSearchOptions::" + field + " = [" + FormatNumber(d.lower) + ", " + FormatNumber(d.upper) +
                "]: must satisfy 0 < lower < upper";
     return false;
   }
@@ -77,7 +72,7 @@ bool DriftAutoOptions::IsValid(std::string* error) const {
   }
   if (!(lag_tau_min_s > 0.0) || !(lag_tau_min_s < lag_tau_max_s) || !std::isfinite(lag_tau_max_s)) {
     if (error)
-      *error = "DriftAutoOptions::lag_tau_min_s/lag_tau_max_s = " + Num(lag_tau_min_s) + "/" + Num(lag_tau_max_s) +
+      *error = "DriftAutoOptions::lag_tau_min_s/lag_tau_max_s = " + FormatNumber(lag_tau_min_s) + "/" + FormatNumber(lag_tau_max_s) +
                ": must satisfy 0 < min < max";
     return false;
   }
@@ -118,7 +113,7 @@ bool DriftFitOptions::IsValid(std::string* error) const {
       !polynomial.IsValid(error) || !svr.IsValid(error) || !search.IsValid(error))
     return false;
   if (train_period_s && (!(*train_period_s > 0.0) || !std::isfinite(*train_period_s))) {
-    if (error) *error = "DriftFitOptions::train_period_s = " + Num(*train_period_s) + ": must be > 0";
+    if (error) *error = "DriftFitOptions::train_period_s = " + FormatNumber(*train_period_s) + ": must be > 0";
     return false;
   }
   if (max_train_samples < 10) {
@@ -138,7 +133,7 @@ bool DriftFitOptions::IsValid(std::string* error) const {
     return false;
   }
   if (!(gls_block_s > 0.0) || !std::isfinite(gls_block_s)) {
-    if (error) *error = "DriftFitOptions::gls_block_s = " + Num(gls_block_s) + ": must be > 0";
+    if (error) *error = "DriftFitOptions::gls_block_s = " + FormatNumber(gls_block_s) + ": must be > 0";
     return false;
   }
   if (max_gls_blocks < 10) {

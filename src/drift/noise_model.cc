@@ -10,6 +10,7 @@
 
 #include <Eigen/Dense>
 
+#include "gyrocomp/core/format.h"
 #include "gyrocomp/core/units.h"
 
 namespace gyrocomp {
@@ -24,13 +25,6 @@ constexpr int kWeightIterations = 4;
 // Aliases folded into the block-mean spectrum each side (Eq. G-2): the flicker's alias a adds
 // ~1/a^3 of the main term; 200 leaves < 1e-5 of it out.
 constexpr int kAliases = 200;
-
-std::string Num(double v) {
-  std::ostringstream s;
-  s.precision(4);
-  s << v;
-  return s.str();
-}
 
 // Overlapping Allan variance of x at an averaging of m samples (tau = m / fs): half the mean
 // square difference of adjacent m-sample means, over every start; c = prefix sums of x.
@@ -90,19 +84,19 @@ double NoisePsd::rrw_deg_per_h_per_sqrt_h() const {
 
 std::string NoisePsd::BriefReport() const {
   std::ostringstream s;
-  s << "S(f) = " << Num(h0) << " + " << Num(h_1) << "/f + " << Num(h_2) << "/f^2 (target units^2/Hz; for deg/s: ARW "
-    << Num(arw_deg_per_sqrt_h()) << " deg/sqrt(h), bias instability " << Num(bias_instability_deg_per_h())
-    << " deg/h, RRW " << Num(rrw_deg_per_h_per_sqrt_h()) << " deg/h/sqrt(h))";
+  s << "S(f) = " << FormatNumber(h0, 4) << " + " << FormatNumber(h_1, 4) << "/f + " << FormatNumber(h_2, 4) << "/f^2 (target units^2/Hz; for deg/s: ARW "
+    << FormatNumber(arw_deg_per_sqrt_h(), 4) << " deg/sqrt(h), bias instability " << FormatNumber(bias_instability_deg_per_h(), 4)
+    << " deg/h, RRW " << FormatNumber(rrw_deg_per_h_per_sqrt_h(), 4) << " deg/h/sqrt(h))";
   return s.str();
 }
 
 bool NoisePsdOptions::IsValid(std::string* error) const {
   if (!(max_tau_fraction > 0.0 && max_tau_fraction <= 0.5)) {
-    if (error) *error = "NoisePsdOptions::max_tau_fraction = " + Num(max_tau_fraction) + ": must be in (0, 0.5]";
+    if (error) *error = "NoisePsdOptions::max_tau_fraction = " + FormatNumber(max_tau_fraction, 4) + ": must be in (0, 0.5]";
     return false;
   }
   if (min_tau_s && !(*min_tau_s > 0.0 && std::isfinite(*min_tau_s))) {
-    if (error) *error = "NoisePsdOptions::min_tau_s = " + Num(*min_tau_s) + ": must be > 0";
+    if (error) *error = "NoisePsdOptions::min_tau_s = " + FormatNumber(*min_tau_s, 4) + ": must be > 0";
     return false;
   }
   if (num_taus < 3) {
@@ -115,7 +109,7 @@ bool NoisePsdOptions::IsValid(std::string* error) const {
 Result<NoisePsd> FitNoisePsd(std::span<const double> x, double fs_hz, const NoisePsdOptions& options) {
   std::string why;
   if (!options.IsValid(&why)) return InvalidArgument(why);
-  if (!(fs_hz > 0.0) || !std::isfinite(fs_hz)) return InvalidArgument("FitNoisePsd: fs_hz = " + Num(fs_hz) + ": must be > 0");
+  if (!(fs_hz > 0.0) || !std::isfinite(fs_hz)) return InvalidArgument("FitNoisePsd: fs_hz = " + FormatNumber(fs_hz, 4) + ": must be > 0");
   const std::size_t n = x.size();
   if (n < 8) return InvalidInput("FitNoisePsd: " + std::to_string(n) + " samples: need at least 8");
   std::vector<double> c(n + 1, 0.0);
@@ -128,7 +122,7 @@ Result<NoisePsd> FitNoisePsd(std::span<const double> x, double fs_hz, const Nois
   const double m_min = std::clamp(options.min_tau_s.value_or(1.0 / fs_hz) * fs_hz, 1.0, m_max);
   if (m_max < 4.0 * m_min)
     return InvalidInput("FitNoisePsd: " + std::to_string(n) + " samples span too few averaging times (from " +
-                        Num(m_min / fs_hz) + " s to " + Num(m_max / fs_hz) + " s; need a factor of 4)");
+                        FormatNumber(m_min / fs_hz, 4) + " s to " + FormatNumber(m_max / fs_hz, 4) + " s; need a factor of 4)");
   std::vector<std::size_t> ms;
   for (int k = 0; k < options.num_taus; ++k) {
     const double m = m_min * std::pow(m_max / m_min, static_cast<double>(k) / (options.num_taus - 1));
@@ -143,7 +137,7 @@ Result<NoisePsd> FitNoisePsd(std::span<const double> x, double fs_hz, const Nois
     const auto m = ms[static_cast<std::size_t>(r)];
     const double tau = static_cast<double>(m) / fs_hz;
     avar(r) = OverlappingAvar(c, m);
-    if (!(avar(r) > 0.0)) return InvalidInput("FitNoisePsd: the series is constant (Allan variance 0 at tau " + Num(tau) + " s)");
+    if (!(avar(r) > 0.0)) return InvalidInput("FitNoisePsd: the series is constant (Allan variance 0 at tau " + FormatNumber(tau, 4) + " s)");
     terms(r, 0) = 0.5 / tau;                      // Eq. G-1, white
     terms(r, 1) = 2.0 * kLn2;                     // flicker
     terms(r, 2) = 2.0 * kPi * kPi / 3.0 * tau;    // random walk

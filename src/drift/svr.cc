@@ -13,6 +13,8 @@
 #include <sstream>
 #include <thread>
 
+#include "gyrocomp/core/format.h"
+
 namespace gyrocomp {
 namespace {
 
@@ -28,12 +30,6 @@ struct ModelDeleter {
   void operator()(svm_model* m) const { svm_free_and_destroy_model(&m); }
 };
 using ModelPtr = std::unique_ptr<svm_model, ModelDeleter>;
-
-std::string Num(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
 
 }  // namespace
 
@@ -58,17 +54,17 @@ bool SvrOptions::IsValid(std::string* error) const {
     if (error) *error = "SvrOptions::" + what;
     return false;
   };
-  if (!(C > 0.0) || !std::isfinite(C)) return fail("C = " + Num(C) + ": must be > 0");
+  if (!(C > 0.0) || !std::isfinite(C)) return fail("C = " + FormatNumber(C) + ": must be > 0");
   if (gamma && sigma) return fail("gamma and sigma both given: give one (gamma = 1/(2 sigma^2))");
   if (gamma && (!(*gamma > 0.0) || !std::isfinite(*gamma)))
-    return fail("gamma = " + Num(*gamma) + ": must be > 0");
+    return fail("gamma = " + FormatNumber(*gamma) + ": must be > 0");
   if (sigma && (!(*sigma > 0.0) || !std::isfinite(*sigma)))
-    return fail("sigma = " + Num(*sigma) + ": must be > 0");
+    return fail("sigma = " + FormatNumber(*sigma) + ": must be > 0");
   if (!(epsilon >= 0.0) || !std::isfinite(epsilon))
-    return fail("epsilon = " + Num(epsilon) + ": must be >= 0");
+    return fail("epsilon = " + FormatNumber(epsilon) + ": must be >= 0");
   if (!(tolerance > 0.0) || !std::isfinite(tolerance))
-    return fail("tolerance = " + Num(tolerance) + ": must be > 0");
-  if (!(cache_mb > 0.0)) return fail("cache_mb = " + Num(cache_mb) + ": must be > 0");
+    return fail("tolerance = " + FormatNumber(tolerance) + ": must be > 0");
+  if (!(cache_mb > 0.0)) return fail("cache_mb = " + FormatNumber(cache_mb) + ": must be > 0");
   return true;
 }
 

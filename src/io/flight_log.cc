@@ -3,20 +3,15 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <utility>
 
+#include "gyrocomp/core/format.h"
+
 namespace gyrocomp {
 
 namespace {
-
-std::string Num(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
-}
 
 // "0 (device_id 2424842, 6 rows), 1 (...)": the instances to choose from.
 template <typename Series, typename Describe>
@@ -55,7 +50,7 @@ void WarnIfConstant(const std::vector<double>& temp_c, const std::string& source
   if (temp_c.size() < 2) return;
   const auto [lo, hi] = std::minmax_element(temp_c.begin(), temp_c.end());
   if (*lo == *hi) {
-    warnings->push_back(source + ": " + origin + ": the temperature is " + Num(*lo) +
+    warnings->push_back(source + ": " + origin + ": the temperature is " + FormatNumber(*lo) +
                         " C in every row (a simulated sensor?); no thermal model can be fitted on it");
   }
 }
@@ -69,7 +64,7 @@ std::optional<Error> CheckFinite(const Table& table) {
       if (std::isfinite(c[i])) continue;
       return InvalidInput(table.source + ":" + std::to_string(i + 2) + ":" + std::to_string(j + 1) + ": " +
                           (std::isnan(c[i]) ? "NaN" : "infinity") + " in column '" + table.names[j] +
-                          "' (row " + std::to_string(i) + ", time_s " + Num(table.columns[0][i]) + ")");
+                          "' (row " + std::to_string(i) + ", time_s " + FormatNumber(table.columns[0][i]) + ")");
     }
   }
   return std::nullopt;
@@ -142,7 +137,7 @@ Result<FlightLogTable> FlightLogFromULog(const ULogContents& log, std::optional<
   if (auto e = CheckFinite(out.table)) return *e;
   double v = 0;
   if (Enabled(log.parameters, "TC_G_ENABLE", &v)) {
-    out.warnings.push_back("WARNING: " + log.source + ": TC_G_ENABLE = " + Num(v) +
+    out.warnings.push_back("WARNING: " + log.source + ": TC_G_ENABLE = " + FormatNumber(v) +
                            " in the log's parameters: PX4 was applying its gyro thermal compensation; " +
                            (combined ? "sensor_combined rates are compensated" :
                                        "depending on the PX4 version sensor_gyro rates may be compensated") +
@@ -181,7 +176,7 @@ Result<FlightLogTable> FlightLogFromDataFlash(const DataFlashContents& log, std:
   double v = 0;
   const std::string tcal = "INS_TCAL" + std::to_string(s.instance + 1) + "_ENABLE";
   if (Enabled(log.parameters, tcal, &v)) {
-    out.warnings.push_back("WARNING: " + log.source + ": " + tcal + " = " + Num(v) +
+    out.warnings.push_back("WARNING: " + log.source + ": " + tcal + " = " + FormatNumber(v) +
                            " in the log's parameters: the logged rates of this IMU are already thermally "
                            "compensated (1) or were being learned (2); a model fitted on them learns the residual");
   }

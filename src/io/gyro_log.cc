@@ -1,6 +1,7 @@
 // GyroLog extraction and sampling checks (include/gyrocomp/gyro_log.h).
 #include "gyrocomp/io/gyro_log.h"
 
+#include "gyrocomp/core/format.h"
 #include "gyrocomp/io/flight_log.h"
 
 #include <algorithm>
@@ -21,12 +22,6 @@ std::string Where(const std::string& file, std::size_t line, std::size_t column)
 }
 
 // %.*g formatting for messages.
-std::string Num(double v, int digits = 6) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
-  return buf;
-}
-
 // Shortest round-trip text of a value: what the file most likely says.
 std::string Shortest(double v) {
   char buf[64];
@@ -142,41 +137,41 @@ bool LogSpec::IsValid(std::string* error) const {
       if (rate_cols[a] == rate_cols[b]) return fail("rate_cols names '" + rate_cols[a] + "' twice");
     }
   }
-  const std::string fs_range = " Hz: must be in [" + Num(kMinFsHz) + ", " + Num(kMaxFsHz) + "] Hz";
-  if (fs_hz && !(*fs_hz >= kMinFsHz && *fs_hz <= kMaxFsHz)) return fail("fs_hz = " + Num(*fs_hz) + fs_range);
+  const std::string fs_range = " Hz: must be in [" + FormatNumber(kMinFsHz) + ", " + FormatNumber(kMaxFsHz) + "] Hz";
+  if (fs_hz && !(*fs_hz >= kMinFsHz && *fs_hz <= kMaxFsHz)) return fail("fs_hz = " + FormatNumber(*fs_hz) + fs_range);
   if (resample_hz && !(*resample_hz >= kMinFsHz && *resample_hz <= kMaxFsHz)) {
-    return fail("resample_hz = " + Num(*resample_hz) + fs_range);
+    return fail("resample_hz = " + FormatNumber(*resample_hz) + fs_range);
   }
-  if (!(max_abs_rate_dps > 0)) return fail("max_abs_rate_dps = " + Num(max_abs_rate_dps) + ": must be > 0");
+  if (!(max_abs_rate_dps > 0)) return fail("max_abs_rate_dps = " + FormatNumber(max_abs_rate_dps) + ": must be > 0");
   if (!(min_temp_c < max_temp_c)) return fail("min_temp_c must be below max_temp_c");
   if (max_memory_bytes == 0) return fail("max_memory_bytes = 0: must be > 0");
   if (min_samples < 1) return fail("min_samples = 0: must be >= 1");
   if (!(jitter_tolerance > 0 && jitter_tolerance < 1)) {
-    return fail("jitter_tolerance = " + Num(jitter_tolerance) + ": must be in (0, 1) (fraction of the median dt)");
+    return fail("jitter_tolerance = " + FormatNumber(jitter_tolerance) + ": must be in (0, 1) (fraction of the median dt)");
   }
   if (!(max_irregular_fraction >= 0 && max_irregular_fraction <= 1)) {
-    return fail("max_irregular_fraction = " + Num(max_irregular_fraction) + ": must be in [0, 1]");
+    return fail("max_irregular_fraction = " + FormatNumber(max_irregular_fraction) + ": must be in [0, 1]");
   }
-  if (!(gap_factor > 1)) return fail("gap_factor = " + Num(gap_factor) + ": must be > 1 (multiple of the median dt)");
+  if (!(gap_factor > 1)) return fail("gap_factor = " + FormatNumber(gap_factor) + ": must be > 1 (multiple of the median dt)");
   return true;
 }
 
 std::string SamplingReport::BriefReport() const {
   std::string s;
   if (time_from_fs) {
-    s = "no time column: " + std::to_string(rows_in) + " samples at the given " + Num(fs_hz) + " Hz";
+    s = "no time column: " + std::to_string(rows_in) + " samples at the given " + FormatNumber(fs_hz) + " Hz";
     return s;
   }
   s = std::to_string(rows_in) + " samples, " + std::to_string(num_intervals) + " intervals: median dt " +
-      Num(median_dt_s) + " s, min " + Num(min_dt_s) + " s, max " + Num(max_dt_s) + " s; " +
+      FormatNumber(median_dt_s) + " s, min " + FormatNumber(min_dt_s) + " s, max " + FormatNumber(max_dt_s) + " s; " +
       std::to_string(num_irregular) + " outside the jitter tolerance, " + std::to_string(num_gaps) +
-      " gaps (longest " + Num(longest_gap_s) + " s); " + (irregular ? "IRREGULAR" : "regular");
+      " gaps (longest " + FormatNumber(longest_gap_s) + " s); " + (irregular ? "IRREGULAR" : "regular");
   if (resampled) {
-    s += "; resampled by linear interpolation to " + Num(fs_hz) + " Hz: " + std::to_string(rows_in) +
+    s += "; resampled by linear interpolation to " + FormatNumber(fs_hz) + " Hz: " + std::to_string(rows_in) +
          " -> " + std::to_string(rows_out) + " rows, " + std::to_string(rows_in_gaps) +
          " of them interpolated across gaps (no anti-alias filter)";
   } else {
-    s += "; " + Num(fs_hz) + " Hz";
+    s += "; " + FormatNumber(fs_hz) + " Hz";
   }
   return s;
 }
@@ -218,7 +213,7 @@ SamplingReport MeasureSampling(const std::vector<double>& time_s, const LogSpec&
 }
 
 Result<Table> ResampleTable(const Table& table, const std::string& time_col, double fs_hz) {
-  if (!(std::isfinite(fs_hz) && fs_hz > 0)) return InvalidArgument("resample rate = " + Num(fs_hz) + " Hz: must be > 0");
+  if (!(std::isfinite(fs_hz) && fs_hz > 0)) return InvalidArgument("resample rate = " + FormatNumber(fs_hz) + " Hz: must be > 0");
   const int ti = table.Find(time_col);
   if (ti < 0) return MissingColumn(table, time_col, "time, s", "");
   if (table.num_rows() < 2) {
@@ -291,7 +286,7 @@ std::optional<Error> CheckValueRanges(const Table& table, const LogSpec& spec, c
       if (std::abs(v[i] * to_dps) <= spec.max_abs_rate_dps) continue;
       return InvalidInput(Where(SourceOf(table), LineOf(i), static_cast<std::size_t>(j) + 1) + "rate " +
                           table.names[static_cast<std::size_t>(j)] + " = " + Shortest(v[i]) +
-                          " is beyond any gyroscope (|rate| <= " + Num(spec.max_abs_rate_dps) + " deg/s)");
+                          " is beyond any gyroscope (|rate| <= " + FormatNumber(spec.max_abs_rate_dps) + " deg/s)");
     }
   }
   if (cols.temp >= 0) {
@@ -300,8 +295,8 @@ std::optional<Error> CheckValueRanges(const Table& table, const LogSpec& spec, c
       if (v[i] >= spec.min_temp_c && v[i] <= spec.max_temp_c) continue;
       return InvalidInput(Where(SourceOf(table), LineOf(i), static_cast<std::size_t>(cols.temp) + 1) +
                           "temperature " + table.names[static_cast<std::size_t>(cols.temp)] + " = " +
-                          Shortest(v[i]) + " C is outside [" + Num(spec.min_temp_c) + ", " +
-                          Num(spec.max_temp_c) + "] C");
+                          Shortest(v[i]) + " C is outside [" + FormatNumber(spec.min_temp_c) + ", " +
+                          FormatNumber(spec.max_temp_c) + "] C");
     }
   }
   return std::nullopt;
@@ -340,8 +335,8 @@ std::optional<Error> CheckFsAgreesWithTime(const LogSpec& spec, const SamplingRe
   if (!spec.fs_hz) return std::nullopt;
   const double fs_t = 1.0 / rep.median_dt_s;
   if (std::abs(*spec.fs_hz / fs_t - 1.0) > 0.01) {
-    return InvalidInput(Where(src, 2, tcol) + "--fs " + Num(*spec.fs_hz) + " Hz disagrees with the time column '" +
-                        spec.time_col + "' (median dt " + Num(rep.median_dt_s) + " s = " + Num(fs_t) +
+    return InvalidInput(Where(src, 2, tcol) + "--fs " + FormatNumber(*spec.fs_hz) + " Hz disagrees with the time column '" +
+                        spec.time_col + "' (median dt " + FormatNumber(rep.median_dt_s) + " s = " + FormatNumber(fs_t) +
                         " Hz) by more than 1%; the time column wins: drop --fs or fix the time column");
   }
   return std::nullopt;
@@ -365,19 +360,19 @@ Error IrregularTimestamps(const std::vector<double>& t, const LogSpec& spec, con
   // rate is far below 1/median dt. The samples themselves may well be uniform then.
   std::string burst_hint;
   if (rep.fs_hz < 0.5 / rep.median_dt_s) {
-    burst_hint = " (the times look like bursts of reads: mean rate " + Num(rep.fs_hz, 4) + " Hz vs " +
-                 Num(1.0 / rep.median_dt_s, 4) + " Hz within bursts; if the sensor sampled uniformly, "
-                 "use --time-col none --fs " + Num(rep.fs_hz, 4) + " to take time = i / fs instead)";
+    burst_hint = " (the times look like bursts of reads: mean rate " + FormatNumber(rep.fs_hz, 4) + " Hz vs " +
+                 FormatNumber(1.0 / rep.median_dt_s, 4) + " Hz within bursts; if the sensor sampled uniformly, "
+                 "use --time-col none --fs " + FormatNumber(rep.fs_hz, 4) + " to take time = i / fs instead)";
   }
   const double pct = 100.0 * static_cast<double>(rep.num_irregular) / static_cast<double>(rep.num_intervals);
   return InvalidInput(
       Where(src, LineOf(worst), tcol) + "irregular timestamps in '" + spec.time_col + "': " +
-      std::to_string(rep.num_intervals) + " intervals, median dt " + Num(rep.median_dt_s, 4) + " s (" +
-      Num(1.0 / rep.median_dt_s, 4) + " Hz), min " + Num(rep.min_dt_s, 4) + " s, max " + Num(rep.max_dt_s, 4) +
-      " s, mean rate " + Num(rep.fs_hz, 4) + " Hz; " + std::to_string(rep.num_irregular) + " intervals (" +
-      Num(pct, 3) + "%) outside +-" + Num(100 * spec.jitter_tolerance) + "% of the median; " +
-      std::to_string(rep.num_gaps) + " gaps > " + Num(spec.gap_factor) + " x median, longest " +
-      Num(rep.longest_gap_s, 4) + " s; worst interval ends at line " + std::to_string(LineOf(worst)) +
+      std::to_string(rep.num_intervals) + " intervals, median dt " + FormatNumber(rep.median_dt_s, 4) + " s (" +
+      FormatNumber(1.0 / rep.median_dt_s, 4) + " Hz), min " + FormatNumber(rep.min_dt_s, 4) + " s, max " + FormatNumber(rep.max_dt_s, 4) +
+      " s, mean rate " + FormatNumber(rep.fs_hz, 4) + " Hz; " + std::to_string(rep.num_irregular) + " intervals (" +
+      FormatNumber(pct, 3) + "%) outside +-" + FormatNumber(100 * spec.jitter_tolerance) + "% of the median; " +
+      std::to_string(rep.num_gaps) + " gaps > " + FormatNumber(spec.gap_factor) + " x median, longest " +
+      FormatNumber(rep.longest_gap_s, 4) + " s; worst interval ends at line " + std::to_string(LineOf(worst)) +
       ". Pass --resample HZ to interpolate linearly onto a uniform grid" + burst_hint);
 }
 
@@ -406,7 +401,7 @@ Result<GyroLog> TakeTimedColumns(const Table& table, const LogSpec& spec, const 
     rep.rows_out = log.time_s.size();
     rep.fs_hz = *spec.resample_hz;
     if (rep.rows_out < spec.min_samples) {
-      return InvalidInput(Where(log.source, n + 1, tcol) + "too few samples after resampling to " + Num(rep.fs_hz) +
+      return InvalidInput(Where(log.source, n + 1, tcol) + "too few samples after resampling to " + FormatNumber(rep.fs_hz) +
                           " Hz: " + std::to_string(rep.rows_out) + ", this analysis needs at least " +
                           std::to_string(spec.min_samples));
     }
@@ -455,9 +450,9 @@ Result<GyroLog> LoadGyroLog(const Table& table, const LogSpec& spec) {
   // (With --resample, the memory the new grid needs is what bounds it, in TakeTimedColumns.)
   if (!spec.resample_hz && !(rep.fs_hz >= LogSpec::kMinFsHz && rep.fs_hz <= LogSpec::kMaxFsHz)) {
     return InvalidInput(Where(src, 2, tcol) + "the time column '" + spec.time_col + "' gives a sample rate of " +
-                        Num(rep.fs_hz) + " Hz (" + Num(t.back() - t.front()) + " s for " +
-                        std::to_string(n - 1) + " intervals): outside [" + Num(LogSpec::kMinFsHz) + ", " +
-                        Num(LogSpec::kMaxFsHz) + "] Hz");
+                        FormatNumber(rep.fs_hz) + " Hz (" + FormatNumber(t.back() - t.front()) + " s for " +
+                        std::to_string(n - 1) + " intervals): outside [" + FormatNumber(LogSpec::kMinFsHz) + ", " +
+                        FormatNumber(LogSpec::kMaxFsHz) + "] Hz");
   }
   if (auto e = CheckFsAgreesWithTime(spec, rep, src, tcol)) return *e;
   if (rep.irregular && !spec.resample_hz) return IrregularTimestamps(t, spec, rep, src, tcol);

@@ -71,14 +71,9 @@ std::size_t ModeStride(std::size_t H) {
   if (r > 56) s += 512 - r + 32;
   return s;
 }
-// Below this many bin-mode updates per iteration (K x H), one thread is faster. Measured on the
-// 2-vCPU VM (docs/performance.md, session 5), whole DecomposeVmd, K = 6, 3-6 runs each: N = 20k
-// (first call in a process), 1 thread 38-46 ms against 40-58 ms with 2 (an update takes
-// ~70 us there, and waking the worker through the kernel twice per update costs about what the
-// second thread saves; a spinning barrier was no better: 27-66 ms, and 80-120 ms while another
-// process used the second vCPU); second call in a process: 100k, 113-160 against 83-103 ms; 1M,
-// 1.81-2.15 against 1.44-1.87 s. 2^19: two threads from N ~ 87k at K = 6.
-constexpr std::size_t kMinWorkForThreads = std::size_t{1} << 19;
+// Below this many bin-mode updates per iteration (K x H), one thread is faster (threads cost
+// ~10 us per update to coordinate; WorkerPool runs rounds alone when two are slower anyway).
+constexpr std::size_t kMinWorkForThreads = std::size_t{1} << 16;
 
 // Threads for the iteration: as asked, else up to 2 when the work is large enough; never more
 // than there are blocks.
@@ -380,9 +375,9 @@ void RunAdmm(AdmmState& st, int threads, int keep_from) {
   WorkerPool pool(threads);
   const std::size_t num_blocks = st.num_blocks;
   IterateBuffers io{};
-  const std::function<void(int)> round = [&](int t) {
-    const std::size_t b0 = num_blocks * t / threads;
-    const std::size_t b1 = num_blocks * (t + 1) / threads;
+  const std::function<void(int, int)> round = [&](int t, int of) {
+    const std::size_t b0 = num_blocks * t / of;
+    const std::size_t b1 = num_blocks * (t + 1) / of;
     for (std::size_t b = b0; b < b1; ++b) UpdateBlock(st, io, b, om_snapshot);
   };
   while (st.u_diff > st.tol_norm && st.n < opt.max_iterations - 1) {

@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <numbers>
 #include <random>
 #include <vector>
@@ -18,6 +19,7 @@
 #include "gyrocomp/decompose/vmd.h"
 #include "vmd_kernel.h"
 #include "vmd_spectrum.h"
+#include "vmd_threads.h"
 
 namespace {
 
@@ -208,6 +210,64 @@ BENCHMARK(BM_VmdKernelPath)
     ->Args({20000, 0, 3})
     ->Args({20000, 2, 3})
     ->Args({20000, 1, 3})
+    ->ComputeStatistics("min", MinOf)
+    ->UseRealTime();
+
+// The kernel in rounds as DecomposeVmd runs it: H = 20,000 bins, K = 6, in place, 2048-bin
+// blocks split between the threads of a WorkerPool (which runs rounds alone when two threads are
+// slower), the Eq. (5) sums per block; wall time per bin-update over the round, coordination
+// included. Arguments: H, threads, 0 = without the stopping-rule sums / 1 = with them. The
+// issue-13 goal (<= 0.5 ns per bin-update at N = 20k on this 2-core machine) is this wall time.
+void BM_VmdKernelRounds(benchmark::State& state) {
+  using namespace gyrocomp::vmd_internal;
+  const std::size_t H = static_cast<std::size_t>(state.range(0));
+  const int threads = static_cast<int>(state.range(1));
+  const StopSums stop = state.range(2) == 1 ? StopSums::kAbsolute : StopSums::kNone;
+  const int K = 6;
+  const std::size_t stride = H + 32, block_bins = 2048, blocks = (H + block_bins - 1) / block_bins;
+  std::mt19937 rng(1);
+  std::normal_distribution<double> g(0, 1);
+  AlignedVector freq(H), r_re(H), r_im(H), a_re(K * stride), a_im(K * stride);
+  for (std::size_t j = 0; j < H; ++j) {
+    freq[j] = 0.5 * j / H;
+    r_re[j] = g(rng);
+    r_im[j] = g(rng);
+  }
+  for (std::size_t j = 0; j < K * stride; ++j) {
+    a_re[j] = g(rng);
+    a_im[j] = g(rng);
+  }
+  const double omega[K] = {0.0, 0.05, 0.1, 0.15, 0.2, 0.25};
+  std::vector<LaneSums> sums(blocks * K);
+  const std::function<void(int, int)> round = [&](int t, int of) {
+    for (std::size_t b = blocks * t / of; b < blocks * (t + 1) / of; ++b) {
+      LaneSums* bs = &sums[b * K];
+      for (int k = 0; k < K; ++k) bs[k].Clear();
+      for (std::size_t c0 = b * block_bins; c0 < std::min(H, (b + 1) * block_bins); c0 += 256) {
+        const std::size_t n = std::min<std::size_t>(256, H - c0);
+        BinChunk c{freq.data() + c0, nullptr, nullptr, r_re.data() + c0, r_im.data() + c0, a_re.data() + c0,
+                   a_im.data() + c0, a_re.data() + c0, a_im.data() + c0, stride};
+        c.two_pass = UseTwoPass(K, stride);
+        UpdateBinChunk(c, n, K, omega, 2000.0, true, stop, bs);
+      }
+    }
+  };
+  WorkerPool pool(threads);
+  for (auto _ : state) {
+    pool.Run(round);
+    benchmark::DoNotOptimize(sums.data());
+    benchmark::ClobberMemory();
+  }
+  state.counters["ns_per_bin_update"] = benchmark::Counter(
+      static_cast<double>(K * H) * state.iterations() * 1e-9, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  state.counters["rounds_alone"] = pool.rounds_alone();
+  state.SetLabel(KernelIsa());
+}
+BENCHMARK(BM_VmdKernelRounds)
+    ->Args({20000, 1, 0})
+    ->Args({20000, 2, 0})
+    ->Args({20000, 1, 1})
+    ->Args({20000, 2, 1})
     ->ComputeStatistics("min", MinOf)
     ->UseRealTime();
 

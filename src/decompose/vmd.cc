@@ -27,15 +27,12 @@
 #include "vmd_threads.h"
 
 #include <algorithm>
-#include <atomic>
-#include <barrier>
 #include <functional>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <memory>
-#include <mutex>
 #include <random>
 #include <sstream>
 #include <thread>

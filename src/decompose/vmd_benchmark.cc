@@ -158,21 +158,13 @@ BENCHMARK(BM_VmdUpdates)
 // BM_VmdKernelPath: the same cases with a third argument, the instruction-set path: 1 = AVX-512F,
 // 2 = AVX2, 3 = the x86-64 baseline (skipped when the CPU lacks it), so that an AVX-512 machine
 // measures what CPUs without it run. BM_VmdKernel uses the dispatcher's choice for this CPU.
-gyrocomp::vmd_internal::KernelPath PathArgument(int64_t p, bool* forced) {
-  using gyrocomp::vmd_internal::KernelPath;
-  *forced = p != 0;
-  return p == 1 ? KernelPath::kAvx512f : p == 2 ? KernelPath::kAvx2 : KernelPath::kBaseline;
-}
-const char* PathName(gyrocomp::vmd_internal::KernelPath p) {
-  using gyrocomp::vmd_internal::KernelPath;
-  return p == KernelPath::kAvx512f ? "avx512f" : p == KernelPath::kAvx2 ? "avx2" : "baseline";
-}
-
 void KernelCase(benchmark::State& state, int64_t path_argument) {
   using namespace gyrocomp::vmd_internal;
-  bool forced = false;
-  const KernelPath path = PathArgument(path_argument, &forced);
-  if (forced && !KernelPathSupported(path)) {
+  const KernelPath path = path_argument == 0   ? BestKernelPath()
+                          : path_argument == 1 ? KernelPath::kAvx512f
+                          : path_argument == 2 ? KernelPath::kAvx2
+                                               : KernelPath::kBaseline;
+  if (!KernelPathSupported(path)) {
     state.SkipWithError("this CPU lacks the instruction set of the path asked for");
     return;
   }
@@ -209,11 +201,7 @@ void KernelCase(benchmark::State& state, int64_t path_argument) {
         BinChunk c{freq.data() + c0, nullptr, nullptr, f_re.data() + c0, f_im.data() + c0, a_re.data() + c0,
                    a_im.data() + c0, a_re.data() + c0, a_im.data() + c0, H};
         c.two_pass = state.range(1) == 3 ? false : UseTwoPass(K, H);  // as DecomposeVmd, or forced one-pass
-        if (forced) {
-          UpdateBinChunkOn(path, c, n, K, omega, 2000.0, true, stop, sums.data());
-        } else {
-          UpdateBinChunk(c, n, K, omega, 2000.0, true, stop, sums.data());
-        }
+        UpdateBinChunkOn(path, c, n, K, omega, 2000.0, true, stop, sums.data());
         continue;
       }
       for (int k = 0; k < K; ++k) {
@@ -222,17 +210,13 @@ void KernelCase(benchmark::State& state, int64_t path_argument) {
                     (k == 0 ? a_re.data() : b_re.data()) + prev, (k == 0 ? a_im.data() : b_im.data()) + prev,
                     a_re.data() + kk, a_im.data() + kk, s_re.data() + c0, s_im.data() + c0,
                     b_re.data() + kk, b_im.data() + kk};
-        if (forced) {
-          UpdateModeChunkOn(path, c, n, omega[k], 2000.0, sums[k]);
-        } else {
-          UpdateModeChunk(c, n, omega[k], 2000.0, sums[k]);
-        }
+        UpdateModeChunkOn(path, c, n, omega[k], 2000.0, sums[k]);
       }
     }
     benchmark::DoNotOptimize(sums.data());
     benchmark::ClobberMemory();
   }
-  state.SetLabel(forced ? PathName(path) : KernelIsa());
+  state.SetLabel(KernelPathName(path));
   state.counters["ns_per_bin_update"] = benchmark::Counter(
       static_cast<double>(KH) * state.iterations() * 1e-9, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
   state.SetBytesProcessed(static_cast<int64_t>(state.iterations()) * KH * 4 * sizeof(double));

@@ -241,14 +241,9 @@ template <int K, class Step>
 GYROCOMP_INLINE void Tail(std::size_t i, std::size_t n, LaneSums* sums, const Step& step) {
   for (std::size_t l = 0; i < n; ++i, ++l) {
     ModeAcc<double> a[K];
-    for (int k = 0; k < K; ++k) a[k] = {sums[k].freq_power[l], sums[k].power[l], sums[k].diff[l], sums[k].old_power[l]};
+    for (int k = 0; k < K; ++k) LoadLanes(sums[k], l, a[k]);
     step(i, a);
-    for (int k = 0; k < K; ++k) {
-      sums[k].freq_power[l] = a[k].fp;
-      sums[k].power[l] = a[k].p;
-      sums[k].diff[l] = a[k].df;
-      sums[k].old_power[l] = a[k].op;
-    }
+    for (int k = 0; k < K; ++k) StoreLanes(a[k], l, sums[k]);
   }
 }
 
@@ -459,13 +454,17 @@ void UpdateBinChunk(const BinChunk& c, std::size_t n, int num_modes, const doubl
   UpdateBinChunkOn(best, c, n, num_modes, omega, alpha, batch_inversion, stop, sums);
 }
 
-const char* KernelIsa() {
-  switch (BestPath()) {
+KernelPath BestKernelPath() { return BestPath(); }
+
+const char* KernelPathName(KernelPath path) {
+  switch (path) {
     case KernelPath::kAvx512f: return "avx512f";
     case KernelPath::kAvx2: return "avx2";
     case KernelPath::kBaseline: break;
   }
   return "baseline";
 }
+
+const char* KernelIsa() { return KernelPathName(BestPath()); }
 
 }  // namespace gyrocomp::vmd_internal

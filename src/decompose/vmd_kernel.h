@@ -126,8 +126,10 @@ void UpdateBinChunk(const BinChunk& c, std::size_t n, int num_modes, const doubl
 void UpdateBinChunkOn(KernelPath path, const BinChunk& c, std::size_t n, int num_modes, const double* omega,
                       double alpha, bool batch_inversion, StopSums stop, LaneSums* sums);
 
-// The instruction set the dispatcher picks on this machine ("avx512f", "avx2", "baseline"), for
-// benchmark and log output.
+// The path the dispatcher picks on this machine, and a path's name ("avx512f", "avx2",
+// "baseline") for benchmark, test and log output; KernelIsa() = the picked path's name.
+KernelPath BestKernelPath();
+const char* KernelPathName(KernelPath path);
 const char* KernelIsa();
 
 bool KernelPathSupported(KernelPath path);

@@ -68,7 +68,7 @@ TEST(VmdKernel, EveryCompiledPathEqualsTheScalarDefinitionBitForBit) {
   const std::size_t n = 1021;  // 127 full vectors and a tail of 5
   int paths_run = 0;
   for (KernelPath path : {KernelPath::kBaseline, KernelPath::kAvx2, KernelPath::kAvx512f}) {
-    const std::string name = path == KernelPath::kBaseline ? "baseline" : path == KernelPath::kAvx2 ? "avx2" : "avx512f";
+    const std::string name = KernelPathName(path);
     if (!KernelPathSupported(path)) {
       std::printf("VmdKernel: %s not supported by this CPU, not checked\n", name.c_str());
       continue;
@@ -181,7 +181,7 @@ TEST(VmdKernel, BinMajorPathsEqualTheScalarDefinitionBitForBitForEveryK) {
   const std::size_t n = 1021;  // 127 full vectors and a tail of 5
   int paths_run = 0;
   for (KernelPath path : {KernelPath::kBaseline, KernelPath::kAvx2, KernelPath::kAvx512f}) {
-    const std::string name = path == KernelPath::kBaseline ? "baseline" : path == KernelPath::kAvx2 ? "avx2" : "avx512f";
+    const std::string name = KernelPathName(path);
     if (!KernelPathSupported(path)) {
       std::printf("VmdKernel: %s not supported by this CPU, not checked\n", name.c_str());
       continue;

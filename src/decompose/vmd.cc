@@ -21,6 +21,7 @@
 // and Eq. 6 dual ascent; then UpdateCenterFrequencies: Eq. 5 and the stopping rule, Eq. 7) ->
 // ReconstructModes (inverse FFT, unmirror) -> the summary.
 #include "gyrocomp/decompose/vmd.h"
+#include "gyrocomp/core/format.h"
 
 #include "vmd_kernel.h"
 #include "vmd_spectrum.h"
@@ -362,7 +363,9 @@ void ExtrapolateCenterFrequencies(AdmmState& st, const std::vector<double>& olde
 void RunAdmm(AdmmState& st, int threads, int keep_from) {
   const VmdOptions& opt = st.opt;
   // vmdpy starts from uDiff = tol + eps to enter the loop; with tol >= 1 squared signal units eps
-  // is absorbed and it returns its all-zero initial modes. Here the first update always runs.
+  // is absorbed and it returns its all-zero initial modes. Here the first update always runs:
+  // `n == 0` enters the loop even when tol_norm is +inf (an absolute tol on a signal near 1e-300
+  // overflows when normalised; `inf > inf` would run no update and leave no iterate to return).
   st.u_diff = std::numeric_limits<double>::infinity();
   st.n = 0;
   st.has_previous = false;
@@ -377,7 +380,7 @@ void RunAdmm(AdmmState& st, int threads, int keep_from) {
     const std::size_t b1 = num_blocks * (t + 1) / of;
     for (std::size_t b = b0; b < b1; ++b) UpdateBlock(st, io, b, om_snapshot);
   };
-  while (st.u_diff > st.tol_norm && st.n < opt.max_iterations - 1) {
+  while ((st.n == 0 || st.u_diff > st.tol_norm) && st.n < opt.max_iterations - 1) {
     st.stop_sums_now = StopSchedule(st, st.n + 1);
     const bool keep = KeepPrevious(st, keep_from);
     io = {st.cur_re, st.cur_im, st.cur_re, st.cur_im};
@@ -500,6 +503,9 @@ Result<VmdResult> vmd_internal::DecomposeVmdTuned(std::span<const double> signal
   const double* out_re = last ? st.cur_re : st.prev_re;
   const double* out_im = last ? st.cur_im : st.prev_im;
   const std::vector<double>& out_omega = last ? st.eq5_omega : st.eq5_omega_prev;
+  if (st.n < 1 || out_re == nullptr || out_im == nullptr) {
+    return InternalError("VMD: no update was run (n = " + std::to_string(st.n) + ")");
+  }
   st.ReleaseAllBut(out_re);
 
   VmdResult result;
@@ -515,6 +521,25 @@ Result<VmdResult> vmd_internal::DecomposeVmdTuned(std::span<const double> signal
     }
   }
 
+  // The absolute rule with a tolerance above the signal's power stops after the first update and
+  // returns the all-zero initial iterate (as vmdpy does): no decomposition at all. Say so rather
+  // than hand the later stages K zero modes (issue 24: a record scaled to ~1e-302).
+  if (st.n == 1 && opt.max_iterations > 2 && st.u_diff <= st.tol_norm && !last &&
+      opt.stopping_rule == VmdStoppingRule::kAbsolute) {
+    double power = 0.0;  // mean square in normalised units (max |x| in [1, 2)), then signal units
+    for (std::size_t i = 0; i < n_in; ++i) {
+      const double v = std::ldexp(signal[i], -sp.scale_exp);
+      power += v * v / static_cast<double>(n_in);
+    }
+    if (power > 0) {
+      return InvalidInput("VMD: the absolute stopping tolerance " + FormatNumber(opt.tol) +
+                          " (squared signal units) is not small against the signal's mean square (" +
+                          "about 1e" + std::to_string(static_cast<long>(std::floor(
+                                           std::log10(power) + 2.0 * sp.scale_exp * std::log10(2.0)))) +
+                          "): the rule stops after one update with all-zero modes; use the relative "
+                          "rule (--vmd-stop relative) or a smaller --tol");
+    }
+  }
   VmdSummary& s = result.summary;
   s.num_modes = K;
   s.num_samples = n_in;

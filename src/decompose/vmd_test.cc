@@ -345,6 +345,31 @@ TEST(VmdExtremeValues, NearTheEdgesOfTheDoubleRangeTheRelativeRuleIsScaleFree) {
   }
 }
 
+// Issue 24: a record scaled to ~3e-302 under the default absolute rule. Normalised, tol = 1e-7
+// squared signal units becomes +inf; the loop ran no update and the reconstruction read a null
+// iterate (SIGSEGV). Now the first update always runs; the rule is then met at once and the
+// reference would return its all-zero initial modes, which is refused with the reason.
+TEST(VmdExtremeValues, AbsoluteToleranceAboveTheSignalPowerIsRefusedNotACrash) {
+  const auto input = ReadGoldenCsv(GoldenPath("vmd/gyro_like_K6.input.csv")).at("x");
+  for (int e : {-1000, -1060, -660}) {  // ~3e-302, a subnormal-range input, ~1e-200
+    SCOPED_TRACE("scale 2^" + std::to_string(e));
+    std::vector<double> x(input.size());
+    for (std::size_t i = 0; i < x.size(); ++i) x[i] = std::ldexp(input[i], e);
+    VmdOptions opt;  // absolute rule, tol 1e-7
+    auto r = DecomposeVmd(x, opt);
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.error().kind, ErrorKind::kInvalidInput);
+    EXPECT_NE(r.error().message.find("--vmd-stop relative"), std::string::npos) << r.error().message;
+    opt.return_last_iterate = true;  // the one update's iterate is a (finite) answer
+    auto last = DecomposeVmd(x, opt);
+    ASSERT_TRUE(last.ok()) << last.error().message;
+    EXPECT_EQ(last->summary.iterations, 1);
+    for (const auto& mode : last->modes) {
+      for (double v : mode) ASSERT_TRUE(std::isfinite(v));
+    }
+  }
+}
+
 TEST(VmdExtremeValues, AlternatingPlusMinus1e308GivesFiniteModesExactlyScaledFromASmallCopy) {
   // A square wave of amplitude 1e308: unnormalised, its spectrum and squared sums overflow (the
   // modes came out NaN). Normalised, the modes are finite and exactly 2^1023 times those of the

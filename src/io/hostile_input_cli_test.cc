@@ -89,6 +89,22 @@ TEST_F(HostileInputCliTest, TinyValuesAreComputedNotZeroedOrNaN) {
   ASSERT_TRUE(tiny["arw_deg_per_sqrt_h"].is_number());
 }
 
+// Issue 24: a valid record scaled to ~1e-302 crashed decompose and process (SIGSEGV in the VMD's
+// reconstruction) and left their temporaries. Now: exit 2, one line naming the cause and the
+// option that fixes it, nothing left in the folder; the relative rule decomposes it.
+TEST_F(HostileInputCliTest, RecordNear1eMinus302IsRefusedWithTheReasonNotASegfault) {
+  const std::string in = Log("tiny302.csv", 3.249723276931597e-302);
+  const std::string tol = "--vmd-stop relative";
+  ExpectRefused("decompose -i '" + in + "' -o '" + dir_ + "/m.csv' --json '" + dir_ + "/m.json'", tol);
+  ExpectRefused("process -i '" + in + "' -o '" + dir_ + "/p.csv' --json '" + dir_ + "/p.json'", tol);
+  for (const auto& entry : fs::directory_iterator(dir_)) {
+    EXPECT_EQ(entry.path().filename().string(), "tiny302.csv") << "left behind: " << entry.path();
+  }
+  std::string out;
+  EXPECT_EQ(Run("decompose -i '" + in + "' " + tol + " -o '" + dir_ + "/m.csv' --json '" + dir_ + "/m.json'", &out), 0)
+      << out;
+}
+
 TEST_F(HostileInputCliTest, OptionsAtTheEdgesAreRefusedBeforeAllocating) {
   const std::string log = Log("log.csv", 1.0);
   ExpectRefused("allan -i '" + log + "' --fs 1e-300 --json -", "fs_hz = 1e-300 Hz: must be in [1e-06, 1e+09] Hz");

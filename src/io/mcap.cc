@@ -243,8 +243,10 @@ std::optional<Error> McapReader::Chunk(std::uint64_t at, std::uint64_t len) {
     return Bad(at, "Chunk record too short for its field '" + c.failed + "'");
   }
   const std::uint64_t records_at = at + kRecordHeaderBytes + c.pos;
-  if (records_len != len - c.pos) {
-    return Bad(at, "Chunk records length " + std::to_string(records_len) + " does not match the record (" +
+  // "Records": a record may be longer than its known fields (fields added by later versions):
+  // the records must fit in it, anything after them is skipped.
+  if (records_len > len - c.pos) {
+    return Bad(at, "Chunk records length " + std::to_string(records_len) + " runs past the record (" +
                        std::to_string(len - c.pos) + " bytes after the chunk's fields)");
   }
   // "Chunk": compression "" (none), "lz4", "zstd" (the values the spec lists as supported).
@@ -313,7 +315,7 @@ std::optional<Error> McapReader::ChunkRecords(std::uint64_t at) {
 
 // "Footer" then the closing magic, which must end the file.
 std::optional<Error> McapReader::Footer(std::uint64_t at, std::uint64_t len) {
-  if (len != kFooterBytes) return Bad(at, "Footer record of " + std::to_string(len) + " bytes, must be 20");
+  if (len < kFooterBytes) return Bad(at, "Footer record of " + std::to_string(len) + " bytes, needs 20");
   const std::uint64_t magic_at = at + kRecordHeaderBytes + len;
   if (size_ - magic_at != kMagic.size() || !bag_internal::ReadAt(in_, magic_at, kMagic.size(), &record_) ||
       std::memcmp(record_.data(), kMagic.data(), kMagic.size()) != 0) {

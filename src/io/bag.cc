@@ -148,6 +148,7 @@ class ImuCollector : public BagVisitor {
 
   std::optional<Error> OnChannel(const BagChannel& c) override {
     const bool imu = IsImuType(c.type);
+    if (imu) all_imu_topics_.insert(c.topic);
     if (options_.topic && c.topic == *options_.topic && !imu) {
       return InvalidInput(source_ + ": topic " + c.topic + " has type " + (c.type.empty() ? "(no schema)" : c.type) +
                           ", not sensor_msgs/Imu");
@@ -215,6 +216,7 @@ class ImuCollector : public BagVisitor {
   const BagReadOptions& options_;
   std::map<std::uint64_t, Target> channels_;
   std::map<std::string, std::size_t> imu_index_, temp_index_;
+  std::set<std::string> all_imu_topics_;  // every sensor_msgs/Imu topic, selected or not
   std::vector<ImuRows> imus_;
   std::vector<TemperatureRows> temps_;
 };
@@ -273,7 +275,7 @@ Result<BagImuTable> ImuCollector::Finish(BagFormat format) {
   out.format = format;
   if (options_.topic && imu_index_.count(*options_.topic) == 0) {
     std::string names;
-    for (const ImuRows& r : imus_) names += (names.empty() ? "" : ", ") + r.topic;
+    for (const std::string& t : all_imu_topics_) names += (names.empty() ? "" : ", ") + t;
     return InvalidInput(source_ + ": no sensor_msgs/Imu topic " + *options_.topic + " in the bag" +
                         (names.empty() ? std::string(" (it has no sensor_msgs/Imu topic; `gyrocomp inspect` lists its topics)")
                                        : std::string("; IMU topics: ") + names));

@@ -48,6 +48,7 @@ def simulate(seconds, rate, seed):
     acc = np.stack([axis(acc_n, acc_k, b) for b in (0.05, -0.03, 9.81)], axis=1)
     stamp_ns = T0_NS + (np.arange(n, dtype=np.int64) * 1_000_000_000) // int(rate)
     temp_stamp_ns = T0_NS + np.arange(int(seconds) + 1, dtype=np.int64) * 1_000_000_000
+    temp_stamp_ns = temp_stamp_ns[temp_stamp_ns <= stamp_ns[-1]]  # the ones written (see messages())
     temp_c = 25.0 + 0.01 * np.arange(len(temp_stamp_ns))
     return stamp_ns, gyro, acc, temp_stamp_ns, temp_c
 

@@ -3,8 +3,8 @@
 //
 // OpenVINS (rpng/open_vins, config/*/kalibr_imu_chain.yaml, read by ov_msckf's
 // parse_imu / VioManagerOptions): Kalibr's continuous-time keys and units, unchanged
-// (ov_msckf Propagator turns them into discrete covariances itself: sigma^2 / dt for the white
-// noise, sigma^2 * dt for the bias walk).
+// (ov_msckf/src/state/Propagator.cpp turns them into discrete covariances itself:
+// Qc = sigma_w^2 / dt for the white noise, sigma_wb^2 * dt for the bias walk).
 // VINS-Fusion (HKUST-Aerial-Robotics/VINS-Fusion, config/*.yaml keys acc_n, gyr_n, acc_w,
 // gyr_w): vins_estimator/src/factor/integration_base.h propagates the covariance with
 // V * noise * V^T where noise = diag(ACC_N^2, GYR_N^2, ..., ACC_W^2, GYR_W^2) and V multiplies

@@ -107,19 +107,17 @@ def cdr_image(ns, nbytes, frame="cam0"):
 
 
 def messages(sim, camera_bytes):
-    """(topic, receive_ns, cdr bytes) in receive-time order."""
+    """(topic, receive_ns, cdr bytes) in receive-time order (a generator: bags of hours stream)."""
     stamp_ns, gyro, acc, temp_ns, temp_c = sim
-    out = []
     ti = 0
     for i in range(len(stamp_ns)):
         ns = int(stamp_ns[i])
         while ti < len(temp_ns) and int(temp_ns[ti]) <= ns:
-            out.append(("/imu0/temperature", int(temp_ns[ti]) + LATENCY_NS, cdr_temperature(int(temp_ns[ti]), temp_c[ti])))
+            yield ("/imu0/temperature", int(temp_ns[ti]) + LATENCY_NS, cdr_temperature(int(temp_ns[ti]), temp_c[ti]))
             ti += 1
-        out.append(("/imu0", ns + LATENCY_NS, cdr_imu(ns, gyro[i], acc[i])))
+        yield ("/imu0", ns + LATENCY_NS, cdr_imu(ns, gyro[i], acc[i]))
         if camera_bytes and i % 10 == 0:
-            out.append(("/cam0/image_raw", ns + LATENCY_NS + 1, cdr_image(ns, camera_bytes)))
-    return out
+            yield ("/cam0/image_raw", ns + LATENCY_NS + 1, cdr_image(ns, camera_bytes))
 
 
 TYPES = {"/imu0": "sensor_msgs/msg/Imu", "/imu0/temperature": "sensor_msgs/msg/Temperature",
@@ -284,20 +282,19 @@ def main():
     p.add_argument("--rate", type=float, default=200.0)
     p.add_argument("--seed", type=int, default=25)
     p.add_argument("--camera-bytes", type=int, default=0)
-    p.add_argument("--formats", default="ros1,ros1-bz2,ros1-lz4,mcap,mcap-zstd,mcap-lz4,db3")
+    p.add_argument("--formats", default="ros1,ros1-bz2,ros1-lz4,mcap,mcap-zstd,mcap-lz4,db3,csv")
     a = p.parse_args()
     os.makedirs(a.out_dir, exist_ok=True)
     sim = simulate(a.seconds, a.rate, a.seed)
     formats = a.formats.split(",")
-    write_csv(os.path.join(a.out_dir, "imu.csv"), sim)
-    if any(f.startswith("mcap") or f == "db3" for f in formats):
-        msgs = messages(sim, a.camera_bytes)
-        for f, comp, name in (("mcap", "", "imu.mcap"), ("mcap-zstd", "zstd", "imu_zstd.mcap"),
-                              ("mcap-lz4", "lz4", "imu_lz4.mcap")):
-            if f in formats:
-                write_mcap(os.path.join(a.out_dir, name), msgs, comp)
-        if "db3" in formats:
-            write_db3(os.path.join(a.out_dir, "imu_db3"), msgs)
+    if "csv" in formats:
+        write_csv(os.path.join(a.out_dir, "imu.csv"), sim)
+    for f, comp, name in (("mcap", "", "imu.mcap"), ("mcap-zstd", "zstd", "imu_zstd.mcap"),
+                          ("mcap-lz4", "lz4", "imu_lz4.mcap")):
+        if f in formats:
+            write_mcap(os.path.join(a.out_dir, name), messages(sim, a.camera_bytes), comp)
+    if "db3" in formats:
+        write_db3(os.path.join(a.out_dir, "imu_db3"), list(messages(sim, a.camera_bytes)))
     for f, comp, name in (("ros1", "none", "imu.bag"), ("ros1-bz2", "bz2", "imu_bz2.bag"),
                           ("ros1-lz4", "lz4", "imu_lz4.bag")):
         if f in formats:

@@ -6,6 +6,7 @@
 // metadata.yaml (written by rosbag2) gives.
 #include "gyrocomp/io/bag.h"
 
+#include <bzlib.h>
 #include <lz4frame.h>
 #include <zlib.h>
 #include <zstd.h>
@@ -437,6 +438,78 @@ TEST(Rosbag2SampleTest, TalkerBagsListAsTheirMetadataSays) {
     ASSERT_FALSE(r.ok());
     EXPECT_NE(r.error().message.find("has type std_msgs/msg/String, not sensor_msgs/Imu"), std::string::npos) << r.error().message;
   }
+}
+
+// ---- ROS 1 bag v2.0 built record by record (wiki.ros.org/Bags/Format/2.0) ----
+
+std::string Field(const std::string& name, const std::string& value) {
+  std::string s;
+  Le(&s, name.size() + 1 + value.size(), 4);
+  return s + name + "=" + value;
+}
+std::string IntField(const std::string& name, std::uint64_t v, int n) {
+  std::string b;
+  Le(&b, v, n);
+  return Field(name, b);
+}
+std::string Ros1Record(const std::string& header, const std::string& data) {
+  std::string s;
+  Le(&s, header.size(), 4);
+  s += header;
+  Le(&s, data.size(), 4);
+  return s + data;
+}
+std::string Op(int op) { return Field("op", std::string(1, static_cast<char>(op))); }
+
+// A bag of n IMU messages in one chunk ("none" or "bz2"), plus a temperature topic.
+std::string Ros1Bag(int n, const std::string& compression, std::optional<std::uint32_t> declared = {}) {
+  std::string records;
+  records += Ros1Record(Op(7) + IntField("conn", 0, 4) + Field("topic", "/imu0"),
+                        Field("topic", "/imu0") + Field("type", "sensor_msgs/Imu") + Field("md5sum", "6a62c6daae103f4ff57a132d6f95cec2"));
+  records += Ros1Record(Op(7) + IntField("conn", 1, 4) + Field("topic", "/imu0/temperature"),
+                        Field("topic", "/imu0/temperature") + Field("type", "sensor_msgs/Temperature"));
+  for (int i = 0; i < n; ++i) {
+    const ImuMessage m = Sample(i);
+    const std::int64_t receive = m.StampNs() + 2000000;
+    const std::uint64_t time = static_cast<std::uint64_t>(receive / 1000000000) | (static_cast<std::uint64_t>(receive % 1000000000) << 32);
+    if (i % 10 == 0) {
+      TemperatureMessage t{m.stamp_sec, m.stamp_nanosec, 20.0 + i};
+      records += Ros1Record(Op(2) + IntField("conn", 1, 4) + IntField("time", time, 8), EncodeRos1Temperature(t, "imu"));
+    }
+    records += Ros1Record(Op(2) + IntField("conn", 0, 4) + IntField("time", time, 8), EncodeRos1Imu(m, "imu"));
+  }
+  std::string data = records;
+  if (compression == "bz2") {
+    unsigned int len = static_cast<unsigned int>(records.size() + records.size() / 100 + 600);
+    data.resize(len);
+    EXPECT_EQ(BZ2_bzBuffToBuffCompress(data.data(), &len, records.data(), static_cast<unsigned int>(records.size()), 9, 0, 0), BZ_OK);
+    data.resize(len);
+  }
+  std::string bag = "#ROSBAG V2.0\n";
+  // "Bag header": index_pos, conn_count, chunk_count; its data pads the record to 4096 bytes.
+  const std::string header = Op(3) + IntField("index_pos", 0, 8) + IntField("conn_count", 2, 4) + IntField("chunk_count", 1, 4);
+  bag += Ros1Record(header, std::string(4096 - 8 - header.size(), ' '));
+  bag += Ros1Record(Op(5) + Field("compression", compression) + IntField("size", declared.value_or(records.size()), 4), data);
+  return bag;
+}
+
+TEST_F(McapTest, Ros1BagsNoneAndBz2ReadTheSameRowsAndRefuseDamage) {
+  for (const std::string compression : {"none", "bz2"}) {
+    SCOPED_TRACE(compression);
+    Result<BagImuTable> r = ReadBagImu(Write("x.bag", Ros1Bag(120, compression)), {});
+    ASSERT_TRUE(r.ok()) << r.error().message;
+    EXPECT_EQ(r->format, BagFormat::kRos1);
+    ExpectSamples(*r, 120);
+  }
+  const std::string good = Ros1Bag(120, "bz2");
+  // The chunk record starts after the version line (13) and the 4096-byte bag header record.
+  Result<BagImuTable> r = ReadBagImu(Write("cut.bag", good.substr(0, good.size() - 10)), {});
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().message.find("byte 4109: truncated record"), std::string::npos) << r.error().message;
+  r = ReadBagImu(Write("bomb.bag", Ros1Bag(120, "bz2", 1000u)), {});
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().message.find("byte 4109: chunk: bz2: the data decompresses to more than the 1000 bytes"), std::string::npos)
+      << r.error().message;
 }
 
 TEST(BagDetectTest, FormatsByFirstBytes) {

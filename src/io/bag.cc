@@ -291,6 +291,13 @@ Result<BagImuTable> ImuCollector::Finish(BagFormat format) {
   }
   ImuRows& rows = imus_.front();
   if (rows.time_ns.empty()) return InvalidInput(source_ + ": topic " + rows.topic + " has no messages");
+  // Drivers that do not stamp their messages leave header.stamp at 0 (or one constant).
+  if (options_.time == BagTimeSource::kHeader && rows.time_ns.size() > 1 &&
+      std::all_of(rows.time_ns.begin(), rows.time_ns.end(), [&](std::int64_t t) { return t == rows.time_ns.front(); })) {
+    return InvalidInput(source_ + ": topic " + rows.topic + ": header.stamp is " + std::to_string(rows.time_ns.front()) +
+                        " ns in all " + std::to_string(rows.time_ns.size()) +
+                        " messages (the driver does not stamp them): use the bag's receive time, --time receive");
+  }
   // Rows in time order (stable; chunks may overlap in time).
   if (!std::is_sorted(rows.time_ns.begin(), rows.time_ns.end())) {
     std::vector<std::size_t> order(rows.time_ns.size());

@@ -512,6 +512,28 @@ TEST_F(McapTest, Ros1BagsNoneAndBz2ReadTheSameRowsAndRefuseDamage) {
       << r.error().message;
 }
 
+TEST_F(McapTest, UnstampedMessagesAskForReceiveTime) {
+  std::string r = SchemaRec(1, "sensor_msgs/msg/Imu") + ChannelRec(1, 1, "/imu0");
+  for (int i = 0; i < 5; ++i) r += MessageRec(1, 1000 + i, EncodeCdrImu(ImuMessage{}, "", false));
+  ExpectRefused(McapFile(r), "header.stamp is 0 ns in all 5 messages (the driver does not stamp them): use the bag's "
+                             "receive time, --time receive");
+  BagReadOptions o;
+  o.time = BagTimeSource::kReceive;
+  Result<BagImuTable> t = Read(McapFile(r), o);
+  ASSERT_TRUE(t.ok()) << t.error().message;
+  EXPECT_EQ(t->table.columns[0][4], 1004e-9);
+}
+
+TEST_F(McapTest, DamagedSqliteIsRefusedOnOneLine) {
+  // The sqlite3 magic, then garbage: sqlite itself refuses it.
+  const std::string path = Write("bad.db3", std::string("SQLite format 3\0", 16) + std::string(5000, '\x5a'));
+  Result<BagImuTable> r = ReadBagImu(path, {});
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().message.find(path + ": "), std::string::npos) << r.error().message;
+  EXPECT_NE(r.error().message.find("not a rosbag2 sqlite3 file?"), std::string::npos) << r.error().message;
+  EXPECT_EQ(r.error().message.find('\n'), std::string::npos);
+}
+
 TEST(BagDetectTest, FormatsByFirstBytes) {
   EXPECT_EQ(DetectBagFormat(BagsDir() + "/rosbag2/talker_mcap/talker.mcap"), BagFormat::kMcap);
   EXPECT_EQ(DetectBagFormat(BagsDir() + "/rosbag2/talker_db3/talker.db3"), BagFormat::kRos2Sqlite);

@@ -183,7 +183,7 @@ class ImuCollector : public BagVisitor {
     bool cdr = true;
   };
   Error DecodeFailed(const BagMessage& m, const std::string& topic, const DecodeError& e) const {
-    return InvalidInput(source_ + ": " + m.where + ": topic " + topic + ": message byte " + std::to_string(e.offset) +
+    return InvalidInput(source_ + ": " + m.where.ToString() + ": topic " + topic + ": message byte " + std::to_string(e.offset) +
                         " of " + std::to_string(m.size) + ": " + e.what);
   }
   std::int64_t Time(std::int64_t stamp_ns, std::uint64_t receive_ns) const {
@@ -309,6 +309,11 @@ Result<BagImuTable> ImuCollector::Finish(BagFormat format) {
       Permute(&rows.accel[k], order);
     }
   }
+  // push_back left up to twice the rows' capacity in each column; the table keeps these vectors.
+  for (int k = 0; k < 3; ++k) {
+    rows.gyro[k].shrink_to_fit();
+    rows.accel[k].shrink_to_fit();
+  }
   const TemperatureRows* temp = PickTemperature(rows.topic, &out.warnings);
   std::vector<double> time_s(rows.time_ns.size());
   for (std::size_t i = 0; i < time_s.size(); ++i) time_s[i] = Seconds(rows.time_ns[i]);
@@ -365,6 +370,13 @@ class Lister : public BagVisitor {
 };
 
 }  // namespace
+
+std::string BagPosition::ToString() const {
+  if (message_id) return "message id " + std::to_string(*message_id);
+  std::string s = "byte " + std::to_string(offset);
+  if (chunk_byte) s += ": chunk byte " + std::to_string(*chunk_byte);
+  return s;
+}
 
 std::string_view BagFormatName(BagFormat format) {
   switch (format) {

@@ -67,9 +67,9 @@ class McapReader {
   }
   std::optional<Error> Record(std::uint8_t op, std::uint64_t at, std::uint64_t len);
   std::optional<Error> Body(std::uint64_t at, std::uint64_t len, const char* what);
-  std::optional<Error> Schema(const std::uint8_t* p, std::size_t n, const std::string& where);
-  std::optional<Error> Channel(const std::uint8_t* p, std::size_t n, const std::string& where);
-  std::optional<Error> Message(const std::uint8_t* p, std::size_t n, const std::string& where);
+  std::optional<Error> Schema(const std::uint8_t* p, std::size_t n, const BagPosition& where);
+  std::optional<Error> Channel(const std::uint8_t* p, std::size_t n, const BagPosition& where);
+  std::optional<Error> Message(const std::uint8_t* p, std::size_t n, const BagPosition& where);
   std::optional<Error> DataMessage(std::uint64_t at, std::uint64_t len);
   std::optional<Error> Chunk(std::uint64_t at, std::uint64_t len);
   std::optional<Error> ChunkRecords(std::uint64_t at);
@@ -133,7 +133,7 @@ std::optional<Error> McapReader::Record(std::uint8_t op, std::uint64_t at, std::
     case kSchema:
     case kChannel: {
       if (auto e = Body(at, len, op == kSchema ? "Schema" : "Channel")) return e;
-      const std::string where = "byte " + std::to_string(at);
+      const BagPosition where{at, {}, {}};
       return op == kSchema ? Schema(record_.data(), record_.size(), where) : Channel(record_.data(), record_.size(), where);
     }
     case kMessage: return DataMessage(at, len);
@@ -156,32 +156,32 @@ std::optional<Error> McapReader::Body(std::uint64_t at, std::uint64_t len, const
 
 // "Schema": uint16 id, String name, String encoding, uint32-prefixed Bytes data.
 // "A Schema record with id 0 is invalid" (id 0 means "no schema" in a Channel).
-std::optional<Error> McapReader::Schema(const std::uint8_t* p, std::size_t n, const std::string& where) {
+std::optional<Error> McapReader::Schema(const std::uint8_t* p, std::size_t n, const BagPosition& where) {
   Cursor c{p, n};
   std::uint64_t id = 0;
   std::string name, encoding;
   if (!c.Int(2, &id, "id") || !c.Str(&name, "name") || !c.Str(&encoding, "encoding")) {
-    return InvalidInput(source_ + ": " + where + ": Schema record too short for its field '" + c.failed + "'");
+    return InvalidInput(source_ + ": " + where.ToString() + ": Schema record too short for its field '" + c.failed + "'");
   }
-  if (id == 0) return InvalidInput(source_ + ": " + where + ": Schema with id 0 (reserved for \"no schema\")");
+  if (id == 0) return InvalidInput(source_ + ": " + where.ToString() + ": Schema with id 0 (reserved for \"no schema\")");
   schema_names_[static_cast<std::uint16_t>(id)] = name;
   return std::nullopt;
 }
 
 // "Channel": uint16 id, uint16 schema_id, String topic, String message_encoding,
 // Map<string,string> metadata. "The schema_id ... must have been previously defined" (0: none).
-std::optional<Error> McapReader::Channel(const std::uint8_t* p, std::size_t n, const std::string& where) {
+std::optional<Error> McapReader::Channel(const std::uint8_t* p, std::size_t n, const BagPosition& where) {
   Cursor c{p, n};
   std::uint64_t id = 0, schema = 0;
   BagChannel ch;
   if (!c.Int(2, &id, "id") || !c.Int(2, &schema, "schema_id") || !c.Str(&ch.topic, "topic") ||
       !c.Str(&ch.encoding, "message_encoding")) {
-    return InvalidInput(source_ + ": " + where + ": Channel record too short for its field '" + c.failed + "'");
+    return InvalidInput(source_ + ": " + where.ToString() + ": Channel record too short for its field '" + c.failed + "'");
   }
   if (schema != 0) {
     const auto it = schema_names_.find(static_cast<std::uint16_t>(schema));
     if (it == schema_names_.end()) {
-      return InvalidInput(source_ + ": " + where + ": Channel " + std::to_string(id) + " (" + ch.topic +
+      return InvalidInput(source_ + ": " + where.ToString() + ": Channel " + std::to_string(id) + " (" + ch.topic +
                           ") refers to schema " + std::to_string(schema) + ", which no Schema record defined before it");
     }
     ch.type = it->second;
@@ -193,14 +193,14 @@ std::optional<Error> McapReader::Channel(const std::uint8_t* p, std::size_t n, c
 }
 
 // A Message record's content in memory (in a chunk, or read from the data section).
-std::optional<Error> McapReader::Message(const std::uint8_t* p, std::size_t n, const std::string& where) {
+std::optional<Error> McapReader::Message(const std::uint8_t* p, std::size_t n, const BagPosition& where) {
   if (n < kMessagePrefixBytes) {
-    return InvalidInput(source_ + ": " + where + ": Message record of " + std::to_string(n) + " bytes, needs at least 22");
+    return InvalidInput(source_ + ": " + where.ToString() + ": Message record of " + std::to_string(n) + " bytes, needs at least 22");
   }
   const auto channel = static_cast<std::uint16_t>(bag_internal::LoadLe(p, 2));
   const std::uint64_t log_time = bag_internal::LoadLe(p + 6, 8);
   if (channels_.count(channel) == 0) {
-    return InvalidInput(source_ + ": " + where + ": Message on channel " + std::to_string(channel) +
+    return InvalidInput(source_ + ": " + where.ToString() + ": Message on channel " + std::to_string(channel) +
                         ", which no Channel record defined before it");
   }
   visitor_->Count(channel, log_time);
@@ -212,7 +212,7 @@ std::optional<Error> McapReader::Message(const std::uint8_t* p, std::size_t n, c
 // A Message in the data section (unchunked files): the 22-byte prefix is read first, the data
 // only when the channel is wanted.
 std::optional<Error> McapReader::DataMessage(std::uint64_t at, std::uint64_t len) {
-  const std::string where = "byte " + std::to_string(at);
+  const BagPosition where{at, {}, {}};
   if (len < kMessagePrefixBytes) return Message(nullptr, static_cast<std::size_t>(len), where);
   std::vector<std::uint8_t> prefix;
   if (!bag_internal::ReadAt(in_, at + kRecordHeaderBytes, kMessagePrefixBytes, &prefix)) {
@@ -289,16 +289,16 @@ std::optional<Error> McapReader::ChunkRecords(std::uint64_t at) {
   const std::size_t n = chunk_.size();
   std::size_t pos = 0;
   while (pos < n) {
-    const std::string where = "byte " + std::to_string(at) + ": chunk byte " + std::to_string(pos);
+    const BagPosition where{at, pos, {}};
     if (n - pos < kRecordHeaderBytes) {
-      return InvalidInput(source_ + ": " + where + ": truncated record inside the chunk (" + std::to_string(n - pos) +
+      return InvalidInput(source_ + ": " + where.ToString() + ": truncated record inside the chunk (" + std::to_string(n - pos) +
                           " of the 9 bytes of opcode and length)");
     }
     const std::uint8_t op = chunk_[pos];
     const std::uint64_t len = bag_internal::LoadLe(chunk_.data() + pos + 1, 8);
     const std::size_t body = pos + kRecordHeaderBytes;
     if (len > n - body) {
-      return InvalidInput(source_ + ": " + where + ": record " + Hex(op) + " of " + std::to_string(len) +
+      return InvalidInput(source_ + ": " + where.ToString() + ": record " + Hex(op) + " of " + std::to_string(len) +
                           " bytes runs past the chunk's end (" + std::to_string(n - body) + " bytes left)");
     }
     const std::uint8_t* p = chunk_.data() + body;

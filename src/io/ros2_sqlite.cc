@@ -64,8 +64,9 @@ std::optional<Error> StreamRos2Sqlite(const std::string& path, const BagReadOpti
     const sqlite3_int64 id = sqlite3_column_int64(messages.get(), 0);
     const auto topic = static_cast<std::uint64_t>(sqlite3_column_int64(messages.get(), 1));
     const sqlite3_int64 t = sqlite3_column_int64(messages.get(), 2);
-    const std::string where = "message id " + std::to_string(id);
-    if (t < 0) return InvalidInput(path + ": " + where + ": negative timestamp " + std::to_string(t));
+    BagPosition where;
+    where.message_id = id;
+    if (t < 0) return InvalidInput(path + ": " + where.ToString() + ": negative timestamp " + std::to_string(t));
     visitor->Count(topic, static_cast<std::uint64_t>(t));
     if (!visitor->Wants(topic)) continue;
     const void* blob = sqlite3_column_blob(messages.get(), 3);

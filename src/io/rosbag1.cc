@@ -68,14 +68,14 @@ class Ros1Reader {
   std::optional<Error> Run();
 
  private:
-  Error Bad(const std::string& where, const std::string& what) const {
-    return InvalidInput(source_ + ": " + where + ": " + what);
+  Error Bad(const BagPosition& where, const std::string& what) const {
+    return InvalidInput(source_ + ": " + where.ToString() + ": " + what);
   }
-  static std::string At(std::uint64_t offset) { return "byte " + std::to_string(offset); }
+  static BagPosition At(std::uint64_t offset) { return BagPosition{offset, {}, {}}; }
   // One record in memory (a chunk's content): its op, header fields, data.
-  std::optional<Error> InnerRecord(const std::string& where, const Fields& f, const std::uint8_t* data, std::size_t n);
+  std::optional<Error> InnerRecord(const BagPosition& where, const Fields& f, const std::uint8_t* data, std::size_t n);
   std::optional<Error> Chunk(std::uint64_t at, const Fields& f, std::uint64_t data_at, std::uint64_t data_len);
-  std::optional<Error> Connection(const std::string& where, const Fields& f, const std::uint8_t* data, std::size_t n);
+  std::optional<Error> Connection(const BagPosition& where, const Fields& f, const std::uint8_t* data, std::size_t n);
 
   std::istream& in_;
   const std::string& source_;
@@ -97,7 +97,7 @@ std::optional<Error> Ros1Reader::Run() {
   bool first = true;
   while (pos < size) {
     if (size - pos < 4) return Bad(At(pos), "truncated record: the file ends inside its header length");
-    if (!bag_internal::ReadAt(in_, pos, 4, &buf_)) return IoError(source_ + ": read error at " + At(pos));
+    if (!bag_internal::ReadAt(in_, pos, 4, &buf_)) return IoError(source_ + ": read error at " + At(pos).ToString());
     const std::uint64_t header_len = LoadLe(buf_.data(), 4);
     if (header_len > size - pos - 4 || size - pos - 4 - header_len < 4) {
       return Bad(At(pos), "truncated record: a header of " + std::to_string(header_len) + " bytes and its data length "
@@ -105,7 +105,7 @@ std::optional<Error> Ros1Reader::Run() {
     }
     if (header_len > options_.max_chunk_bytes) return Bad(At(pos), "record header of " + std::to_string(header_len) + " bytes: too large");
     if (!bag_internal::ReadAt(in_, pos + 4, static_cast<std::size_t>(header_len) + 4, &buf_)) {
-      return IoError(source_ + ": read error at " + At(pos));
+      return IoError(source_ + ": read error at " + At(pos).ToString());
     }
     const std::uint64_t data_len = LoadLe(buf_.data() + header_len, 4);
     const std::uint64_t data_at = pos + 8 + header_len;
@@ -126,7 +126,7 @@ std::optional<Error> Ros1Reader::Run() {
     } else if (op == kConnection || op == kMessageData) {
       if (data_len > options_.max_chunk_bytes) return Bad(At(pos), "record of " + std::to_string(data_len) + " bytes: too large");
       if (!bag_internal::ReadAt(in_, data_at, static_cast<std::size_t>(data_len), &buf_)) {
-        return IoError(source_ + ": read error at " + At(data_at));
+        return IoError(source_ + ": read error at " + At(data_at).ToString());
       }
       if (auto e = InnerRecord(At(pos), f, buf_.data(), buf_.size())) return e;
     }
@@ -154,10 +154,10 @@ std::optional<Error> Ros1Reader::Chunk(std::uint64_t at, const Fields& f, std::u
     if (usize != data_len) {
       return Bad(At(at), "uncompressed chunk declares " + std::to_string(usize) + " bytes but holds " + std::to_string(data_len));
     }
-    if (!bag_internal::ReadAt(in_, data_at, static_cast<std::size_t>(data_len), &chunk_)) return IoError(source_ + ": read error at " + At(data_at));
+    if (!bag_internal::ReadAt(in_, data_at, static_cast<std::size_t>(data_len), &chunk_)) return IoError(source_ + ": read error at " + At(data_at).ToString());
   } else {
     if (!bag_internal::ReadAt(in_, data_at, static_cast<std::size_t>(data_len), &compressed_)) {
-      return IoError(source_ + ": read error at " + At(data_at));
+      return IoError(source_ + ": read error at " + At(data_at).ToString());
     }
     chunk_.assign(static_cast<std::size_t>(usize), 0);
     const std::string why = bag_internal::Decompress(method, compressed_.data(), compressed_.size(), &chunk_);
@@ -167,7 +167,7 @@ std::optional<Error> Ros1Reader::Chunk(std::uint64_t at, const Fields& f, std::u
   const std::size_t n = chunk_.size();
   std::size_t pos = 0;
   while (pos < n) {
-    const std::string where = At(at) + ": chunk byte " + std::to_string(pos);
+    const BagPosition where{at, pos, {}};
     if (n - pos < 4) return Bad(where, "truncated record inside the chunk");
     const std::uint64_t header_len = LoadLe(chunk_.data() + pos, 4);
     if (header_len > n - pos - 4 || n - pos - 4 - header_len < 4) return Bad(where, "record header runs past the chunk's end");
@@ -183,7 +183,7 @@ std::optional<Error> Ros1Reader::Chunk(std::uint64_t at, const Fields& f, std::u
   return std::nullopt;
 }
 
-std::optional<Error> Ros1Reader::InnerRecord(const std::string& where, const Fields& f, const std::uint8_t* data,
+std::optional<Error> Ros1Reader::InnerRecord(const BagPosition& where, const Fields& f, const std::uint8_t* data,
                                              std::size_t n) {
   std::uint64_t op = 0;
   if (!FieldInt(f, "op", 1, &op)) return Bad(where, "record without a 1-byte 'op' header field");
@@ -205,7 +205,7 @@ std::optional<Error> Ros1Reader::InnerRecord(const std::string& where, const Fie
   return visitor_->OnMessage(BagMessage{conn, receive_ns, data, n, where});
 }
 
-std::optional<Error> Ros1Reader::Connection(const std::string& where, const Fields& f, const std::uint8_t* data,
+std::optional<Error> Ros1Reader::Connection(const BagPosition& where, const Fields& f, const std::uint8_t* data,
                                             std::size_t n) {
   std::uint64_t conn = 0;
   const auto topic = f.find("topic");

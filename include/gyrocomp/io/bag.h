@@ -65,13 +65,21 @@ struct BagChannel {
   std::string encoding;  // "cdr" or "ros1"
 };
 
+// Where a record is, for errors (built into text only when one is reported): "byte N", "byte N:
+// chunk byte M" (M from the start of the decompressed chunk at byte N), or "message id N" (sqlite).
+struct BagPosition {
+  std::uint64_t offset = 0;
+  std::optional<std::uint64_t> chunk_byte;
+  std::optional<std::int64_t> message_id;
+  std::string ToString() const;
+};
+
 struct BagMessage {
   std::uint64_t channel = 0;
   std::uint64_t receive_time_ns = 0;
   const std::uint8_t* data = nullptr;
   std::size_t size = 0;
-  // Where the message is, for errors: "byte N" (in the chunk at byte M) or "message id N".
-  std::string where;
+  BagPosition where;
 };
 
 // The consumer of a stream of channels and messages. Wants() is asked once per message before

@@ -15,7 +15,7 @@ cmake --build "$build" -j"$(nproc)"
 # Seeds: small CSVs (plain and gzip) from tests/ and the field logs' IMU extracts (first 200
 # lines), model files from tests/golden, and the fuzzer's own corpus kept between runs.
 seeds=$build/seeds
-mkdir -p "$seeds"/csv "$seeds"/gz "$seeds"/model "$seeds"/ulog "$seeds"/dataflash
+mkdir -p "$seeds"/csv "$seeds"/gz "$seeds"/model "$seeds"/ulog "$seeds"/dataflash "$seeds"/mcap "$seeds"/rosbag1
 if [ ! -e "$seeds/.done" ]; then
   i=0
   while IFS= read -r f; do
@@ -38,12 +38,23 @@ if [ ! -e "$seeds/.done" ]; then
   for f in ../shared/fieldlogs/ardupilot/*.bin ../shared/fieldlogs/ardupilot/*.BIN; do
     [ -e "$f" ] && head -c 65536 "$f" > "$seeds/dataflash/$(basename "$f")"
   done
+  # ROS bags (issue 25): a 0.2 s simulated IMU with temperature and a small image topic, as MCAP
+  # (none / zstd / lz4 chunks) and ROS 1 (none / bz2 / lz4; needs python3-rosbag), plus
+  # rosbag2's talker MCAP.
+  if /usr/bin/python3 tests/bags/make_imu_bags.py "$seeds/bags" --seconds 0.2 --camera-bytes 64 >/dev/null 2>&1 ||
+     /usr/bin/python3 tests/bags/make_imu_bags.py "$seeds/bags" --seconds 0.2 --camera-bytes 64 \
+       --formats mcap,mcap-zstd,mcap-lz4 >/dev/null 2>&1; then
+    cp "$seeds"/bags/*.mcap "$seeds/mcap/" 2>/dev/null || true
+    cp "$seeds"/bags/*.bag "$seeds/rosbag1/" 2>/dev/null || true
+  fi
+  cp tests/bags/rosbag2/talker_mcap/talker.mcap "$seeds/mcap/"
   touch "$seeds/.done"
 fi
 
-declare -A corpus_of=([fuzz_csv]=csv [fuzz_gz]=gz [fuzz_ulog]=ulog [fuzz_dataflash]=dataflash [fuzz_model]=model)
+declare -A corpus_of=([fuzz_csv]=csv [fuzz_gz]=gz [fuzz_ulog]=ulog [fuzz_dataflash]=dataflash [fuzz_model]=model
+                      [fuzz_mcap]=mcap [fuzz_rosbag1]=rosbag1)
 fuzzers=("$@")
-[ ${#fuzzers[@]} -eq 0 ] && fuzzers=(fuzz_csv fuzz_gz fuzz_ulog fuzz_dataflash fuzz_model)
+[ ${#fuzzers[@]} -eq 0 ] && fuzzers=(fuzz_csv fuzz_gz fuzz_ulog fuzz_dataflash fuzz_model fuzz_mcap fuzz_rosbag1)
 status=0
 for fz in "${fuzzers[@]}"; do
   corpus=$build/corpus/$fz

@@ -8,6 +8,10 @@
 #include "gyrocomp/allan/allan.h"
 #include "gyrocomp/allan/deviations.h"
 #include "gyrocomp/allan/kalibr.h"
+#include "gyrocomp/allan/vio_noise.h"
+#include "gyrocomp/core/format.h"
+#include "gyrocomp/io/bag.h"
+#include "gyrocomp/io/flight_log.h"
 #include "gyrocomp/io/io.h"
 #include "result_json.h"
 
@@ -23,7 +27,10 @@ struct AllanArgs {
   std::string csv_path;
   std::string deviation = "adev";
   std::string kalibr_yaml_path;
+  std::string openvins_yaml_path;  // OpenVINS kalibr_imu_chain.yaml (issue 25)
+  std::string vins_yaml_path;      // VINS-Fusion acc_n / gyr_n / acc_w / gyr_w (issue 25)
   std::string rostopic = KalibrYamlOptions{}.rostopic;
+  bool rostopic_given = false;
   std::string accel_cols;  // comma-separated, m/s^2 (only for --kalibr-yaml)
   AllanOptions allan;  // library defaults
 };
@@ -32,8 +39,16 @@ struct AllanArgs {
 struct AllanOutputs {
   std::vector<AllanResult> results;
   std::vector<DeviationCurve> deviations;  // one per axis when --deviation is not adev
-  std::vector<AllanResult> accel;          // --accel-col axes
+  std::vector<AllanResult> accel;          // --accel-col axes (a ROS bag: x_m_s2, y_m_s2, z_m_s2)
 };
+
+// The accelerometer columns: --accel-col, or a ROS bag's linear_acceleration columns (all six
+// axes of a bag are analysed at once).
+std::string AccelColumns(const AllanArgs& a, const LoadedLog& loaded) {
+  if (!a.accel_cols.empty()) return a.accel_cols;
+  if (DetectLogFormat(a.log.input) != LogFormat::kRosBag || loaded.table.Find(kBagAccelCols[0]) < 0) return "";
+  return std::string(kBagAccelCols[0]) + "," + kBagAccelCols[1] + "," + kBagAccelCols[2];
+}
 
 // The curve as CSV: tau_s, m, then per axis adev, error, interval, EDF, n (column names carry the
 // axis when there are several).
@@ -121,11 +136,12 @@ Result<AllanOutputs> Analyse(const AllanArgs& a, const AllanOptions& options, De
       out.deviations.push_back(std::move(*d));
     }
   }
-  if (!a.accel_cols.empty()) {
+  const std::string accel_cols = AccelColumns(a, loaded);
+  if (!accel_cols.empty()) {
     // Accelerometer columns (m/s^2), read as they are: the Allan arithmetic does not depend on the unit.
     Result<LogSpec> spec = ToLogSpec(a.log);
     if (!spec.ok()) return spec.error();
-    spec->rate_cols = SplitList(a.accel_cols);
+    spec->rate_cols = SplitList(accel_cols);
     spec->rate_unit = RateUnit::kDegPerSec;
     spec->resample_hz.reset();
     spec->min_samples = 3;
@@ -138,9 +154,15 @@ Result<AllanOutputs> Analyse(const AllanArgs& a, const AllanOptions& options, De
   return out;
 }
 
-// imu.yaml for Kalibr from the gyro axes (and the accelerometer axes when given).
-Result<std::string> KalibrYaml(const AllanArgs& a, const AllanOutputs& out, const GyroLog& log) {
+struct SensorNoise {
   std::vector<KalibrAxisNoise> gyro, accel;
+};
+
+// Kalibr's continuous-time figures of every axis (docs/kalibr.md).
+Result<SensorNoise> NoiseFigures(const AllanArgs& a, const AllanOutputs& out, const GyroLog& log) {
+  SensorNoise n;
+  std::vector<KalibrAxisNoise>& gyro = n.gyro;
+  std::vector<KalibrAxisNoise>& accel = n.accel;
   for (const AllanResult& r : out.results) {
     Result<KalibrAxisNoise> k = KalibrNoiseFromAllan(r, KalibrSensor::kGyroscope, a.allan.min_edf_for_terms);
     if (!k.ok()) return Error{k.error().kind, log.source + ": " + k.error().message};
@@ -151,10 +173,51 @@ Result<std::string> KalibrYaml(const AllanArgs& a, const AllanOutputs& out, cons
     if (!k.ok()) return Error{k.error().kind, log.source + ": " + k.error().message};
     accel.push_back(*k);
   }
-  KalibrYamlOptions yo;
-  yo.rostopic = a.rostopic;
-  yo.source = log.source;
-  return KalibrImuYaml(gyro, accel, log.fs_hz, yo);
+  return n;
+}
+
+// The accelerometer axes in the JSON, in their own unit (the AllanResult fields say dps because
+// the arithmetic is shared; here they are named for what they hold).
+nlohmann::json AccelJson(const AllanResult& r, const KalibrAxisNoise* k) {
+  nlohmann::json j;
+  j["tau_s"] = r.curve.tau_s;
+  j["adev_m_s2"] = r.curve.adev_dps;
+  j["adev_lo_m_s2"] = r.curve.adev_lo_dps;
+  j["adev_hi_m_s2"] = r.curve.adev_hi_dps;
+  j["n_samples"] = r.n_samples;
+  if (k) {
+    j["noise_density_m_s2_per_sqrt_hz"] = k->noise_density;
+    j["random_walk_m_s3_per_sqrt_hz"] = k->random_walk;
+    j["random_walk_is_upper_bound"] = k->random_walk_is_upper_bound;
+  }
+  return j;
+}
+
+// The robotics noise files asked for: Kalibr imu.yaml, OpenVINS kalibr_imu_chain.yaml,
+// VINS-Fusion's four keys, as (path, text).
+Result<std::vector<std::pair<std::string, std::string>>> NoiseFiles(const AllanArgs& a, const SensorNoise& n,
+                                                                    const GyroLog& log) {
+  std::vector<std::pair<std::string, std::string>> files;
+  std::string topic = a.rostopic;
+  if (!a.rostopic_given && a.log.topic) topic = *a.log.topic;
+  if (!a.kalibr_yaml_path.empty()) {
+    KalibrYamlOptions yo;
+    yo.rostopic = topic;
+    yo.source = log.source;
+    files.emplace_back(a.kalibr_yaml_path, KalibrImuYaml(n.gyro, n.accel, log.fs_hz, yo));
+  }
+  VioNoiseFileOptions vo;
+  vo.rostopic = topic;
+  vo.source = log.source;
+  for (const auto& [path, name] : {std::pair{&a.openvins_yaml_path, "--openvins-yaml"}, std::pair{&a.vins_yaml_path, "--vins-yaml"}}) {
+    if (path->empty()) continue;
+    if (n.accel.empty()) {
+      return InvalidArgument(std::string(name) + ": needs accelerometer axes (a ROS bag's, or --accel-col)");
+    }
+    files.emplace_back(*path, path == &a.openvins_yaml_path ? OpenVinsImuChainYaml(n.gyro, n.accel, log.fs_hz, vo)
+                                                           : VinsFusionImuYaml(n.gyro, n.accel, log.fs_hz, vo));
+  }
+  return files;
 }
 
 int Run(const AllanArgs& a) {
@@ -174,8 +237,9 @@ int Run(const AllanArgs& a) {
   if (!kind) {
     return ReportError(kName, InvalidArgument("--deviation " + a.deviation + ": must be adev, mdev, hdev, ohdev or totdev"));
   }
-  if (!a.accel_cols.empty() && a.kalibr_yaml_path.empty()) {
-    return ReportError(kName, InvalidArgument("--accel-col: only used with --kalibr-yaml"));
+  const bool noise_file = !a.kalibr_yaml_path.empty() || !a.openvins_yaml_path.empty() || !a.vins_yaml_path.empty();
+  if (!a.accel_cols.empty() && !noise_file) {
+    return ReportError(kName, InvalidArgument("--accel-col: only used with --kalibr-yaml, --openvins-yaml or --vins-yaml"));
   }
 
   Result<LogSpec> spec = ToLogSpec(a.log);
@@ -203,30 +267,56 @@ int Run(const AllanArgs& a) {
   }
   j["input"] = log.source;
   j["sampling"] = log.sampling.BriefReport();
-  std::string yaml;
-  if (!a.kalibr_yaml_path.empty()) {
-    Result<std::string> y = KalibrYaml(a, *out, log);
-    if (!y.ok()) return ReportError(kName, y.error());
-    yaml = std::move(*y);
+  std::vector<std::pair<std::string, std::string>> files;
+  if (noise_file || !out->accel.empty()) {
+    Result<SensorNoise> noise = NoiseFigures(a, *out, log);
+    // Without a noise file to write, a record too short for tau = 1 s still gets its curves.
+    if (!noise.ok() && noise_file) return ReportError(kName, noise.error());
+    if (!out->accel.empty()) {
+      j["accel_axes"] = nlohmann::json::object();
+      for (std::size_t i = 0; i < out->accel.size(); ++i) {
+        j["accel_axes"][out->accel[i].axis] = AccelJson(out->accel[i], noise.ok() ? &noise->accel[i] : nullptr);
+      }
+    }
+    if (noise.ok() && !out->accel.empty()) {
+      nlohmann::json gyro = nlohmann::json::object();
+      for (const KalibrAxisNoise& k : noise->gyro) {
+        gyro[k.axis] = {{"noise_density_rad_s_per_sqrt_hz", k.noise_density},
+                        {"random_walk_rad_s2_per_sqrt_hz", k.random_walk},
+                        {"random_walk_is_upper_bound", k.random_walk_is_upper_bound}};
+      }
+      j["gyro_noise"] = gyro;
+    }
+    if (!noise_file) noise = SensorNoise{};
+    Result<std::vector<std::pair<std::string, std::string>>> f = NoiseFiles(a, *noise, log);
+    if (!f.ok()) return ReportError(kName, f.error());
+    files = std::move(*f);
   }
 
   if (!a.csv_path.empty()) {
     const Table table = out->deviations.empty() ? CurveTable(results) : DeviationTable(results, out->deviations);
     if (Status s = WriteCsv(a.csv_path, table); !s.ok()) return ReportError(kName, s.error());
   }
-  if (!a.kalibr_yaml_path.empty()) {
-    if (Status s = WriteText(a.kalibr_yaml_path, yaml); !s.ok()) return ReportError(kName, s.error());
+  for (const auto& [path, text] : files) {
+    if (Status s = WriteText(path, text); !s.ok()) return ReportError(kName, s.error());
   }
   if (!a.json_path.empty()) {
     if (Status s = WriteJson(a.json_path, j); !s.ok()) return ReportError(kName, s.error());
   }
-  if (a.json_path != "-" && a.kalibr_yaml_path != "-") {
+  const bool stdout_taken = a.json_path == "-" || a.kalibr_yaml_path == "-" || a.openvins_yaml_path == "-" || a.vins_yaml_path == "-";
+  if (!stdout_taken) {
     for (std::size_t i = 0; i < results.size(); ++i) {
       std::cout << results[i].BriefReport() << "\n";
       if (!out->deviations.empty()) {
         const DeviationCurve& d = out->deviations[i];
         std::cout << "  " << DeviationKindName(d.kind) << ": " << d.size() << " taus in " << d.seconds << " s\n";
       }
+    }
+    for (const auto& [name, axis] : j.value("accel_axes", nlohmann::json::object()).items()) {
+      if (!axis.contains("noise_density_m_s2_per_sqrt_hz")) continue;
+      std::cout << name << ": accelerometer noise density " << FormatNumber(axis["noise_density_m_s2_per_sqrt_hz"].get<double>())
+                << " m/s^2/sqrt(Hz), random walk " << FormatNumber(axis["random_walk_m_s3_per_sqrt_hz"].get<double>())
+                << " m/s^3/sqrt(Hz)" << (axis["random_walk_is_upper_bound"].get<bool>() ? " (upper bound)" : "") << "\n";
     }
   }
   return kExitOk;
@@ -252,12 +342,18 @@ Command Make(CLI::App& app) {
       "    (JSON <kind>_tau_s, <kind>_dps, <kind>_lo_dps, ...; -o writes that curve). Hadamard\n"
       "    (hdev, ohdev) is blind to a linear rate drift (a temperature ramp).\n"
       "  --kalibr-yaml imu.yaml: Kalibr's noise densities (rad/s/sqrt(Hz), rad/s^2/sqrt(Hz); docs/kalibr.md).\n"
+      "  --openvins-yaml / --vins-yaml: the same figures for OpenVINS (continuous) and VINS-Fusion\n"
+      "    (discrete per-sample, x sqrt(fs)); docs/kalibr.md cites each convention.\n"
+      "  ROS bag input (-i imu.bag / .mcap / .db3 / folder, --topic /imu0): the gyro axes x_rad_s,\n"
+      "    y_rad_s, z_rad_s and the accelerometer axes x_m_s2, y_m_s2, z_m_s2 at once (JSON accel_axes,\n"
+      "    gyro_noise).\n"
       "  rrw_deg_per_h_per_sqrt_h: sigma(3 s) on the +1/2 line fitted after the minimum (null if none).\n"
       "  Error bars: adev/sqrt(n) (allantools) and a chi-square interval from the EDF of\n"
       "    NIST SP 1065 Table 5 (Howe, Allan & Barnes), noise type per tau by lag-1\n"
       "    autocorrelation (Riley & Greenhall 2004).\n"
       "Several axes: --rate-col gx_dps,gy_dps,gz_dps gives JSON {axes: {name: {...}}}.\n"
-      "Example: gyrocomp allan -i log.csv.gz --rate-col gx_dps --time-col t_s --json - -o adev.csv");
+      "Example: gyrocomp allan -i log.csv.gz --rate-col gx_dps --time-col t_s --json - -o adev.csv\n"
+      "         gyrocomp allan -i imu.bag --topic /imu0 --kalibr-yaml imu.yaml --json adev.json");
   AddLogOptions(sub, &args->log);
   sub->add_option("--taus", args->taus, "Tau grid: octave | decade | all | N (taus per decade)")->capture_default_str();
   AddOutputOption(sub, "--json", &args->json_path, "Write the results as JSON to FILE ('-' = stdout)");
@@ -269,7 +365,13 @@ Command Make(CLI::App& app) {
   sub->add_option("--deviation", args->deviation, "Also compute: adev | mdev | hdev | ohdev | totdev")
       ->capture_default_str();
   AddOutputOption(sub, "--kalibr-yaml", &args->kalibr_yaml_path, "Write Kalibr's IMU noise file (imu.yaml) to FILE");
-  sub->add_option("--rostopic", args->rostopic, "rostopic written in the Kalibr file")->capture_default_str();
+  AddOutputOption(sub, "--openvins-yaml", &args->openvins_yaml_path,
+                  "Write an OpenVINS kalibr_imu_chain.yaml (continuous-time densities) to FILE");
+  AddOutputOption(sub, "--vins-yaml", &args->vins_yaml_path,
+                  "Write VINS-Fusion's acc_n / gyr_n / acc_w / gyr_w (discrete: x sqrt(fs); docs/kalibr.md) to FILE");
+  sub->add_option("--rostopic", args->rostopic, "rostopic written in the noise files (default: --topic, else /imu0)")
+      ->each([args](const std::string&) { args->rostopic_given = true; })
+      ->capture_default_str();
   sub->add_option("--accel-col", args->accel_cols,
                   "Accelerometer column(s), m/s^2, for the Kalibr file's accelerometer keys (comma-separated)");
   sub->add_option("--min-edf", args->allan.min_edf_for_terms,

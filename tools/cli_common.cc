@@ -13,8 +13,8 @@ namespace gyrocomp::cli {
 
 void AddLogOptions(CLI::App* app, LogOptions* o, bool input_required) {
   auto* in = AddInputOption(app, "-i,--input", &o->input,
-                            "Input log: CSV (header row; .gz read directly; '-' = stdin), PX4 ULog or ArduPilot "
-                            "DataFlash (recognised by their first bytes)");
+                            "Input log: CSV (header row; .gz read directly; '-' = stdin), PX4 ULog, ArduPilot "
+                            "DataFlash, ROS bag (ROS 1, MCAP, rosbag2 .db3 or folder; recognised by their first bytes)");
   if (input_required) in->required();
   app->add_option("--time-col", o->time_col, "Time column, seconds")->capture_default_str();
   app->add_option("--rate-col", o->rate_col, "Rate column(s), comma-separated for several axes")
@@ -29,6 +29,11 @@ void AddLogOptions(CLI::App* app, LogOptions* o, bool input_required) {
   app->add_option("--instance", o->instance,
                   "ULog / DataFlash: gyro instance (sensor_gyro multi_id, IMU instance); default: the only one")
       ->check(CLI::NonNegativeNumber);
+  app->add_option("--topic", o->topic, "ROS bag: the sensor_msgs/Imu topic (default: the only one)");
+  app->add_option("--time", o->time_source,
+                  "ROS bag: row time from the message header stamp (header) or the bag's receive time (receive)")
+      ->check(CLI::IsMember({"header", "receive"}))
+      ->capture_default_str();
   app->add_option("--resample", o->resample_hz,
                   "Resample an irregularly sampled log onto this uniform rate (Hz, linear interpolation)")
       ->check(CLI::PositiveNumber);
@@ -67,6 +72,8 @@ Result<LogSpec> ToLogSpec(const LogOptions& o) {
   if (!unit) return InvalidArgument("--rate-unit " + o.rate_unit + ": must be dps, rads or dph");
   spec.rate_unit = *unit;
   spec.instance = o.instance;
+  spec.topic = o.topic;
+  spec.bag_time = o.time_source == "receive" ? BagTimeSource::kReceive : BagTimeSource::kHeader;
   spec.on_warning = [](const std::string& w) { std::cerr << "gyrocomp: " << w << "\n"; };
   return spec;
 }

@@ -47,6 +47,10 @@ struct LogOptions {
   std::optional<double> resample_hz;
   // ULog / DataFlash: gyro instance (sensor_gyro multi_id, IMU instance); nullopt = the only one.
   std::optional<int> instance;
+  // ROS bags (issue 25): the sensor_msgs/Imu topic (nullopt = the only one) and the row time,
+  // "header" (header.stamp) or "receive" (the bag's record time).
+  std::optional<std::string> topic;
+  std::string time_source = "header";
   bool rate_unit_given = false;  // --rate-unit was on the command line
   double max_memory_gb = 8.0;  // LogSpec::max_memory_bytes, CsvReadOptions::max_memory_bytes
 };

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "commands.h"
+#include "gyrocomp/io/bag.h"
 #include "gyrocomp/io/flight_log.h"
 #include "table_printer.h"
 
@@ -92,6 +93,34 @@ nlohmann::json InspectDataFlash(const DataFlashContents& log) {
   return j;
 }
 
+// A ROS bag (issue 25): every topic with its type, encoding, message count and mean rate (by
+// receive time); the IMU topics are the ones `--topic` chooses from.
+nlohmann::json InspectBag(const BagListing& bag) {
+  nlohmann::json j;
+  j["format"] = std::string(BagFormatName(bag.format));
+  nlohmann::json topics = nlohmann::json::array();
+  for (const BagTopicInfo& t : bag.topics) {
+    const std::optional<double> rate = t.RateHz();
+    topics.push_back({{"topic", t.topic}, {"type", t.type}, {"encoding", t.encoding}, {"messages", t.messages},
+                      {"rate_hz", rate ? nlohmann::json(*rate) : nlohmann::json()},
+                      {"imu", t.type == "sensor_msgs/msg/Imu" || t.type == "sensor_msgs/Imu"}});
+  }
+  j["topics"] = topics;
+  return j;
+}
+
+void PrintBag(const nlohmann::json& j) {
+  std::cout << j["input"].get<std::string>() << ": " << j["format"].get<std::string>() << ", " << j["topics"].size()
+            << " topics\n";
+  std::vector<std::vector<std::string>> rows;
+  for (const auto& t : j["topics"]) {
+    rows.push_back({t["topic"].get<std::string>(), t["type"].get<std::string>(), t["encoding"].get<std::string>(),
+                    std::to_string(t["messages"].get<std::size_t>()),
+                    FormatNumber(t["rate_hz"].is_null() ? std::nullopt : std::optional<double>(t["rate_hz"].get<double>()))});
+  }
+  std::cout << FormatTable({"topic", "type", "encoding", "messages", "rate_hz"}, rows);
+}
+
 void PrintText(const nlohmann::json& j) {
   std::cout << j["input"].get<std::string>() << ": " << j["format"].get<std::string>() << "\n";
   if (j.contains("topics")) {
@@ -130,26 +159,36 @@ int Run(const InspectArgs& a) {
       j = InspectDataFlash(*log);
       break;
     }
+    case LogFormat::kRosBag: {
+      Result<BagListing> bag = ListBag(a.input);
+      if (!bag.ok()) return ReportError(kName, bag.error());
+      j = InspectBag(*bag);
+      break;
+    }
     default:
-      return ReportError(kName, InvalidInput(a.input + ": not a PX4 ULog or ArduPilot DataFlash log (by its first "
-                                                       "bytes); inspect reads flight-controller logs"));
+      return ReportError(kName, InvalidInput(a.input + ": not a PX4 ULog, ArduPilot DataFlash log or ROS bag (by its "
+                                                       "first bytes); inspect reads flight-controller logs and bags"));
   }
   j["input"] = a.input;
   if (!a.json_path.empty()) {
     if (Status s = WriteJson(a.json_path, j); !s.ok()) return ReportError(kName, s.error());
   }
-  if (a.json_path != "-") PrintText(j);
+  if (a.json_path != "-") {
+    if (j.contains("gyro_instances")) PrintText(j); else PrintBag(j);
+  }
   return kExitOk;
 }
 
 Command Make(CLI::App& app) {
   auto a = std::make_shared<InspectArgs>();
-  CLI::App* sub = app.add_subcommand(kName, "List what a PX4 ULog or ArduPilot DataFlash log holds");
+  CLI::App* sub = app.add_subcommand(kName, "List what a PX4 ULog or ArduPilot DataFlash log, or a ROS bag, holds");
   sub->footer(
       "Prints the topics (ULog) or message types (DataFlash), the gyro instances with rows, device id,\n"
       "mean sample rate and temperature range, and the thermal-compensation parameters found\n"
-      "(PX4 TC_G_ENABLE / TC_G{i}_ID, ArduPilot INS_TCAL{n}_ENABLE). Example: gyrocomp inspect -i log.ulg");
-  AddInputOption(sub, "-i,--input", &a->input, "Input log (ULog or DataFlash, recognised by its first bytes)")->required();
+      "(PX4 TC_G_ENABLE / TC_G{i}_ID, ArduPilot INS_TCAL{n}_ENABLE). Example: gyrocomp inspect -i log.ulg\n"
+      "ROS bags (ROS 1, MCAP, rosbag2 .db3 or folder): every topic with type, encoding, messages and\n"
+      "mean rate (receive times). Example: gyrocomp inspect -i imu.mcap");
+  AddInputOption(sub, "-i,--input", &a->input, "Input log (ULog, DataFlash or ROS bag, recognised by its first bytes)")->required();
   AddOutputOption(sub, "--json", &a->json_path, "Write the listing as JSON ('-' = stdout, then no text)");
   return {sub, [a] { return Run(*a); }};
 }

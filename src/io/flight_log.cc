@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "gyrocomp/core/format.h"
+#include "gyrocomp/io/bag_log.h"
 
 namespace gyrocomp {
 
@@ -83,6 +84,7 @@ std::string_view LogFormatName(LogFormat format) {
   switch (format) {
     case LogFormat::kULog: return "ulog";
     case LogFormat::kDataFlash: return "dataflash";
+    case LogFormat::kRosBag: return "rosbag";
     default: return "csv";
   }
 }
@@ -90,6 +92,7 @@ std::string_view LogFormatName(LogFormat format) {
 LogFormat DetectLogFormat(const std::string& path) {
   // Only regular files are peeked at: reading the first bytes of a pipe (stdin, `<(zcat x)`)
   // would take them away from the CSV reader.
+  if (DetectBagFormat(path) != BagFormat::kNone) return LogFormat::kRosBag;  // issue 25 (files and bag folders)
   std::error_code ec;
   if (path == "-" || !std::filesystem::is_regular_file(path, ec)) return LogFormat::kCsv;
   std::ifstream in(path, std::ios::binary);
@@ -195,6 +198,11 @@ Result<FlightLogTable> ReadFlightLog(const std::string& path, std::optional<int>
       if (!log) return log.error();
       return FlightLogFromDataFlash(*log, instance);
     }
+    case LogFormat::kRosBag: {  // issue 25: the IMU topic of a ROS bag (gyrocomp/io/bag_log.h)
+      Result<BagImuTable> bag = ReadBagImu(path, BagReadOptions{});
+      if (!bag) return bag.error();
+      return BagFlightLog(std::move(*bag));
+    }
     default:
       return InvalidArgument(path + ": neither a ULog nor a DataFlash log (by its first bytes)");
   }
@@ -204,6 +212,7 @@ Result<LogTableRead> ReadLogTable(const std::string& path, const LogSpec& spec) 
   LogTableRead out;
   out.spec = spec;
   out.format = DetectLogFormat(path);
+  if (out.format == LogFormat::kRosBag) return ReadBagLogTable(path, spec);  // issue 25
   if (out.format == LogFormat::kCsv) {
     CsvReadOptions read;
     read.max_memory_bytes = spec.max_memory_bytes;

@@ -28,8 +28,8 @@
 
 namespace gyrocomp {
 
-enum class LogFormat { kCsv, kULog, kDataFlash };
-std::string_view LogFormatName(LogFormat format);  // "csv", "ulog", "dataflash"
+enum class LogFormat { kCsv, kULog, kDataFlash, kRosBag };  // kRosBag: gyrocomp/io/bag_log.h (issue 25)
+std::string_view LogFormatName(LogFormat format);  // "csv", "ulog", "dataflash", "rosbag"
 
 // The format of `path` from its first bytes (not its name). "-" (stdin), anything that is not a
 // regular file (a pipe: its bytes cannot be read twice), gzip and anything that is not ULog or

@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "gyrocomp/io/bag.h"
 #include "gyrocomp/io/io.h"
 #include "gyrocomp/core/status.h"
 #include "gyrocomp/core/units.h"
@@ -67,6 +68,10 @@ struct LogSpec {
   // Flight-controller logs (ULog, DataFlash; gyrocomp/io/flight_log.h): which gyro instance to
   // read. nullopt: the only one; with several, reading fails and lists them. Ignored for CSV.
   std::optional<int> instance;
+  // ROS bags (gyrocomp/io/bag.h): the sensor_msgs/Imu topic (nullopt: the only one; with
+  // several, reading fails and lists them) and the time of a row (header stamp or receive time).
+  std::optional<std::string> topic;
+  BagTimeSource bag_time = BagTimeSource::kHeader;
   // Called with each warning of a flight-log reader as it is found (may be empty: the warnings
   // are also in GyroLog::warnings). The CLI prints them.
   std::function<void(const std::string&)> on_warning;

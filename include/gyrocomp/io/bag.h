@@ -1,0 +1,145 @@
+// ROS bags as IMU tables: ROS 1 bag v2.0, ROS 2 MCAP and ROS 2 sqlite3 (.db3), recognised by
+// their first bytes (a ROS 2 bag folder by its metadata.yaml), read as a stream: only the
+// selected sensor_msgs/Imu topic's rows (and a sensor_msgs/Temperature topic's) are kept, every
+// other message is skipped, so memory follows the IMU rows, not the bag.
+//
+// The table of a bag has the columns
+//     time_s                      header.stamp (default) or the bag's receive time (--time receive), s
+//     x_rad_s, y_rad_s, z_rad_s   angular_velocity, rad/s (as gyro_log.h's flight-log tables)
+//     x_m_s2, y_m_s2, z_m_s2      linear_acceleration, m/s^2 (design-imu-trust.md: accel axes)
+//     temp_c                      a sensor_msgs/Temperature topic's temperature, joined by the
+//                                 nearest stamp (only when the bag has one such topic, or one in
+//                                 the IMU topic's namespace)
+// Rows are sorted by the chosen time (stable: a bag's chunks may overlap in time; MCAP spec,
+// "Chunk": message_start_time/end_time may overlap). Repeated times stay, for the sampling check
+// to name.
+//
+// Format readers: src/io/mcap.cc (MCAP), src/io/ros2_sqlite.cc, src/io/rosbag1.cc; message
+// decoding: gyrocomp/io/cdr.h.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <istream>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "gyrocomp/core/status.h"
+#include "gyrocomp/io/io.h"
+
+namespace gyrocomp {
+
+enum class BagFormat { kNone, kMcap, kRos2Sqlite, kRos1 };
+std::string_view BagFormatName(BagFormat format);  // "mcap", "ros2-sqlite3", "rosbag1", "none"
+
+// By the first bytes of a regular file (MCAP magic 89 4D 43 41 50 30 0D 0A; "SQLite format 3\0";
+// "#ROSBAG V2.0\n"), or a directory holding metadata.yaml (a ROS 2 bag folder: the format of its
+// first storage file). kNone otherwise (pipes are never peeked at).
+BagFormat DetectBagFormat(const std::string& path);
+
+enum class BagTimeSource {
+  kHeader,   // the message's header.stamp (the sensor driver's time; the default)
+  kReceive,  // MCAP Message.log_time, rosbag2 messages.timestamp, ROS 1 message data 'time'
+};
+
+struct BagReadOptions {
+  // The sensor_msgs/Imu topic. nullopt: the only one; with several, reading fails and lists them.
+  std::optional<std::string> topic;
+  BagTimeSource time = BagTimeSource::kHeader;
+  // Largest decompressed chunk (MCAP Chunk.uncompressed_size, ROS 1 chunk 'size') and largest
+  // single record read into memory, bytes. A chunk declaring more is refused before anything is
+  // allocated (a compression bomb); decompression never writes past the declared size. rosbag2
+  // writes 768 KiB MCAP chunks by default, ROS 1 768 KiB; 1 GiB leaves room for anything sane.
+  std::uint64_t max_chunk_bytes = std::uint64_t{1} << 30;
+  bool IsValid(std::string* error) const;
+};
+
+// What a storage reader reports to its consumer. Channel ids are the format's own (MCAP channel
+// id, ROS 1 connection id, rosbag2 topics.id).
+struct BagChannel {
+  std::uint64_t id = 0;
+  std::string topic;
+  std::string type;      // "sensor_msgs/msg/Imu" (ROS 2) or "sensor_msgs/Imu" (ROS 1)
+  std::string encoding;  // "cdr" or "ros1"
+};
+
+// Where a record is, for errors (built into text only when one is reported): "byte N", "byte N:
+// chunk byte M" (M from the start of the decompressed chunk at byte N), or "message id N" (sqlite).
+struct BagPosition {
+  std::uint64_t offset = 0;
+  std::optional<std::uint64_t> chunk_byte;
+  std::optional<std::int64_t> message_id;
+  std::string ToString() const;
+};
+
+struct BagMessage {
+  std::uint64_t channel = 0;
+  std::uint64_t receive_time_ns = 0;
+  const std::uint8_t* data = nullptr;
+  std::size_t size = 0;
+  BagPosition where;
+};
+
+// The consumer of a stream of channels and messages. Wants() is asked once per message before
+// its bytes are read (a reader may then skip them without reading); a returned Error stops the
+// stream and is returned by the reader.
+class BagVisitor {
+ public:
+  virtual ~BagVisitor() = default;
+  virtual std::optional<Error> OnChannel(const BagChannel& channel) = 0;
+  virtual bool Wants(std::uint64_t channel) const = 0;
+  virtual std::optional<Error> OnMessage(const BagMessage& message) = 0;
+  // Called for every message, wanted or not (counts for `inspect`).
+  virtual void Count(std::uint64_t /*channel*/, std::uint64_t /*receive_time_ns*/) {}
+};
+
+// The storage readers (source names the input in messages). Errors: kInvalidInput with
+// "<source>: byte <offset>: <what>" (sqlite: "message id N"), kIo when a file cannot be read.
+std::optional<Error> StreamMcap(std::istream& in, const std::string& source, const BagReadOptions& options,
+                                BagVisitor* visitor);
+std::optional<Error> StreamRos1Bag(std::istream& in, const std::string& source, const BagReadOptions& options,
+                                   BagVisitor* visitor);
+std::optional<Error> StreamRos2Sqlite(const std::string& path, const BagReadOptions& options, BagVisitor* visitor);
+// Any of them by DetectBagFormat; a ROS 2 folder streams its storage files in metadata.yaml's
+// order (relative_file_paths), else in name order.
+std::optional<Error> StreamBag(const std::string& path, const BagReadOptions& options, BagVisitor* visitor);
+
+// One topic of a bag as `inspect` lists it.
+struct BagTopicInfo {
+  std::string topic, type, encoding;
+  std::size_t messages = 0;
+  std::uint64_t first_receive_ns = 0, last_receive_ns = 0;
+  // (messages - 1) / (last - first) by receive time, Hz; nullopt with fewer than 2 messages.
+  std::optional<double> RateHz() const;
+};
+
+struct BagListing {
+  std::string source;
+  BagFormat format = BagFormat::kNone;
+  std::vector<BagTopicInfo> topics;  // in order of first appearance; one entry per topic name
+};
+
+// Every topic with its message count (all messages are visited; none is decoded).
+Result<BagListing> ListBag(const std::string& path, const BagReadOptions& options = {});
+
+// The selected IMU topic as a table (columns above), with where it came from.
+struct BagImuTable {
+  Table table;
+  BagFormat format = BagFormat::kNone;
+  std::string topic;                   // the IMU topic read
+  std::string temperature_topic;       // "" when none was joined
+  std::string origin;                  // "MCAP /imu0 (sensor_msgs/msg/Imu), header stamps"
+  std::vector<std::string> warnings;
+};
+
+// Column names of a bag table.
+inline constexpr const char* kBagTimeCol = "time_s";
+inline constexpr const char* kBagGyroCols[3] = {"x_rad_s", "y_rad_s", "z_rad_s"};
+inline constexpr const char* kBagAccelCols[3] = {"x_m_s2", "y_m_s2", "z_m_s2"};
+inline constexpr const char* kBagTempCol = "temp_c";
+
+Result<BagImuTable> ReadBagImu(const std::string& path, const BagReadOptions& options);
+
+}  // namespace gyrocomp

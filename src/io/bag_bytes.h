@@ -1,0 +1,87 @@
+// Little-endian byte cursors shared by the bag readers (src/io/mcap.cc, src/io/rosbag1.cc).
+// Private to src/io.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <istream>
+#include <string>
+#include <vector>
+
+namespace gyrocomp::bag_internal {
+
+inline std::uint64_t LoadLe(const std::uint8_t* p, std::size_t bytes) {
+  std::uint64_t v = 0;
+  for (std::size_t i = 0; i < bytes; ++i) v |= static_cast<std::uint64_t>(p[i]) << (8 * i);
+  return v;
+}
+
+// A bounded cursor over bytes in memory: every read checks what is left; `failed` says one did
+// not fit, `what` names the field.
+struct Cursor {
+  Cursor(const std::uint8_t* data, std::size_t size) : p(data), n(size) {}
+  const std::uint8_t* p = nullptr;
+  std::size_t n = 0;
+  std::size_t pos = 0;
+  std::string failed;  // name of the first field that did not fit
+  bool Int(std::size_t bytes, std::uint64_t* v, const char* field) {
+    if (!failed.empty()) return false;
+    if (bytes > n - pos) {
+      failed = field;
+      return false;
+    }
+    *v = LoadLe(p + pos, bytes);
+    pos += bytes;
+    return true;
+  }
+  // uint32 length-prefixed bytes (MCAP "String" / "Bytes" with a uint32 length).
+  bool Str(std::string* s, const char* field) {
+    std::uint64_t len = 0;
+    if (!Int(4, &len, field)) return false;
+    if (len > n - pos) {
+      failed = field;
+      return false;
+    }
+    s->assign(reinterpret_cast<const char*>(p + pos), static_cast<std::size_t>(len));
+    pos += static_cast<std::size_t>(len);
+    return true;
+  }
+  std::size_t left() const { return n - pos; }
+};
+
+// Reads `n` bytes at `offset` of a stream into `out` (resized). False on a short read.
+inline bool ReadAt(std::istream& in, std::uint64_t offset, std::size_t n, std::vector<std::uint8_t>* out) {
+  out->resize(n);
+  in.clear();
+  in.seekg(static_cast<std::streamoff>(offset));
+  if (!in) return false;
+  in.read(reinterpret_cast<char*>(out->data()), static_cast<std::streamsize>(n));
+  return static_cast<std::size_t>(in.gcount()) == n;
+}
+
+// Size of a seekable stream, or -1.
+inline std::int64_t StreamSize(std::istream& in) {
+  in.clear();
+  in.seekg(0, std::ios::end);
+  const std::streamoff size = in.tellg();
+  in.seekg(0);
+  return in ? static_cast<std::int64_t>(size) : -1;
+}
+
+}  // namespace gyrocomp::bag_internal
+
+namespace gyrocomp::bag_internal {
+
+// Decompresses `src` into `dst`, which is already sized to the declared uncompressed size; the
+// output must fill it exactly. Returns "" or what went wrong. Nothing is ever written past
+// dst->size() (the declared size is the compression-bomb bound).
+//   "zstd": Zstandard frames (RFC 8878), ZSTD_decompress into the fixed buffer;
+//   "lz4":  the LZ4 *frame* format (lz4/doc/lz4_Frame_format.md, magic 04 22 4D 18), LZ4F;
+//   "bz2":  bzip2 (BZ2_bzBuffToBuffDecompress).
+std::string Decompress(const std::string& method, const std::uint8_t* src, std::size_t src_size,
+                       std::vector<std::uint8_t>* dst);
+
+// zlib crc32 (the CRC-32 of ISO 3309 / ITU-T V.42, as MCAP's CRC fields: spec "Chunk").
+std::uint32_t Crc32(const std::uint8_t* data, std::size_t size);
+
+}  // namespace gyrocomp::bag_internal

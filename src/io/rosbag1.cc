@@ -1,0 +1,234 @@
+// ROS 1 bag reader, format version 2.0 (include/gyrocomp/io/bag.h), written from the ROS wiki
+// page "Bags/Format/2.0" (wiki.ros.org/Bags/Format/2.0). Quotes below are its section names.
+//
+// "Version": the file starts with the line "#ROSBAG V2.0\n".
+// "Records": <header_len uint32><header><data_len uint32><data>; the header is a sequence of
+//   fields <field_len uint32><name>=<value>; "op" (1 byte) gives the record's kind. Integers are
+//   little-endian.
+//   op 0x03 "Bag header": index_pos uint64, conn_count uint32, chunk_count uint32 (data: padding)
+//   op 0x05 "Chunk": compression ("none", "bz2", "lz4"), size uint32 (uncompressed bytes); data:
+//           the (compressed) connection and message data records
+//   op 0x07 "Connection": conn uint32, topic; data: a connection header (fields topic, type,
+//           md5sum, message_definition, ...)
+//   op 0x02 "Message data": conn uint32, time uint64 (uint32 secs, uint32 nsecs: the receive
+//           time); data: the ROS 1 serialized message
+//   op 0x04 "Index data", op 0x06 "Chunk info": the index, not needed by a sequential read.
+// The whole file is read in order, chunk by chunk (unindexed bags, whose index_pos is 0, read the
+// same); connection records repeated in the index section are announced once. "lz4" chunks are
+// roslz4's, which writes the LZ4 frame format (ros_comm utilities/roslz4/src/lz4s.c).
+#include <cstring>
+#include <map>
+#include <set>
+
+#include "bag_bytes.h"
+#include "gyrocomp/io/bag.h"
+
+namespace gyrocomp {
+
+namespace {
+
+using bag_internal::LoadLe;
+
+constexpr char kVersionLine[] = "#ROSBAG V2.0\n";
+constexpr std::size_t kVersionBytes = sizeof kVersionLine - 1;
+
+enum Op : std::uint8_t { kMessageData = 0x02, kBagHeader = 0x03, kChunk = 0x05, kConnection = 0x07 };
+
+// The fields of a record header (or a connection header) by name.
+using Fields = std::map<std::string, std::string>;
+
+// Splits a header into fields; "" or the problem.
+std::string ParseFields(const std::uint8_t* p, std::size_t n, Fields* out) {
+  std::size_t pos = 0;
+  while (pos < n) {
+    if (n - pos < 4) return "header ends inside a field length";
+    const std::uint64_t len = LoadLe(p + pos, 4);
+    pos += 4;
+    if (len > n - pos) return "header field of " + std::to_string(len) + " bytes runs past the header's end";
+    const std::string field(reinterpret_cast<const char*>(p + pos), static_cast<std::size_t>(len));
+    pos += static_cast<std::size_t>(len);
+    const std::size_t eq = field.find('=');
+    if (eq == std::string::npos) return "header field without '=' (\"Records\": name=value)";
+    (*out)[field.substr(0, eq)] = field.substr(eq + 1);
+  }
+  return "";
+}
+
+bool FieldInt(const Fields& f, const char* name, std::size_t bytes, std::uint64_t* v) {
+  const auto it = f.find(name);
+  if (it == f.end() || it->second.size() != bytes) return false;
+  *v = LoadLe(reinterpret_cast<const std::uint8_t*>(it->second.data()), bytes);
+  return true;
+}
+
+class Ros1Reader {
+ public:
+  Ros1Reader(std::istream& in, const std::string& source, const BagReadOptions& options, BagVisitor* visitor)
+      : in_(in), source_(source), options_(options), visitor_(visitor) {}
+  std::optional<Error> Run();
+
+ private:
+  Error Bad(const BagPosition& where, const std::string& what) const {
+    return InvalidInput(source_ + ": " + where.ToString() + ": " + what);
+  }
+  static BagPosition At(std::uint64_t offset) { return BagPosition{offset, {}, {}}; }
+  // One record in memory (a chunk's content): its op, header fields, data.
+  std::optional<Error> InnerRecord(const BagPosition& where, const Fields& f, const std::uint8_t* data, std::size_t n);
+  std::optional<Error> Chunk(std::uint64_t at, const Fields& f, std::uint64_t data_at, std::uint64_t data_len);
+  std::optional<Error> Connection(const BagPosition& where, const Fields& f, const std::uint8_t* data, std::size_t n);
+
+  std::istream& in_;
+  const std::string& source_;
+  const BagReadOptions& options_;
+  BagVisitor* visitor_;
+  std::set<std::uint64_t> connections_;
+  std::vector<std::uint8_t> buf_, compressed_, chunk_;
+};
+
+std::optional<Error> Ros1Reader::Run() {
+  const std::int64_t ssize = bag_internal::StreamSize(in_);
+  if (ssize < 0) return IoError(source_ + ": cannot read (not seekable)");
+  const auto size = static_cast<std::uint64_t>(ssize);
+  if (size < kVersionBytes || !bag_internal::ReadAt(in_, 0, kVersionBytes, &buf_) ||
+      std::memcmp(buf_.data(), kVersionLine, kVersionBytes) != 0) {
+    return Bad(At(0), "not a ROS 1 bag of version 2.0 (\"Version\": #ROSBAG V2.0)");
+  }
+  std::uint64_t pos = kVersionBytes;
+  bool first = true;
+  while (pos < size) {
+    if (size - pos < 4) return Bad(At(pos), "truncated record: the file ends inside its header length");
+    if (!bag_internal::ReadAt(in_, pos, 4, &buf_)) return IoError(source_ + ": read error at " + At(pos).ToString());
+    const std::uint64_t header_len = LoadLe(buf_.data(), 4);
+    if (header_len > size - pos - 4 || size - pos - 4 - header_len < 4) {
+      return Bad(At(pos), "truncated record: a header of " + std::to_string(header_len) + " bytes and its data length "
+                              "run past the end of the file");
+    }
+    if (header_len > options_.max_chunk_bytes) return Bad(At(pos), "record header of " + std::to_string(header_len) + " bytes: too large");
+    if (!bag_internal::ReadAt(in_, pos + 4, static_cast<std::size_t>(header_len) + 4, &buf_)) {
+      return IoError(source_ + ": read error at " + At(pos).ToString());
+    }
+    const std::uint64_t data_len = LoadLe(buf_.data() + header_len, 4);
+    const std::uint64_t data_at = pos + 8 + header_len;
+    if (data_len > size - data_at) {
+      return Bad(At(pos), "truncated record: " + std::to_string(data_len) + " data bytes declared, " +
+                              std::to_string(size - data_at) + " left in the file");
+    }
+    Fields f;
+    if (std::string why = ParseFields(buf_.data(), static_cast<std::size_t>(header_len), &f); !why.empty()) {
+      return Bad(At(pos), why);
+    }
+    std::uint64_t op = 0;
+    if (!FieldInt(f, "op", 1, &op)) return Bad(At(pos), "record without a 1-byte 'op' header field");
+    if (first && op != kBagHeader) return Bad(At(pos), "the first record is op " + std::to_string(op) + ", not the bag header (0x03)");
+    first = false;
+    if (op == kChunk) {
+      if (auto e = Chunk(pos, f, data_at, data_len)) return e;
+    } else if (op == kConnection || op == kMessageData) {
+      if (data_len > options_.max_chunk_bytes) return Bad(At(pos), "record of " + std::to_string(data_len) + " bytes: too large");
+      if (!bag_internal::ReadAt(in_, data_at, static_cast<std::size_t>(data_len), &buf_)) {
+        return IoError(source_ + ": read error at " + At(data_at).ToString());
+      }
+      if (auto e = InnerRecord(At(pos), f, buf_.data(), buf_.size())) return e;
+    }
+    pos = data_at + data_len;
+  }
+  return std::nullopt;
+}
+
+std::optional<Error> Ros1Reader::Chunk(std::uint64_t at, const Fields& f, std::uint64_t data_at, std::uint64_t data_len) {
+  std::uint64_t usize = 0;
+  const auto comp = f.find("compression");
+  if (comp == f.end() || !FieldInt(f, "size", 4, &usize)) {
+    return Bad(At(at), "chunk record without its 'compression' and 4-byte 'size' fields");
+  }
+  const std::string& method = comp->second;
+  if (method != "none" && method != "bz2" && method != "lz4") {
+    return Bad(At(at), "chunk compression '" + method + "' is not one of none, bz2, lz4 (\"Chunk\")");
+  }
+  if (usize > options_.max_chunk_bytes || data_len > options_.max_chunk_bytes) {
+    return Bad(At(at), "chunk declares " + std::to_string(usize) + " uncompressed bytes (" + std::to_string(data_len) +
+                           " stored): more than the " + std::to_string(options_.max_chunk_bytes) +
+                           "-byte limit (BagReadOptions::max_chunk_bytes); refused as a possible compression bomb");
+  }
+  if (method == "none") {
+    if (usize != data_len) {
+      return Bad(At(at), "uncompressed chunk declares " + std::to_string(usize) + " bytes but holds " + std::to_string(data_len));
+    }
+    if (!bag_internal::ReadAt(in_, data_at, static_cast<std::size_t>(data_len), &chunk_)) return IoError(source_ + ": read error at " + At(data_at).ToString());
+  } else {
+    if (!bag_internal::ReadAt(in_, data_at, static_cast<std::size_t>(data_len), &compressed_)) {
+      return IoError(source_ + ": read error at " + At(data_at).ToString());
+    }
+    chunk_.assign(static_cast<std::size_t>(usize), 0);
+    const std::string why = bag_internal::Decompress(method, compressed_.data(), compressed_.size(), &chunk_);
+    if (!why.empty()) return Bad(At(at), "chunk: " + why);
+  }
+  // The chunk's records, same layout as the file's.
+  const std::size_t n = chunk_.size();
+  std::size_t pos = 0;
+  while (pos < n) {
+    const BagPosition where{at, pos, {}};
+    if (n - pos < 4) return Bad(where, "truncated record inside the chunk");
+    const std::uint64_t header_len = LoadLe(chunk_.data() + pos, 4);
+    if (header_len > n - pos - 4 || n - pos - 4 - header_len < 4) return Bad(where, "record header runs past the chunk's end");
+    const std::uint8_t* header = chunk_.data() + pos + 4;
+    const std::uint64_t data_len2 = LoadLe(header + header_len, 4);
+    const std::size_t data_pos = pos + 8 + static_cast<std::size_t>(header_len);
+    if (data_len2 > n - data_pos) return Bad(where, "record data of " + std::to_string(data_len2) + " bytes runs past the chunk's end");
+    Fields rf;
+    if (std::string why = ParseFields(header, static_cast<std::size_t>(header_len), &rf); !why.empty()) return Bad(where, why);
+    if (auto e = InnerRecord(where, rf, chunk_.data() + data_pos, static_cast<std::size_t>(data_len2))) return e;
+    pos = data_pos + static_cast<std::size_t>(data_len2);
+  }
+  return std::nullopt;
+}
+
+std::optional<Error> Ros1Reader::InnerRecord(const BagPosition& where, const Fields& f, const std::uint8_t* data,
+                                             std::size_t n) {
+  std::uint64_t op = 0;
+  if (!FieldInt(f, "op", 1, &op)) return Bad(where, "record without a 1-byte 'op' header field");
+  if (op == kConnection) return Connection(where, f, data, n);
+  if (op != kMessageData) return std::nullopt;
+  std::uint64_t conn = 0, time = 0;
+  if (!FieldInt(f, "conn", 4, &conn) || !FieldInt(f, "time", 8, &time)) {
+    return Bad(where, "message data record without its 4-byte 'conn' and 8-byte 'time' fields");
+  }
+  if (connections_.count(conn) == 0) {
+    return Bad(where, "message on connection " + std::to_string(conn) + ", which no connection record defined before it");
+  }
+  // "time": uint32 secs then uint32 nsecs.
+  const std::uint64_t secs = time & 0xffffffffu, nsecs = time >> 32;
+  if (nsecs >= 1000000000u) return Bad(where, "message time nsecs = " + std::to_string(nsecs) + " is not below 1e9");
+  const std::uint64_t receive_ns = secs * 1000000000u + nsecs;
+  visitor_->Count(conn, receive_ns);
+  if (!visitor_->Wants(conn)) return std::nullopt;
+  return visitor_->OnMessage(BagMessage{conn, receive_ns, data, n, where});
+}
+
+std::optional<Error> Ros1Reader::Connection(const BagPosition& where, const Fields& f, const std::uint8_t* data,
+                                            std::size_t n) {
+  std::uint64_t conn = 0;
+  const auto topic = f.find("topic");
+  if (!FieldInt(f, "conn", 4, &conn) || topic == f.end()) {
+    return Bad(where, "connection record without its 4-byte 'conn' and 'topic' fields");
+  }
+  Fields header;
+  if (std::string why = ParseFields(data, n, &header); !why.empty()) return Bad(where, "connection header: " + why);
+  if (!connections_.insert(conn).second) return std::nullopt;
+  BagChannel ch;
+  ch.id = conn;
+  ch.topic = topic->second;
+  ch.type = header.count("type") ? header["type"] : "";
+  ch.encoding = "ros1";
+  return visitor_->OnChannel(ch);
+}
+
+}  // namespace
+
+std::optional<Error> StreamRos1Bag(std::istream& in, const std::string& source, const BagReadOptions& options,
+                                   BagVisitor* visitor) {
+  Ros1Reader reader(in, source, options, visitor);
+  return reader.Run();
+}
+
+}  // namespace gyrocomp

@@ -214,6 +214,7 @@ void Parser::TakeImu(const Layout& l, const std::uint8_t* p) {
     return i ? Numeric(l.fmt.format[*i], p + l.offsets[*i]) : std::nullopt;
   };
   const auto gx = get("GyrX"), gy = get("GyrY"), gz = get("GyrZ"), t = get("T");
+  const auto ax = get("AccX"), ay = get("AccY"), az = get("AccZ");
   std::optional<double> time_us = get("TimeUS");
   if (!time_us) {
     if (const auto ms = get("TimeMS")) time_us = *ms * 1000.0;  // logs before TimeUS
@@ -233,6 +234,11 @@ void Parser::TakeImu(const Layout& l, const std::uint8_t* p) {
   s.gyr_y_rad_s.push_back(*gy);
   s.gyr_z_rad_s.push_back(*gz);
   if (t) s.temp_c.push_back(*t);
+  if (ax && ay && az) {
+    s.acc_x_m_s2.push_back(*ax);
+    s.acc_y_m_s2.push_back(*ay);
+    s.acc_z_m_s2.push_back(*az);
+  }
 }
 
 }  // namespace

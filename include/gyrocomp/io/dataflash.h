@@ -37,13 +37,16 @@ struct DataFlashFormat {
   std::vector<std::string> labels;
 };
 
-// The IMU gyro rows of one instance, values as logged (float32 widened to double, so they
-// compare exactly with pymavlink's extracts).
+// The IMU rows of one instance, values as logged (float32 widened to double, so they
+// compare exactly with pymavlink's extracts): board frame, after ArduPilot's offsets and (with
+// INS_TCALn_ENABLE = 1) its thermal correction; flight_log.h undoes both.
 struct DataFlashImuSeries {
   int instance = 0;
   std::string message;  // "IMU" (with field I) or "IMU", "IMU2", "IMU3" (old logs)
   std::vector<std::uint64_t> time_us;
   std::vector<double> gyr_x_rad_s, gyr_y_rad_s, gyr_z_rad_s;
+  // Fields AccX, AccY, AccZ (m/s^2, specific force); empty when the message has none.
+  std::vector<double> acc_x_m_s2, acc_y_m_s2, acc_z_m_s2;
   std::vector<double> temp_c;  // field T
 };
 
@@ -67,5 +70,25 @@ Result<DataFlashContents> ParseDataFlash(const std::uint8_t* data, std::size_t s
 
 // True when the bytes start like a DataFlash log: A3 95 80 (a FMT record first).
 bool HasDataFlashMagic(const std::uint8_t* data, std::size_t size);
+
+// A DataFlash log to write (simulated IMUs; tests): FMT (FMT, PARM, IMU), one PARM row per
+// parameter, then the IMU rows of every instance interleaved by row index. IMU has ArduPilot's
+// field layout (LogStructure.h, "QBffffffIIfBBHH": TimeUS,I,GyrX,GyrY,GyrZ,AccX,AccY,AccZ,EG,EA,
+// T,GH,AH,GHz,AHz), so pymavlink's DFReader and tempcal_IMU.py read it; PARM is "QNff"
+// (TimeUS,Name,Value,Default).
+struct DataFlashImuWriteInput {
+  int instance = 0;
+  std::vector<std::uint64_t> time_us;  // strictly increasing
+  std::vector<float> gyr_x_rad_s, gyr_y_rad_s, gyr_z_rad_s;
+  std::vector<float> acc_x_m_s2, acc_y_m_s2, acc_z_m_s2;  // empty: written as 0
+  std::vector<float> temp_c;
+  std::uint16_t sample_rate_hz = 1000;  // GHz / AHz
+};
+struct DataFlashWriteInput {
+  std::map<std::string, float> parameters;  // written in name order, at TimeUS of the first row
+  std::vector<DataFlashImuWriteInput> imus;  // same row count each
+};
+// Errors (kInvalidArgument): lengths differ, time not increasing, a parameter name over 16 chars.
+Result<std::string> EncodeDataFlash(const DataFlashWriteInput& input);
 
 }  // namespace gyrocomp

@@ -142,3 +142,41 @@ TEST_F(ExportCli, UlogFitThenPx4ExportCarriesTheDeviceId) {
 
 }  // namespace
 }  // namespace gyrocomp
+
+namespace gyrocomp {
+namespace {
+
+TEST_F(ExportCli, IndexFollowsTheGyroInstance) {
+  // One file with three axes, fitted on instance 2 of a log (model file "sensor").
+  DriftModelSet set;
+  set.axes = models_;
+  set.axes[0].rate_col = "x_rad_s";
+  set.axes[1].rate_col = "y_rad_s";
+  set.axes[2].rate_col = "z_rad_s";
+  set.sensor = SensorIdentity{"gyro", 2, 2293768u, "sensor"};
+  set.device_id = 2293768u;
+  const std::string m = dir_ + "/inst2.json";
+  ASSERT_TRUE(SaveDriftModelSet(set, m).ok());
+  std::string out;
+  ASSERT_EQ(Run("export -m " + m + " --format px4 -o " + dir_ + "/a.params", &out), 0) << out;
+  std::ifstream a(dir_ + "/a.params");
+  const std::string px4((std::istreambuf_iterator<char>(a)), {});
+  EXPECT_NE(px4.find("1\t1\tTC_G2_ID\t2293768\t6\n"), std::string::npos) << px4;
+  ASSERT_EQ(Run("export -m " + m + " --format ardupilot -o " + dir_ + "/b.param", &out), 0) << out;
+  std::ifstream b(dir_ + "/b.param");
+  const std::string ap((std::istreambuf_iterator<char>(b)), {});
+  EXPECT_NE(ap.find("INS_TCAL3_ENABLE,1\n"), std::string::npos) << ap;
+  // --index wins.
+  ASSERT_EQ(Run("export -m " + m + " --format ardupilot --index 1 -o " + dir_ + "/c.param", &out), 0) << out;
+  std::ifstream c(dir_ + "/c.param");
+  const std::string ap1((std::istreambuf_iterator<char>(c)), {});
+  EXPECT_NE(ap1.find("INS_TCAL1_ENABLE,1\n"), std::string::npos) << ap1;
+  // Instance 3 has no ArduPilot INS_TCAL4: refused, asking for --index.
+  set.sensor->instance = 3;
+  ASSERT_TRUE(SaveDriftModelSet(set, m).ok());
+  EXPECT_EQ(Run("export -m " + m + " --format ardupilot -o " + dir_ + "/d.param", &out), 2) << out;
+  EXPECT_NE(out.find("choose one with --index"), std::string::npos) << out;
+}
+
+}  // namespace
+}  // namespace gyrocomp

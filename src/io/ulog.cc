@@ -71,7 +71,7 @@ struct Subscription {
   std::size_t min_size = 0;        // data bytes without trailing _padding fields
   std::size_t max_size = 0;        // with them
   int series = -1;                 // index into gyros (kind 1) or combined (kind 2)
-  int kind = 0;                    // 0 other, 1 sensor_gyro, 2 sensor_combined
+  int kind = 0;                    // 0 other, 1 sensor_gyro, 2 sensor_combined, 3 accel, 4 baro
   GyroFields g;
   bool device_id_change_reported = false;
 };
@@ -100,6 +100,8 @@ class Parser {
   std::optional<Error> Flatten(std::size_t at, const std::string& type, const std::string& prefix, int depth,
                                std::vector<FlatField>* fields, std::size_t* size, std::size_t* padding_tail);
   void DecodeRow(Subscription& s, const std::uint8_t* row);
+  void NoteDeviceId(Subscription& s, const std::uint8_t* row, const std::string& what, std::size_t rows,
+                    std::optional<std::uint32_t>* device_id);
 
   const std::uint8_t* d_;
   std::size_t n_;
@@ -326,29 +328,41 @@ std::optional<Error> Parser::ParseSubscription(std::size_t at, const std::uint8_
     return std::nullopt;
   };
   const bool gyro = topic.name == "sensor_gyro";
+  const bool accel = topic.name == "sensor_accel", baro = topic.name == "sensor_baro";
+  const bool combined = topic.name == "sensor_combined";
   const auto ts = find("timestamp", "uint64_t");
-  const auto x = find(gyro ? "x" : "gyro_rad[0]", "float");
-  const auto y = find(gyro ? "y" : "gyro_rad[1]", "float");
-  const auto z = find(gyro ? "z" : "gyro_rad[2]", "float");
-  if (gyro || topic.name == "sensor_combined") {
+  const auto x = find(baro ? "pressure" : (combined ? "gyro_rad[0]" : "x"), "float");
+  const auto y = baro ? x : find(combined ? "gyro_rad[1]" : "y", "float");
+  const auto z = baro ? x : find(combined ? "gyro_rad[2]" : "z", "float");
+  if (gyro || combined || accel || baro) {
     if (ts && x && y && z && *ts + 8 <= s.min_size && *x + 4 <= s.min_size && *y + 4 <= s.min_size && *z + 4 <= s.min_size) {
-      s.kind = gyro ? 1 : 2;
+      s.kind = gyro ? 1 : combined ? 2 : accel ? 3 : 4;
       s.g.timestamp = *ts; s.g.x = *x; s.g.y = *y; s.g.z = *z;
-      if (const auto t = find("temperature", "float"); gyro && t && *t + 4 <= s.min_size) {
+      if (const auto t = find("temperature", "float"); !combined && t && *t + 4 <= s.min_size) {
         s.g.temperature = *t;
         s.g.has_temperature = true;
       }
-      if (const auto id = find("device_id", "uint32_t"); gyro && id && *id + 4 <= s.min_size) {
+      if (const auto id = find("device_id", "uint32_t"); !combined && id && *id + 4 <= s.min_size) {
         s.g.device_id = *id;
         s.g.has_device_id = true;
       }
-      auto& list = gyro ? out_.gyros : out_.combined;
-      s.series = static_cast<int>(list.size());
-      list.push_back(ULogGyroSeries{});
-      list.back().topic = topic.name;
-      list.back().multi_id = topic.multi_id;
+      if (gyro || combined) {
+        auto& list = gyro ? out_.gyros : out_.combined;
+        s.series = static_cast<int>(list.size());
+        list.push_back(ULogGyroSeries{});
+        list.back().topic = topic.name;
+        list.back().multi_id = topic.multi_id;
+      } else if (accel) {
+        s.series = static_cast<int>(out_.accels.size());
+        out_.accels.push_back(ULogAccelSeries{});
+        out_.accels.back().multi_id = topic.multi_id;
+      } else {
+        s.series = static_cast<int>(out_.baros.size());
+        out_.baros.push_back(ULogBaroSeries{});
+        out_.baros.back().multi_id = topic.multi_id;
+      }
     } else {
-      Warn(at, topic.name + " has no uint64 timestamp and float rate fields this reader knows; not read");
+      Warn(at, topic.name + " has no uint64 timestamp and float value fields this reader knows; not read");
     }
   }
   s.topic = out_.topics.size();
@@ -375,25 +389,47 @@ std::optional<Error> Parser::ParseData(std::size_t at, const std::uint8_t* p, st
   return std::nullopt;
 }
 
+// The first row's device id, and a warning (once) when a later row's differs.
+void Parser::NoteDeviceId(Subscription& s, const std::uint8_t* row, const std::string& what, std::size_t rows,
+                          std::optional<std::uint32_t>* device_id) {
+  if (!s.g.has_device_id) return;
+  const std::uint32_t id = U32(row + s.g.device_id);
+  if (!*device_id) {
+    *device_id = id;
+  } else if (**device_id != id && !s.device_id_change_reported) {
+    s.device_id_change_reported = true;
+    out_.warnings.push_back(out_.source + ": " + what + ": device_id changes from " + std::to_string(**device_id) +
+                            " to " + std::to_string(id) + " at row " + std::to_string(rows) + " (the first is reported)");
+  }
+}
+
 void Parser::DecodeRow(Subscription& s, const std::uint8_t* row) {
-  ULogGyroSeries& g = (s.kind == 1 ? out_.gyros : out_.combined)[static_cast<std::size_t>(s.series)];
+  const auto series = static_cast<std::size_t>(s.series);
+  if (s.kind == 3) {
+    ULogAccelSeries& a = out_.accels[series];
+    a.timestamp_us.push_back(U64(row + s.g.timestamp));
+    a.x_m_s2.push_back(F32(row + s.g.x));
+    a.y_m_s2.push_back(F32(row + s.g.y));
+    a.z_m_s2.push_back(F32(row + s.g.z));
+    if (s.g.has_temperature) a.temperature_c.push_back(F32(row + s.g.temperature));
+    NoteDeviceId(s, row, "sensor_accel multi_id " + std::to_string(a.multi_id), a.timestamp_us.size(), &a.device_id);
+    return;
+  }
+  if (s.kind == 4) {
+    ULogBaroSeries& b = out_.baros[series];
+    b.timestamp_us.push_back(U64(row + s.g.timestamp));
+    b.pressure_pa.push_back(F32(row + s.g.x));
+    if (s.g.has_temperature) b.temperature_c.push_back(F32(row + s.g.temperature));
+    NoteDeviceId(s, row, "sensor_baro multi_id " + std::to_string(b.multi_id), b.timestamp_us.size(), &b.device_id);
+    return;
+  }
+  ULogGyroSeries& g = (s.kind == 1 ? out_.gyros : out_.combined)[series];
   g.timestamp_us.push_back(U64(row + s.g.timestamp));
   g.x_rad_s.push_back(F32(row + s.g.x));
   g.y_rad_s.push_back(F32(row + s.g.y));
   g.z_rad_s.push_back(F32(row + s.g.z));
   if (s.g.has_temperature) g.temperature_c.push_back(F32(row + s.g.temperature));
-  if (s.g.has_device_id) {
-    const std::uint32_t id = U32(row + s.g.device_id);
-    if (!g.device_id) {
-      g.device_id = id;
-    } else if (*g.device_id != id && !s.device_id_change_reported) {
-      s.device_id_change_reported = true;
-      out_.warnings.push_back(out_.source + ": " + g.topic + " multi_id " + std::to_string(g.multi_id) +
-                              ": device_id changes from " + std::to_string(*g.device_id) + " to " +
-                              std::to_string(id) + " at row " + std::to_string(g.timestamp_us.size()) +
-                              " (the first is reported)");
-    }
-  }
+  NoteDeviceId(s, row, g.topic + " multi_id " + std::to_string(g.multi_id), g.timestamp_us.size(), &g.device_id);
 }
 
 }  // namespace
@@ -414,6 +450,8 @@ Result<ULogContents> ParseULog(const std::uint8_t* data, std::size_t size, const
     }
     *list = std::move(kept);
   }
+  std::erase_if(r->accels, [](const ULogAccelSeries& a) { return a.timestamp_us.empty(); });
+  std::erase_if(r->baros, [](const ULogBaroSeries& b) { return b.timestamp_us.empty(); });
   return r;
 }
 

@@ -51,6 +51,23 @@ struct ULogGyroSeries {
   std::optional<std::uint32_t> device_id;
 };
 
+// sensor_accel (x, y, z: specific force, m/s^2, sensor frame, before PX4's calibration) and
+// sensor_baro (pressure in Pa as current PX4 logs it, temperature) subscriptions with rows.
+struct ULogAccelSeries {
+  int multi_id = 0;
+  std::vector<std::uint64_t> timestamp_us;
+  std::vector<double> x_m_s2, y_m_s2, z_m_s2;
+  std::vector<double> temperature_c;
+  std::optional<std::uint32_t> device_id;  // first row's
+};
+struct ULogBaroSeries {
+  int multi_id = 0;
+  std::vector<std::uint64_t> timestamp_us;
+  std::vector<double> pressure_pa;
+  std::vector<double> temperature_c;
+  std::optional<std::uint32_t> device_id;
+};
+
 struct ULogDropout {
   std::size_t offset = 0;       // byte offset of the 'O' message
   std::uint16_t duration_ms = 0;
@@ -70,6 +87,8 @@ struct ULogContents {
   std::vector<ULogDropout> dropouts;
   std::vector<ULogGyroSeries> gyros;     // every sensor_gyro subscription with rows
   std::vector<ULogGyroSeries> combined;  // every sensor_combined subscription with rows
+  std::vector<ULogAccelSeries> accels;   // every sensor_accel subscription with rows
+  std::vector<ULogBaroSeries> baros;     // every sensor_baro subscription with rows
   std::size_t num_messages = 0;
   std::vector<std::string> warnings;  // truncated last record(s), device-id changes
   std::string BriefReport() const;
@@ -99,5 +118,26 @@ struct ULogGyroWriteInput {
 // message: timestamp, timestamp_sample, device_id, x, y, z, temperature, error_count). Errors:
 // lengths differ, time not increasing (kInvalidArgument).
 Result<std::string> EncodeULogGyro(const ULogGyroWriteInput& input);
+
+// Several sensor topics in one ULog (simulated multi-IMU boards): each series is one subscription
+// of sensor_gyro (x, y, z rad/s), sensor_accel (x, y, z m/s^2) or sensor_baro (x = pressure, Pa),
+// with PX4's field names (msg/SensorGyro.msg, SensorAccel.msg, SensorBaro.msg: timestamp,
+// timestamp_sample, device_id, x, y, z | pressure, temperature, error_count) so pyulog and PX4's
+// process_sensor_caldata.py read it. Rows of all series are written in time order.
+struct ULogSensorWriteSeries {
+  std::string topic;  // "sensor_gyro" | "sensor_accel" | "sensor_baro"
+  int multi_id = 0;
+  std::uint32_t device_id = 0;
+  std::vector<std::uint64_t> timestamp_us;  // strictly increasing
+  std::vector<float> x, y, z;               // baro: x only (pressure, Pa)
+  std::vector<float> temperature_c;
+};
+struct ULogWriteInput {
+  std::string sys_name = "gyrocomp";
+  std::map<std::string, std::int32_t> int_parameters;
+  std::map<std::string, float> float_parameters;
+  std::vector<ULogSensorWriteSeries> series;
+};
+Result<std::string> EncodeULog(const ULogWriteInput& input);
 
 }  // namespace gyrocomp

@@ -127,7 +127,8 @@ TEST_F(ExportCli, UlogFitThenPx4ExportCarriesTheDeviceId) {
   const nlohmann::json m = testing::ReadJsonFile(dir_ + "/m.json");
   ASSERT_EQ(m["axes"].size(), 3u);
   const std::uint32_t id = m.at("device_id").get<std::uint32_t>();  // what simulate writes into the ULog
-  EXPECT_EQ(id, 1u);
+  EXPECT_EQ(id, BoardGyroDeviceId(0));  // realistic: ICM20689 on SPI1 (PX4 DeviceStructure)
+  EXPECT_EQ(id, 3932170u);
   ASSERT_EQ(Run("export -m " + dir_ + "/m.json --format px4 -o " + dir_ + "/tc.params", &out), 0) << out;
   std::ifstream f(dir_ + "/tc.params");
   const std::string text((std::istreambuf_iterator<char>(f)), {});

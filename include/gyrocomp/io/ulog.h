@@ -140,4 +140,13 @@ struct ULogWriteInput {
 };
 Result<std::string> EncodeULog(const ULogWriteInput& input);
 
+// PX4's device id (src/drivers/device/Device.hpp, union DeviceStructure: bus_type 3 bits, bus 5
+// bits, address 8 bits, devtype 8 bits, low to high). Bus types (DeviceBusType): 1 I2C, 2 SPI,
+// 3 UAVCAN, 4 simulation. devtype: drv_sensor.h (0x3C ICM20689, 0x38 ICM20602, 0x42 BMI055
+// gyro, 0x41 BMI055 accel, 0x3D MS5611).
+constexpr std::uint32_t Px4DeviceId(std::uint32_t bus_type, std::uint32_t bus, std::uint32_t address,
+                                    std::uint32_t devtype) {
+  return (bus_type & 0x7u) | ((bus & 0x1Fu) << 3) | ((address & 0xFFu) << 8) | ((devtype & 0xFFu) << 16);
+}
+
 }  // namespace gyrocomp

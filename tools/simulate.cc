@@ -115,7 +115,7 @@ Command Make(CLI::App& app) {
       "cold -> room, --cycles times: heating and cooling, for hysteresis).\n"
       "Noise in datasheet units (IEEE 952); bias instability = flicker floor / 0.664, made of a sum of\n"
       "Gauss-Markov processes (docs/simulator.md). Same options and --seed: identical output.\n"
-      "-o run.ulg writes a PX4 ULog instead: --imus boards IMUs as sensor_gyro (rad/s) and sensor_accel\n"
+      "-o run.ulg writes a PX4 ULog instead: a board of --imus IMUs as sensor_gyro (rad/s) and sensor_accel\n"
       "(m/s^2, gravity on z) multi_id 0.., float32, realistic PX4 device ids, and sensor_baro (Pa);\n"
       "IMU 0's gyro x is the run, y and z --seed + 1 and + 2. -o run.bin writes an ArduPilot DataFlash\n"
       "log (IMU rows with I and T, rotated by --ahrs-orientation, PARM rows). No ground truth in either.\n"

@@ -6,8 +6,9 @@
 // with the thermal state 0 for models that read one (dT/dt = 0, lag settled, no memory: the static
 // curve; the firmware forms have no state),
 // and the cubic in dT = T - ref_temp_c that minimises the squared error over the grid is kept.
-// A grid uniform in T weighs every temperature alike, as PX4's own process_sensor_caldata.py does
-// with its temperature bins, whatever time the run spent at each temperature.
+// A grid uniform in T weighs every temperature of the range alike; the model itself was fitted
+// on every sample (time-weighted), unlike PX4's process_sensor_caldata.py, which fits the means
+// of 2000 equal-width temperature bins (docs/export.md).
 //
 // What that loses is measured, not assumed: CubicProjectionCost compares the full model (its own
 // centred prediction, dT/dt included) with the cubic on a record (the calibration run, a

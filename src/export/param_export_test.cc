@@ -414,3 +414,54 @@ TEST(Px4Export, WholeFileWritesEverySlotOfEachKindItEnables) {
 
 }  // namespace
 }  // namespace gyrocomp
+
+namespace gyrocomp {
+namespace {
+
+// A dT/dt model (drift = a (T - 25) + b dT/dt, with the model's own dT/dt estimate) on a run that
+// heats at 0.02 C/s in 20 C steps with holds: the steady cubic is a (T - 25); the warm-up cubic
+// adds about b x 0.02 (the state the run had while heating); both is their mean.
+TEST(ThermalCubic, ConditionChoosesTheStateTheCubicIsFittedAt) {
+  const double fs = 1.0, a = 2e-3, b = 1.5, rate = 0.02;
+  std::vector<double> temp;
+  double t = 20.0;
+  for (int step = 0; step < 3; ++step) {
+    for (int i = 0; i < 1000; ++i) temp.push_back(t += rate);
+    for (int i = 0; i < 600; ++i) temp.push_back(t);
+  }
+  auto state = ComputeThermalState(temp, fs, DriftInputSet::kTempAndRate, TemperatureRateOptions{}, ThermalStateOptions{}, false);
+  ASSERT_TRUE(state.ok());
+  std::vector<double> y;
+  for (std::size_t i = 0; i < temp.size(); ++i) y.push_back(a * (temp[i] - 25.0) + b * (*state)[i]);
+  DriftFitOptions o;
+  o.model = DriftModelKind::kPolynomial;
+  o.inputs = DriftInputSet::kTempAndRate;
+  o.polynomial.degree = 1;
+  auto m = FitDriftModel(DriftInputs{temp, fs}, y, o);
+  ASSERT_TRUE(m.ok()) << m.error().message;
+  auto warm = StateWhileHeating(*m, DriftInputs{temp, fs});
+  ASSERT_TRUE(warm.ok()) << warm.error().message;
+  EXPECT_NEAR(warm->At(30.0), rate, 1e-3);  // the middle of the first heating step
+  CubicProjectionOptions po;
+  po.temp_min_c = 25.0;
+  po.temp_max_c = 75.0;
+  auto steady = ProjectOntoCubic(*m, po);
+  ASSERT_TRUE(steady.ok());
+  po.condition = CubicCondition::kWarmUp;
+  EXPECT_FALSE(ProjectOntoCubic(*m, po).ok());  // needs the warm-up state
+  po.warm_up = *warm;
+  auto up = ProjectOntoCubic(*m, po);
+  po.condition = CubicCondition::kBoth;
+  auto both = ProjectOntoCubic(*m, po);
+  ASSERT_TRUE(up.ok() && both.ok());
+  for (double tc : {30.0, 50.0, 70.0}) {
+    EXPECT_NEAR(steady->Evaluate(tc), a * (tc - 25.0), 2e-4) << tc;
+    EXPECT_NEAR(up->Evaluate(tc) - steady->Evaluate(tc), b * rate, 0.2 * b * rate) << tc;
+    EXPECT_NEAR(both->Evaluate(tc), 0.5 * (steady->Evaluate(tc) + up->Evaluate(tc)), 1e-12) << tc;
+  }
+  EXPECT_EQ(ParseCubicCondition("warm-up"), CubicCondition::kWarmUp);
+  EXPECT_FALSE(ParseCubicCondition("hot"));
+}
+
+}  // namespace
+}  // namespace gyrocomp

@@ -21,7 +21,8 @@ Each parameter set is scored per gyro axis on the held-out runs: the residual th
 rate - offset(T) (PX4 calc_thermal_offsets_3D, float32, T clamped to [TMIN, TMAX]; ArduPilot
 correct_sensor relative to the temperature at boot, float32, clamped), as 10 s block means with
 their mean removed (the constant is the boot offset calibration's), RMS in deg/s. Rows: no
-correction, each script, gyrocomp, and the true static curve (the simulator's bias polynomial,
+correction, each script, gyrocomp (PX4 file also with --optimise-for warm-up / both), and the
+true static curve (the simulator's bias polynomial,
 the best a static cubic can do against its own static part). Printed: mean over seeds and axes,
 the seed spread (SD of the per-seed means), and per-axis win counts of gyrocomp against each
 script.
@@ -166,11 +167,15 @@ def main():
                 simulate(gc, held["cooling"], 100 * seed + 70, args.fs, structure, cooling=True)
                 sets = {}
                 for fmt, log in (("px4", cal_ulg), ("ardupilot", cal_bin)):
-                    out = os.path.join(tmp, "gc_" + fmt)
-                    rc, msg = run([gc, "calibrate", "-i", log, "--format", fmt, "-o", out])
-                    if rc != 0:
-                        sys.exit("calibrate failed: " + msg)
-                    sets["gyrocomp -> " + fmt] = (fmt, read_params(out))
+                    for cond in ("steady", "warm-up", "both"):
+                        if fmt == "ardupilot" and cond != "steady":
+                            continue
+                        out = os.path.join(tmp, "gc_" + fmt)
+                        rc, msg = run([gc, "calibrate", "-i", log, "--format", fmt, "--optimise-for", cond, "-o", out])
+                        if rc != 0:
+                            sys.exit("calibrate failed: " + msg)
+                        sets["gyrocomp -> " + fmt + ("" if cond == "steady" else " (--optimise-for %s)" % cond)] = \
+                            (fmt, read_params(out))
                 p, why = try_px4_script(args, cal_ulg, tmp)
                 if p is None:
                     skipped["PX4 script"] = why

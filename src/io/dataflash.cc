@@ -116,7 +116,7 @@ class Parser {
   }
   std::optional<Error> AddFormat(std::size_t at, const std::uint8_t* p);
   void TakeImu(const Layout& l, const std::uint8_t* p);
-  void TakeParameter(const Layout& l, const std::uint8_t* p);
+  void TakeParameter(const Layout& l, const std::uint8_t* p, std::size_t at);
 
   const std::uint8_t* d_;
   std::size_t n_;
@@ -156,7 +156,7 @@ Result<DataFlashContents> Parser::Run() {
     if (type == kFmtType) {
       if (auto e = AddFormat(pos, p)) return *e;
     } else if (l.decodable && l.fmt.name == "PARM") {
-      TakeParameter(l, p);
+      TakeParameter(l, p, pos);
     } else if (l.decodable && (l.fmt.name == "IMU" || l.fmt.name == "IMU2" || l.fmt.name == "IMU3")) {
       TakeImu(l, p);
     }
@@ -200,12 +200,21 @@ std::optional<Error> Parser::AddFormat(std::size_t at, const std::uint8_t* p) {
   return std::nullopt;
 }
 
-void Parser::TakeParameter(const Layout& l, const std::uint8_t* p) {
+void Parser::TakeParameter(const Layout& l, const std::uint8_t* p, std::size_t at) {
   const auto name = FieldIndex(l, "Name");
   const auto value = FieldIndex(l, "Value");
   if (!name || !value || l.fmt.format[*name] != 'N') return;
   const auto v = Numeric(l.fmt.format[*value], p + l.offsets[*value]);
-  if (v) out_.parameters[Text(p + l.offsets[*name], 16)] = *v;
+  if (!v) return;
+  const std::string key = Text(p + l.offsets[*name], 16);
+  const auto it = out_.parameters.find(key);
+  if (it != out_.parameters.end() && it->second != *v && !imu_index_.empty()) {
+    const auto t = FieldIndex(l, "TimeUS");
+    const auto time_us = t ? Numeric(l.fmt.format[*t], p + l.offsets[*t]) : std::nullopt;
+    out_.parameters_changed_during_imu.try_emplace(
+        key, DataFlashContents::ParameterChange{at, time_us ? static_cast<std::uint64_t>(*time_us) : 0, it->second, *v});
+  }
+  out_.parameters[key] = *v;
 }
 
 void Parser::TakeImu(const Layout& l, const std::uint8_t* p) {

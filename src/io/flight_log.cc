@@ -217,8 +217,58 @@ TcalSensor ReadTcal(const std::map<std::string, double>& params, int imu, const 
 
 }  // namespace
 
+namespace {
+Result<DataFlashImuSeries> ToSensorFrame(const DataFlashContents& log, const DataFlashImuSeries& imu,
+                                         std::vector<std::string>* notes);
+}  // namespace
+
 Result<DataFlashImuSeries> DataFlashImuToSensorFrame(const DataFlashContents& log, const DataFlashImuSeries& imu,
                                                      std::vector<std::string>* notes) {
+  // A frame / compensation parameter of this IMU that changes while IMU rows are logged: the rows
+  // after the first change are dropped and the values before it are used, as tempcal_IMU.py stops
+  // capturing an IMU when its INS_TCAL enable changes (a learning run ends with 2 -> 1).
+  const std::string n_str = std::to_string(imu.instance + 1);
+  std::map<std::string, double> params = log.parameters;
+  std::optional<DataFlashContents::ParameterChange> first;
+  std::string first_name;
+  for (const auto& [name, change] : log.parameters_changed_during_imu) {
+    const bool mine = name == "AHRS_ORIENTATION" || name.rfind("INS_TCAL" + n_str + "_", 0) == 0 ||
+                      name == "INS_GYR" + n_str + "_CALTEMP" || name == "INS_ACC" + n_str + "_CALTEMP";
+    if (!mine) continue;
+    if (change.time_us == 0)
+      return InvalidInput(log.source + ": byte " + std::to_string(change.offset) + ": " + name +
+                          " changes while IMU rows are logged and its PARM record has no TimeUS to cut the rows at");
+    params[name] = change.before;
+    if (!first || change.time_us < first->time_us) first = change, first_name = name;
+  }
+  DataFlashContents before_change;
+  const DataFlashContents* plog = &log;
+  DataFlashImuSeries kept;
+  const DataFlashImuSeries* pimu = &imu;
+  if (first) {
+    std::size_t keep = 0;
+    while (keep < imu.time_us.size() && imu.time_us[keep] < first->time_us) ++keep;
+    kept = imu;
+    for (auto* v : {&kept.gyr_x_rad_s, &kept.gyr_y_rad_s, &kept.gyr_z_rad_s, &kept.acc_x_m_s2, &kept.acc_y_m_s2,
+                    &kept.acc_z_m_s2, &kept.temp_c})
+      if (v->size() > keep) v->resize(keep);
+    kept.time_us.resize(keep);
+    before_change.source = log.source;
+    before_change.parameters = std::move(params);
+    plog = &before_change;
+    pimu = &kept;
+    notes->push_back(log.source + ": byte " + std::to_string(first->offset) + ": " + first_name + " changes from " +
+                     FormatNumber(first->before) + " to " + FormatNumber(first->after) + " at TimeUS " +
+                     std::to_string(first->time_us) + ": IMU " + std::to_string(imu.instance) + " rows kept up to it (" +
+                     std::to_string(keep) + " of " + std::to_string(imu.time_us.size()) + "), under the values before");
+  }
+  return ToSensorFrame(*plog, *pimu, notes);
+}
+
+namespace {
+
+Result<DataFlashImuSeries> ToSensorFrame(const DataFlashContents& log, const DataFlashImuSeries& imu,
+                                         std::vector<std::string>* notes) {
   DataFlashImuSeries s = imu;
   const std::size_t n = s.time_us.size();
   const bool has_acc = s.acc_x_m_s2.size() == n && n > 0;
@@ -279,6 +329,8 @@ Result<DataFlashImuSeries> DataFlashImuToSensorFrame(const DataFlashContents& lo
   }
   return s;
 }
+
+}  // namespace
 
 Result<FlightLogTable> ReadFlightLog(const std::string& path, std::optional<int> instance) {
   switch (DetectLogFormat(path)) {

@@ -175,3 +175,53 @@ TEST(FlightLogFrames, EncodedLogRoundTripsWithAccel) {
 
 }  // namespace
 }  // namespace gyrocomp
+
+namespace gyrocomp {
+namespace {
+
+TEST(FlightLogFrames, CompensationChangedMidLogKeepsTheRowsBefore) {
+  // A learning run: INS_TCAL1_ENABLE = 2 (rows raw), then 1 with coefficients: tempcal_IMU.py
+  // stops capturing there; so does the reader, and it undoes nothing for the rows before.
+  DataFlashWriteInput in;
+  in.parameters["INS_TCAL1_ENABLE"] = 2.0f;
+  DataFlashImuWriteInput imu;
+  for (int i = 0; i < 10; ++i) {
+    imu.time_us.push_back(1000 + 1000 * static_cast<std::uint64_t>(i));
+    imu.gyr_x_rad_s.push_back(0.01f * static_cast<float>(i));
+    imu.gyr_y_rad_s.push_back(0.0f);
+    imu.gyr_z_rad_s.push_back(0.0f);
+    imu.temp_c.push_back(30.0f + static_cast<float>(i));
+  }
+  in.imus.push_back(imu);
+  Result<std::string> bytes = EncodeDataFlash(in);
+  ASSERT_TRUE(bytes.ok());
+  // Append PARM records (type 64, "QNff") at TimeUS 6500: ENABLE -> 1, a coefficient, then 4 more rows.
+  auto parm = [](const std::string& n, float v) {
+    std::string r("\xA3\x95\x40", 3);
+    const std::uint64_t t = 6500;
+    r.append(reinterpret_cast<const char*>(&t), 8);
+    std::string name = n;
+    name.resize(16, '\0');
+    r += name;
+    r.append(reinterpret_cast<const char*>(&v), 4);
+    r.append(reinterpret_cast<const char*>(&v), 4);
+    return r;
+  };
+  const std::string all = *bytes + parm("INS_TCAL1_ENABLE", 1.0f) + parm("INS_TCAL1_GYR1_X", 5000.0f);
+  Result<DataFlashContents> log = ParseDataFlash(reinterpret_cast<const std::uint8_t*>(all.data()), all.size(), "mid.bin");
+  ASSERT_TRUE(log.ok()) << log.error().message;
+  ASSERT_EQ(log->parameters_changed_during_imu.count("INS_TCAL1_ENABLE"), 1u);
+  EXPECT_EQ(log->parameters_changed_during_imu.at("INS_TCAL1_ENABLE").time_us, 6500u);
+  std::vector<std::string> notes;
+  Result<DataFlashImuSeries> s = DataFlashImuToSensorFrame(*log, log->imus[0], &notes);
+  ASSERT_TRUE(s.ok()) << s.error().message;
+  ASSERT_EQ(s->time_us.size(), 6u);  // rows at 1000..6000 us
+  EXPECT_EQ(s->gyr_x_rad_s[5], static_cast<double>(0.01f * 5.0f));  // ENABLE was 2 then: raw, nothing undone
+  ASSERT_FALSE(notes.empty());
+  EXPECT_NE(notes[0].find("mid.bin: byte " + std::to_string(bytes->size()) + ": INS_TCAL1_ENABLE changes from 2 to 1"),
+            std::string::npos)
+      << notes[0];
+}
+
+}  // namespace
+}  // namespace gyrocomp

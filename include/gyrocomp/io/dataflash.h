@@ -55,6 +55,14 @@ struct DataFlashContents {
   std::vector<DataFlashFormat> formats;             // in file order (FMT records)
   std::map<std::string, std::size_t> message_counts; // records per message name
   std::map<std::string, double> parameters;          // PARM Name -> Value (last value wins)
+  // Parameters whose value changed after the first IMU row (the rows before and after were logged
+  // under different values): the first such change of each.
+  struct ParameterChange {
+    std::size_t offset = 0;   // byte offset of the PARM record
+    std::uint64_t time_us = 0;  // its TimeUS (0 when it has none)
+    double before = 0.0, after = 0.0;
+  };
+  std::map<std::string, ParameterChange> parameters_changed_during_imu;
   std::vector<DataFlashImuSeries> imus;              // sorted by instance
   std::size_t num_records = 0;
   std::vector<std::string> warnings;  // truncated last record

@@ -94,8 +94,11 @@ Sensor MakeSensor(std::string type, int instance, std::optional<std::uint32_t> i
   return s;
 }
 
-Result<std::vector<Sensor>> SensorsOfULog(const std::string& path) {
-  Result<ULogContents> log = ReadULog(path);
+Result<std::vector<Sensor>> SensorsOfULog(const std::string& path, double fit_rate_hz) {
+  // Means over 1 / fit_rate windows while reading: the full-rate rows are never held.
+  ULogReadOptions read;
+  read.average_window_us = static_cast<std::uint64_t>(std::llround(1e6 / fit_rate_hz));
+  Result<ULogContents> log = ReadULog(path, read);
   if (!log.ok()) return log.error();
   std::vector<Sensor> out;
   for (const auto& g : log->gyros)
@@ -114,8 +117,12 @@ Result<std::vector<Sensor>> SensorsOfULog(const std::string& path) {
   return out;
 }
 
-Result<std::vector<Sensor>> SensorsOfDataFlash(const std::string& path) {
-  Result<DataFlashContents> log = ReadDataFlash(path);
+Result<std::vector<Sensor>> SensorsOfDataFlash(const std::string& path, double fit_rate_hz) {
+  // Means over 1 / fit_rate windows while reading (the rotation undone later is linear; the
+  // thermal-correction undo is evaluated at the window's mean temperature).
+  DataFlashReadOptions read;
+  read.average_window_us = static_cast<std::uint64_t>(std::llround(1e6 / fit_rate_hz));
+  Result<DataFlashContents> log = ReadDataFlash(path, read);
   if (!log.ok()) return log.error();
   std::vector<Sensor> out;
   for (const DataFlashImuSeries& raw : log->imus) {
@@ -359,7 +366,7 @@ int Run(const CalibrateArgs& a) {
   if ((format == LogFormat::kULog) != (a.format == "px4"))
     return ReportError(kName, InvalidArgument("--format " + a.format + " for a " + std::string(LogFormatName(format)) +
                                               " log: PX4 parameters come from a ULog, ArduPilot's from a DataFlash log"));
-  auto sensors = format == LogFormat::kULog ? SensorsOfULog(a.input) : SensorsOfDataFlash(a.input);
+  auto sensors = format == LogFormat::kULog ? SensorsOfULog(a.input, a.fit_rate_hz) : SensorsOfDataFlash(a.input, a.fit_rate_hz);
   if (!sensors.ok()) return ReportError(kName, sensors.error());
   for (Sensor& s : *sensors) Calibrate(&s, a);
   const bool any = std::any_of(sensors->begin(), sensors->end(), [](const Sensor& s) { return s.reason.empty(); });

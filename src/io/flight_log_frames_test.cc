@@ -225,3 +225,40 @@ TEST(FlightLogFrames, CompensationChangedMidLogKeepsTheRowsBefore) {
 
 }  // namespace
 }  // namespace gyrocomp
+
+namespace gyrocomp {
+namespace {
+
+TEST(FlightLogFrames, AverageWindowKeepsOneMeanRowPerWindowAndRotatesTheSame) {
+  DataFlashWriteInput in;
+  in.parameters["AHRS_ORIENTATION"] = 8.0f;
+  DataFlashImuWriteInput imu;
+  for (int i = 0; i < 200; ++i) {  // 100 Hz for 2 s from t = 1 s
+    imu.time_us.push_back(1000000 + 10000 * static_cast<std::uint64_t>(i));
+    imu.gyr_x_rad_s.push_back(static_cast<float>(i));
+    imu.gyr_y_rad_s.push_back(2.0f);
+    imu.gyr_z_rad_s.push_back(-1.0f);
+    imu.acc_x_m_s2.push_back(0.5f);
+    imu.acc_y_m_s2.push_back(0.0f);
+    imu.acc_z_m_s2.push_back(9.80665f);
+    imu.temp_c.push_back(20.0f + 0.01f * static_cast<float>(i));
+  }
+  in.imus.push_back(imu);
+  Result<std::string> bytes = EncodeDataFlash(in);
+  ASSERT_TRUE(bytes.ok());
+  DataFlashReadOptions o;
+  o.average_window_us = 500000;
+  Result<DataFlashContents> log = ParseDataFlash(reinterpret_cast<const std::uint8_t*>(bytes->data()), bytes->size(), "w.bin", o);
+  ASSERT_TRUE(log.ok()) << log.error().message;
+  ASSERT_EQ(log->imus[0].time_us.size(), 4u);  // 50 rows per 0.5 s window
+  EXPECT_EQ(log->imus[0].gyr_x_rad_s[1], 74.5);
+  EXPECT_EQ(log->imus[0].time_us[0], 1245000u);
+  std::vector<std::string> notes;
+  Result<DataFlashImuSeries> s = DataFlashImuToSensorFrame(*log, log->imus[0], &notes);
+  ASSERT_TRUE(s.ok());
+  EXPECT_NEAR(s->gyr_y_rad_s[2], -2.0, 1e-12);  // ROLL_180 undone on the means
+  EXPECT_NEAR(s->acc_z_m_s2[3], -9.80665, 1e-5);
+}
+
+}  // namespace
+}  // namespace gyrocomp

@@ -364,3 +364,41 @@ TEST(ULogTest, MultiSensorLogRoundTrips) {
 
 }  // namespace
 }  // namespace gyrocomp
+
+namespace gyrocomp {
+namespace {
+
+TEST(ULogTest, AverageWindowKeepsOneMeanRowPerWindow) {
+  ULogWriteInput in;
+  for (const char* topic : {"sensor_gyro", "sensor_accel", "sensor_baro"}) {
+    ULogSensorWriteSeries s;
+    s.topic = topic;
+    s.device_id = 3932170u;
+    for (int i = 0; i < 3000; ++i) {  // 1 kHz for 3 s, from t = 0.5 s
+      s.timestamp_us.push_back(500000 + 1000 * static_cast<std::uint64_t>(i));
+      s.x.push_back(static_cast<float>(i));
+      s.y.push_back(1.0f);
+      s.z.push_back(-9.8f);
+      s.temperature_c.push_back(30.0f);
+    }
+    in.series.push_back(s);
+  }
+  Result<std::string> bytes = EncodeULog(in);
+  ASSERT_TRUE(bytes.ok());
+  ULogReadOptions o;
+  o.average_window_us = 1000000;
+  Result<ULogContents> log = ParseULog(reinterpret_cast<const std::uint8_t*>(bytes->data()), bytes->size(), "w.ulg", o);
+  ASSERT_TRUE(log.ok()) << log.error().message;
+  // Windows [0, 1), [1, 2), [2, 3), [3, 4) s: 500, 1000, 1000, 500 rows.
+  ASSERT_EQ(log->gyros[0].timestamp_us.size(), 4u);
+  EXPECT_EQ(log->gyros[0].x_rad_s[0], 249.5);      // mean of 0..499
+  EXPECT_EQ(log->gyros[0].x_rad_s[1], 999.5);      // mean of 500..1499
+  EXPECT_EQ(log->gyros[0].timestamp_us[1], 1499500u);
+  EXPECT_EQ(log->accels[0].x_m_s2[3], 2749.5);
+  EXPECT_NEAR(log->accels[0].z_m_s2[2], -9.8, 1e-6);
+  EXPECT_EQ(log->baros[0].pressure_pa.size(), 4u);
+  EXPECT_EQ(log->gyros[0].device_id, std::optional<std::uint32_t>(3932170u));
+}
+
+}  // namespace
+}  // namespace gyrocomp

@@ -236,5 +236,18 @@ TEST_F(CalibrateCli, NothingCalibratableIsAnErrorAndNoFile) {
   EXPECT_NE(out.find("PX4 parameters come from a ULog"), std::string::npos) << out;
 }
 
+// A real PX4 log (tests/fieldlogs, 6 rows per sensor): every sensor_gyro / accel / baro instance
+// is read and keeps its row with the reason; nothing calibratable -> exit 2.
+TEST_F(CalibrateCli, RealPx4LogListsEverySensorWithItsReason) {
+  const std::string ulg = std::string(GYROCOMP_FIELDLOGS_DIR) + "/sample_log_small.ulg";
+  if (!fs::exists(ulg)) GTEST_SKIP() << "tests/fieldlogs/sample_log_small.ulg absent";
+  std::string out;
+  EXPECT_EQ(Run("calibrate -i '" + ulg + "' --format px4 -o " + dir_ + "/x.params", &out), 2) << out;
+  for (const char* row : {"gyro    2     2     skipped: 6 rows", "accel   2     2     skipped: 6 rows",
+                          "baro    1     1     skipped: 6 rows"})
+    EXPECT_NE(out.find(row), std::string::npos) << row << "\n" << out;
+  EXPECT_FALSE(fs::exists(dir_ + "/x.params"));
+}
+
 }  // namespace
 }  // namespace gyrocomp

@@ -21,6 +21,7 @@
 #include <optional>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "commands.h"
@@ -65,6 +66,9 @@ struct Sensor {
   std::vector<DriftModel> models;
   std::vector<TemperatureCubic> cubics;  // firmware unit, constant handled as the file needs
   std::vector<double> cost_rms;          // projection cost on the run, firmware unit
+  // RMS over the range of cubic - full model at state 0 (steady) and along the run's warm-up
+  // state (warm-up), firmware unit: what the exported cubic loses in each condition.
+  std::vector<double> steady_rms, warm_up_rms;
   double temp_min_c = 0.0, temp_max_c = 0.0;
 };
 
@@ -169,6 +173,20 @@ std::string Num(double v) {
   return s.str();
 }
 
+// RMS over 201 temperatures of the range of cubic - model at state 0 and at the warm-up state
+// (model unit; the cubic before any constant is removed).
+std::pair<double, double> ConditionErrors(const DriftModel& m, const TemperatureCubic& c, const StateByTemperature& warm) {
+  double ss_steady = 0.0, ss_warm = 0.0;
+  constexpr int kPoints = 201;
+  for (int i = 0; i < kPoints; ++i) {
+    const double t = c.temp_min_c + (c.temp_max_c - c.temp_min_c) * i / (kPoints - 1);
+    const double cubic = c.Evaluate(t);
+    ss_steady += std::pow(cubic - m.PredictAt(t, 0.0), 2);
+    ss_warm += std::pow(cubic - m.PredictAt(t, m.inputs == DriftInputSet::kTemp ? 0.0 : warm.At(t)), 2);
+  }
+  return {std::sqrt(ss_steady / kPoints), std::sqrt(ss_warm / kPoints)};
+}
+
 // Fits and projects one sensor; sets `reason` when it cannot be calibrated.
 void Calibrate(Sensor* s, const CalibrateArgs& a) {
   if (!s->reason.empty()) return;
@@ -208,14 +226,12 @@ void Calibrate(Sensor* s, const CalibrateArgs& a) {
     }
     m->rate_col = s->cols[k];
     m->unit = s->model_unit;
-    if (po.condition != CubicCondition::kSteady) {
-      Result<StateByTemperature> warm = StateWhileHeating(*m, inputs);
-      if (!warm.ok()) {
-        s->reason = "warm-up state of " + s->cols[k] + ": " + warm.error().message;
-        return;
-      }
-      po.warm_up = *warm;
+    Result<StateByTemperature> warm = StateWhileHeating(*m, inputs);
+    if (!warm.ok()) {
+      s->reason = "warm-up state of " + s->cols[k] + ": " + warm.error().message;
+      return;
     }
+    po.warm_up = *warm;
     Result<TemperatureCubic> c = ProjectOntoCubic(*m, po);
     if (!c.ok()) {
       s->reason = "projection of " + s->cols[k] + " failed: " + c.error().message;
@@ -225,6 +241,9 @@ void Calibrate(Sensor* s, const CalibrateArgs& a) {
     TemperatureCubic fw = c->Scaled(1.0 / s->to_model);
     if (a.format == "px4" && s->type != "gyro") fw.coeff[0] = 0.0;  // the script subtracts the median
     s->cost_rms.push_back(cost.ok() ? cost->rms / s->to_model : NAN);
+    const auto [steady, warm_up] = ConditionErrors(*m, *c, *warm);
+    s->steady_rms.push_back(steady / s->to_model);
+    s->warm_up_rms.push_back(warm_up / s->to_model);
     s->cubics.push_back(fw);
     s->models.push_back(std::move(*m));
   }
@@ -316,9 +335,14 @@ nlohmann::json SensorJson(const CalibrateArgs& a, const Sensor& s) {
                     {"projection_cost_rms", s.cost_rms[k]}, {"fit_rmse", s.models[k].summary.train_rmse / s.to_model}});
   }
   j["axes"] = axes;
-  j["expected_error"] = {{"steady", nullptr}, {"warm_up", nullptr},
-                         {"note", "prediction bands are not yet available (issue 23); projection_cost_rms is what the "
-                                  "cubic loses against the full model on this run"}};
+  nlohmann::json steady = nlohmann::json::array(), warm = nlohmann::json::array();
+  for (std::size_t k = 0; k < s.models.size(); ++k) steady.push_back(s.steady_rms[k]), warm.push_back(s.warm_up_rms[k]);
+  j["expected_error"] = {{"optimised_for", a.optimise_for},
+                         {"steady", steady},
+                         {"warm_up", warm},
+                         {"note", "per axis, firmware unit: RMS over the range of (exported cubic - the full model) at "
+                                  "steady temperature and along this run's warm-up; the model's own held-out "
+                                  "uncertainty (prediction bands, issue 23) is not included yet"}};
   return j;
 }
 

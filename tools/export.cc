@@ -34,6 +34,7 @@ struct ExportArgs {
   std::string json_path;
   std::optional<long long> device_id;
   std::optional<int> index;
+  std::optional<int> file_instance;  // the instance the model files were fitted on ("sensor")
   std::string c_unit = "dps";
   LogOptions log;               // optional calibration run (-i): projection cost
   std::string validation_path;  // optional validation run, same columns
@@ -44,7 +45,7 @@ struct ExportArgs {
 // `device_id` receives the gyro's device id recorded in the files (fitted on a PX4 ULog), when
 // they record one; files that disagree are an error.
 Result<std::vector<AxisDriftModel>> LoadAxes(const std::vector<std::string>& paths, std::vector<std::string>* sources,
-                                             std::optional<std::uint32_t>* device_id) {
+                                             std::optional<std::uint32_t>* device_id, std::optional<int>* instance) {
   std::vector<AxisDriftModel> axes;
   for (const std::string& p : paths) {
     Result<DriftModelSet> set = LoadDriftModelSet(p);
@@ -53,6 +54,7 @@ Result<std::vector<AxisDriftModel>> LoadAxes(const std::vector<std::string>& pat
       return InvalidInput(p + ": device_id " + std::to_string(*set->device_id) + " differs from " +
                           std::to_string(**device_id) + " of " + paths.front() + ": models of different gyros");
     if (set->device_id) *device_id = set->device_id;
+    if (set->sensor) *instance = set->sensor->instance;  // the log's instance (model file "sensor")
     for (DriftModel& m : set->axes) {
       if (m.unit != "deg/s")
         return InvalidInput(p + ": axis '" + m.rate_col + "' predicts '" + m.unit + "', not deg/s; export needs "
@@ -157,9 +159,15 @@ int RunParams(const ExportArgs& a, const std::vector<AxisDriftModel>& axes, cons
   for (int k = 0; k < 3; ++k) radps[k] = (*costs)[k].cubic_dps.Scaled(kRadPerDeg);
   const auto comments = ParamComments(a, axes, src, *costs);
   Result<std::string> text = InternalError("unreachable");
+  // --index follows the gyro instance when it is not given: --instance of -i, else the instance
+  // the model file records (PX4 slot i = instance; ArduPilot INS_TCAL<n>, n = instance + 1).
+  const std::optional<int> instance = a.log.instance ? a.log.instance : a.file_instance;
+  if (!a.index && instance && *instance > (a.format == "px4" ? 3 : 2))
+    return ReportError(kName, InvalidArgument("gyro instance " + std::to_string(*instance) + " has no " + a.format +
+                                              " slot of the same number; choose one with --index"));
   if (a.format == "px4") {
     Px4ThermalParamOptions o;
-    o.index = a.index.value_or(0);
+    o.index = a.index.value_or(instance.value_or(0));
     if (a.device_id) {
       if (*a.device_id <= 0 || *a.device_id > 0xFFFFFFFFLL)
         return ReportError(kName, InvalidArgument("--device-id: must be in 1..4294967295"));
@@ -168,7 +176,7 @@ int RunParams(const ExportArgs& a, const std::vector<AxisDriftModel>& axes, cons
     text = WritePx4ThermalParams(radps, o, comments);
   } else {
     ArduPilotThermalParamOptions o;
-    o.imu = a.index.value_or(1);
+    o.imu = a.index.value_or(instance.value_or(0) + 1);
     text = WriteArduPilotThermalParams(radps, o, comments);
   }
   if (!text.ok()) return ReportError(kName, text.error());
@@ -221,9 +229,11 @@ int RunC(const ExportArgs& a, const std::vector<AxisDriftModel>& axes, const std
 int Run(const ExportArgs& args) {
   std::vector<std::string> src;
   std::optional<std::uint32_t> file_device_id;
-  auto axes = LoadAxes(args.model_paths, &src, &file_device_id);
+  std::optional<int> file_instance;
+  auto axes = LoadAxes(args.model_paths, &src, &file_device_id, &file_instance);
   if (!axes.ok()) return ReportError(kName, axes.error());
   ExportArgs a = args;  // --device-id, else the id the model file carries (fitted on a ULog)
+  a.file_instance = file_instance;
   if (!a.device_id && file_device_id) a.device_id = *file_device_id;
   nlohmann::json j;
   j["format"] = a.format;
@@ -255,7 +265,7 @@ Command Make(CLI::App& app) {
   sub->add_option("-o,--output", a->output, "Output file ('-' or none: stdout); for c: DIR/NAME");
   AddOutputOption(sub, "--json", &a->json_path, "Write a summary as JSON to FILE ('-' = stdout)");
   sub->add_option("--device-id", a->device_id, "px4: TC_G<i>_ID, the gyro's device_id (sensor_gyro.device_id); default: the one the model file carries when it was fitted on a PX4 ULog");
-  sub->add_option("--index", a->index, "px4: slot i of TC_G<i> (0..3, default 0); ardupilot: IMU n of INS_TCAL<n> (1..3, default 1)");
+  sub->add_option("--index", a->index, "px4: slot i of TC_G<i> (0..3); ardupilot: IMU n of INS_TCAL<n> (1..3); default: from the gyro instance (--instance, else the model file's sensor.instance): i = instance, n = instance + 1; else 0 / 1");
   sub->add_option("--c-unit", a->c_unit, "c: unit of rate_in/rate_out, dps or rads")->capture_default_str();
   AddLogOptions(sub, &a->log, /*input_required=*/false);
   AddInputOption(sub, "--validation", &a->validation_path, "px4/ardupilot: a validation run (same columns as -i) for the cost");

@@ -25,41 +25,27 @@ struct SimulateArgs {
   std::optional<double> duration_s;
   std::string output;
   std::string json_path;
+  int imus = 1;                       // .ulg / .bin: IMUs on the board
+  std::optional<double> log_rate_hz;  // .ulg / .bin: rows per second (default: --fs)
+  int ahrs_orientation = 0;           // .bin: board rotation logged (AHRS_ORIENTATION)
 };
 
 bool EndsWith(const std::string& s, const std::string& tail) {
   return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
 }
 
-// The run as a PX4 ULog sensor_gyro (rad/s, float32; timestamps rounded to us). The simulator
-// has one axis: x is the run itself, y and z are the same experiment with seeds + 1 and + 2
-// (same temperature profile and drift, independent noise); temperature is the x run's reading.
-// The ground-truth columns have no place in a ULog: write a CSV for them.
-Status WriteULogRun(const std::string& path, const SimulatorOptions& options, SimulatedRun x) {
-  ULogGyroWriteInput in;
-  in.sys_name = "gyrocomp simulate";
-  in.device_id = 1;  // not a real PX4 device id; 'gyrocomp export --device-id' can set the real one
-  const double to_rad_s = 1.0 / units::ToDegPerSec(RateUnit::kRadPerSec);
-  const std::size_t n = x.num_samples();
-  in.timestamp_us.resize(n);
-  in.x_rad_s.resize(n);
-  in.temperature_c.resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    in.timestamp_us[i] = static_cast<std::uint64_t>(std::llround(x.time_s[i] * 1e6));
-    in.x_rad_s[i] = static_cast<float>(x.rate_dps[i] * to_rad_s);
-    in.temperature_c[i] = static_cast<float>(x.temp_c[i]);
-  }
-  x = SimulatedRun{};  // free the x run before simulating the others
-  for (int axis = 1; axis <= 2; ++axis) {
-    SimulatorOptions o = options;
-    o.seed = options.seed + static_cast<decltype(o.seed)>(axis);
-    Result<SimulatedRun> r = Simulate(o);
-    if (!r.ok()) return r.error();
-    std::vector<float>& out = axis == 1 ? in.y_rad_s : in.z_rad_s;
-    out.resize(n);
-    for (std::size_t i = 0; i < n; ++i) out[i] = static_cast<float>(r->rate_dps[i] * to_rad_s);
-  }
-  Result<std::string> bytes = EncodeULogGyro(in);
+// A whole board as a PX4 ULog (.ulg) or ArduPilot DataFlash (.bin) log: --imus IMUs, each gyro
+// x, y, z and accel x, y, z (SimulateBoard: IMU 0's gyro x is the CSV run of the same options and
+// seed, y and z seeds + 1 and + 2; accelerometers with gravity on z), and a barometer in the ULog;
+// realistic PX4 device ids; no ground truth (write a CSV for that).
+Status WriteBoardLog(const std::string& path, const SimulateArgs& a, bool ulog) {
+  BoardSimOptions b;
+  b.chamber = a.sim;
+  b.num_imus = a.imus;
+  auto board = SimulateBoard(b);
+  if (!board.ok()) return board.error();
+  Result<std::string> bytes = ulog ? EncodeBoardULog(*board, a.log_rate_hz.value_or(board->fs_hz))
+                                   : EncodeBoardDataFlash(*board, a.log_rate_hz.value_or(board->fs_hz), a.ahrs_orientation);
   if (!bytes.ok()) return bytes.error();
   return WriteText(path, *bytes);
 }
@@ -84,16 +70,18 @@ int Run(SimulateArgs& a) {
   if (!run.ok()) return ReportError(kName, run.error());
   const SimulationSummary sum = run->summary;
   const double fs_hz = run->fs_hz;
-  const bool ulog = EndsWith(a.output, ".ulg");
-  if (ulog) {
-    if (Status s = WriteULogRun(a.output, a.sim, std::move(*run)); !s.ok()) return ReportError(kName, s.error());
+  const bool ulog = EndsWith(a.output, ".ulg"), dataflash = EndsWith(a.output, ".bin");
+  if (ulog || dataflash) {
+    *run = SimulatedRun{};  // the board simulates its own axes
+    if (Status s = WriteBoardLog(a.output, a, ulog); !s.ok()) return ReportError(kName, s.error());
   } else if (Status s = WriteCsv(a.output, std::move(*run).ToTable()); !s.ok()) {
     return ReportError(kName, s.error());
   }
   if (!a.json_path.empty()) {
     nlohmann::json j;
     j["output"] = a.output;
-    j["output_format"] = ulog ? "ulog" : "csv";
+    j["output_format"] = ulog ? "ulog" : dataflash ? "dataflash" : "csv";
+    if (ulog || dataflash) j["imus"] = a.imus;
     j["profile"] = ThermalProfileKindName(a.sim.profile.kind);
     j["fs_hz"] = fs_hz;
     j["seed"] = a.sim.seed;
@@ -127,10 +115,18 @@ Command Make(CLI::App& app) {
       "cold -> room, --cycles times: heating and cooling, for hysteresis).\n"
       "Noise in datasheet units (IEEE 952); bias instability = flicker floor / 0.664, made of a sum of\n"
       "Gauss-Markov processes (docs/simulator.md). Same options and --seed: identical output.\n"
-      "-o run.ulg writes a PX4 ULog instead: sensor_gyro x, y, z (rad/s, float32) and temperature; x is\n"
-      "the run, y and z the same run with --seed + 1 and + 2; no ground truth (write a CSV for that).\n"
+      "-o run.ulg writes a PX4 ULog instead: a board of --imus IMUs as sensor_gyro (rad/s) and sensor_accel\n"
+      "(m/s^2, gravity on z) multi_id 0.., float32, realistic PX4 device ids, and sensor_baro (Pa);\n"
+      "IMU 0's gyro x is the run, y and z --seed + 1 and + 2. -o run.bin writes an ArduPilot DataFlash\n"
+      "log (IMU rows with I and T, rotated by --ahrs-orientation, PARM rows). No ground truth in either.\n"
       "Example: gyrocomp simulate --fs 100 --seed 7 -o run.csv.gz");
-  AddOutputOption(sub, "-o,--output", &a->output, "Output CSV (.gz: gzip), or PX4 ULog when it ends in .ulg")->required();
+  AddOutputOption(sub, "-o,--output", &a->output, "Output CSV (.gz: gzip), PX4 ULog (.ulg) or ArduPilot DataFlash (.bin)")->required();
+  sub->add_option("--imus", a->imus, ".ulg / .bin: IMUs on the simulated board (1..4; DataFlash 1..3)")
+      ->check(CLI::Range(1, 4))->capture_default_str();
+  sub->add_option("--log-rate", a->log_rate_hz, ".ulg / .bin: logged rows per second (default: --fs)")
+      ->check(CLI::PositiveNumber);
+  sub->add_option("--ahrs-orientation", a->ahrs_orientation, ".bin: board rotation AHRS_ORIENTATION (0..43) applied to the logged IMU rows")
+      ->check(CLI::Range(0, 43))->capture_default_str();
   AddOutputOption(sub, "--json", &a->json_path, "Write a summary of the run as JSON ('-' = stdout)");
   sub->add_option("--profile", a->profile, "paper | soak | ramp | cycle")->capture_default_str();
   sub->add_option("--fs", o.fs_hz, "Sample rate, Hz")->check(CLI::PositiveNumber)->capture_default_str();

@@ -252,6 +252,40 @@ const DriftModel* DriftModelSet::ForAxis(std::string_view rate_col) const {
   return axes.size() == 1 ? &axes[0] : nullptr;
 }
 
+namespace {
+
+// The top-level "sensor" key (issue 22; SensorIdentity in drift_model.h).
+json SensorIdentityJson(const SensorIdentity& s) {
+  json j = {{"type", s.type}, {"instance", s.instance}, {"frame", s.frame}};
+  if (s.device_id) j["device_id"] = *s.device_id;
+  return j;
+}
+
+Result<SensorIdentity> ReadSensorIdentity(const json& j, const std::string& where) {
+  SensorIdentity s;
+  if (!j.is_object()) return InvalidInput(where + ": must be an object");
+  if (!j.contains("type") || !j["type"].is_string() ||
+      (j["type"] != "gyro" && j["type"] != "accel" && j["type"] != "baro"))
+    return InvalidInput(where + ": field 'type' must be \"gyro\", \"accel\" or \"baro\"");
+  s.type = j["type"].get<std::string>();
+  if (!j.contains("instance") || !j["instance"].is_number_unsigned() || j["instance"].get<std::uint64_t>() > 255)
+    return InvalidInput(where + ": field 'instance' must be an integer in 0..255");
+  s.instance = static_cast<int>(j["instance"].get<std::uint64_t>());
+  if (j.contains("device_id")) {
+    const json& id = j["device_id"];
+    if (!id.is_number_unsigned() || id.get<std::uint64_t>() == 0 || id.get<std::uint64_t>() > 0xFFFFFFFFull)
+      return InvalidInput(where + ": field 'device_id' must be an integer in 1..4294967295");
+    s.device_id = static_cast<std::uint32_t>(id.get<std::uint64_t>());
+  }
+  if (j.contains("frame")) {
+    if (!j["frame"].is_string()) return InvalidInput(where + ": field 'frame' must be a string");
+    s.frame = j["frame"].get<std::string>();
+  }
+  return s;
+}
+
+}  // namespace
+
 std::string DriftModelSetToJson(const DriftModelSet& models) {
   json j;
   j["format"] = kModelFormat;
@@ -259,6 +293,7 @@ std::string DriftModelSetToJson(const DriftModelSet& models) {
   j["axes"] = json::array();
   for (const DriftModel& m : models.axes) j["axes"].push_back(AxisJson(m));
   if (models.device_id) j["device_id"] = *models.device_id;
+  if (models.sensor) j["sensor"] = SensorIdentityJson(*models.sensor);
   return j.dump(1) + "\n";
 }
 
@@ -283,6 +318,11 @@ Result<DriftModelSet> DriftModelSetFromJson(std::string_view text, const std::st
     if (!id.is_number_unsigned() || id.get<std::uint64_t>() == 0 || id.get<std::uint64_t>() > 0xFFFFFFFFull)
       return InvalidInput(source + ": field 'device_id' must be an integer in 1..4294967295");
     set.device_id = static_cast<std::uint32_t>(id.get<std::uint64_t>());
+  }
+  if (j.contains("sensor")) {
+    auto sensor = ReadSensorIdentity(j["sensor"], source + ": sensor");
+    if (!sensor.ok()) return sensor.error();
+    set.sensor = *sensor;
   }
   for (std::size_t k = 0; k < j["axes"].size(); ++k) {
     auto m = ReadAxis(j["axes"][k], source + ": axes[" + std::to_string(k) + "]");

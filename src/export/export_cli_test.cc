@@ -127,7 +127,8 @@ TEST_F(ExportCli, UlogFitThenPx4ExportCarriesTheDeviceId) {
   const nlohmann::json m = testing::ReadJsonFile(dir_ + "/m.json");
   ASSERT_EQ(m["axes"].size(), 3u);
   const std::uint32_t id = m.at("device_id").get<std::uint32_t>();  // what simulate writes into the ULog
-  EXPECT_EQ(id, 1u);
+  EXPECT_EQ(id, BoardGyroDeviceId(0));  // realistic: ICM20689 on SPI1 (PX4 DeviceStructure)
+  EXPECT_EQ(id, 3932170u);
   ASSERT_EQ(Run("export -m " + dir_ + "/m.json --format px4 -o " + dir_ + "/tc.params", &out), 0) << out;
   std::ifstream f(dir_ + "/tc.params");
   const std::string text((std::istreambuf_iterator<char>(f)), {});
@@ -138,6 +139,44 @@ TEST_F(ExportCli, UlogFitThenPx4ExportCarriesTheDeviceId) {
   std::ifstream f2(dir_ + "/tc2.params");
   const std::string text2((std::istreambuf_iterator<char>(f2)), {});
   EXPECT_NE(text2.find("1\t1\tTC_G0_ID\t2293768\t6\n"), std::string::npos) << text2;
+}
+
+}  // namespace
+}  // namespace gyrocomp
+
+namespace gyrocomp {
+namespace {
+
+TEST_F(ExportCli, IndexFollowsTheGyroInstance) {
+  // One file with three axes, fitted on instance 2 of a log (model file "sensor").
+  DriftModelSet set;
+  set.axes = models_;
+  set.axes[0].rate_col = "x_rad_s";
+  set.axes[1].rate_col = "y_rad_s";
+  set.axes[2].rate_col = "z_rad_s";
+  set.sensor = SensorIdentity{"gyro", 2, 2293768u, "sensor"};
+  set.device_id = 2293768u;
+  const std::string m = dir_ + "/inst2.json";
+  ASSERT_TRUE(SaveDriftModelSet(set, m).ok());
+  std::string out;
+  ASSERT_EQ(Run("export -m " + m + " --format px4 -o " + dir_ + "/a.params", &out), 0) << out;
+  std::ifstream a(dir_ + "/a.params");
+  const std::string px4((std::istreambuf_iterator<char>(a)), {});
+  EXPECT_NE(px4.find("1\t1\tTC_G2_ID\t2293768\t6\n"), std::string::npos) << px4;
+  ASSERT_EQ(Run("export -m " + m + " --format ardupilot -o " + dir_ + "/b.param", &out), 0) << out;
+  std::ifstream b(dir_ + "/b.param");
+  const std::string ap((std::istreambuf_iterator<char>(b)), {});
+  EXPECT_NE(ap.find("INS_TCAL3_ENABLE,1\n"), std::string::npos) << ap;
+  // --index wins.
+  ASSERT_EQ(Run("export -m " + m + " --format ardupilot --index 1 -o " + dir_ + "/c.param", &out), 0) << out;
+  std::ifstream c(dir_ + "/c.param");
+  const std::string ap1((std::istreambuf_iterator<char>(c)), {});
+  EXPECT_NE(ap1.find("INS_TCAL1_ENABLE,1\n"), std::string::npos) << ap1;
+  // Instance 3 has no ArduPilot INS_TCAL4: refused, asking for --index.
+  set.sensor->instance = 3;
+  ASSERT_TRUE(SaveDriftModelSet(set, m).ok());
+  EXPECT_EQ(Run("export -m " + m + " --format ardupilot -o " + dir_ + "/d.param", &out), 2) << out;
+  EXPECT_NE(out.find("choose one with --index"), std::string::npos) << out;
 }
 
 }  // namespace

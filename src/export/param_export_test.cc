@@ -56,6 +56,22 @@ std::map<std::string, std::pair<std::string, int>> ParseQgc(const std::string& t
   return out;
 }
 
+// One slot (prefix "TC_G1_") of a parsed file.
+Px4GyroCal ReadPx4Slot(const std::map<std::string, std::pair<std::string, int>>& p, const std::string& s) {
+  auto f = [&](const std::string& name) { return std::stof(p.at(s + name).first); };
+  Px4GyroCal c;
+  c.tref = f("TREF");
+  c.tmin = f("TMIN");
+  c.tmax = f("TMAX");
+  for (int a = 0; a < 3; ++a) {
+    c.x0[a] = f("X0_" + std::to_string(a));
+    c.x1[a] = f("X1_" + std::to_string(a));
+    c.x2[a] = f("X2_" + std::to_string(a));
+    c.x3[a] = f("X3_" + std::to_string(a));
+  }
+  return c;
+}
+
 Px4GyroCal ReadPx4(const std::string& text, int slot, std::uint32_t id) {
   auto p = ParseQgc(text);
   const std::string s = "TC_G" + std::to_string(slot) + "_";
@@ -108,8 +124,11 @@ ApTcal ReadArduPilot(const std::string& text, int imu) {
     p[line.substr(0, comma)] = std::stof(line.substr(comma + 1));
   }
   const std::string s = "INS_TCAL" + std::to_string(imu) + "_";
-  EXPECT_EQ(p.size(), 3u + 9u);
+  // Gyro, and the IMU's ACC coefficients written as 0 (no older accel calibration stays active).
+  EXPECT_EQ(p.size(), 3u + 18u);
   EXPECT_EQ(p.at(s + "ENABLE"), 1.0f);
+  for (int k = 1; k <= 3; ++k)
+    for (const char* a : {"X", "Y", "Z"}) EXPECT_EQ(p.at(s + "ACC" + std::to_string(k) + "_" + a), 0.0f);
   ApTcal c;
   c.tmin = p.at(s + "TMIN");
   c.tmax = p.at(s + "TMAX");
@@ -294,6 +313,154 @@ TEST(ParamExport, RefusesWhatTheFirmwareCannotUse) {
   ThreeAxisCubics nan = radps;
   nan[2].coeff[3] = NAN;
   EXPECT_FALSE(WriteArduPilotThermalParams(nan, {}, {}).ok());
+}
+
+}  // namespace
+}  // namespace gyrocomp
+
+namespace gyrocomp {
+namespace {
+
+std::map<std::string, float> ReadApFile(const std::string& text) {
+  std::map<std::string, float> p;
+  std::istringstream in(text);
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    const auto comma = line.find(',');
+    p[line.substr(0, comma)] = std::stof(line.substr(comma + 1));
+  }
+  return p;
+}
+
+TEST(ArduPilotExport, WholeImuFileOwnsEveryCoefficientOfItsImus) {
+  const auto models = ExactCubicModels();
+  const ThreeAxisCubics radps = ProjectRadps(models);
+  // An accelerometer cubic (m/s^2): the gyro's scaled, same range (one TMIN/TMAX per IMU).
+  ThreeAxisCubics accel;
+  for (int a = 0; a < 3; ++a) accel[a] = radps[a].Scaled(50.0);
+  ArduPilotTcalImu imu1{1, radps, accel, ""}, imu2{2, std::nullopt, std::nullopt, "temperature span 0.4 C < 10 C"};
+  auto text = WriteArduPilotTcalFile({imu1, imu2}, {"test"});
+  ASSERT_TRUE(text.ok()) << text.error().message;
+  const auto p = ReadApFile(*text);
+  EXPECT_EQ(p.size(), 21u + 19u);  // IMU 1: ENABLE, TMIN, TMAX, 18; IMU 2: ENABLE, 18 zeros
+  EXPECT_EQ(p.at("INS_TCAL1_ENABLE"), 1.0f);
+  EXPECT_EQ(p.at("INS_TCAL2_ENABLE"), 0.0f);
+  EXPECT_EQ(p.count("INS_TCAL2_TMIN"), 0u);
+  EXPECT_NE(text->find("# INS_TCAL2 disabled: temperature span 0.4 C < 10 C"), std::string::npos);
+  const char* axis = "XYZ";
+  for (int a = 0; a < 3; ++a) {
+    const auto g = ArduPilotGyrCoefficients(accel[a]);
+    for (int k = 0; k < 3; ++k) {
+      const std::string sfx = std::to_string(k + 1) + "_" + axis[a];
+      EXPECT_EQ(p.at("INS_TCAL1_ACC" + sfx), static_cast<float>(g[k])) << sfx;
+      EXPECT_EQ(p.at("INS_TCAL2_ACC" + sfx), 0.0f);
+      EXPECT_EQ(p.at("INS_TCAL2_GYR" + sfx), 0.0f);
+    }
+  }
+  // correct_accel is correct_sensor: the accel model is reproduced relative to Tcal.
+  ApTcal acc;
+  acc.tmin = p.at("INS_TCAL1_TMIN");
+  acc.tmax = p.at("INS_TCAL1_TMAX");
+  for (int k = 0; k < 3; ++k)
+    for (int a = 0; a < 3; ++a) acc.gyr[k][a] = p.at("INS_TCAL1_ACC" + std::to_string(k + 1) + "_" + axis[a]);
+  for (double t = -30.0; t <= 60.0; t += 1.7)
+    for (int a = 0; a < 3; ++a) {
+      const double want = accel[a].Evaluate(t) - accel[a].Evaluate(20.0);
+      EXPECT_NEAR(ApCorrection(acc, a, static_cast<float>(t), 20.0f), want, 2e-6 * 50.0) << t;
+    }
+  ThreeAxisCubics shifted = accel;
+  for (auto& c : shifted) c.temp_max_c += 1.0;
+  EXPECT_FALSE(WriteArduPilotTcalFile({{1, radps, shifted, ""}}, {}).ok());
+  EXPECT_FALSE(WriteArduPilotTcalFile({imu1, imu1}, {}).ok());
+  EXPECT_FALSE(WriteArduPilotTcalFile({{4, radps, std::nullopt, ""}}, {}).ok());
+}
+
+TEST(Px4Export, WholeFileWritesEverySlotOfEachKindItEnables) {
+  const auto models = ExactCubicModels();
+  const ThreeAxisCubics radps = ProjectRadps(models);
+  Px4TcalFile f;
+  f.gyro.push_back({1, 2293768, radps});
+  f.gyro.push_back({0, 2359304, radps});
+  TemperatureCubic baro = radps[0].Scaled(1e4);
+  f.baro.push_back({0, 6620689, baro});
+  auto text = WritePx4TcalFile(f, {"test"});
+  ASSERT_TRUE(text.ok()) << text.error().message;
+  auto p = ParseQgc(*text);
+  EXPECT_EQ(p.at("TC_G_ENABLE"), (std::pair<std::string, int>{"1", 6}));
+  EXPECT_EQ(p.at("TC_A_ENABLE"), (std::pair<std::string, int>{"0", 6}));
+  EXPECT_EQ(p.at("TC_B_ENABLE"), (std::pair<std::string, int>{"1", 6}));
+  EXPECT_EQ(p.at("TC_G1_ID").first, "2293768");
+  EXPECT_EQ(p.at("TC_G0_ID").first, "2359304");
+  EXPECT_EQ(p.at("TC_G2_ID").first, "0");  // unused slots: ID 0 matches no sensor, zeros
+  EXPECT_EQ(p.at("TC_G3_X0_1").first, "0");
+  EXPECT_EQ(p.at("TC_B0_ID").first, "6620689");
+  EXPECT_EQ(std::stof(p.at("TC_B0_X1").first), static_cast<float>(baro.coeff[1]));
+  EXPECT_EQ(p.at("TC_B0_X5").first, "0");
+  EXPECT_EQ(p.count("TC_A0_ID"), 0u);
+  // 3 enables + 4 gyro slots x 16 + 4 baro slots x 10.
+  EXPECT_EQ(p.size(), 3u + 64u + 40u);
+  const Px4GyroCal cal = ReadPx4Slot(p, "TC_G1_");
+  for (double t = -30.0; t <= 60.0; t += 3.1) {
+    float off[3];
+    Px4Offsets(cal, static_cast<float>(t), off);
+    for (int a = 0; a < 3; ++a) EXPECT_NEAR(off[a], ModelRadps(models[a], t), 2e-6) << t;
+  }
+  f.accel.push_back({0, 0, radps});
+  EXPECT_FALSE(WritePx4TcalFile(f, {}).ok());  // device id 0
+  f.accel = {{4, 1, radps}};
+  EXPECT_FALSE(WritePx4TcalFile(f, {}).ok());  // slot 4
+}
+
+}  // namespace
+}  // namespace gyrocomp
+
+namespace gyrocomp {
+namespace {
+
+// A dT/dt model (drift = a (T - 25) + b dT/dt, with the model's own dT/dt estimate) on a run that
+// heats at 0.02 C/s in 20 C steps with holds: the steady cubic is a (T - 25); the warm-up cubic
+// adds about b x 0.02 (the state the run had while heating); both is their mean.
+TEST(ThermalCubic, ConditionChoosesTheStateTheCubicIsFittedAt) {
+  const double fs = 1.0, a = 2e-3, b = 1.5, rate = 0.02;
+  std::vector<double> temp;
+  double t = 20.0;
+  for (int step = 0; step < 3; ++step) {
+    for (int i = 0; i < 1000; ++i) temp.push_back(t += rate);
+    for (int i = 0; i < 600; ++i) temp.push_back(t);
+  }
+  auto state = ComputeThermalState(temp, fs, DriftInputSet::kTempAndRate, TemperatureRateOptions{}, ThermalStateOptions{}, false);
+  ASSERT_TRUE(state.ok());
+  std::vector<double> y;
+  for (std::size_t i = 0; i < temp.size(); ++i) y.push_back(a * (temp[i] - 25.0) + b * (*state)[i]);
+  DriftFitOptions o;
+  o.model = DriftModelKind::kPolynomial;
+  o.inputs = DriftInputSet::kTempAndRate;
+  o.polynomial.degree = 1;
+  auto m = FitDriftModel(DriftInputs{temp, fs}, y, o);
+  ASSERT_TRUE(m.ok()) << m.error().message;
+  auto warm = StateWhileHeating(*m, DriftInputs{temp, fs});
+  ASSERT_TRUE(warm.ok()) << warm.error().message;
+  EXPECT_NEAR(warm->At(30.0), rate, 1e-3);  // the middle of the first heating step
+  CubicProjectionOptions po;
+  po.temp_min_c = 25.0;
+  po.temp_max_c = 75.0;
+  auto steady = ProjectOntoCubic(*m, po);
+  ASSERT_TRUE(steady.ok());
+  po.condition = CubicCondition::kWarmUp;
+  EXPECT_FALSE(ProjectOntoCubic(*m, po).ok());  // needs the warm-up state
+  po.warm_up = *warm;
+  auto up = ProjectOntoCubic(*m, po);
+  po.condition = CubicCondition::kBoth;
+  auto both = ProjectOntoCubic(*m, po);
+  ASSERT_TRUE(up.ok() && both.ok());
+  for (double tc : {30.0, 50.0, 70.0}) {
+    EXPECT_NEAR(steady->Evaluate(tc), a * (tc - 25.0), 2e-4) << tc;
+    EXPECT_NEAR(up->Evaluate(tc) - steady->Evaluate(tc), b * rate, 0.2 * b * rate) << tc;
+    EXPECT_NEAR(both->Evaluate(tc), 0.5 * (steady->Evaluate(tc) + up->Evaluate(tc)), 1e-12) << tc;
+  }
+  EXPECT_EQ(ParseCubicCondition("warm-up"), CubicCondition::kWarmUp);
+  EXPECT_FALSE(ParseCubicCondition("hot"));
 }
 
 }  // namespace

@@ -37,6 +37,58 @@ TemperatureCubic TemperatureCubic::Recentered(double new_ref_c) const {
   return out;
 }
 
+std::optional<CubicCondition> ParseCubicCondition(std::string_view name) {
+  if (name == "steady") return CubicCondition::kSteady;
+  if (name == "warm-up") return CubicCondition::kWarmUp;
+  if (name == "both") return CubicCondition::kBoth;
+  return std::nullopt;
+}
+
+const char* CubicConditionName(CubicCondition condition) {
+  switch (condition) {
+    case CubicCondition::kWarmUp: return "warm-up";
+    case CubicCondition::kBoth: return "both";
+    default: return "steady";
+  }
+}
+
+double StateByTemperature::At(double temp_c) const {
+  if (state.empty()) return 0.0;
+  const double x = (temp_c - t0_c) / bin_c;
+  const auto i = static_cast<long>(std::floor(x));
+  if (i < 0) return state.front();
+  if (static_cast<std::size_t>(i) >= state.size()) return state.back();
+  return state[static_cast<std::size_t>(i)];
+}
+
+Result<StateByTemperature> StateWhileHeating(const DriftModel& model, const DriftInputs& record,
+                                             double min_heating_c_per_s, double bin_c) {
+  if (!(bin_c > 0.0) || !std::isfinite(min_heating_c_per_s))
+    return InvalidArgument("StateWhileHeating: bin_c must be > 0 and min_heating_c_per_s finite");
+  StateByTemperature out;
+  out.bin_c = bin_c;
+  if (model.inputs == DriftInputSet::kTemp || record.temp_c.empty()) return out;
+  auto rate = ComputeThermalState(record.temp_c, record.fs_hz, DriftInputSet::kTempAndRate, model.rate, model.state, false);
+  if (!rate.ok()) return rate.error();
+  auto state = ComputeThermalState(record.temp_c, record.fs_hz, model.inputs, model.rate, model.state, false);
+  if (!state.ok()) return state.error();
+  const auto [lo, hi] = std::minmax_element(record.temp_c.begin(), record.temp_c.end());
+  out.t0_c = *lo;
+  std::vector<std::vector<double>> bins(static_cast<std::size_t>((*hi - *lo) / bin_c) + 1);
+  for (std::size_t i = 0; i < record.temp_c.size(); ++i)
+    if ((*rate)[i] >= min_heating_c_per_s)
+      bins[static_cast<std::size_t>((record.temp_c[i] - *lo) / bin_c)].push_back((*state)[i]);
+  for (auto& b : bins) {
+    if (b.empty()) {
+      out.state.push_back(0.0);
+      continue;
+    }
+    std::nth_element(b.begin(), b.begin() + static_cast<long>(b.size() / 2), b.end());
+    out.state.push_back(b[b.size() / 2]);
+  }
+  return out;
+}
+
 bool CubicProjectionOptions::IsValid(std::string* error) const {
   if (grid_points < 8) {
     if (error) *error = "CubicProjectionOptions::grid_points = " + std::to_string(grid_points) + ": must be >= 8";
@@ -50,9 +102,25 @@ bool CubicProjectionOptions::IsValid(std::string* error) const {
   return true;
 }
 
+namespace {
+
+// The curve the cubic is fitted to at temperature t (CubicCondition).
+double ProjectionTarget(const DriftModel& model, const CubicProjectionOptions& o, double t) {
+  const double steady = EvaluateDriftModel(model, t, 0.0);
+  if (o.condition == CubicCondition::kSteady || model.inputs == DriftInputSet::kTemp) return steady;
+  const double warm = EvaluateDriftModel(model, t, o.warm_up->At(t));
+  return o.condition == CubicCondition::kWarmUp ? warm : 0.5 * (steady + warm);
+}
+
+}  // namespace
+
 Result<TemperatureCubic> ProjectOntoCubic(const DriftModel& model, const CubicProjectionOptions& options) {
   std::string why;
   if (!options.IsValid(&why)) return InvalidArgument(why);
+  if (options.condition != CubicCondition::kSteady && model.inputs != DriftInputSet::kTemp && !options.warm_up)
+    return InvalidArgument(std::string("cubic projection for '") + CubicConditionName(options.condition) +
+                           "': the model reads a thermal state, so the warm-up state by temperature is needed "
+                           "(StateWhileHeating of the calibration run)");
   TemperatureCubic cubic;
   cubic.temp_min_c = options.temp_min_c.value_or(model.summary.temp_min_c);
   cubic.temp_max_c = options.temp_max_c.value_or(model.summary.temp_max_c);
@@ -76,7 +144,7 @@ Result<TemperatureCubic> ProjectOntoCubic(const DriftModel& model, const CubicPr
     a(i, 1) = u;
     a(i, 2) = u * u;
     a(i, 3) = u * u * u;
-    y(i) = EvaluateDriftModel(model, t_model, 0.0);
+    y(i) = ProjectionTarget(model, options, t_model);
   }
   const Eigen::Vector4d c = a.colPivHouseholderQr().solve(y);
   for (int k = 0; k < 4; ++k) cubic.coeff[k] = c(k) / std::pow(h, k);

@@ -2,8 +2,12 @@
 // characters: ArduPilot libraries/AP_Logger/LogStructure.h; edge behaviour: pymavlink DFReader.py.
 #include "gyrocomp/io/dataflash.h"
 #include "gyrocomp/io/io.h"
+#include "gyrocomp/io/mapped_file.h"
 
 #include <algorithm>
+#include <array>
+#include <cmath>
+#include <functional>
 #include <cstring>
 #include <fstream>
 #include <optional>
@@ -107,7 +111,11 @@ std::optional<std::size_t> FieldIndex(const Layout& l, const std::string& label)
 
 class Parser {
  public:
-  Parser(const std::uint8_t* d, std::size_t n, std::string source) : d_(d), n_(n) { out_.source = std::move(source); }
+  Parser(const std::uint8_t* d, std::size_t n, std::string source, DataFlashReadOptions options,
+         std::function<void(std::size_t)> release)
+      : d_(d), n_(n), options_(options), release_(std::move(release)) {
+    out_.source = std::move(source);
+  }
   Result<DataFlashContents> Run();
 
  private:
@@ -116,10 +124,25 @@ class Parser {
   }
   std::optional<Error> AddFormat(std::size_t at, const std::uint8_t* p);
   void TakeImu(const Layout& l, const std::uint8_t* p);
-  void TakeParameter(const Layout& l, const std::uint8_t* p);
+  void TakeParameter(const Layout& l, const std::uint8_t* p, std::size_t at);
+  // ImuRow fields: time, gyro x y z, accel x y z, T.
+  static constexpr int kRowFields = 8;
+  using ImuRow = std::array<double, kRowFields>;
+  void PushImu(DataFlashImuSeries& s, const ImuRow& r, bool has_t, bool has_acc);
+  void FlushWindow(int instance);
 
+  struct Window {
+    std::uint64_t index = 0;
+    std::size_t count = 0;
+    ImuRow sum{};
+    bool has_t = false, has_acc = false;
+  };
   const std::uint8_t* d_;
   std::size_t n_;
+  DataFlashReadOptions options_;
+  std::function<void(std::size_t)> release_;
+  std::size_t released_ = 0;
+  std::map<int, Window> windows_;  // instance -> open window (average_window_us > 0)
   DataFlashContents out_;
   std::map<int, Layout> layouts_;
   std::map<int, std::size_t> imu_index_;  // instance -> index in out_.imus
@@ -156,12 +179,14 @@ Result<DataFlashContents> Parser::Run() {
     if (type == kFmtType) {
       if (auto e = AddFormat(pos, p)) return *e;
     } else if (l.decodable && l.fmt.name == "PARM") {
-      TakeParameter(l, p);
+      TakeParameter(l, p, pos);
     } else if (l.decodable && (l.fmt.name == "IMU" || l.fmt.name == "IMU2" || l.fmt.name == "IMU3")) {
       TakeImu(l, p);
     }
     pos += len;
+    if (release_ && pos - released_ >= (std::size_t{64} << 20)) release_(released_ = pos);
   }
+  for (auto& [instance, w] : windows_) FlushWindow(instance);
   std::sort(out_.imus.begin(), out_.imus.end(),
             [](const DataFlashImuSeries& a, const DataFlashImuSeries& b) { return a.instance < b.instance; });
   return std::move(out_);
@@ -200,12 +225,21 @@ std::optional<Error> Parser::AddFormat(std::size_t at, const std::uint8_t* p) {
   return std::nullopt;
 }
 
-void Parser::TakeParameter(const Layout& l, const std::uint8_t* p) {
+void Parser::TakeParameter(const Layout& l, const std::uint8_t* p, std::size_t at) {
   const auto name = FieldIndex(l, "Name");
   const auto value = FieldIndex(l, "Value");
   if (!name || !value || l.fmt.format[*name] != 'N') return;
   const auto v = Numeric(l.fmt.format[*value], p + l.offsets[*value]);
-  if (v) out_.parameters[Text(p + l.offsets[*name], 16)] = *v;
+  if (!v) return;
+  const std::string key = Text(p + l.offsets[*name], 16);
+  const auto it = out_.parameters.find(key);
+  if (it != out_.parameters.end() && it->second != *v && !imu_index_.empty()) {
+    const auto t = FieldIndex(l, "TimeUS");
+    const auto time_us = t ? Numeric(l.fmt.format[*t], p + l.offsets[*t]) : std::nullopt;
+    out_.parameters_changed_during_imu.try_emplace(
+        key, DataFlashContents::ParameterChange{at, time_us ? static_cast<std::uint64_t>(*time_us) : 0, it->second, *v});
+  }
+  out_.parameters[key] = *v;
 }
 
 void Parser::TakeImu(const Layout& l, const std::uint8_t* p) {
@@ -214,6 +248,7 @@ void Parser::TakeImu(const Layout& l, const std::uint8_t* p) {
     return i ? Numeric(l.fmt.format[*i], p + l.offsets[*i]) : std::nullopt;
   };
   const auto gx = get("GyrX"), gy = get("GyrY"), gz = get("GyrZ"), t = get("T");
+  const auto ax = get("AccX"), ay = get("AccY"), az = get("AccZ");
   std::optional<double> time_us = get("TimeUS");
   if (!time_us) {
     if (const auto ms = get("TimeMS")) time_us = *ms * 1000.0;  // logs before TimeUS
@@ -228,11 +263,44 @@ void Parser::TakeImu(const Layout& l, const std::uint8_t* p) {
     out_.imus.back().message = l.fmt.name;
   }
   DataFlashImuSeries& s = out_.imus[it->second];
-  s.time_us.push_back(static_cast<std::uint64_t>(*time_us));
-  s.gyr_x_rad_s.push_back(*gx);
-  s.gyr_y_rad_s.push_back(*gy);
-  s.gyr_z_rad_s.push_back(*gz);
-  if (t) s.temp_c.push_back(*t);
+  const bool has_acc = ax && ay && az;
+  const ImuRow row = {*time_us, *gx, *gy, *gz, has_acc ? *ax : 0.0, has_acc ? *ay : 0.0, has_acc ? *az : 0.0, t ? *t : 0.0};
+  const std::uint64_t w = options_.average_window_us;
+  if (w == 0) {
+    PushImu(s, row, t.has_value(), has_acc);
+    return;
+  }
+  Window& win = windows_[instance];
+  const auto index = static_cast<std::uint64_t>(*time_us) / w;
+  if (win.count > 0 && index != win.index) FlushWindow(instance);
+  win.index = index;
+  win.has_t = t.has_value();
+  win.has_acc = has_acc;
+  ++win.count;
+  for (int k = 0; k < kRowFields; ++k) win.sum[k] += row[k];
+}
+
+void Parser::PushImu(DataFlashImuSeries& s, const ImuRow& r, bool has_t, bool has_acc) {
+  s.time_us.push_back(static_cast<std::uint64_t>(std::llround(r[0])));
+  s.gyr_x_rad_s.push_back(r[1]);
+  s.gyr_y_rad_s.push_back(r[2]);
+  s.gyr_z_rad_s.push_back(r[3]);
+  if (has_acc) {
+    s.acc_x_m_s2.push_back(r[4]);
+    s.acc_y_m_s2.push_back(r[5]);
+    s.acc_z_m_s2.push_back(r[6]);
+  }
+  if (has_t) s.temp_c.push_back(r[7]);
+}
+
+void Parser::FlushWindow(int instance) {
+  Window& w = windows_[instance];
+  if (w.count == 0) return;
+  ImuRow mean = w.sum;
+  for (double& v : mean) v /= static_cast<double>(w.count);
+  PushImu(out_.imus[imu_index_.at(instance)], mean, w.has_t, w.has_acc);
+  w.count = 0;
+  w.sum = ImuRow{};
 }
 
 }  // namespace
@@ -241,14 +309,19 @@ bool HasDataFlashMagic(const std::uint8_t* data, std::size_t size) {
   return size >= 3 && data[0] == kHead1 && data[1] == kHead2 && data[2] == kFmtType;
 }
 
-Result<DataFlashContents> ParseDataFlash(const std::uint8_t* data, std::size_t size, const std::string& source) {
-  return Parser(data, size, source).Run();
+Result<DataFlashContents> ParseDataFlash(const std::uint8_t* data, std::size_t size, const std::string& source,
+                                         const DataFlashReadOptions& options) {
+  return Parser(data, size, source, options, nullptr).Run();
 }
 
-Result<DataFlashContents> ReadDataFlash(const std::string& path) {
+Result<DataFlashContents> ReadDataFlash(const std::string& path, const DataFlashReadOptions& options) {
+  if (Result<MappedFile> map = MappedFile::Open(path); map.ok()) {
+    MappedFile* m = &*map;
+    return Parser(m->data(), m->size(), path, options, [m](std::size_t offset) { m->ReleaseBefore(offset); }).Run();
+  }
   Result<std::string> bytes = ReadFileBytes(path);
   if (!bytes.ok()) return bytes.error();
-  return ParseDataFlash(reinterpret_cast<const std::uint8_t*>(bytes->data()), bytes->size(), path);
+  return ParseDataFlash(reinterpret_cast<const std::uint8_t*>(bytes->data()), bytes->size(), path, options);
 }
 
 std::string DataFlashContents::BriefReport() const {

@@ -2,6 +2,7 @@
 #include "gyrocomp/io/flight_log.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -9,6 +10,7 @@
 
 #include "gyrocomp/core/format.h"
 #include "gyrocomp/io/bag_log.h"
+#include "gyrocomp/io/board_rotation.h"
 
 namespace gyrocomp {
 
@@ -138,13 +140,15 @@ Result<FlightLogTable> FlightLogFromULog(const ULogContents& log, std::optional<
                            (combined ? " (the log has no sensor_gyro data, only sensor_combined, which logs none)" : ""));
   }
   if (auto e = CheckFinite(out.table)) return *e;
+  // PX4 applies TC_G* in the sensors module (calibration::Gyroscope::Correct, in VehicleIMU),
+  // after sensor_gyro is published by the driver: sensor_gyro rates are raw whatever TC_G_ENABLE
+  // says. sensor_combined is published from the corrected data, so it is compensated.
   double v = 0;
-  if (Enabled(log.parameters, "TC_G_ENABLE", &v)) {
+  if (combined && Enabled(log.parameters, "TC_G_ENABLE", &v)) {
     out.warnings.push_back("WARNING: " + log.source + ": TC_G_ENABLE = " + FormatNumber(v) +
-                           " in the log's parameters: PX4 was applying its gyro thermal compensation; " +
-                           (combined ? "sensor_combined rates are compensated" :
-                                       "depending on the PX4 version sensor_gyro rates may be compensated") +
-                           ", and a model fitted on compensated rates learns the residual, not the sensor's drift");
+                           " in the log's parameters and the log has only sensor_combined, whose rates PX4 has "
+                           "already thermally compensated: a model fitted on them learns the residual, not the "
+                           "sensor's drift (log sensor_gyro for a calibration)");
   }
   return out;
 }
@@ -159,7 +163,9 @@ Result<FlightLogTable> FlightLogFromDataFlash(const DataFlashContents& log, std:
         return std::to_string(s.instance) + " (" + s.message + ", " + std::to_string(s.time_us.size()) + " rows)";
       });
   if (!pick) return pick.error();
-  const DataFlashImuSeries& s = **pick;
+  Result<DataFlashImuSeries> sensor = DataFlashImuToSensorFrame(log, **pick, &out.warnings);
+  if (!sensor) return sensor.error();
+  const DataFlashImuSeries& s = *sensor;
   out.instance = s.instance;
   out.origin = "DataFlash " + s.message + (s.message == "IMU" ? " I=" + std::to_string(s.instance) : std::string());
   out.table.source = log.source + "[IMU." + std::to_string(s.instance) + "]";
@@ -174,17 +180,160 @@ Result<FlightLogTable> FlightLogFromDataFlash(const DataFlashContents& log, std:
     out.warnings.push_back(log.source + ": " + out.origin + " has no temperature field T");
   }
   if (auto e = CheckFinite(out.table)) return *e;
-  out.warnings.push_back("WARNING: " + log.source + ": ArduPilot logs IMU rates after its gyro offset correction "
-                         "and rotation to the board frame; they are not the sensor's raw output");
-  double v = 0;
-  const std::string tcal = "INS_TCAL" + std::to_string(s.instance + 1) + "_ENABLE";
-  if (Enabled(log.parameters, tcal, &v)) {
-    out.warnings.push_back("WARNING: " + log.source + ": " + tcal + " = " + FormatNumber(v) +
-                           " in the log's parameters: the logged rates of this IMU are already thermally "
-                           "compensated (1) or were being learned (2); a model fitted on them learns the residual");
-  }
   return out;
 }
+
+namespace {
+
+double Param(const std::map<std::string, double>& params, const std::string& name, double fallback) {
+  const auto it = params.find(name);
+  return it == params.end() ? fallback : it->second;
+}
+
+// ArduPilot's thermal correction of one sensor (AP_InertialSensor_tempcal.cpp, read at commit
+// b4447821): polynomial_eval(tdiff, c) = (c1 + (c2 + c3 tdiff) tdiff) tdiff * 1e-6 (INV_SCALE_FACTOR),
+// and correct_sensor: T and cal_temp clamped to [TMIN, TMAX], v -= p(T - 35), v += p(cal_temp - 35).
+struct TcalSensor {
+  double tmin_c = 0.0, tmax_c = 70.0;  // the firmware's defaults (var_info: TMIN 0, TMAX 70)
+  double cal_temp_c = -300.0;          // INS_GYRn_CALTEMP / INS_ACCn_CALTEMP (-300: never calibrated)
+  std::array<std::array<double, 3>, 3> coeff{};  // [order 1..3][axis x, y, z], scaled by 1e6
+  double Poly(int axis, double temp_c) const {
+    const double x = std::clamp(temp_c, tmin_c, tmax_c) - 35.0;  // TEMP_REFERENCE
+    return (coeff[0][axis] + (coeff[1][axis] + coeff[2][axis] * x) * x) * x * 1.0e-6;
+  }
+  // What correct_sensor subtracted from the sensor at temp_c: p(T - 35) - p(Tcal - 35).
+  double Correction(int axis, double temp_c) const { return Poly(axis, temp_c) - Poly(axis, cal_temp_c); }
+};
+
+TcalSensor ReadTcal(const std::map<std::string, double>& params, int imu, const char* kind) {
+  static constexpr const char* kAxis[3] = {"X", "Y", "Z"};
+  const std::string p = "INS_TCAL" + std::to_string(imu) + "_";
+  TcalSensor t;
+  t.tmin_c = Param(params, p + "TMIN", 0.0);
+  t.tmax_c = Param(params, p + "TMAX", 70.0);
+  // INS_GYR1_CALTEMP / INS_ACC1_CALTEMP (tempcal_IMU.py's "^INS_GYR(\d)_CALTEMP").
+  t.cal_temp_c = Param(params, std::string("INS_") + kind + std::to_string(imu) + "_CALTEMP", -300.0);
+  for (int k = 0; k < 3; ++k)
+    for (int a = 0; a < 3; ++a) t.coeff[k][a] = Param(params, p + kind + std::to_string(k + 1) + "_" + kAxis[a], 0.0);
+  return t;
+}
+
+}  // namespace
+
+namespace {
+Result<DataFlashImuSeries> ToSensorFrame(const DataFlashContents& log, const DataFlashImuSeries& imu,
+                                         std::vector<std::string>* notes);
+}  // namespace
+
+Result<DataFlashImuSeries> DataFlashImuToSensorFrame(const DataFlashContents& log, const DataFlashImuSeries& imu,
+                                                     std::vector<std::string>* notes) {
+  // A frame / compensation parameter of this IMU that changes while IMU rows are logged: the rows
+  // after the first change are dropped and the values before it are used, as tempcal_IMU.py stops
+  // capturing an IMU when its INS_TCAL enable changes (a learning run ends with 2 -> 1).
+  const std::string n_str = std::to_string(imu.instance + 1);
+  std::map<std::string, double> params = log.parameters;
+  std::optional<DataFlashContents::ParameterChange> first;
+  std::string first_name;
+  for (const auto& [name, change] : log.parameters_changed_during_imu) {
+    const bool mine = name == "AHRS_ORIENTATION" || name.rfind("INS_TCAL" + n_str + "_", 0) == 0 ||
+                      name == "INS_GYR" + n_str + "_CALTEMP" || name == "INS_ACC" + n_str + "_CALTEMP";
+    if (!mine) continue;
+    if (change.time_us == 0)
+      return InvalidInput(log.source + ": byte " + std::to_string(change.offset) + ": " + name +
+                          " changes while IMU rows are logged and its PARM record has no TimeUS to cut the rows at");
+    params[name] = change.before;
+    if (!first || change.time_us < first->time_us) first = change, first_name = name;
+  }
+  DataFlashContents before_change;
+  const DataFlashContents* plog = &log;
+  DataFlashImuSeries kept;
+  const DataFlashImuSeries* pimu = &imu;
+  if (first) {
+    std::size_t keep = 0;
+    while (keep < imu.time_us.size() && imu.time_us[keep] < first->time_us) ++keep;
+    kept = imu;
+    for (auto* v : {&kept.gyr_x_rad_s, &kept.gyr_y_rad_s, &kept.gyr_z_rad_s, &kept.acc_x_m_s2, &kept.acc_y_m_s2,
+                    &kept.acc_z_m_s2, &kept.temp_c})
+      if (v->size() > keep) v->resize(keep);
+    kept.time_us.resize(keep);
+    before_change.source = log.source;
+    before_change.parameters = std::move(params);
+    plog = &before_change;
+    pimu = &kept;
+    notes->push_back(log.source + ": byte " + std::to_string(first->offset) + ": " + first_name + " changes from " +
+                     FormatNumber(first->before) + " to " + FormatNumber(first->after) + " at TimeUS " +
+                     std::to_string(first->time_us) + ": IMU " + std::to_string(imu.instance) + " rows kept up to it (" +
+                     std::to_string(keep) + " of " + std::to_string(imu.time_us.size()) + "), under the values before");
+  }
+  return ToSensorFrame(*plog, *pimu, notes);
+}
+
+namespace {
+
+Result<DataFlashImuSeries> ToSensorFrame(const DataFlashContents& log, const DataFlashImuSeries& imu,
+                                         std::vector<std::string>* notes) {
+  DataFlashImuSeries s = imu;
+  const std::size_t n = s.time_us.size();
+  const bool has_acc = s.acc_x_m_s2.size() == n && n > 0;
+  // 1. Board rotation: AP_InertialSensor_Backend::_rotate_and_correct_gyro / _accel end with
+  //    rotate(_board_orientation) (AHRS_ORIENTATION); undone with R^T as tempcal_IMU.py does.
+  const double orientation = Param(log.parameters, "AHRS_ORIENTATION", 0.0);
+  if (orientation != 0.0) {
+    const auto r = orientation == std::floor(orientation) ? ArduPilotRotationMatrix(static_cast<int>(orientation))
+                                                          : std::nullopt;
+    if (!r) {
+      return InvalidInput(log.source + ": AHRS_ORIENTATION = " + FormatNumber(orientation) +
+                          " in the log's parameters: not one of ArduPilot's fixed rotations 0.." +
+                          std::to_string(kArduPilotRotationCount - 1) +
+                          " (100-102 are custom rotations set by CUST_ROT parameters, which gyrocomp does not read); "
+                          "the rates cannot be brought back to the sensor frame");
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      const auto g = RotateVectorInverse(*r, {s.gyr_x_rad_s[i], s.gyr_y_rad_s[i], s.gyr_z_rad_s[i]});
+      s.gyr_x_rad_s[i] = g[0], s.gyr_y_rad_s[i] = g[1], s.gyr_z_rad_s[i] = g[2];
+      if (!has_acc) continue;
+      const auto a = RotateVectorInverse(*r, {s.acc_x_m_s2[i], s.acc_y_m_s2[i], s.acc_z_m_s2[i]});
+      s.acc_x_m_s2[i] = a[0], s.acc_y_m_s2[i] = a[1], s.acc_z_m_s2[i] = a[2];
+    }
+    notes->push_back(log.source + ": AHRS_ORIENTATION = " + FormatNumber(orientation) + " (" +
+                     *ArduPilotRotationName(static_cast<int>(orientation)) +
+                     "): IMU rows rotated back from the board frame to the sensor frame");
+  }
+  // 2. Thermal correction already applied (INS_TCALn_ENABLE = 1; 2 = learning, rates raw).
+  const int tcal_imu = s.instance + 1;
+  const std::string enable_name = "INS_TCAL" + std::to_string(tcal_imu) + "_ENABLE";
+  const double enable = Param(log.parameters, enable_name, 0.0);
+  if (enable == 1.0 && s.temp_c.size() != n) {
+    return InvalidInput(log.source + ": " + enable_name + " = 1 but IMU " + std::to_string(s.instance) +
+                        " logs no temperature T: the thermal correction ArduPilot applied cannot be undone");
+  }
+  if (enable == 1.0) {
+    const TcalSensor gyr = ReadTcal(log.parameters, tcal_imu, "GYR");
+    const TcalSensor acc = ReadTcal(log.parameters, tcal_imu, "ACC");
+    // The accel correction comes before INS_ACCnSCAL (_rotate_and_correct_accel): undo the scale.
+    const std::string scal = tcal_imu == 1 ? "INS_ACCSCAL_" : "INS_ACC" + std::to_string(tcal_imu) + "SCAL_";
+    const std::array<double, 3> scale = {Param(log.parameters, scal + "X", 1.0), Param(log.parameters, scal + "Y", 1.0),
+                                         Param(log.parameters, scal + "Z", 1.0)};
+    std::array<std::vector<double>*, 3> g = {&s.gyr_x_rad_s, &s.gyr_y_rad_s, &s.gyr_z_rad_s};
+    std::array<std::vector<double>*, 3> a = {&s.acc_x_m_s2, &s.acc_y_m_s2, &s.acc_z_m_s2};
+    for (std::size_t i = 0; i < n; ++i)
+      for (int k = 0; k < 3; ++k) {
+        (*g[k])[i] += gyr.Correction(k, s.temp_c[i]);
+        if (has_acc && scale[k] != 0.0) (*a[k])[i] = (*a[k])[i] / scale[k] + acc.Correction(k, s.temp_c[i]);
+      }
+    notes->push_back(log.source + ": " + enable_name + " = 1 in the log's parameters: ArduPilot's thermal correction "
+                     "(the log's INS_TCAL" + std::to_string(tcal_imu) + "_* coefficients, cal temperature " +
+                     FormatNumber(gyr.cal_temp_c) + " C) added back to IMU " + std::to_string(s.instance) +
+                     ": the rows are the sensor's own curve again (plus the constant boot offsets)");
+  } else if (enable != 0.0 && enable != 2.0) {
+    return InvalidInput(log.source + ": " + enable_name + " = " + FormatNumber(enable) +
+                        " in the log's parameters: ArduPilot defines 0 (off), 1 (on), 2 (learning); cannot tell "
+                        "whether the rows are compensated");
+  }
+  return s;
+}
+
+}  // namespace
 
 Result<FlightLogTable> ReadFlightLog(const std::string& path, std::optional<int> instance) {
   switch (DetectLogFormat(path)) {

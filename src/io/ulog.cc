@@ -1,9 +1,12 @@
 // PX4 ULog reader (include/gyrocomp/io/ulog.h). Section numbers ("spec: ...") refer to the
 // PX4 User Guide page "ULog File Format"; behaviour at the edges follows PX4/pyulog core.py.
 #include "gyrocomp/io/ulog.h"
+#include "gyrocomp/io/mapped_file.h"
 #include "gyrocomp/io/io.h"
 
+#include <cmath>
 #include <cstring>
+#include <functional>
 #include <fstream>
 #include <memory>
 #include <string_view>
@@ -71,14 +74,26 @@ struct Subscription {
   std::size_t min_size = 0;        // data bytes without trailing _padding fields
   std::size_t max_size = 0;        // with them
   int series = -1;                 // index into gyros (kind 1) or combined (kind 2)
-  int kind = 0;                    // 0 other, 1 sensor_gyro, 2 sensor_combined
+  int kind = 0;                    // 0 other, 1 sensor_gyro, 2 sensor_combined, 3 accel, 4 baro
   GyroFields g;
   bool device_id_change_reported = false;
+  // ULogReadOptions::average_window_us: the open window's sums.
+  std::uint64_t window = 0;
+  std::size_t count = 0;
+  double sum_t = 0, sum_x = 0, sum_y = 0, sum_z = 0, sum_temp = 0;
+};
+
+// One decoded sensor row.
+struct RowValues {
+  std::uint64_t t = 0;
+  double x = 0, y = 0, z = 0, temp = 0;
 };
 
 class Parser {
  public:
-  Parser(const std::uint8_t* data, std::size_t size, std::string source) : d_(data), n_(size) {
+  Parser(const std::uint8_t* data, std::size_t size, std::string source, ULogReadOptions options,
+         std::function<void(std::size_t)> release)
+      : d_(data), n_(size), options_(options), release_(std::move(release)) {
     out_.source = std::move(source);
   }
   Result<ULogContents> Run();
@@ -100,9 +115,16 @@ class Parser {
   std::optional<Error> Flatten(std::size_t at, const std::string& type, const std::string& prefix, int depth,
                                std::vector<FlatField>* fields, std::size_t* size, std::size_t* padding_tail);
   void DecodeRow(Subscription& s, const std::uint8_t* row);
+  void PushRow(const Subscription& s, const RowValues& v);
+  void FlushWindow(Subscription& s);
+  void NoteDeviceId(Subscription& s, const std::uint8_t* row, const std::string& what, std::size_t rows,
+                    std::optional<std::uint32_t>* device_id);
 
   const std::uint8_t* d_;
   std::size_t n_;
+  ULogReadOptions options_;
+  std::function<void(std::size_t)> release_;  // gives the bytes before an offset back (mapped files)
+  std::size_t released_ = 0;
   ULogContents out_;
   std::map<std::string, std::vector<FieldDef>> formats_;
   std::map<int, Subscription> subs_;  // active subscriptions by msg_id
@@ -118,6 +140,7 @@ Result<ULogContents> Parser::Run() {
   out_.version = d_[7];
   out_.start_timestamp_us = U64(d_ + 8);
   if (auto e = ParseAll()) return *e;
+  for (auto& [id, sub] : subs_) FlushWindow(sub);
   return std::move(out_);
 }
 
@@ -166,6 +189,7 @@ std::optional<Error> Parser::ParseAll() {
     ++out_.num_messages;
     first_message_ = false;
     pos += kMessageHeaderBytes + len;
+    if (release_ && pos - released_ >= (std::size_t{64} << 20)) release_(released_ = pos);
   }
   return std::nullopt;
 }
@@ -326,29 +350,41 @@ std::optional<Error> Parser::ParseSubscription(std::size_t at, const std::uint8_
     return std::nullopt;
   };
   const bool gyro = topic.name == "sensor_gyro";
+  const bool accel = topic.name == "sensor_accel", baro = topic.name == "sensor_baro";
+  const bool combined = topic.name == "sensor_combined";
   const auto ts = find("timestamp", "uint64_t");
-  const auto x = find(gyro ? "x" : "gyro_rad[0]", "float");
-  const auto y = find(gyro ? "y" : "gyro_rad[1]", "float");
-  const auto z = find(gyro ? "z" : "gyro_rad[2]", "float");
-  if (gyro || topic.name == "sensor_combined") {
+  const auto x = find(baro ? "pressure" : (combined ? "gyro_rad[0]" : "x"), "float");
+  const auto y = baro ? x : find(combined ? "gyro_rad[1]" : "y", "float");
+  const auto z = baro ? x : find(combined ? "gyro_rad[2]" : "z", "float");
+  if (gyro || combined || accel || baro) {
     if (ts && x && y && z && *ts + 8 <= s.min_size && *x + 4 <= s.min_size && *y + 4 <= s.min_size && *z + 4 <= s.min_size) {
-      s.kind = gyro ? 1 : 2;
+      s.kind = gyro ? 1 : combined ? 2 : accel ? 3 : 4;
       s.g.timestamp = *ts; s.g.x = *x; s.g.y = *y; s.g.z = *z;
-      if (const auto t = find("temperature", "float"); gyro && t && *t + 4 <= s.min_size) {
+      if (const auto t = find("temperature", "float"); !combined && t && *t + 4 <= s.min_size) {
         s.g.temperature = *t;
         s.g.has_temperature = true;
       }
-      if (const auto id = find("device_id", "uint32_t"); gyro && id && *id + 4 <= s.min_size) {
+      if (const auto id = find("device_id", "uint32_t"); !combined && id && *id + 4 <= s.min_size) {
         s.g.device_id = *id;
         s.g.has_device_id = true;
       }
-      auto& list = gyro ? out_.gyros : out_.combined;
-      s.series = static_cast<int>(list.size());
-      list.push_back(ULogGyroSeries{});
-      list.back().topic = topic.name;
-      list.back().multi_id = topic.multi_id;
+      if (gyro || combined) {
+        auto& list = gyro ? out_.gyros : out_.combined;
+        s.series = static_cast<int>(list.size());
+        list.push_back(ULogGyroSeries{});
+        list.back().topic = topic.name;
+        list.back().multi_id = topic.multi_id;
+      } else if (accel) {
+        s.series = static_cast<int>(out_.accels.size());
+        out_.accels.push_back(ULogAccelSeries{});
+        out_.accels.back().multi_id = topic.multi_id;
+      } else {
+        s.series = static_cast<int>(out_.baros.size());
+        out_.baros.push_back(ULogBaroSeries{});
+        out_.baros.back().multi_id = topic.multi_id;
+      }
     } else {
-      Warn(at, topic.name + " has no uint64 timestamp and float rate fields this reader knows; not read");
+      Warn(at, topic.name + " has no uint64 timestamp and float value fields this reader knows; not read");
     }
   }
   s.topic = out_.topics.size();
@@ -375,24 +411,83 @@ std::optional<Error> Parser::ParseData(std::size_t at, const std::uint8_t* p, st
   return std::nullopt;
 }
 
+// The first row's device id, and a warning (once) when a later row's differs.
+void Parser::NoteDeviceId(Subscription& s, const std::uint8_t* row, const std::string& what, std::size_t rows,
+                          std::optional<std::uint32_t>* device_id) {
+  if (!s.g.has_device_id) return;
+  const std::uint32_t id = U32(row + s.g.device_id);
+  if (!*device_id) {
+    *device_id = id;
+  } else if (**device_id != id && !s.device_id_change_reported) {
+    s.device_id_change_reported = true;
+    out_.warnings.push_back(out_.source + ": " + what + ": device_id changes from " + std::to_string(**device_id) +
+                            " to " + std::to_string(id) + " at row " + std::to_string(rows) + " (the first is reported)");
+  }
+}
+
 void Parser::DecodeRow(Subscription& s, const std::uint8_t* row) {
-  ULogGyroSeries& g = (s.kind == 1 ? out_.gyros : out_.combined)[static_cast<std::size_t>(s.series)];
-  g.timestamp_us.push_back(U64(row + s.g.timestamp));
-  g.x_rad_s.push_back(F32(row + s.g.x));
-  g.y_rad_s.push_back(F32(row + s.g.y));
-  g.z_rad_s.push_back(F32(row + s.g.z));
-  if (s.g.has_temperature) g.temperature_c.push_back(F32(row + s.g.temperature));
-  if (s.g.has_device_id) {
-    const std::uint32_t id = U32(row + s.g.device_id);
-    if (!g.device_id) {
-      g.device_id = id;
-    } else if (*g.device_id != id && !s.device_id_change_reported) {
-      s.device_id_change_reported = true;
-      out_.warnings.push_back(out_.source + ": " + g.topic + " multi_id " + std::to_string(g.multi_id) +
-                              ": device_id changes from " + std::to_string(*g.device_id) + " to " +
-                              std::to_string(id) + " at row " + std::to_string(g.timestamp_us.size()) +
-                              " (the first is reported)");
-    }
+  RowValues v;
+  v.t = U64(row + s.g.timestamp);
+  v.x = F32(row + s.g.x);
+  v.y = F32(row + s.g.y);
+  v.z = F32(row + s.g.z);
+  if (s.g.has_temperature) v.temp = F32(row + s.g.temperature);
+  const auto series = static_cast<std::size_t>(s.series);
+  // Device ids are checked on every logged row, averaged or not.
+  if (s.kind == 3) {
+    ULogAccelSeries& a = out_.accels[series];
+    NoteDeviceId(s, row, "sensor_accel multi_id " + std::to_string(a.multi_id), a.timestamp_us.size() + 1, &a.device_id);
+  } else if (s.kind == 4) {
+    ULogBaroSeries& b = out_.baros[series];
+    NoteDeviceId(s, row, "sensor_baro multi_id " + std::to_string(b.multi_id), b.timestamp_us.size() + 1, &b.device_id);
+  } else {
+    ULogGyroSeries& g = (s.kind == 1 ? out_.gyros : out_.combined)[series];
+    NoteDeviceId(s, row, g.topic + " multi_id " + std::to_string(g.multi_id), g.timestamp_us.size() + 1, &g.device_id);
+  }
+  const std::uint64_t w = options_.average_window_us;
+  if (w == 0) {
+    PushRow(s, v);
+    return;
+  }
+  if (s.count > 0 && v.t / w != s.window) FlushWindow(s);
+  s.window = v.t / w;
+  ++s.count;
+  s.sum_t += static_cast<double>(v.t);
+  s.sum_x += v.x, s.sum_y += v.y, s.sum_z += v.z, s.sum_temp += v.temp;
+}
+
+void Parser::FlushWindow(Subscription& s) {
+  if (s.count == 0 || s.kind == 0) return;
+  const double n = static_cast<double>(s.count);
+  RowValues v;
+  v.t = static_cast<std::uint64_t>(std::llround(s.sum_t / n));
+  v.x = s.sum_x / n, v.y = s.sum_y / n, v.z = s.sum_z / n, v.temp = s.sum_temp / n;
+  PushRow(s, v);
+  s.count = 0;
+  s.sum_t = s.sum_x = s.sum_y = s.sum_z = s.sum_temp = 0.0;
+}
+
+void Parser::PushRow(const Subscription& s, const RowValues& v) {
+  const auto series = static_cast<std::size_t>(s.series);
+  if (s.kind == 3) {
+    ULogAccelSeries& a = out_.accels[series];
+    a.timestamp_us.push_back(v.t);
+    a.x_m_s2.push_back(v.x);
+    a.y_m_s2.push_back(v.y);
+    a.z_m_s2.push_back(v.z);
+    if (s.g.has_temperature) a.temperature_c.push_back(v.temp);
+  } else if (s.kind == 4) {
+    ULogBaroSeries& b = out_.baros[series];
+    b.timestamp_us.push_back(v.t);
+    b.pressure_pa.push_back(v.x);
+    if (s.g.has_temperature) b.temperature_c.push_back(v.temp);
+  } else {
+    ULogGyroSeries& g = (s.kind == 1 ? out_.gyros : out_.combined)[series];
+    g.timestamp_us.push_back(v.t);
+    g.x_rad_s.push_back(v.x);
+    g.y_rad_s.push_back(v.y);
+    g.z_rad_s.push_back(v.z);
+    if (s.g.has_temperature) g.temperature_c.push_back(v.temp);
   }
 }
 
@@ -402,8 +497,11 @@ bool HasULogMagic(const std::uint8_t* data, std::size_t size) {
   return size >= sizeof kMagic && std::memcmp(data, kMagic, sizeof kMagic) == 0;
 }
 
-Result<ULogContents> ParseULog(const std::uint8_t* data, std::size_t size, const std::string& source) {
-  Parser parser(data, size, source);
+namespace {
+
+Result<ULogContents> ParseULogWith(const std::uint8_t* data, std::size_t size, const std::string& source,
+                                   const ULogReadOptions& options, std::function<void(std::size_t)> release) {
+  Parser parser(data, size, source, options, std::move(release));
   Result<ULogContents> r = parser.Run();
   if (!r) return r;
   // Drop subscriptions without rows (pyulog keeps only data it saw).
@@ -414,13 +512,26 @@ Result<ULogContents> ParseULog(const std::uint8_t* data, std::size_t size, const
     }
     *list = std::move(kept);
   }
+  std::erase_if(r->accels, [](const ULogAccelSeries& a) { return a.timestamp_us.empty(); });
+  std::erase_if(r->baros, [](const ULogBaroSeries& b) { return b.timestamp_us.empty(); });
   return r;
 }
 
-Result<ULogContents> ReadULog(const std::string& path) {
+}  // namespace
+
+Result<ULogContents> ParseULog(const std::uint8_t* data, std::size_t size, const std::string& source,
+                               const ULogReadOptions& options) {
+  return ParseULogWith(data, size, source, options, nullptr);
+}
+
+Result<ULogContents> ReadULog(const std::string& path, const ULogReadOptions& options) {
+  if (Result<MappedFile> map = MappedFile::Open(path); map.ok()) {
+    MappedFile* m = &*map;
+    return ParseULogWith(m->data(), m->size(), path, options, [m](std::size_t offset) { m->ReleaseBefore(offset); });
+  }
   Result<std::string> bytes = ReadFileBytes(path);
   if (!bytes.ok()) return bytes.error();
-  return ParseULog(reinterpret_cast<const std::uint8_t*>(bytes->data()), bytes->size(), path);
+  return ParseULog(reinterpret_cast<const std::uint8_t*>(bytes->data()), bytes->size(), path, options);
 }
 
 std::string ULogContents::BriefReport() const {

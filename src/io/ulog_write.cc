@@ -1,8 +1,11 @@
 // ULog writer of one sensor_gyro series (include/gyrocomp/io/ulog.h), following the message
 // layouts of the PX4 "ULog File Format" spec; read back by ReadULog in the tests.
+#include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <queue>
 #include <string>
+#include <tuple>
 
 #include "gyrocomp/io/ulog.h"
 
@@ -13,6 +16,14 @@ namespace {
 // PX4's sensor_gyro message (msg/SensorGyro.msg), as its logger writes the format.
 constexpr const char* kSensorGyroFormat =
     "sensor_gyro:uint64_t timestamp;uint64_t timestamp_sample;uint32_t device_id;float x;float y;float z;"
+    "float temperature;uint32_t error_count;";
+// msg/SensorAccel.msg and msg/SensorBaro.msg (the fields process_sensor_caldata.py reads:
+// device_id, x/y/z or pressure, temperature).
+constexpr const char* kSensorAccelFormat =
+    "sensor_accel:uint64_t timestamp;uint64_t timestamp_sample;uint32_t device_id;float x;float y;float z;"
+    "float temperature;uint32_t error_count;";
+constexpr const char* kSensorBaroFormat =
+    "sensor_baro:uint64_t timestamp;uint64_t timestamp_sample;uint32_t device_id;float pressure;"
     "float temperature;uint32_t error_count;";
 
 void PutU8(std::string* s, std::uint8_t v) { s->push_back(static_cast<char>(v)); }
@@ -39,7 +50,103 @@ void PutMessage(std::string* out, char type, const std::string& payload) {
   out->append(payload);
 }
 
+void PutHeaderAndInfo(std::string* out, std::uint64_t start_us, const std::string& sys_name) {
+  // spec "File Header": magic, version 1, start timestamp.
+  out->append("\x55\x4C\x6F\x67\x01\x12\x35", 7);
+  PutU8(out, 1);
+  PutU64(out, start_us);
+  // 'B' flag bits: no compat, no incompat flags, no appended data.
+  PutMessage(out, 'B', std::string(40, '\0'));
+  // 'I' info: uint8 key_len, "char[len] sys_name", value.
+  const std::string key = "char[" + std::to_string(sys_name.size()) + "] sys_name";
+  std::string p;
+  PutU8(&p, static_cast<std::uint8_t>(key.size()));
+  p += key + sys_name;
+  PutMessage(out, 'I', p);
+}
+
+Status CheckSeries(const ULogSensorWriteSeries& s) {
+  const std::string what = "ULogSensorWriteSeries " + s.topic + " multi_id " + std::to_string(s.multi_id);
+  if (s.topic != "sensor_gyro" && s.topic != "sensor_accel" && s.topic != "sensor_baro")
+    return InvalidArgument(what + ": topic must be sensor_gyro, sensor_accel or sensor_baro");
+  const std::size_t n = s.timestamp_us.size();
+  const bool baro = s.topic == "sensor_baro";
+  if (s.x.size() != n || s.temperature_c.size() != n || (!baro && (s.y.size() != n || s.z.size() != n)))
+    return InvalidArgument(what + ": values and temperature need one entry per timestamp (" + std::to_string(n) + ")");
+  for (std::size_t i = 1; i < n; ++i)
+    if (s.timestamp_us[i] <= s.timestamp_us[i - 1]) return InvalidArgument(what + ": timestamp_us not increasing at row " + std::to_string(i));
+  if (s.multi_id < 0 || s.multi_id > 255) return InvalidArgument(what + ": multi_id must be 0..255");
+  return Status::Ok();
+}
+
+std::string DataRow(const ULogSensorWriteSeries& s, std::uint16_t msg_id, std::size_t i) {
+  std::string row;
+  PutU16(&row, msg_id);
+  PutU64(&row, s.timestamp_us[i]);  // timestamp
+  PutU64(&row, s.timestamp_us[i]);  // timestamp_sample
+  PutU32(&row, s.device_id);
+  PutF32(&row, s.x[i]);
+  if (s.topic != "sensor_baro") {
+    PutF32(&row, s.y[i]);
+    PutF32(&row, s.z[i]);
+  }
+  PutF32(&row, s.temperature_c[i]);
+  PutU32(&row, 0);  // error_count
+  return row;
+}
+
 }  // namespace
+
+Result<std::string> EncodeULog(const ULogWriteInput& in) {
+  for (const auto& s : in.series)
+    if (Status st = CheckSeries(s); !st.ok()) return st.error();
+  if (in.sys_name.size() > 200) return InvalidArgument("ULogWriteInput: sys_name longer than 200 characters");
+  std::uint64_t start = 0;
+  bool any = false;
+  for (const auto& s : in.series)
+    if (!s.timestamp_us.empty()) start = any ? std::min(start, s.timestamp_us.front()) : s.timestamp_us.front(), any = true;
+  std::string out;
+  PutHeaderAndInfo(&out, start, in.sys_name);
+  for (const char* f : {kSensorGyroFormat, kSensorAccelFormat, kSensorBaroFormat}) PutMessage(&out, 'F', f);
+  for (const auto& [name, value] : in.int_parameters) {
+    const std::string key = "int32_t " + name;
+    if (key.size() > 255) return InvalidArgument("ULogWriteInput: parameter name too long: " + name);
+    std::string p;
+    PutU8(&p, static_cast<std::uint8_t>(key.size()));
+    p += key;
+    PutU32(&p, static_cast<std::uint32_t>(value));
+    PutMessage(&out, 'P', p);
+  }
+  for (const auto& [name, value] : in.float_parameters) {
+    const std::string key = "float " + name;
+    if (key.size() > 255) return InvalidArgument("ULogWriteInput: parameter name too long: " + name);
+    std::string p;
+    PutU8(&p, static_cast<std::uint8_t>(key.size()));
+    p += key;
+    PutF32(&p, value);
+    PutMessage(&out, 'P', p);
+  }
+  // 'A' subscriptions: msg_id = index of the series.
+  for (std::size_t k = 0; k < in.series.size(); ++k) {
+    std::string p;
+    PutU8(&p, static_cast<std::uint8_t>(in.series[k].multi_id));
+    PutU16(&p, static_cast<std::uint16_t>(k));
+    p += in.series[k].topic;
+    PutMessage(&out, 'A', p);
+  }
+  // 'D' rows of every series merged by timestamp (ties: series order).
+  using Next = std::tuple<std::uint64_t, std::size_t, std::size_t>;  // time, series, row
+  std::priority_queue<Next, std::vector<Next>, std::greater<Next>> heap;
+  for (std::size_t k = 0; k < in.series.size(); ++k)
+    if (!in.series[k].timestamp_us.empty()) heap.emplace(in.series[k].timestamp_us[0], k, 0);
+  while (!heap.empty()) {
+    const auto [t, k, i] = heap.top();
+    heap.pop();
+    PutMessage(&out, 'D', DataRow(in.series[k], static_cast<std::uint16_t>(k), i));
+    if (i + 1 < in.series[k].timestamp_us.size()) heap.emplace(in.series[k].timestamp_us[i + 1], k, i + 1);
+  }
+  return out;
+}
 
 Result<std::string> EncodeULogGyro(const ULogGyroWriteInput& in) {
   const std::size_t n = in.timestamp_us.size();

@@ -11,6 +11,9 @@
 #include <utility>
 
 #include "gyrocomp/core/units.h"
+#include "gyrocomp/io/board_rotation.h"
+#include "gyrocomp/io/dataflash.h"
+#include "gyrocomp/io/ulog.h"
 
 namespace gyrocomp {
 namespace {
@@ -346,6 +349,232 @@ Table SimulatedRun::ToTable() && {
     t.columns.push_back(std::move(*v));
   }
   return t;
+}
+
+bool AccelAxisOptions::IsValid(std::string* error) const {
+  auto fail = [&](const std::string& m) {
+    if (error) *error = "AccelAxisOptions::" + m;
+    return false;
+  };
+  if (bias_poly_m_s2.empty()) return fail("bias_poly_m_s2: needs at least one coefficient");
+  for (double v : bias_poly_m_s2)
+    if (!std::isfinite(v)) return fail("bias_poly_m_s2: non-finite coefficient");
+  if (!(vrw_m_s_per_sqrt_h >= 0.0) || !(bias_instability_m_s2 >= 0.0))
+    return fail("vrw_m_s_per_sqrt_h, bias_instability_m_s2: must be >= 0");
+  if (!std::isfinite(constant_m_s2) || !std::isfinite(reference_temp_c) || !std::isfinite(dtemp_coeff_m_s2_per_c_per_s))
+    return fail("constant_m_s2, reference_temp_c, dtemp_coeff: must be finite");
+  return true;
+}
+
+Result<AccelAxisRun> SimulateAccelAxis(const SimulatorOptions& chamber, const AccelAxisOptions& a) {
+  std::string why;
+  if (!a.IsValid(&why)) return InvalidArgument(why);
+  // The gyro machinery in the accel's units: "deg/s" read as m/s^2 throughout.
+  SimulatorOptions o = chamber;
+  o.bias.reference_temp_c = a.reference_temp_c;
+  o.bias.poly_dps = a.bias_poly_m_s2;
+  o.bias.dtemp_coeff_dps_per_c_per_s = a.dtemp_coeff_m_s2_per_c_per_s;
+  o.bias.hysteresis_coeff_dps_per_c = 0.0;
+  o.noise = NoiseOptions{};
+  o.noise.arw_deg_per_sqrt_h = a.vrw_m_s_per_sqrt_h;         // sigma(1 s) = N / 60 either way
+  o.noise.bias_instability_deg_per_h = a.bias_instability_m_s2 * 3600.0;  // B / 3600 per second
+  o.noise.rrw_deg_per_h_per_sqrt_h = 0.0;
+  o.true_rate = TrueRateOptions{};
+  o.true_rate.constant_dps = a.constant_m_s2;
+  auto run = Simulate(o);
+  if (!run.ok()) return run.error();
+  AccelAxisRun out;
+  out.time_s = std::move(run->time_s);
+  out.accel_m_s2 = std::move(run->rate_dps);
+  out.temp_c = std::move(run->temp_c);
+  out.true_bias_m_s2 = std::move(run->true_drift_dps);
+  return out;
+}
+
+bool BoardSimOptions::IsValid(std::string* error) const {
+  if (num_imus < 1 || num_imus > 4) {
+    if (error) *error = "BoardSimOptions::num_imus = " + std::to_string(num_imus) + ": must be 1..4";
+    return false;
+  }
+  if (!(baro_noise_pa >= 0.0) || !std::isfinite(baro_pressure_pa)) {
+    if (error) *error = "BoardSimOptions::baro_noise_pa must be >= 0 and baro_pressure_pa finite";
+    return false;
+  }
+  return chamber.IsValid(error) && accel.IsValid(error);
+}
+
+double BoardAxisDriftScale(int imu, int axis) {
+  static constexpr double kScale[3] = {1.0, -0.7, 0.5};
+  return kScale[axis] * (1.0 + 0.3 * imu);
+}
+
+namespace {
+
+std::vector<double> ScaledPoly(std::vector<double> p, double k) {
+  for (double& v : p) v *= k;
+  return p;
+}
+
+Status SimulateBoardImu(const BoardSimOptions& o, int imu, BoardRun* board) {
+  const double to_rad = std::numbers::pi / 180.0;
+  BoardImuRun r;
+  for (int axis = 0; axis < 3; ++axis) {
+    SimulatorOptions g = o.chamber;
+    g.seed = o.chamber.seed + static_cast<std::uint64_t>(10 * imu + axis);  // IMU 0 x: the chamber run's own seed
+    g.bias.poly_dps = ScaledPoly(o.chamber.bias.poly_dps, BoardAxisDriftScale(imu, axis));
+    auto gyro = Simulate(g);
+    if (!gyro.ok()) return gyro.error();
+    if (axis == 0) {
+      r.temp_c = gyro->temp_c;
+      if (board->time_s.empty()) board->time_s = gyro->time_s, board->fs_hz = gyro->fs_hz;
+    }
+    for (double& v : gyro->rate_dps) v *= to_rad;
+    for (double& v : gyro->true_drift_dps) v *= to_rad;
+    r.gyro_rad_s[axis] = std::move(gyro->rate_dps);
+    r.true_gyro_drift_rad_s[axis] = std::move(gyro->true_drift_dps);
+    AccelAxisOptions a = o.accel;
+    a.bias_poly_m_s2 = ScaledPoly(o.accel.bias_poly_m_s2, BoardAxisDriftScale(imu, (axis + 1) % 3));
+    a.constant_m_s2 = axis == 2 ? -9.80665 : 0.0;  // board flat, FRD: z reads -g
+    SimulatorOptions ac = o.chamber;
+    ac.seed = g.seed + 500;
+    auto acc = SimulateAccelAxis(ac, a);
+    if (!acc.ok()) return acc.error();
+    r.accel_m_s2[axis] = std::move(acc->accel_m_s2);
+    r.true_accel_bias_m_s2[axis] = std::move(acc->true_bias_m_s2);
+  }
+  board->imus.push_back(std::move(r));
+  return Status::Ok();
+}
+
+}  // namespace
+
+Result<BoardRun> SimulateBoard(const BoardSimOptions& o) {
+  std::string why;
+  if (!o.IsValid(&why)) return InvalidArgument(why);
+  BoardRun board;
+  for (int imu = 0; imu < o.num_imus; ++imu)
+    if (Status st = SimulateBoardImu(o, imu, &board); !st.ok()) return st.error();
+  if (o.with_baro) {
+    // The barometer sits on the board: IMU 0's temperature, its own white noise.
+    NormalGenerator noise(o.chamber.seed + 900);
+    const std::vector<double>& t = board.imus[0].temp_c;
+    board.baro_temp_c = t;
+    board.baro_pressure_pa.resize(t.size());
+    for (std::size_t i = 0; i < t.size(); ++i) {
+      const double d = t[i] - o.chamber.bias.reference_temp_c;
+      double p = 0.0;
+      for (std::size_t k = o.baro_poly_pa.size(); k-- > 0;) p = p * d + o.baro_poly_pa[k];
+      board.baro_pressure_pa[i] = o.baro_pressure_pa + p + o.baro_noise_pa * noise.Next();
+    }
+  }
+  return board;
+}
+
+namespace {
+
+// (bus type, bus, address, gyro devtype, accel devtype) of IMUs 0..3 (drv_sensor.h devtypes).
+struct BoardChip {
+  std::uint32_t bus_type, bus, address, gyro_devtype, accel_devtype;
+};
+constexpr BoardChip kBoardChips[4] = {{2, 1, 0, 0x3C, 0x3C},   // ICM20689, SPI1
+                                      {2, 1, 1, 0x38, 0x38},   // ICM20602, SPI1
+                                      {2, 4, 0, 0x42, 0x41},   // BMI055 gyro / accel, SPI4
+                                      {2, 4, 1, 0x38, 0x38}};  // ICM20602, SPI4
+
+std::size_t LogStride(const BoardRun& b, double log_rate_hz) {
+  if (!(log_rate_hz > 0.0) || log_rate_hz >= b.fs_hz) return 1;
+  return static_cast<std::size_t>(std::llround(b.fs_hz / log_rate_hz));
+}
+
+Status CheckBoard(const BoardRun& b, double log_rate_hz) {
+  if (b.imus.empty() || b.time_s.empty()) return InvalidArgument("board run: no IMU rows");
+  if (!(log_rate_hz > 0.0)) return InvalidArgument("log rate must be > 0 Hz");
+  return Status::Ok();
+}
+
+std::uint64_t Us(double t_s) { return static_cast<std::uint64_t>(std::llround(t_s * 1e6)); }
+
+}  // namespace
+
+std::uint32_t BoardGyroDeviceId(int imu) {
+  const BoardChip& c = kBoardChips[imu & 3];
+  return Px4DeviceId(c.bus_type, c.bus, c.address, c.gyro_devtype);
+}
+std::uint32_t BoardAccelDeviceId(int imu) {
+  const BoardChip& c = kBoardChips[imu & 3];
+  return Px4DeviceId(c.bus_type, c.bus, c.address, c.accel_devtype);
+}
+std::uint32_t BoardBaroDeviceId() { return Px4DeviceId(2, 4, 2, 0x3D); }  // MS5611, SPI4
+
+Result<std::string> EncodeBoardULog(const BoardRun& b, double log_rate_hz) {
+  if (Status st = CheckBoard(b, log_rate_hz); !st.ok()) return st.error();
+  const std::size_t stride = LogStride(b, log_rate_hz);
+  ULogWriteInput in;
+  in.sys_name = "gyrocomp simulate";
+  in.int_parameters = {{"TC_A_ENABLE", 0}, {"TC_B_ENABLE", 0}, {"TC_G_ENABLE", 0}};
+  for (std::size_t k = 0; k < b.imus.size(); ++k) {
+    for (const char* topic : {"sensor_gyro", "sensor_accel"}) {
+      const bool gyro = topic[7] == 'g';
+      ULogSensorWriteSeries s;
+      s.topic = topic;
+      s.multi_id = static_cast<int>(k);
+      s.device_id = gyro ? BoardGyroDeviceId(static_cast<int>(k)) : BoardAccelDeviceId(static_cast<int>(k));
+      const auto& v = gyro ? b.imus[k].gyro_rad_s : b.imus[k].accel_m_s2;
+      for (std::size_t i = 0; i < b.time_s.size(); i += stride) {
+        // Sensors of one board are not sampled at the same microsecond: offset by instance.
+        s.timestamp_us.push_back(Us(b.time_s[i]) + 10 * k + (gyro ? 0 : 5));
+        s.x.push_back(static_cast<float>(v[0][i]));
+        s.y.push_back(static_cast<float>(v[1][i]));
+        s.z.push_back(static_cast<float>(v[2][i]));
+        s.temperature_c.push_back(static_cast<float>(b.imus[k].temp_c[i]));
+      }
+      in.series.push_back(std::move(s));
+    }
+  }
+  if (!b.baro_pressure_pa.empty()) {
+    ULogSensorWriteSeries s;
+    s.topic = "sensor_baro";
+    s.device_id = BoardBaroDeviceId();
+    for (std::size_t i = 0; i < b.time_s.size(); i += stride) {
+      s.timestamp_us.push_back(Us(b.time_s[i]) + 3);
+      s.x.push_back(static_cast<float>(b.baro_pressure_pa[i]));
+      s.temperature_c.push_back(static_cast<float>(b.baro_temp_c[i]));
+    }
+    in.series.push_back(std::move(s));
+  }
+  return EncodeULog(in);
+}
+
+Result<std::string> EncodeBoardDataFlash(const BoardRun& b, double log_rate_hz, int ahrs_orientation) {
+  if (Status st = CheckBoard(b, log_rate_hz); !st.ok()) return st.error();
+  if (b.imus.size() > 3) return InvalidArgument("DataFlash: ArduPilot logs at most 3 IMUs (INS_TCAL1..3)");
+  const auto rot = ArduPilotRotationMatrix(ahrs_orientation);
+  if (!rot) return InvalidArgument("AHRS_ORIENTATION " + std::to_string(ahrs_orientation) + ": not a fixed rotation 0..43");
+  const std::size_t stride = LogStride(b, log_rate_hz);
+  DataFlashWriteInput in;
+  in.parameters["AHRS_ORIENTATION"] = static_cast<float>(ahrs_orientation);
+  for (std::size_t k = 0; k < b.imus.size(); ++k) {
+    in.parameters["INS_TCAL" + std::to_string(k + 1) + "_ENABLE"] = 0.0f;
+    DataFlashImuWriteInput m;
+    m.instance = static_cast<int>(k);
+    m.sample_rate_hz = static_cast<std::uint16_t>(std::min(65535.0, std::round(b.fs_hz)));
+    const BoardImuRun& r = b.imus[k];
+    for (std::size_t i = 0; i < b.time_s.size(); i += stride) {
+      // ArduPilot logs the board frame: R * sensor (Vector3::rotate(AHRS_ORIENTATION)).
+      const auto g = RotateVector(*rot, {r.gyro_rad_s[0][i], r.gyro_rad_s[1][i], r.gyro_rad_s[2][i]});
+      const auto a = RotateVector(*rot, {r.accel_m_s2[0][i], r.accel_m_s2[1][i], r.accel_m_s2[2][i]});
+      m.time_us.push_back(Us(b.time_s[i]));
+      m.gyr_x_rad_s.push_back(static_cast<float>(g[0]));
+      m.gyr_y_rad_s.push_back(static_cast<float>(g[1]));
+      m.gyr_z_rad_s.push_back(static_cast<float>(g[2]));
+      m.acc_x_m_s2.push_back(static_cast<float>(a[0]));
+      m.acc_y_m_s2.push_back(static_cast<float>(a[1]));
+      m.acc_z_m_s2.push_back(static_cast<float>(a[2]));
+      m.temp_c.push_back(static_cast<float>(r.temp_c[i]));
+    }
+    in.imus.push_back(std::move(m));
+  }
+  return EncodeDataFlash(in);
 }
 
 }  // namespace gyrocomp

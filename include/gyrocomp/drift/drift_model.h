@@ -333,12 +333,24 @@ Result<DriftModel> FitDriftModel(const DriftInputs& inputs, std::span<const doub
 // "scaler", "model", "training") is still read, and predicts bit-identically.
 inline constexpr int kDriftModelSchemaVersion = 2;
 
+// Which sensor of a flight log the axes model (issue 22; docs/design-imu-trust.md): the optional
+// top-level key "sensor": {"type": "gyro" | "accel" | "baro", "instance": ULog multi_id /
+// DataFlash IMU I, "device_id": PX4 only, "frame": "sensor" (board rotation undone by the reader)}.
+struct SensorIdentity {
+  std::string type = "gyro";
+  int instance = 0;
+  std::optional<std::uint32_t> device_id;
+  std::string frame = "sensor";
+};
+
 // Several axes in one file (fit --rate-col gx,gy,gz). Each axis names its rate column.
 struct DriftModelSet {
   std::vector<DriftModel> axes;
   // The gyro's device id when the calibration run was a PX4 ULog (sensor_gyro.device_id, what
   // PX4's TC_G<i>_ID must hold); written as the optional top-level key "device_id".
   std::optional<std::uint32_t> device_id;
+  // Optional (older files have none); `device_id` above stays and is written too.
+  std::optional<SensorIdentity> sensor;
   // The model for `rate_col`, or nullptr.
   const DriftModel* Find(std::string_view rate_col) const;
   // The model `apply` / `validate` use for a record's axis `rate_col`: the one fitted on that

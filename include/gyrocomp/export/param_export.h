@@ -70,7 +70,47 @@ Result<std::string> WriteArduPilotThermalParams(const ThreeAxisCubics& radps,
                                                 const std::vector<std::string>& comments);
 
 // ArduPilot's GYR1..GYR3 of one axis (times 1e6, rad/s): the cubic re-expanded about 35 C,
-// constant dropped.
+// constant dropped. The same for ACC1..ACC3 (m/s^2): correct_accel is correct_sensor too.
 std::array<double, 3> ArduPilotGyrCoefficients(const TemperatureCubic& radps);
+
+// One IMU's complete INS_TCAL<n>_* block. WriteArduPilotThermalParams writes gyro only; the ACC
+// coefficients of that IMU are then written as 0, so an older accelerometer calibration never stays
+// active under ENABLE = 1 (the firmware keeps every parameter a file does not set).
+struct ArduPilotTcalImu {
+  int imu = 1;                                 // n of INS_TCAL<n>_ (1..3)
+  std::optional<ThreeAxisCubics> gyro_radps;   // nullopt: GYR* = 0
+  std::optional<ThreeAxisCubics> accel_m_s2;   // nullopt: ACC* = 0
+  // Both nullopt: ENABLE = 0, TMIN/TMAX left alone, every coefficient 0; `disabled_reason` (why
+  // the sensor could not be calibrated) goes in a comment.
+  std::string disabled_reason;
+};
+// Errors: imu outside 1..3 or repeated, the gyro and accel of one IMU on different ranges (one
+// TMIN/TMAX per IMU), non-finite values.
+Result<std::string> WriteArduPilotTcalFile(const std::vector<ArduPilotTcalImu>& imus,
+                                           const std::vector<std::string>& comments);
+
+// PX4's TC_G / TC_A / TC_B slots (TemperatureCompensation.cpp: GYRO/ACCEL/BARO_COUNT_MAX = 4
+// slots each, a slot applies to the sensor whose device_id equals TC_x<i>_ID). The file written
+// holds all four slots of each kind it enables: the unused ones with ID 0 and zeros (an ID 0
+// matches no sensor), so no older slot stays active; TC_x_ENABLE = 1 for a kind with a slot,
+// else 0.
+struct Px4TcalSlot3D {
+  int index = 0;  // 0..3
+  std::uint32_t device_id = 0;
+  ThreeAxisCubics cubics;  // rad/s (gyro) or m/s^2 (accel), sensor frame
+};
+struct Px4TcalSlotBaro {
+  int index = 0;
+  std::uint32_t device_id = 0;
+  TemperatureCubic cubic_pa;  // X0..X3 in Pa; X4 = X5 = 0 (calc_thermal_offsets_1D is quintic)
+};
+struct Px4TcalFile {
+  std::vector<Px4TcalSlot3D> gyro, accel;
+  std::vector<Px4TcalSlotBaro> baro;
+  int system_id = 1;
+  int component_id = 1;
+};
+inline constexpr int kPx4TcalSlots = 4;
+Result<std::string> WritePx4TcalFile(const Px4TcalFile& file, const std::vector<std::string>& comments);
 
 }  // namespace gyrocomp

@@ -6,8 +6,9 @@
 // with the thermal state 0 for models that read one (dT/dt = 0, lag settled, no memory: the static
 // curve; the firmware forms have no state),
 // and the cubic in dT = T - ref_temp_c that minimises the squared error over the grid is kept.
-// A grid uniform in T weighs every temperature alike, as PX4's own process_sensor_caldata.py does
-// with its temperature bins, whatever time the run spent at each temperature.
+// A grid uniform in T weighs every temperature of the range alike; the model itself was fitted
+// on every sample (time-weighted), unlike PX4's process_sensor_caldata.py, which fits the means
+// of 2000 equal-width temperature bins (docs/export.md).
 //
 // What that loses is measured, not assumed: CubicProjectionCost compares the full model (its own
 // centred prediction, dT/dt included) with the cubic on a record (the calibration run, a
@@ -17,6 +18,8 @@
 #include <array>
 #include <optional>
 #include <span>
+#include <string_view>
+#include <vector>
 #include <string>
 
 #include "gyrocomp/core/status.h"
@@ -39,7 +42,35 @@ struct TemperatureCubic {
   TemperatureCubic Recentered(double new_ref_c) const;
 };
 
+// What the static cubic is optimised for (issue 22). The firmware's cubic has no thermal state;
+// a model that has one (dT/dt, lag, memory) gives a different curve at each state:
+//   kSteady  the curve at state 0 (temperature held: dT/dt = 0, lag settled). The default.
+//   kWarmUp  the curve along the board's own warm-up: at each temperature the state the
+//            calibration run had while heating there (StateWhileHeating), 0 where it never heated.
+//   kBoth    the least-squares cubic of both targets together (their mean).
+// A temperature-only model gives the same cubic for all three.
+enum class CubicCondition { kSteady, kWarmUp, kBoth };
+std::optional<CubicCondition> ParseCubicCondition(std::string_view name);  // "steady" | "warm-up" | "both"
+const char* CubicConditionName(CubicCondition condition);
+
+// A model's thermal state as a function of temperature while a record heats: the median state
+// of its heating samples (dT/dt >= min_heating_c_per_s, the centred dT/dt) in bins of bin_c,
+// 0 in bins without any.
+struct StateByTemperature {
+  double t0_c = 0.0;
+  double bin_c = 1.0;
+  std::vector<double> state;
+  double At(double temp_c) const;
+};
+// Errors: the record's state cannot be computed (too short, fs <= 0), non-finite values.
+Result<StateByTemperature> StateWhileHeating(const DriftModel& model, const DriftInputs& record,
+                                             double min_heating_c_per_s = 1.0 / 300.0, double bin_c = 1.0);
+
 struct CubicProjectionOptions {
+  CubicCondition condition = CubicCondition::kSteady;
+  // kWarmUp / kBoth with a model that reads a state: required (StateWhileHeating of the
+  // calibration run).
+  std::optional<StateByTemperature> warm_up;
   // Grid temperatures over the range (>= 8). 401 points: the projection changes by less than
   // 1e-6 of the span between 401 and 4001 points for the models in the tests.
   int grid_points = 401;

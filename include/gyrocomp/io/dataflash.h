@@ -37,13 +37,16 @@ struct DataFlashFormat {
   std::vector<std::string> labels;
 };
 
-// The IMU gyro rows of one instance, values as logged (float32 widened to double, so they
-// compare exactly with pymavlink's extracts).
+// The IMU rows of one instance, values as logged (float32 widened to double, so they
+// compare exactly with pymavlink's extracts): board frame, after ArduPilot's offsets and (with
+// INS_TCALn_ENABLE = 1) its thermal correction; flight_log.h undoes both.
 struct DataFlashImuSeries {
   int instance = 0;
   std::string message;  // "IMU" (with field I) or "IMU", "IMU2", "IMU3" (old logs)
   std::vector<std::uint64_t> time_us;
   std::vector<double> gyr_x_rad_s, gyr_y_rad_s, gyr_z_rad_s;
+  // Fields AccX, AccY, AccZ (m/s^2, specific force); empty when the message has none.
+  std::vector<double> acc_x_m_s2, acc_y_m_s2, acc_z_m_s2;
   std::vector<double> temp_c;  // field T
 };
 
@@ -52,20 +55,58 @@ struct DataFlashContents {
   std::vector<DataFlashFormat> formats;             // in file order (FMT records)
   std::map<std::string, std::size_t> message_counts; // records per message name
   std::map<std::string, double> parameters;          // PARM Name -> Value (last value wins)
+  // Parameters whose value changed after the first IMU row (the rows before and after were logged
+  // under different values): the first such change of each.
+  struct ParameterChange {
+    std::size_t offset = 0;   // byte offset of the PARM record
+    std::uint64_t time_us = 0;  // its TimeUS (0 when it has none)
+    double before = 0.0, after = 0.0;
+  };
+  std::map<std::string, ParameterChange> parameters_changed_during_imu;
   std::vector<DataFlashImuSeries> imus;              // sorted by instance
   std::size_t num_records = 0;
   std::vector<std::string> warnings;  // truncated last record
   std::string BriefReport() const;
 };
 
+// How the IMU rows are kept (issue 22: a 1 h, 1 kHz, 3-IMU log in well under 1 GB).
+struct DataFlashReadOptions {
+  // > 0: each IMU instance is kept as the means of its rows (TimeUS, gyro, accel, T) in
+  // consecutive windows of this many microseconds (window k: TimeUS in [k w, (k + 1) w)).
+  // 0: every row as logged (the default).
+  std::uint64_t average_window_us = 0;
+};
+
 // Reads a whole DataFlash file (errors: cannot open -> kIo; malformed -> kInvalidInput,
-// "<file>: byte <offset>: <what>").
-Result<DataFlashContents> ReadDataFlash(const std::string& path);
+// "<file>: byte <offset>: <what>"). A regular file is memory-mapped and the parsed part given
+// back as the parser moves on.
+Result<DataFlashContents> ReadDataFlash(const std::string& path, const DataFlashReadOptions& options = {});
 
 // The same on bytes in memory (`source` names them in messages); for tests and fuzzing.
-Result<DataFlashContents> ParseDataFlash(const std::uint8_t* data, std::size_t size, const std::string& source);
+Result<DataFlashContents> ParseDataFlash(const std::uint8_t* data, std::size_t size, const std::string& source,
+                                         const DataFlashReadOptions& options = {});
 
 // True when the bytes start like a DataFlash log: A3 95 80 (a FMT record first).
 bool HasDataFlashMagic(const std::uint8_t* data, std::size_t size);
+
+// A DataFlash log to write (simulated IMUs; tests): FMT (FMT, PARM, IMU), one PARM row per
+// parameter, then the IMU rows of every instance interleaved by row index. IMU has ArduPilot's
+// field layout (LogStructure.h, "QBffffffIIfBBHH": TimeUS,I,GyrX,GyrY,GyrZ,AccX,AccY,AccZ,EG,EA,
+// T,GH,AH,GHz,AHz), so pymavlink's DFReader and tempcal_IMU.py read it; PARM is "QNff"
+// (TimeUS,Name,Value,Default).
+struct DataFlashImuWriteInput {
+  int instance = 0;
+  std::vector<std::uint64_t> time_us;  // strictly increasing
+  std::vector<float> gyr_x_rad_s, gyr_y_rad_s, gyr_z_rad_s;
+  std::vector<float> acc_x_m_s2, acc_y_m_s2, acc_z_m_s2;  // empty: written as 0
+  std::vector<float> temp_c;
+  std::uint16_t sample_rate_hz = 1000;  // GHz / AHz
+};
+struct DataFlashWriteInput {
+  std::map<std::string, float> parameters;  // written in name order, at TimeUS of the first row
+  std::vector<DataFlashImuWriteInput> imus;  // same row count each
+};
+// Errors (kInvalidArgument): lengths differ, time not increasing, a parameter name over 16 chars.
+Result<std::string> EncodeDataFlash(const DataFlashWriteInput& input);
 
 }  // namespace gyrocomp

@@ -9,9 +9,14 @@
 // One gyro instance is taken: ULog sensor_gyro multi_id N / DataFlash IMU instance N (old logs:
 // IMU, IMU2, IMU3 = 0, 1, 2). With several instances and no choice, the reader refuses and lists
 // them. A ULog without sensor_gyro data falls back to sensor_combined (no temperature: a warning).
-// Rates that may already be compensated are a warning (PX4 TC_G_ENABLE = 1; ArduPilot always:
-// its IMU rates are offset-corrected and rotated to the board frame, and INS_TCALn_ENABLE = 1
-// adds thermal compensation).
+// Frames and compensation (docs/export.md cites the firmware lines):
+// - PX4 sensor_gyro is the driver's output, before the sensors module applies TC_G* and CAL_GYRO*
+//   (calibration::Gyroscope::Correct): raw, in the sensor frame, whatever TC_G_ENABLE says. Only
+//   sensor_combined (corrected) with TC_G_ENABLE = 1 draws a warning.
+// - ArduPilot IMU rows are in the board frame, after the thermal correction (INS_TCALn_ENABLE =
+//   1) and the offsets. The reader brings them back to the sensor frame (DataFlashImuToSensorFrame:
+//   AHRS_ORIENTATION undone, the log's own INS_TCALn_* correction added back), the one place
+//   gyrocomp handles board rotation; what remains is the sensor's curve minus constant offsets.
 #pragma once
 
 #include <cstdint>
@@ -56,6 +61,16 @@ struct FlightLogTable {
 // file and list the instances when the choice is missing or wrong (kInvalidInput).
 Result<FlightLogTable> FlightLogFromULog(const ULogContents& log, std::optional<int> instance);
 Result<FlightLogTable> FlightLogFromDataFlash(const DataFlashContents& log, std::optional<int> instance);
+
+// One DataFlash IMU instance (gyro and accel) in the sensor frame, as ArduPilot's
+// Tools/scripts/tempcal_IMU.py prepares it: the board rotation AHRS_ORIENTATION undone
+// (sensor = R^T board; every fixed rotation of rotations.h), then, with INS_TCAL<n>_ENABLE = 1,
+// correct_sensor's correction added back with the log's own coefficients (v += p(T - 35) -
+// p(Tcal - 35), T and Tcal = INS_GYR<n>_CALTEMP / INS_ACC<n>_CALTEMP clamped to [TMIN, TMAX]; the
+// accel divided by INS_ACC<n>SCAL first, since the firmware scales after correcting). What it did
+// is appended to `notes`. Errors: a custom or unknown AHRS_ORIENTATION, an ENABLE other than 0/1/2.
+Result<DataFlashImuSeries> DataFlashImuToSensorFrame(const DataFlashContents& log, const DataFlashImuSeries& imu,
+                                                     std::vector<std::string>* notes);
 
 // ReadULog / ReadDataFlash by DetectLogFormat, then the above. kCsv -> kInvalidArgument.
 Result<FlightLogTable> ReadFlightLog(const std::string& path, std::optional<int> instance);

@@ -51,6 +51,23 @@ struct ULogGyroSeries {
   std::optional<std::uint32_t> device_id;
 };
 
+// sensor_accel (x, y, z: specific force, m/s^2, sensor frame, before PX4's calibration) and
+// sensor_baro (pressure in Pa as current PX4 logs it, temperature) subscriptions with rows.
+struct ULogAccelSeries {
+  int multi_id = 0;
+  std::vector<std::uint64_t> timestamp_us;
+  std::vector<double> x_m_s2, y_m_s2, z_m_s2;
+  std::vector<double> temperature_c;
+  std::optional<std::uint32_t> device_id;  // first row's
+};
+struct ULogBaroSeries {
+  int multi_id = 0;
+  std::vector<std::uint64_t> timestamp_us;
+  std::vector<double> pressure_pa;
+  std::vector<double> temperature_c;
+  std::optional<std::uint32_t> device_id;
+};
+
 struct ULogDropout {
   std::size_t offset = 0;       // byte offset of the 'O' message
   std::uint16_t duration_ms = 0;
@@ -70,17 +87,31 @@ struct ULogContents {
   std::vector<ULogDropout> dropouts;
   std::vector<ULogGyroSeries> gyros;     // every sensor_gyro subscription with rows
   std::vector<ULogGyroSeries> combined;  // every sensor_combined subscription with rows
+  std::vector<ULogAccelSeries> accels;   // every sensor_accel subscription with rows
+  std::vector<ULogBaroSeries> baros;     // every sensor_baro subscription with rows
   std::size_t num_messages = 0;
   std::vector<std::string> warnings;  // truncated last record(s), device-id changes
   std::string BriefReport() const;
 };
 
+// How the sensor series are kept (issue 22: a 1 h, 1 kHz, 3-IMU log in well under 1 GB).
+struct ULogReadOptions {
+  // > 0: every sensor series (sensor_gyro / combined / accel / baro) is kept as the means of its
+  // rows in consecutive windows of this many microseconds of 'timestamp' (window k: timestamps
+  // in [k w, (k + 1) w)), timestamp included: one row per window with data. 0: every row as
+  // logged (the default).
+  std::uint64_t average_window_us = 0;
+  bool IsValid(std::string* error) const { (void)error; return true; }
+};
+
 // Reads a whole ULog file (errors: cannot open -> kIo; malformed -> kInvalidInput,
-// "<file>: byte <offset>: <what>").
-Result<ULogContents> ReadULog(const std::string& path);
+// "<file>: byte <offset>: <what>"). A regular file is memory-mapped and the parsed part given
+// back as the parser moves on, so the file is never held whole.
+Result<ULogContents> ReadULog(const std::string& path, const ULogReadOptions& options = {});
 
 // The same on bytes in memory (`source` names them in messages); for tests and fuzzing.
-Result<ULogContents> ParseULog(const std::uint8_t* data, std::size_t size, const std::string& source);
+Result<ULogContents> ParseULog(const std::uint8_t* data, std::size_t size, const std::string& source,
+                               const ULogReadOptions& options = {});
 
 // True when the first bytes are the ULog magic (at least 7 bytes needed).
 bool HasULogMagic(const std::uint8_t* data, std::size_t size);
@@ -99,5 +130,35 @@ struct ULogGyroWriteInput {
 // message: timestamp, timestamp_sample, device_id, x, y, z, temperature, error_count). Errors:
 // lengths differ, time not increasing (kInvalidArgument).
 Result<std::string> EncodeULogGyro(const ULogGyroWriteInput& input);
+
+// Several sensor topics in one ULog (simulated multi-IMU boards): each series is one subscription
+// of sensor_gyro (x, y, z rad/s), sensor_accel (x, y, z m/s^2) or sensor_baro (x = pressure, Pa),
+// with PX4's field names (msg/SensorGyro.msg, SensorAccel.msg, SensorBaro.msg: timestamp,
+// timestamp_sample, device_id, x, y, z | pressure, temperature, error_count) so pyulog and PX4's
+// process_sensor_caldata.py read it. Rows of all series are written in time order.
+struct ULogSensorWriteSeries {
+  std::string topic;  // "sensor_gyro" | "sensor_accel" | "sensor_baro"
+  int multi_id = 0;
+  std::uint32_t device_id = 0;
+  std::vector<std::uint64_t> timestamp_us;  // strictly increasing
+  std::vector<float> x, y, z;               // baro: x only (pressure, Pa)
+  std::vector<float> temperature_c;
+};
+struct ULogWriteInput {
+  std::string sys_name = "gyrocomp";
+  std::map<std::string, std::int32_t> int_parameters;
+  std::map<std::string, float> float_parameters;
+  std::vector<ULogSensorWriteSeries> series;
+};
+Result<std::string> EncodeULog(const ULogWriteInput& input);
+
+// PX4's device id (src/drivers/device/Device.hpp, union DeviceStructure: bus_type 3 bits, bus 5
+// bits, address 8 bits, devtype 8 bits, low to high). Bus types (DeviceBusType): 1 I2C, 2 SPI,
+// 3 UAVCAN, 4 simulation. devtype: drv_sensor.h (0x3C ICM20689, 0x38 ICM20602, 0x42 BMI055
+// gyro, 0x41 BMI055 accel, 0x3D MS5611).
+constexpr std::uint32_t Px4DeviceId(std::uint32_t bus_type, std::uint32_t bus, std::uint32_t address,
+                                    std::uint32_t devtype) {
+  return (bus_type & 0x7u) | ((bus & 0x1Fu) << 3) | ((address & 0xFFu) << 8) | ((devtype & 0xFFu) << 16);
+}
 
 }  // namespace gyrocomp

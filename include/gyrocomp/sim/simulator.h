@@ -14,6 +14,7 @@
 // The model, its units and the flicker construction: docs/simulator.md.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -189,6 +190,74 @@ struct FlickerModel {
   double process_sigma_dps = 0.0;
 };
 FlickerModel MakeFlickerModel(const NoiseOptions& noise);
+
+// ---- Accelerometers and whole boards (issue 22) ------------------------------------------------
+// One mechanism, many sensors: an accelerometer axis is the same chamber experiment (thermal
+// profile, lag, temperature noise, bias polynomial in T, dT/dt term, flicker from Gauss-Markov
+// processes) on specific force in m/s^2, with datasheet noise units mapped one to one: velocity
+// random walk VRW (m/s/sqrt(h), sigma_ADEV(1 s) = VRW / 60 m/s^2) in place of the ARW, bias
+// instability in m/s^2 (flicker floor 0.664 B) in place of deg/h, no hysteresis, no rate random
+// walk; plus a constant (gravity on the axis that points up: -9.80665 m/s^2 on z for a board lying
+// flat, FRD axes as PX4 and ArduPilot log them).
+struct AccelAxisOptions {
+  double reference_temp_c = 25.0;
+  // bias(T) = sum_k bias_poly_m_s2[k] (T - reference_temp_c)^k, m/s^2 per C^k (default: about
+  // 0.06 m/s^2 over 25..60 C, MEMS-typical).
+  std::vector<double> bias_poly_m_s2 = {0.02, 1.5e-3, 1.0e-5, -1.0e-7};
+  double dtemp_coeff_m_s2_per_c_per_s = 0.0;
+  double vrw_m_s_per_sqrt_h = 0.06;       // ~ 100 ug/sqrt(Hz)
+  double bias_instability_m_s2 = 4.0e-4;  // ~ 40 ug
+  double constant_m_s2 = 0.0;             // gravity component on this axis
+  bool IsValid(std::string* error) const;
+};
+struct AccelAxisRun {
+  std::vector<double> time_s, accel_m_s2, temp_c, true_bias_m_s2;
+};
+// `chamber` gives the profile, rate, lag, seed and temperature noise (its gyro bias and noise
+// are not used).
+Result<AccelAxisRun> SimulateAccelAxis(const SimulatorOptions& chamber, const AccelAxisOptions& accel);
+
+// A flight-controller board in the chamber: `num_imus` IMUs (gyro x, y, z and accel x, y, z each;
+// every axis its own seed and its own drift: the chamber's gyro polynomial and the accel
+// polynomial scaled by a per-axis factor), one barometer (pressure drift in Pa vs T, white noise).
+struct BoardSimOptions {
+  SimulatorOptions chamber;
+  int num_imus = 3;
+  AccelAxisOptions accel;
+  bool with_baro = true;
+  std::vector<double> baro_poly_pa = {0.0, -3.0, 0.02};  // Pa per C^k about reference_temp_c
+  double baro_noise_pa = 2.0;
+  double baro_pressure_pa = 101325.0;
+  bool IsValid(std::string* error) const;
+};
+struct BoardImuRun {
+  std::vector<double> temp_c;
+  std::array<std::vector<double>, 3> gyro_rad_s, accel_m_s2;
+  std::array<std::vector<double>, 3> true_gyro_drift_rad_s, true_accel_bias_m_s2;
+};
+struct BoardRun {
+  double fs_hz = 0.0;
+  std::vector<double> time_s;
+  std::vector<BoardImuRun> imus;
+  std::vector<double> baro_pressure_pa, baro_temp_c;  // empty without a barometer
+};
+Result<BoardRun> SimulateBoard(const BoardSimOptions& options);
+// The per-axis scale of the drift of IMU `imu`, axis `axis` (0..2; signs alternate so axes differ).
+double BoardAxisDriftScale(int imu, int axis);
+
+// The board as the autopilots log it (so their own scripts read it):
+// PX4 ULog: sensor_gyro / sensor_accel multi_id k per IMU (float32; gyro and accel of one IMU
+// share its device id, realistic PX4 ids: SPI ICM20689, ICM20602, BMI055 gyro/accel, ...),
+// sensor_baro multi_id 0 (MS5611, Pa), TC_G/TC_A/TC_B_ENABLE = 0.
+// ArduPilot DataFlash: IMU rows with I and T, rotated to the board frame by `ahrs_orientation`
+// (AHRS_ORIENTATION written as a PARM), INS_TCALn_ENABLE = 0, no barometer.
+// Both are sampled at `log_rate_hz` (<= the simulation rate; every k-th sample).
+Result<std::string> EncodeBoardULog(const BoardRun& board, double log_rate_hz);
+Result<std::string> EncodeBoardDataFlash(const BoardRun& board, double log_rate_hz, int ahrs_orientation);
+// The device ids EncodeBoardULog gives IMU `imu` (gyro, accel) and the barometer.
+std::uint32_t BoardGyroDeviceId(int imu);
+std::uint32_t BoardAccelDeviceId(int imu);
+std::uint32_t BoardBaroDeviceId();
 
 // Deterministic normal generator: Marsaglia polar method on std::mt19937_64 (53-bit uniforms).
 // Portable: same sequence on every standard library.

@@ -1,0 +1,225 @@
+#!/usr/bin/env python3
+"""Side by side: gyrocomp calibrate vs PX4's process_sensor_caldata.py and ArduPilot's
+tempcal_IMU.py on simulated boards, scored on held-out runs with each firmware's own formula
+(issue 22).
+
+    bench/imu_calibration_side_by_side.py [--build build] [--seeds 5] [--fs 10]
+        [--px4-script PX4/Tools/process_sensor_caldata.py] [--pyulog DIR]
+        [--tempcal ARDUPILOT/Tools/scripts/tempcal_IMU.py] [--pymavlink DIR]
+
+The scripts are optional and are not dependencies of gyrocomp: give the path of each (from a
+checkout you fetched; never committed here) and the folder holding the `pyulog` / `pymavlink`
+package. A script that is not given or does not run (it needs numpy, scipy, matplotlib; Debian:
+python3-scipy python3-matplotlib) is skipped with its reason.
+
+For each seed and drift structure (`dtemp`: bias(T) + 1.5 deg/s per C/s x dT/dt + hysteresis, the
+simulator's default; `static`: bias(T) only), one IMU is simulated:
+  calibration   cold start at 10 C, 10 min hold, heating at 1 C/min to 60 C, 20 min hold
+  heating       the same profile, another seed            (held out)
+  cooling       60 C -> 10 C at 1 C/min, holds, another seed  (held out)
+Each parameter set is scored per gyro axis on the held-out runs: the residual the firmware leaves,
+rate - offset(T) (PX4 calc_thermal_offsets_3D, float32, T clamped to [TMIN, TMAX]; ArduPilot
+correct_sensor relative to the temperature at boot, float32, clamped), as 10 s block means with
+their mean removed (the constant is the boot offset calibration's), RMS in deg/s. Rows: no
+correction, each script, gyrocomp (PX4 file also with --optimise-for warm-up / both), and the
+true static curve (the simulator's bias polynomial,
+the best a static cubic can do against its own static part). Printed: mean over seeds and axes,
+the seed spread (SD of the per-seed means), and per-axis win counts of gyrocomp against each
+script.
+"""
+import argparse
+import math
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+
+import numpy as np
+
+DEFAULT_POLY = [0.02, 1.5e-3, 1.2e-5, -2.0e-7]  # simulator.h BiasModelOptions::poly_dps
+AXIS_SCALE = [1.0, -0.7, 0.5]                     # BoardAxisDriftScale(imu 0, axis)
+RAD = math.pi / 180.0
+
+
+def run(cmd, env=None, cwd=None):
+    r = subprocess.run(cmd, capture_output=True, text=True, env=env, cwd=cwd)
+    return r.returncode, r.stdout + r.stderr
+
+
+def simulate(gc, path, seed, fs, structure, cooling=False):
+    prof = (["--room-temp", "60", "--ramp-end", "10"] if cooling else ["--room-temp", "10", "--ramp-end", "60"])
+    drift = [] if structure == "dtemp" else ["--dtemp-coeff", "0", "--hysteresis-coeff", "0"]
+    rc, out = run([gc, "simulate", "--profile", "ramp", "--room-hold", "600", "--hold", "1200", "--ramp-rate", "1",
+                   "--thermal-lag", "120", "--fs", str(fs), "--seed", str(seed), "--imus", "1"] + prof + drift +
+                  ["-o", path])
+    if rc != 0:
+        sys.exit("simulate failed: " + out)
+
+
+def read_gyro(gc, log, tmp):
+    csv = os.path.join(tmp, os.path.basename(log) + ".csv")
+    rc, out = run([gc, "convert", "-i", log, "--instance", "0", "-o", csv])
+    if rc != 0:
+        sys.exit("convert failed: " + out)
+    d = np.genfromtxt(csv, delimiter=",", names=True)
+    return d["temp_c"], np.vstack([d["x_rad_s"], d["y_rad_s"], d["z_rad_s"]])
+
+
+def read_params(path):
+    p = {}
+    for line in open(path):
+        line = line.strip()
+        if not line or line.startswith("#"):
+            continue
+        f = line.replace(",", " ").split()
+        if len(f) == 5:      # QGroundControl: sys comp name value type
+            p[f[2]] = float(f[3])
+        elif len(f) == 2:    # Mission Planner / tempcal_IMU
+            p[f[0]] = float(f[1])
+    return p
+
+
+def px4_offsets(p, slot, temp):
+    f32 = np.float32
+    s = "TC_G%d_" % slot
+    t = np.clip(temp.astype(f32), f32(p[s + "TMIN"]), f32(p[s + "TMAX"]))
+    dt = (t - f32(p[s + "TREF"])).astype(f32)
+    out = []
+    for a in range(3):
+        c = [f32(p[s + "X%d_%d" % (k, a)]) for k in range(4)]
+        out.append(c[0] + c[1] * dt + c[2] * dt * dt + c[3] * dt * dt * dt)
+    return np.array(out, dtype=np.float64)
+
+
+def ardupilot_correction(p, imu, temp):
+    f32 = np.float32
+    s = "INS_TCAL%d_" % imu
+    tmin, tmax = f32(p.get(s + "TMIN", 0.0)), f32(p.get(s + "TMAX", 70.0))
+    t = np.clip(temp.astype(f32), tmin, tmax)
+    tcal = t[0]  # INS_GYR_CALTEMP: the boot temperature of the held-out run
+    out = []
+    for a, ax in enumerate("XYZ"):
+        c = [f32(p.get("%sGYR%d_%s" % (s, k, ax), 0.0)) for k in (1, 2, 3)]
+        poly = lambda x: (c[0] + (c[1] + c[2] * x) * x) * x * f32(1e-6)
+        out.append(poly(t - f32(35.0)) - poly(tcal - f32(35.0)))
+    return np.array(out, dtype=np.float64)
+
+
+def truth_offsets(temp, structure):
+    d = temp - 25.0
+    return np.array([sum(DEFAULT_POLY[k] * AXIS_SCALE[a] * d ** k for k in range(4)) * RAD for a in range(3)])
+
+
+def score(rate, correction, fs):
+    """RMS (deg/s) of the 10 s block means of rate - correction, their mean removed, per axis."""
+    n = int(round(10 * fs))
+    r = (rate - correction) / RAD
+    m = r[:, : (r.shape[1] // n) * n].reshape(3, -1, n).mean(axis=2)
+    m -= m.mean(axis=1, keepdims=True)
+    return np.sqrt((m ** 2).mean(axis=1))
+
+
+def try_px4_script(args, ulg, tmp):
+    if not args.px4_script:
+        return None, "not given (--px4-script)"
+    env = dict(os.environ, MPLBACKEND="Agg", PYTHONPATH=args.pyulog or "")
+    local = os.path.join(tmp, "px4_" + os.path.basename(ulg))
+    shutil.copy(ulg, local)
+    rc, out = run([sys.executable, args.px4_script, local], env=env)
+    if rc != 0 or not os.path.exists(local + ".params"):
+        return None, "failed: " + out.strip().splitlines()[-1] if out.strip() else "failed"
+    return read_params(local + ".params"), ""
+
+
+def try_tempcal(args, binlog, tmp):
+    if not args.tempcal:
+        return None, "not given (--tempcal)"
+    env = dict(os.environ, MPLBACKEND="Agg", PYTHONPATH=args.pymavlink or "")
+    outfile = os.path.join(tmp, "tempcal_" + os.path.basename(binlog) + ".parm")
+    rc, out = run([sys.executable, args.tempcal, "--no-graph", "--outfile", outfile, binlog], env=env)
+    if rc != 0 or not os.path.exists(outfile):
+        return None, "failed: " + out.strip().splitlines()[-1] if out.strip() else "failed"
+    return read_params(outfile), ""
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--build", default="build")
+    ap.add_argument("--seeds", type=int, default=5)
+    ap.add_argument("--fs", type=float, default=10.0)
+    ap.add_argument("--px4-script")
+    ap.add_argument("--pyulog")
+    ap.add_argument("--tempcal")
+    ap.add_argument("--pymavlink")
+    args = ap.parse_args()
+    gc = os.path.join(args.build, "gyrocomp")
+    rows = {}   # (structure, run, set) -> list of per-seed arrays of 3 axes
+    skipped = {}
+    with tempfile.TemporaryDirectory() as tmp:
+        for structure in ("dtemp", "static"):
+            for seed in range(1, args.seeds + 1):
+                cal_ulg, cal_bin = os.path.join(tmp, "cal.ulg"), os.path.join(tmp, "cal.bin")
+                simulate(gc, cal_ulg, 100 * seed, args.fs, structure)
+                simulate(gc, cal_bin, 100 * seed, args.fs, structure)
+                held = {"heating": os.path.join(tmp, "heat.ulg"), "cooling": os.path.join(tmp, "cool.ulg")}
+                simulate(gc, held["heating"], 100 * seed + 50, args.fs, structure)
+                simulate(gc, held["cooling"], 100 * seed + 70, args.fs, structure, cooling=True)
+                sets = {}
+                for fmt, log in (("px4", cal_ulg), ("ardupilot", cal_bin)):
+                    for cond in ("steady", "warm-up", "both"):
+                        if fmt == "ardupilot" and cond != "steady":
+                            continue
+                        out = os.path.join(tmp, "gc_" + fmt)
+                        rc, msg = run([gc, "calibrate", "-i", log, "--format", fmt, "--optimise-for", cond, "-o", out])
+                        if rc != 0:
+                            sys.exit("calibrate failed: " + msg)
+                        sets["gyrocomp -> " + fmt + ("" if cond == "steady" else " (--optimise-for %s)" % cond)] = \
+                            (fmt, read_params(out))
+                p, why = try_px4_script(args, cal_ulg, tmp)
+                if p is None:
+                    skipped["PX4 script"] = why
+                else:
+                    sets["PX4 script"] = ("px4", p)
+                p, why = try_tempcal(args, cal_bin, tmp)
+                if p is None:
+                    skipped["tempcal_IMU"] = why
+                else:
+                    sets["tempcal_IMU"] = ("ardupilot", p)
+                for name, path in held.items():
+                    temp, rate = read_gyro(gc, path, tmp)
+                    rows.setdefault((structure, name, "no correction"), []).append(score(rate, 0 * rate, args.fs))
+                    rows.setdefault((structure, name, "true static curve"), []).append(
+                        score(rate, truth_offsets(temp, structure), args.fs))
+                    for sname, (fmt, p) in sets.items():
+                        corr = px4_offsets(p, 0, temp) if fmt == "px4" else ardupilot_correction(p, 1, temp)
+                        rows.setdefault((structure, name, sname), []).append(score(rate, corr, args.fs))
+    print("Held-out residual after each parameter set, deg/s RMS of 10 s means (mean over %d seeds x 3 axes; "
+          "+- SD of the per-seed means)" % args.seeds)
+    for why_name, why in skipped.items():
+        print("  %s skipped: %s" % (why_name, why))
+    names = sorted({k[2] for k in rows})
+    print("| structure | parameter set | heating | cooling |")
+    print("|---|---|---|---|")
+    for structure in ("dtemp", "static"):
+        for n in names:
+            cells = []
+            for run_name in ("heating", "cooling"):
+                v = rows.get((structure, run_name, n))
+                if not v:
+                    cells.append("-")
+                    continue
+                per_seed = [x.mean() for x in v]
+                cells.append("%.4f +- %.4f" % (np.mean(per_seed), np.std(per_seed)))
+            print("| %s | %s | %s | %s |" % (structure, n, cells[0], cells[1]))
+        for script, mine in (("PX4 script", "gyrocomp -> px4"), ("tempcal_IMU", "gyrocomp -> ardupilot")):
+            for run_name in ("heating", "cooling"):
+                a, b = rows.get((structure, run_name, mine)), rows.get((structure, run_name, script))
+                if a and b:
+                    wins = sum(int(x < y) for xa, ya in zip(a, b) for x, y in zip(xa, ya))
+                    print("  %s, %s: gyrocomp better than %s on %d of %d axes" %
+                          (structure, run_name, script, wins, 3 * len(a)))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,444 @@
+// gyrocomp calibrate: every gyro, accelerometer (and PX4 barometer) of a flight log fitted and
+// written as ONE parameter file the autopilot loads (issue 22; docs/export.md, docs/cli.md).
+//
+// Per sensor: the rows in the sensor frame (the readers undo ArduPilot's board rotation and
+// thermal correction), block means at --fit-rate, the library's default FitDriftModel (auto), the
+// static curve projected onto the firmware's cubic over the sensor's temperature range, and the
+// constant the firmware leaves to its offset calibration removed:
+//   PX4 gyro: X0..X3 = the drift itself (TemperatureCompensation subtracts it before CAL_GYRO);
+//   PX4 accel / baro: X0 = 0 (process_sensor_caldata.py subtracts the median: gravity and the
+//     constant go to CAL_ACC / the baro offset, recalibrated after loading, its step 12);
+//   ArduPilot gyro / accel: re-expanded about 35 C, constant dropped (correct_sensor is relative
+//     to INS_*_CALTEMP; tempcal_IMU.py drops it too).
+// A sensor that cannot be calibrated keeps its row (status skipped, the reason) and its slot is
+// disabled in the file.
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <numbers>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "commands.h"
+#include "gyrocomp/drift/drift_model.h"
+#include "gyrocomp/export/param_export.h"
+#include "gyrocomp/export/thermal_cubic.h"
+#include "gyrocomp/io/flight_log.h"
+#include "result_json.h"
+
+namespace gyrocomp::cli {
+namespace {
+
+constexpr const char* kName = "calibrate";
+constexpr double kDegPerRad = 180.0 / std::numbers::pi;
+
+struct CalibrateArgs {
+  std::string input;
+  std::string format;
+  std::string output;
+  std::string models_dir;
+  std::string json_path;
+  double fit_rate_hz = 1.0;   // block means of the rows before fitting
+  double min_span_c = 10.0;   // ArduPilot's TEMP_RANGE_MIN (AP_InertialSensor_tempcal.cpp)
+  std::size_t min_rows = 60;  // after the block means
+  std::string optimise_for = "steady";  // CubicCondition of the exported cubic
+};
+
+// One sensor instance of the log, in its sensor frame and firmware unit.
+struct Sensor {
+  std::string type;  // gyro | accel | baro
+  int instance = 0;
+  std::optional<std::uint32_t> device_id;
+  std::vector<double> time_s, temp_c;
+  std::vector<std::vector<double>> values;  // per axis, firmware unit (rad/s, m/s^2, Pa)
+  std::vector<std::string> cols;            // x_rad_s | x_m_s2 | pressure_pa
+  std::string unit;                         // firmware unit
+  double to_model = 1.0;                    // firmware unit -> model unit (gyro: deg/s)
+  std::string model_unit;
+  // Outcome.
+  std::string reason;  // non-empty: skipped
+  int slot = -1;       // PX4 slot / ArduPilot IMU n
+  std::vector<DriftModel> models;
+  std::vector<TemperatureCubic> cubics;  // firmware unit, constant handled as the file needs
+  std::vector<double> cost_rms;          // projection cost on the run, firmware unit
+  // RMS over the range of cubic - full model at state 0 (steady) and along the run's warm-up
+  // state (warm-up), firmware unit: what the exported cubic loses in each condition.
+  std::vector<double> steady_rms, warm_up_rms;
+  double temp_min_c = 0.0, temp_max_c = 0.0;
+};
+
+std::vector<double> Seconds(const std::vector<std::uint64_t>& us) {
+  std::vector<double> t(us.size());
+  for (std::size_t i = 0; i < us.size(); ++i) t[i] = static_cast<double>(us[i]) * 1e-6;
+  return t;
+}
+
+Sensor MakeSensor(std::string type, int instance, std::optional<std::uint32_t> id, const std::vector<std::uint64_t>& t_us,
+                  std::vector<double> temp, std::vector<std::vector<double>> values) {
+  Sensor s;
+  s.type = std::move(type);
+  s.instance = instance;
+  s.device_id = id;
+  s.time_s = Seconds(t_us);
+  s.temp_c = std::move(temp);
+  s.values = std::move(values);
+  if (s.type == "gyro") {
+    s.cols = {"x_rad_s", "y_rad_s", "z_rad_s"}, s.unit = "rad/s", s.to_model = kDegPerRad, s.model_unit = "deg/s";
+  } else if (s.type == "accel") {
+    s.cols = {"x_m_s2", "y_m_s2", "z_m_s2"}, s.unit = s.model_unit = "m/s^2";
+  } else {
+    s.cols = {"pressure_pa"}, s.unit = s.model_unit = "Pa";
+  }
+  if (s.temp_c.size() != s.time_s.size()) s.reason = "no temperature logged";
+  return s;
+}
+
+Result<std::vector<Sensor>> SensorsOfULog(const std::string& path, double fit_rate_hz) {
+  // Means over 1 / fit_rate windows while reading: the full-rate rows are never held.
+  ULogReadOptions read;
+  read.average_window_us = static_cast<std::uint64_t>(std::llround(1e6 / fit_rate_hz));
+  Result<ULogContents> log = ReadULog(path, read);
+  if (!log.ok()) return log.error();
+  std::vector<Sensor> out;
+  for (const auto& g : log->gyros)
+    out.push_back(MakeSensor("gyro", g.multi_id, g.device_id, g.timestamp_us, g.temperature_c, {g.x_rad_s, g.y_rad_s, g.z_rad_s}));
+  for (const auto& a : log->accels)
+    out.push_back(MakeSensor("accel", a.multi_id, a.device_id, a.timestamp_us, a.temperature_c, {a.x_m_s2, a.y_m_s2, a.z_m_s2}));
+  for (const auto& b : log->baros)
+    out.push_back(MakeSensor("baro", b.multi_id, b.device_id, b.timestamp_us, b.temperature_c, {b.pressure_pa}));
+  if (out.empty()) return InvalidInput(path + ": no sensor_gyro, sensor_accel or sensor_baro data (" + log->BriefReport() + ")");
+  // PX4 slots: the order of the instances of each kind (at most 4).
+  for (const char* type : {"gyro", "accel", "baro"}) {
+    int next = 0;
+    for (Sensor& s : out)
+      if (s.type == type) s.slot = next++;
+  }
+  return out;
+}
+
+Result<std::vector<Sensor>> SensorsOfDataFlash(const std::string& path, double fit_rate_hz) {
+  // Means over 1 / fit_rate windows while reading (the rotation undone later is linear; the
+  // thermal-correction undo is evaluated at the window's mean temperature).
+  DataFlashReadOptions read;
+  read.average_window_us = static_cast<std::uint64_t>(std::llround(1e6 / fit_rate_hz));
+  Result<DataFlashContents> log = ReadDataFlash(path, read);
+  if (!log.ok()) return log.error();
+  std::vector<Sensor> out;
+  for (const DataFlashImuSeries& raw : log->imus) {
+    std::vector<std::string> notes;
+    Result<DataFlashImuSeries> s = DataFlashImuToSensorFrame(*log, raw, &notes);  // rotation, TCAL undone
+    if (!s.ok()) return s.error();
+    for (const std::string& n : notes) Note(kName, n);
+    out.push_back(MakeSensor("gyro", s->instance, std::nullopt, s->time_us, s->temp_c,
+                             {s->gyr_x_rad_s, s->gyr_y_rad_s, s->gyr_z_rad_s}));
+    if (!s->acc_x_m_s2.empty())
+      out.push_back(MakeSensor("accel", s->instance, std::nullopt, s->time_us, s->temp_c,
+                               {s->acc_x_m_s2, s->acc_y_m_s2, s->acc_z_m_s2}));
+  }
+  if (out.empty()) return InvalidInput(path + ": no IMU rows (" + log->BriefReport() + ")");
+  for (Sensor& s : out) s.slot = s.instance + 1;  // INS_TCAL<n>
+  return out;
+}
+
+// Block means of `n` rows (the last partial block dropped): the thermal drift is slow, and the
+// fit then sees the same rows whatever the log rate (tempcal_IMU.py: 2 s moving average).
+void BlockMeans(Sensor* s, double fit_rate_hz) {
+  const std::size_t rows = s->time_s.size();
+  if (rows < 2) return;
+  const double fs = static_cast<double>(rows - 1) / (s->time_s.back() - s->time_s.front());
+  const auto n = static_cast<std::size_t>(std::max(1.0, std::floor(fs / fit_rate_hz)));
+  auto mean = [&](const std::vector<double>& v) {
+    std::vector<double> out;
+    for (std::size_t b = 0; b + n <= v.size(); b += n) {
+      double sum = 0.0;
+      for (std::size_t i = b; i < b + n; ++i) sum += v[i];
+      out.push_back(sum / static_cast<double>(n));
+    }
+    return out;
+  };
+  s->time_s = mean(s->time_s);
+  s->temp_c = mean(s->temp_c);
+  for (auto& v : s->values) v = mean(v);
+}
+
+std::string Num(double v) {
+  std::ostringstream s;
+  s.precision(4);
+  s << v;
+  return s.str();
+}
+
+// RMS over 201 temperatures of the range of cubic - model at state 0 and at the warm-up state
+// (model unit; the cubic before any constant is removed).
+std::pair<double, double> ConditionErrors(const DriftModel& m, const TemperatureCubic& c, const StateByTemperature& warm) {
+  double ss_steady = 0.0, ss_warm = 0.0;
+  constexpr int kPoints = 201;
+  for (int i = 0; i < kPoints; ++i) {
+    const double t = c.temp_min_c + (c.temp_max_c - c.temp_min_c) * i / (kPoints - 1);
+    const double cubic = c.Evaluate(t);
+    ss_steady += std::pow(cubic - m.PredictAt(t, 0.0), 2);
+    ss_warm += std::pow(cubic - m.PredictAt(t, m.inputs == DriftInputSet::kTemp ? 0.0 : warm.At(t)), 2);
+  }
+  return {std::sqrt(ss_steady / kPoints), std::sqrt(ss_warm / kPoints)};
+}
+
+// Fits and projects one sensor; sets `reason` when it cannot be calibrated.
+void Calibrate(Sensor* s, const CalibrateArgs& a) {
+  if (!s->reason.empty()) return;
+  if (s->slot < 0 || s->slot > (a.format == "px4" ? kPx4TcalSlots - 1 : 3) || (a.format == "ardupilot" && s->slot < 1)) {
+    s->reason = a.format == "px4" ? "PX4 has 4 calibration slots per sensor kind" : "ArduPilot has INS_TCAL1..3 only";
+    return;
+  }
+  if (a.format == "ardupilot" && s->type == "baro") {
+    s->reason = "ArduPilot has no barometer thermal calibration";
+    return;
+  }
+  BlockMeans(s, a.fit_rate_hz);
+  if (s->time_s.size() < a.min_rows) {
+    s->reason = std::to_string(s->time_s.size()) + " rows at " + Num(a.fit_rate_hz) + " Hz < " + std::to_string(a.min_rows);
+    return;
+  }
+  const auto [lo, hi] = std::minmax_element(s->temp_c.begin(), s->temp_c.end());
+  s->temp_min_c = *lo, s->temp_max_c = *hi;
+  if (*hi - *lo < a.min_span_c) {
+    s->reason = "temperature span " + Num(*hi - *lo) + " C < " + Num(a.min_span_c) + " C";
+    return;
+  }
+  const double fs = static_cast<double>(s->time_s.size() - 1) / (s->time_s.back() - s->time_s.front());
+  const DriftInputs inputs{s->temp_c, fs};
+  CubicProjectionOptions po;
+  po.temp_min_c = *lo;
+  po.temp_max_c = *hi;
+  po.condition = *ParseCubicCondition(a.optimise_for);
+  static const DriftFitOptions kFitOptions;  // the library default (auto)
+  for (std::size_t k = 0; k < s->values.size(); ++k) {
+    std::vector<double> y = s->values[k];
+    for (double& v : y) v *= s->to_model;
+    Result<DriftModel> m = FitDriftModel(inputs, y, kFitOptions);
+    if (!m.ok()) {
+      s->reason = "fit of " + s->cols[k] + " failed: " + m.error().message;
+      return;
+    }
+    m->rate_col = s->cols[k];
+    m->unit = s->model_unit;
+    Result<StateByTemperature> warm = StateWhileHeating(*m, inputs);
+    if (!warm.ok()) {
+      s->reason = "warm-up state of " + s->cols[k] + ": " + warm.error().message;
+      return;
+    }
+    po.warm_up = *warm;
+    Result<TemperatureCubic> c = ProjectOntoCubic(*m, po);
+    if (!c.ok()) {
+      s->reason = "projection of " + s->cols[k] + " failed: " + c.error().message;
+      return;
+    }
+    Result<CubicProjectionCost> cost = MeasureCubicProjectionCost(*m, *c, inputs);
+    TemperatureCubic fw = c->Scaled(1.0 / s->to_model);
+    if (a.format == "px4" && s->type != "gyro") fw.coeff[0] = 0.0;  // the script subtracts the median
+    s->cost_rms.push_back(cost.ok() ? cost->rms / s->to_model : NAN);
+    const auto [steady, warm_up] = ConditionErrors(*m, *c, *warm);
+    s->steady_rms.push_back(steady / s->to_model);
+    s->warm_up_rms.push_back(warm_up / s->to_model);
+    s->cubics.push_back(fw);
+    s->models.push_back(std::move(*m));
+  }
+}
+
+ThreeAxisCubics Three(const Sensor& s) { return {s.cubics[0], s.cubics[1], s.cubics[2]}; }
+
+const Sensor* Find(const std::vector<Sensor>& all, const std::string& type, int slot) {
+  for (const Sensor& s : all)
+    if (s.type == type && s.slot == slot && s.reason.empty()) return &s;
+  return nullptr;
+}
+
+std::vector<std::string> Comments(const CalibrateArgs& a, const std::vector<Sensor>& all) {
+  std::vector<std::string> c = {
+      "Thermal calibration generated by gyrocomp calibrate --format " + a.format + " from " + a.input,
+      "(docs/export.md). Every sensor of the log: the library's default drift model (auto) fitted on",
+      "block means at " + Num(a.fit_rate_hz) + " Hz, its curve projected onto the firmware's cubic over the",
+      "sensor's range, optimised for: " + a.optimise_for + " (steady: dT/dt = 0; warm-up: the state the run had while heating;",
+      "both: their mean). Units: gyro rad/s, accel m/s^2, baro Pa; sensor frame. Per sensor: model, projection cost",
+      "(RMS full model - cubic on this run, firmware unit); the expected held-out error band is not yet available."};
+  for (const Sensor& s : all) {
+    std::ostringstream l;
+    l << "  " << s.type << " " << s.instance << (s.device_id ? " (device_id " + std::to_string(*s.device_id) + ")" : "");
+    if (!s.reason.empty()) {
+      l << ": SKIPPED, " << s.reason;
+    } else {
+      l << ": " << DriftModelKindName(s.models[0].kind) << ", " << Num(s.temp_min_c) << ".." << Num(s.temp_max_c) << " C, cost";
+      for (double v : s.cost_rms) l << " " << Num(v);
+    }
+    c.push_back(l.str());
+  }
+  return c;
+}
+
+Result<std::string> WriteFile(const CalibrateArgs& a, const std::vector<Sensor>& all) {
+  const auto comments = Comments(a, all);
+  if (a.format == "px4") {
+    Px4TcalFile f;
+    for (const Sensor& s : all) {
+      if (!s.reason.empty()) continue;
+      if (!s.device_id) return InvalidInput(a.input + ": " + s.type + " " + std::to_string(s.instance) + " logs no device_id");
+      if (s.type == "gyro") f.gyro.push_back({s.slot, *s.device_id, Three(s)});
+      if (s.type == "accel") f.accel.push_back({s.slot, *s.device_id, Three(s)});
+      if (s.type == "baro") f.baro.push_back({s.slot, *s.device_id, s.cubics[0]});
+    }
+    return WritePx4TcalFile(f, comments);
+  }
+  std::vector<ArduPilotTcalImu> imus;
+  for (int n = 1; n <= 3; ++n) {
+    ArduPilotTcalImu m;
+    m.imu = n;
+    const Sensor* g = Find(all, "gyro", n);
+    const Sensor* acc = Find(all, "accel", n);
+    if (g) m.gyro_radps = Three(*g);
+    if (acc) m.accel_m_s2 = Three(*acc);
+    if (!g && !acc) {
+      m.disabled_reason = "IMU " + std::to_string(n - 1) + " not calibrated";
+      for (const Sensor& s : all)
+        if (s.slot == n && !s.reason.empty()) m.disabled_reason = s.type + ": " + s.reason;
+      bool in_log = false;
+      for (const Sensor& s : all) in_log |= s.slot == n;
+      if (!in_log) m.disabled_reason = "IMU " + std::to_string(n - 1) + " not in the log";
+    }
+    imus.push_back(m);
+  }
+  return WriteArduPilotTcalFile(imus, comments);
+}
+
+nlohmann::json SensorJson(const CalibrateArgs& a, const Sensor& s) {
+  nlohmann::json j = {{"type", s.type}, {"instance", s.instance}, {"slot", s.slot},
+                      {"status", s.reason.empty() ? "calibrated" : "skipped"}};
+  if (a.format == "px4") j["device_id"] = s.device_id ? nlohmann::json(*s.device_id) : nlohmann::json(nullptr);
+  else j["imu"] = s.slot;
+  if (!s.reason.empty()) {
+    j["reason"] = s.reason;
+    return j;
+  }
+  j["temp_min_c"] = s.temp_min_c;
+  j["temp_max_c"] = s.temp_max_c;
+  j["kind"] = DriftModelKindName(s.models[0].kind);
+  j["unit"] = s.unit;
+  nlohmann::json axes = nlohmann::json::array();
+  for (std::size_t k = 0; k < s.models.size(); ++k) {
+    const TemperatureCubic& c = s.cubics[k];
+    axes.push_back({{"col", s.cols[k]}, {"kind", DriftModelKindName(s.models[k].kind)},
+                    {"cubic", {{"ref_temp_c", c.ref_temp_c}, {"temp_min_c", c.temp_min_c}, {"temp_max_c", c.temp_max_c},
+                               {"coeff", c.coeff}}},
+                    {"projection_cost_rms", s.cost_rms[k]}, {"fit_rmse", s.models[k].summary.train_rmse / s.to_model}});
+  }
+  j["axes"] = axes;
+  nlohmann::json steady = nlohmann::json::array(), warm = nlohmann::json::array();
+  for (std::size_t k = 0; k < s.models.size(); ++k) steady.push_back(s.steady_rms[k]), warm.push_back(s.warm_up_rms[k]);
+  j["expected_error"] = {{"optimised_for", a.optimise_for},
+                         {"steady", steady},
+                         {"warm_up", warm},
+                         {"note", "per axis, firmware unit: RMS over the range of (exported cubic - the full model) at "
+                                  "steady temperature and along this run's warm-up; the model's own held-out "
+                                  "uncertainty (prediction bands, issue 23) is not included yet"}};
+  return j;
+}
+
+Status WriteModels(const CalibrateArgs& a, const std::vector<Sensor>& all) {
+  if (a.models_dir.empty()) return Status::Ok();
+  std::error_code ec;
+  std::filesystem::create_directories(a.models_dir, ec);
+  if (ec) return IoError(a.models_dir + ": cannot create the directory: " + ec.message());
+  for (const Sensor& s : all) {
+    if (!s.reason.empty()) continue;
+    DriftModelSet set;
+    set.axes = s.models;
+    set.device_id = s.device_id;
+    set.sensor = SensorIdentity{s.type, s.instance, s.device_id, "sensor"};
+    const std::string path = (std::filesystem::path(a.models_dir) / (s.type + std::to_string(s.instance) + ".json")).string();
+    if (Status st = SaveDriftModelSet(set, path); !st.ok()) return st;
+  }
+  return Status::Ok();
+}
+
+void PrintTable(const std::vector<Sensor>& all) {
+  std::ostringstream t;
+  t << "sensor  inst  slot  span_c         model          cost (RMS full - cubic, per axis)\n";
+  for (const Sensor& s : all) {
+    t << s.type << std::string(8 - std::min<std::size_t>(7, s.type.size()), ' ') << s.instance << "     " << s.slot << "     ";
+    if (!s.reason.empty()) {
+      t << "skipped: " << s.reason << "\n";
+      continue;
+    }
+    std::string span = Num(s.temp_min_c) + ".." + Num(s.temp_max_c);
+    t << span << std::string(span.size() < 15 ? 15 - span.size() : 1, ' ') << DriftModelKindName(s.models[0].kind)
+      << std::string(15 - std::min<std::size_t>(14, std::string(DriftModelKindName(s.models[0].kind)).size()), ' ');
+    for (double v : s.cost_rms) t << Num(v) << " ";
+    t << s.unit << "\n";
+  }
+  std::cerr << t.str();
+}
+
+int Run(const CalibrateArgs& a) {
+  if (!(a.fit_rate_hz > 0.0) || !(a.min_span_c >= 0.0))
+    return ReportError(kName, InvalidArgument("--fit-rate must be > 0 Hz and --min-span >= 0 C"));
+  const LogFormat format = DetectLogFormat(a.input);
+  if (format == LogFormat::kCsv)
+    return ReportError(kName, InvalidInput(a.input + ": not a PX4 ULog or ArduPilot DataFlash log (by its first bytes)"));
+  if ((format == LogFormat::kULog) != (a.format == "px4"))
+    return ReportError(kName, InvalidArgument("--format " + a.format + " for a " + std::string(LogFormatName(format)) +
+                                              " log: PX4 parameters come from a ULog, ArduPilot's from a DataFlash log"));
+  auto sensors = format == LogFormat::kULog ? SensorsOfULog(a.input, a.fit_rate_hz) : SensorsOfDataFlash(a.input, a.fit_rate_hz);
+  if (!sensors.ok()) return ReportError(kName, sensors.error());
+  for (Sensor& s : *sensors) Calibrate(&s, a);
+  const bool any = std::any_of(sensors->begin(), sensors->end(), [](const Sensor& s) { return s.reason.empty(); });
+  PrintTable(*sensors);
+  if (!any) return ReportError(kName, InvalidInput(a.input + ": no sensor could be calibrated (reasons above)"));
+  Result<std::string> text = WriteFile(a, *sensors);
+  if (!text.ok()) return ReportError(kName, text.error());
+  if (Status st = WriteModels(a, *sensors); !st.ok()) return ReportError(kName, st.error());
+  if (Status st = WriteText(a.output, *text); !st.ok()) return ReportError(kName, st.error());
+  if (!a.json_path.empty()) {
+    nlohmann::json j = {{"input", a.input}, {"format", a.format}, {"output", a.output}, {"fit_rate_hz", a.fit_rate_hz},
+                        {"min_span_c", a.min_span_c}, {"optimised_for", a.optimise_for}};
+    j["models_dir"] = a.models_dir.empty() ? nlohmann::json(nullptr) : nlohmann::json(a.models_dir);
+    j["sensors"] = nlohmann::json::array();
+    for (const Sensor& s : *sensors) j["sensors"].push_back(SensorJson(a, s));
+    if (Status st = WriteJson(a.json_path, j); !st.ok()) return ReportError(kName, st.error());
+  }
+  Note(kName, "-> " + a.output);
+  return kExitOk;
+}
+
+Command Make(CLI::App& app) {
+  auto a = std::make_shared<CalibrateArgs>();
+  CLI::App* sub = app.add_subcommand(kName, "Thermal calibration of every IMU sensor of a flight log, as one parameter file");
+  sub->footer(
+      "px4 (ULog): every sensor_gyro, sensor_accel and sensor_baro instance -> TC_G / TC_A / TC_B slots by\n"
+      "  device_id, all four slots of each kind written (unused: ID 0), TC_x_ENABLE. QGroundControl format.\n"
+      "ardupilot (DataFlash): every IMU, rotated back by AHRS_ORIENTATION and with any INS_TCAL correction the\n"
+      "  log ran undone -> INS_TCAL1..3 ENABLE, TMIN, TMAX, ACC1..3, GYR1..3 (an IMU not calibrated: ENABLE 0).\n"
+      "A sensor that cannot be calibrated (span < --min-span, too few rows) is listed with the reason.\n"
+      "Example: gyrocomp calibrate -i heat.ulg --format px4 -o tc.params --models models/ --json cal.json");
+  AddInputOption(sub, "-i,--input", &a->input, "Flight log: PX4 ULog or ArduPilot DataFlash")->required();
+  sub->add_option("--format", a->format, "px4 | ardupilot")->required()->check(CLI::IsMember({"px4", "ardupilot"}));
+  AddOutputOption(sub, "-o,--output", &a->output, "Parameter file to write")->required();
+  sub->add_option("--models", a->models_dir, "Directory for each sensor's model file (<type><instance>.json) for apply / validate / export");
+  AddOutputOption(sub, "--json", &a->json_path, "Write the per-sensor summary as JSON ('-' = stdout)");
+  sub->add_option("--fit-rate", a->fit_rate_hz, "Rows per second the fit sees (block means), Hz")->capture_default_str();
+  sub->add_option("--optimise-for", a->optimise_for,
+                  "What the exported cubic is optimised for: steady (dT/dt = 0, the static curve) | warm-up (the state the "
+                  "run had while heating, at each temperature) | both (their mean)")
+      ->check(CLI::IsMember({"steady", "warm-up", "both"}))
+      ->capture_default_str();
+  sub->add_option("--min-span", a->min_span_c, "Smallest temperature span calibrated, deg C (ArduPilot's TEMP_RANGE_MIN)")
+      ->capture_default_str();
+  return {sub, [a] { return Run(*a); }};
+}
+
+const CommandRegistrar kReg(kName, 67, &Make);
+
+}  // namespace
+}  // namespace gyrocomp::cli

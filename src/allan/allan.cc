@@ -386,6 +386,13 @@ AllanNoiseTerms ExtractNoiseTerms(const AllanCurve& c, const AllanOptions& optio
       t.rrw_fit_tau_max_s = c.tau_s[j];
     }
   }
+  // A rate with no noise at all (every ADEV exactly 0: a constant record) has no -1/2 or +1/2
+  // region to fit, but its white and random-walk terms are known: 0 (issue 24: was null).
+  const bool all_zero = std::all_of(c.adev_dps.begin(), c.adev_dps.end(), [](double a) { return a == 0.0; });
+  if (all_zero) {
+    t.arw_fit_deg_per_sqrt_h = 0.0;
+    t.rrw_deg_per_h_per_sqrt_h = 0.0;
+  }
   if (wsum > 0.0) {
     // K in deg/s/sqrt(s) (numerically sigma(3 s) in deg/s for rrw_tau = 3 s) -> deg/h/sqrt(h).
     const double k_dps_per_sqrt_s = std::exp(sum / wsum) / std::sqrt(options.rrw_tau_s / 3.0);

@@ -62,8 +62,10 @@ struct VmdOptions {
   // 1 + alpha (w - w_k)^2, w in cycles per sample). Larger alpha: narrower modes. > 0.
   // (MATLAB's own `vmd` scales its penalty differently.)
   double alpha = 2000.0;
-  // Dual-ascent time step tau of Eq. (6). 0 = no Lagrangian update (noise-slack). >= 0.
+  // Dual-ascent time step tau of Eq. (6). 0 = no Lagrangian update (noise-slack). In [0, kMaxTau]
+  // (larger steps diverge: vmd_options.cc).
   double tau = 0.0;
+  static constexpr double kMaxTau = 2.0;
   // Convergence tolerance of the stopping rule (dimensionless for kRelative; squared signal
   // units for kAbsolute). > 0.
   double tol = 1e-7;

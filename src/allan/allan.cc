@@ -401,6 +401,30 @@ AllanNoiseTerms ExtractNoiseTerms(const AllanCurve& c, const AllanOptions& optio
   return t;
 }
 
+namespace {
+
+// A curve near the largest double (rates within a factor ~3600 of it) is finite in deg/s, but its
+// confidence bounds or its noise terms in deg/h (x 3600) are not: refused rather than returned
+// as infinities (issue 24, found by fuzz_numeric_stages).
+Status CheckRepresentable(const AllanResult& r) {
+  const AllanNoiseTerms& t = r.terms;
+  bool ok = std::all_of(r.curve.adev_hi_dps.begin(), r.curve.adev_hi_dps.end(), [](double v) { return std::isfinite(v); });
+  for (double v : {t.adev_min_deg_per_h, t.bias_instability_deg_per_h, t.adev_min_usable_deg_per_h}) {
+    ok = ok && std::isfinite(v);
+  }
+  for (const std::optional<double>& v : {t.arw_deg_per_sqrt_h, t.arw_fit_deg_per_sqrt_h, t.rrw_deg_per_h_per_sqrt_h}) {
+    ok = ok && (!v || std::isfinite(*v));
+  }
+  if (ok) return Status::Ok();
+  const double top = r.curve.adev_dps.empty() ? 0.0 : *std::max_element(r.curve.adev_dps.begin(), r.curve.adev_dps.end());
+  std::ostringstream os;
+  os << "Allan deviation: the curve reaches " << top
+     << " deg/s: its confidence bound or its noise terms in deg/h (x 3600) exceed the range of a double";
+  return InvalidInput(os.str());
+}
+
+}  // namespace
+
 Result<AllanResult> ComputeAllan(std::span<const double> y, double fs_hz, const AllanOptions& options) {
   std::string why;
   if (!options.IsValid(&why)) return InvalidArgument(why);
@@ -489,6 +513,7 @@ Result<AllanResult> ComputeAllan(std::span<const double> y, double fs_hz, const 
     c.adev_hi_dps.push_back(c.adev_dps[j] * std::sqrt(edf / ChiSquareQuantile(p_lo, edf)));
   }
   r.terms = ExtractNoiseTerms(c, options);
+  if (Status s = CheckRepresentable(r); !s) return s.error();
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;
 }

@@ -307,6 +307,17 @@ Result<DriftModel> DriftModelFromJson(std::string_view text, const std::string& 
   return std::move(set->axes[0]);
 }
 
+namespace drift_internal {
+
+Status CheckModelLoads(const DriftModel& model) {
+  Result<DriftModelSet> back = DriftModelSetFromJson(DriftModelToJson(model), "model");
+  if (back.ok()) return Status::Ok();
+  return InvalidInput("the fit gives a model that a model file cannot hold (" + back.error().message +
+                      "): the target or temperature values are beyond what a drift model represents");
+}
+
+}  // namespace drift_internal
+
 Status SaveDriftModelSet(const DriftModelSet& models, const std::string& path) {
   return WriteTextAtomic(path, DriftModelSetToJson(models));
 }

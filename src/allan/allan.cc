@@ -458,6 +458,7 @@ Result<AllanResult> ComputeAllan(std::span<const double> y, double fs_hz, const 
   AllanCurve& c = r.curve;
   const auto num_phase = static_cast<std::int64_t>(n) + 1;
   for (std::int64_t m : *ms) {
+    if (options.cancel != nullptr && options.cancel->cancelled()) throw Cancelled();  // AllanOptions::cancel
     // NIST SP 1065 Eq. (11) in phase form: sigma^2 = sum (x_{i+2m} - 2x_{i+m} + x_i)^2 / (2 n tau^2).
     const std::int64_t count = num_phase - 2 * m;
     const double* x0 = x.data();

@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "gyrocomp/io/gyro_log.h"
+#include "gyrocomp/core/cancel.h"
 #include "gyrocomp/core/status.h"
 
 namespace gyrocomp {
@@ -72,6 +73,9 @@ struct AllanOptions {
   // fits use only taus with at least this many equivalent degrees of freedom (10: ~22% one-sigma
   // relative error of sigma). The curve and the default minimum keep every tau. CLI: --min-edf.
   double min_edf_for_terms = 10.0;
+  // Polled before every tau (issue 24: a curve over 1e9 samples takes seconds per tau); once
+  // cancelled, ComputeAllan throws Cancelled. nullptr: not polled. Not owned.
+  const CancellationToken* cancel = nullptr;
   bool IsValid(std::string* error) const;
 };
 

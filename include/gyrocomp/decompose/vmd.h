@@ -33,6 +33,7 @@
 #include <string>
 #include <vector>
 
+#include "gyrocomp/core/cancel.h"
 #include "gyrocomp/core/status.h"
 
 namespace gyrocomp {
@@ -110,6 +111,9 @@ struct VmdOptions {
   // Each update is reported once; when a run is repeated internally, updates past the returned
   // count may have been reported. Empty: not called. Does not change the result.
   std::function<void(int iteration, double update)> on_iteration;
+  // Polled before every ADMM update on the calling thread (issue 24): once cancelled,
+  // DecomposeVmd throws Cancelled (the worker pool joins in its destructor). nullptr: not polled.
+  const CancellationToken* cancel = nullptr;
   // Largest working set DecomposeVmd may allocate, bytes (K modes x N bins x two complex iterates
   // and the accumulator, ~48 K N bytes, plus the modes returned). Checked before allocating: a
   // larger problem is refused with the estimate, never a std::bad_alloc. 8 GiB.

@@ -129,6 +129,12 @@ void CheckNumericOptions(CLI::App& app) {
       for (const OptionRange& r : kOptionRanges) {
         if (name == r.name) range = &r;
       }
+      // CLI11's PositiveNumber / NonNegativeNumber print "not in range 0.000000 to 1797...": the
+      // same rule with a readable range.
+      static constexpr OptionRange kPositive{"", 0.0, kMaxOptionMagnitude, true, false, "> 0"};
+      static constexpr OptionRange kNonNegative{"", 0.0, kMaxOptionMagnitude, false, false, ">= 0"};
+      if (range == nullptr && type.find(":POSITIVE") != std::string::npos) range = &kPositive;
+      if (range == nullptr && type.find(":NONNEGATIVE") != std::string::npos) range = &kNonNegative;
       if (range != nullptr) {
         // The range replaces CLI11's own checks (PositiveNumber: a two-line message with 1.8e308).
         try {

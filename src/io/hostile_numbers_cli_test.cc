@@ -221,6 +221,16 @@ TEST_F(HostileNumbersCliTest, SignalStopsALongFitAndLeavesNothing) {
   }
 }
 
+// `demo --fs 1e-5 --out new` was refused after creating `new`, which stayed, empty.
+TEST_F(HostileNumbersCliTest, RefusedDemoLeavesNoFolderItCreated) {
+  std::string out;
+  EXPECT_EQ(Run("demo --fs 1e-5 --out '" + dir_ + "/new'", &out), 2) << out;
+  EXPECT_FALSE(fs::exists(dir_ + "/new"));
+  fs::create_directory(dir_ + "/old");
+  EXPECT_EQ(Run("demo --fs 1e-5 --out '" + dir_ + "/old'", &out), 2) << out;
+  EXPECT_TRUE(fs::is_directory(dir_ + "/old"));
+}
+
 // ---- every numeric option of every subcommand ----------------------------------------------
 
 struct NumericOption {

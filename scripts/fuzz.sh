@@ -3,7 +3,8 @@
 # (default 60) on a seed corpus made from tests/, ../shared/fieldlogs and a simulated log.
 #   scripts/fuzz.sh [SECONDS] [FUZZER...]      e.g. scripts/fuzz.sh 300 fuzz_csv
 # A crash leaves its input in build-fuzz/crashes/<fuzzer>/ and makes the script exit 1; turn it
-# into a regression test (src/io/io_fuzz_regression_test.cc) before fixing it.
+# into a regression test (src/io/io_fuzz_regression_test.cc; numeric harnesses: the stage's *_test.cc)
+# before fixing it.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-60}
@@ -50,11 +51,24 @@ if [ ! -e "$seeds/.done" ]; then
   cp tests/bags/rosbag2/talker_mcap/talker.mcap "$seeds/mcap/"
   touch "$seeds/.done"
 fi
+# Numeric harnesses (issue 24): one small seed per shape x stage mask (fuzz_numeric_support.h):
+# length byte, shape byte, then bytes that the harness reads as decades, values and options.
+if [ ! -e "$seeds/numeric/.done" ]; then
+  mkdir -p "$seeds/numeric"
+  for shape in 0 1 2 3 4 5 6 7 8 9; do
+    for mask in 1 2 4 8 15; do
+      printf "\\x01\\x00\\x$(printf %02x $((shape * 7 + 40)))\\x$(printf %02x $shape)\\x66\\x01\\x3f\\xf0\\x00\\x00\\x00\\x00\\x00\\x00\\x$(printf %02x $mask)\\x05\\x03\\x11\\x22\\x33\\x44" \
+        > "$seeds/numeric/s${shape}_m$mask"
+    done
+  done
+  touch "$seeds/numeric/.done"
+fi
 
 declare -A corpus_of=([fuzz_csv]=csv [fuzz_gz]=gz [fuzz_ulog]=ulog [fuzz_dataflash]=dataflash [fuzz_model]=model
-                      [fuzz_mcap]=mcap [fuzz_rosbag1]=rosbag1)
+                      [fuzz_mcap]=mcap [fuzz_rosbag1]=rosbag1 [fuzz_numeric_stages]=numeric [fuzz_numeric_drift]=numeric)
 fuzzers=("$@")
-[ ${#fuzzers[@]} -eq 0 ] && fuzzers=(fuzz_csv fuzz_gz fuzz_ulog fuzz_dataflash fuzz_model fuzz_mcap fuzz_rosbag1)
+[ ${#fuzzers[@]} -eq 0 ] && fuzzers=(fuzz_csv fuzz_gz fuzz_ulog fuzz_dataflash fuzz_model fuzz_mcap fuzz_rosbag1
+                                     fuzz_numeric_stages fuzz_numeric_drift)
 status=0
 for fz in "${fuzzers[@]}"; do
   corpus=$build/corpus/$fz

@@ -3,7 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "gyrocomp/io/flight_log.h"
 #include "gyrocomp/io/io.h"
@@ -211,6 +216,30 @@ Status CleanJson(nlohmann::json& j, const std::string& where) {
   return Status::Ok();
 }
 
+// What a destination resolves to, so that two options writing the same place are refused
+// before any work (issue 24): "-" is standard output (so it matches /dev/stdout or a link to
+// it), an existing file its device and inode, a new name its canonical path. "" for what may
+// take several outputs: /dev/null and a terminal.
+std::string OutputIdentity(const std::string& path) {
+  struct stat st;
+  const bool is_stdout = path == "-";
+  if (is_stdout ? ::fstat(STDOUT_FILENO, &st) == 0 : ::stat(path.c_str(), &st) == 0) {
+    struct stat null_st;
+    if (::stat("/dev/null", &null_st) == 0 && st.st_dev == null_st.st_dev && st.st_ino == null_st.st_ino) return "";
+    if (S_ISCHR(st.st_mode) && (is_stdout ? ::isatty(STDOUT_FILENO) : 1) != 0) {
+      const int fd = is_stdout ? STDOUT_FILENO : ::open(path.c_str(), O_WRONLY | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
+      const bool tty = fd >= 0 && ::isatty(fd) != 0;
+      if (fd >= 0 && !is_stdout) ::close(fd);
+      if (tty) return is_stdout ? "stdout" : "";
+    }
+    return std::to_string(st.st_dev) + ":" + std::to_string(st.st_ino);
+  }
+  if (is_stdout) return "stdout";
+  std::error_code ec;
+  const std::filesystem::path canonical = std::filesystem::weakly_canonical(path, ec);
+  return "new:" + (ec ? path : canonical.string());
+}
+
 }  // namespace
 
 CLI::Option* AddInputOption(CLI::App* app, const std::string& flags, std::string* path, const std::string& help) {
@@ -246,9 +275,18 @@ Status PrepareFiles(const CLI::App* app) {
       Outputs().AddInput(*f.path);
     }
   }
+  std::vector<std::pair<std::string, const FileOption*>> written;  // (identity, option)
   for (const FileOption& f : FileOptions()) {
     if (f.app != app || !f.output || (f.option->count() == 0 && f.path->empty())) continue;
     if (f.path->empty()) return InvalidArgument(f.option->get_name() + ": the file name is empty");
+    const std::string id = OutputIdentity(*f.path);
+    for (const auto& [other_id, other] : written) {
+      if (!id.empty() && (id == other_id || *other->path == *f.path)) {
+        return InvalidArgument(other->option->get_name() + " '" + *other->path + "' and " + f.option->get_name() +
+                               " '" + *f.path + "' are the same destination: give each output its own file");
+      }
+    }
+    written.emplace_back(id, &f);
     if (Status s = Outputs().Declare(*f.path); !s) return s;
   }
   return Status::Ok();

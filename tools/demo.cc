@@ -313,20 +313,33 @@ int Run(const DemoArgs& a) {
   if (Status s = ResolvePipelineOptions(&pipe); !s) return ReportError(kName, s.error());
   int cs_svr_generations = 0;
   const std::string budget = ApplyDemoBudget(a, &pipe.options, &cs_svr_generations);
+  // Options first: a refused --fs must not leave an empty --out folder behind (issue 24).
+  SimulatorOptions sim;
+  sim.fs_hz = a.fs_hz;
+  sim.seed = a.seed;
+  std::string why;
+  if (!sim.IsValid(&why)) return ReportError(kName, InvalidArgument(why));
   std::error_code ec;
+  const bool existed = std::filesystem::exists(a.out_dir, ec);
   std::filesystem::create_directories(a.out_dir, ec);
   if (ec) return ReportError(kName, IoError(a.out_dir + ": cannot create directory: " + ec.message()));
+  // A failed run leaves no folder it created (issue 24): its temporaries are discarded first.
+  struct RemoveCreatedFolder {
+    std::string dir;
+    bool armed;
+    ~RemoveCreatedFolder() {
+      if (!armed) return;
+      Outputs().Discard();
+      std::error_code ignored;
+      std::filesystem::remove(dir, ignored);  // only when empty
+    }
+  } cleanup{a.out_dir, !existed};
   const std::filesystem::path dir(a.out_dir);
   // The three files, checked before the work (cli_common.h: written together at the end).
   for (const char* name : {"processed.csv.gz", "summary.json", "report.html"}) {
     if (Status s = Outputs().Declare((dir / name).string()); !s) return ReportError(kName, s.error());
   }
 
-  SimulatorOptions sim;
-  sim.fs_hz = a.fs_hz;
-  sim.seed = a.seed;
-  std::string why;
-  if (!sim.IsValid(&why)) return ReportError(kName, InvalidArgument(why));
   Result<SimulatedRun> run = Simulate(sim);
   if (!run) return ReportError(kName, run.error());
   clock.Mark("simulate");
@@ -356,8 +369,10 @@ int Run(const DemoArgs& a) {
   const SideBySideTable table = MakeDemoTable(*run, *paper, *r, *held_out, pipe.options.drift.model);
   PrintConsole(*r, *paper, table, budget);
 
-  return WriteDemoFiles(a, *run, *r, *paper, *held_out, table, comparison ? &*comparison : nullptr,
-                        PipelineOptionsJson(pipe.options), budget, &clock);
+  const int code = WriteDemoFiles(a, *run, *r, *paper, *held_out, table, comparison ? &*comparison : nullptr,
+                                  PipelineOptionsJson(pipe.options), budget, &clock);
+  if (code == kExitOk) cleanup.armed = false;
+  return code;
 }
 
 Command Make(CLI::App& app) {

@@ -4,9 +4,12 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cmath>
+#include <cstdlib>
 #include <cstdint>
 #include <exception>
 #include <iostream>
+#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -63,6 +66,124 @@ void CheckSeedOptions(CLI::App& app) {
   }
 }
 
+// Numeric options (issue 24): every FLOAT or INT option of every subcommand refuses, at parse time
+// (before any work), NaN, infinities and magnitudes above kMaxOptionMagnitude; the options below
+// are refused outside their valid range, which is the library's (the IsValid named beside each),
+// with the range in the message. Other bounds are the library's IsValid, checked by each command
+// before it reads its input.
+constexpr double kMaxOptionMagnitude = 1e15;
+
+struct OptionRange {
+  const char* name;    // long option name, e.g. "--gamma"
+  double lo, hi;
+  bool lo_open, hi_open;
+  const char* source;  // the IsValid that states the same range
+};
+
+constexpr OptionRange kOptionRanges[] = {
+    {"--C", 0.0, 1e6, true, false, "SvrOptions"},
+    {"--gamma", 0.0, 1e6, true, false, "SvrOptions"},
+    {"--sigma", 1e-3, 1e3, false, false, "SvrOptions"},
+    {"--epsilon", 0.0, 1e6, false, false, "SvrOptions"},
+    {"--svr-tol", 0.0, 1.0, true, false, "SvrOptions::tolerance"},
+    {"--C-min", 0.0, 1e6, true, false, "SvrSearchOptions"},
+    {"--C-max", 0.0, 1e6, true, false, "SvrSearchOptions"},
+    {"--sigma-min", 1e-3, 1e3, false, false, "SvrSearchOptions"},
+    {"--sigma-max", 1e-3, 1e3, false, false, "SvrSearchOptions"},
+    {"--tau", 0.0, 2.0, false, false, "VmdOptions::tau"},
+    {"--alpha", 0.0, kMaxOptionMagnitude, true, false, "VmdOptions::alpha"},
+    {"--tol", 0.0, kMaxOptionMagnitude, true, false, "VmdOptions::tol"},
+    {"--modes", 1.0, 1000.0, false, false, "VmdOptions::num_modes"},
+    {"--max-iter", 2.0, 1e9, false, false, "VmdOptions::max_iterations"},
+    {"--m", 1.0, 10.0, false, false, "SampleEntropyOptions::m"},
+    {"--r", 0.0, kMaxOptionMagnitude, true, false, "SampleEntropyOptions::r_factor"},
+    {"--r-abs", 0.0, kMaxOptionMagnitude, true, false, "SampleEntropyOptions::r_absolute"},
+    {"--flp-order", 1.0, 4096.0, false, false, "FlpOptions::order"},
+    {"--flp-beta", 0.0, 2.0, true, true, "FlpOptions::beta"},
+    {"--flp-alpha", 0.0, kMaxOptionMagnitude, true, false, "FlpOptions::alpha"},
+    {"--flp-forgetting", 0.0, 1.0, false, true, "FlpOptions::power_forgetting"},
+    {"--pa", 0.0, 1.0, false, false, "CuckooSearchOptions::discovery_probability"},
+    {"--nests", 2.0, 1e6, false, false, "CuckooSearchOptions::num_nests"},
+    {"--generations", 0.0, 1e6, false, false, "CuckooSearchOptions::max_generations"},
+    {"--fs", 1e-6, 1e9, false, false, "LogSpec::fs_hz"},
+    {"--resample", 1e-6, 1e9, false, false, "LogSpec::resample_hz"},
+    {"--max-memory", 0.0, kMaxOptionMagnitude, true, false, "LogSpec::max_memory_bytes"},
+};
+
+std::string RangeText(double lo, double hi, bool lo_open, bool hi_open) {
+  std::ostringstream os;
+  os << (lo_open ? "(" : "[") << lo << ", " << hi << (hi_open ? ")" : "]");
+  return os.str();
+}
+
+void CheckNumericOptions(CLI::App& app) {
+  for (CLI::App* sub : app.get_subcommands({})) {
+    for (CLI::Option* option : sub->get_options()) {
+      const std::string type = option->get_type_name();
+      const bool is_float = type.rfind("FLOAT", 0) == 0;
+      const bool is_int = type.rfind("INT", 0) == 0 || type.rfind("UINT", 0) == 0;
+      const std::string name = option->get_name();
+      const bool is_seed = name.size() >= 4 && name.compare(name.size() - 4, 4, "seed") == 0;  // CheckSeedOptions
+      if ((!is_float && !is_int) || is_seed) continue;
+      const OptionRange* range = nullptr;
+      for (const OptionRange& r : kOptionRanges) {
+        if (name == r.name) range = &r;
+      }
+      // CLI11's PositiveNumber / NonNegativeNumber print "not in range 0.000000 to 1797...": the
+      // same rule with a readable range.
+      static constexpr OptionRange kPositive{"", 0.0, kMaxOptionMagnitude, true, false, "> 0"};
+      static constexpr OptionRange kNonNegative{"", 0.0, kMaxOptionMagnitude, false, false, ">= 0"};
+      if (range == nullptr && type.find(":POSITIVE") != std::string::npos) range = &kPositive;
+      if (range == nullptr && type.find(":NONNEGATIVE") != std::string::npos) range = &kNonNegative;
+      if (range != nullptr) {
+        // The range replaces CLI11's own checks (PositiveNumber: a two-line message with 1.8e308).
+        try {
+          for (int i = 0;; ++i) option->get_validator(i)->active(false);
+        } catch (const CLI::OptionNotFound&) {  // past the last validator
+        }
+      }
+      option->check(CLI::Validator(
+          [range, unsigned_type = type.rfind("UINT", 0) == 0](std::string& text) -> std::string {
+            char* end = nullptr;
+            const double v = std::strtod(text.c_str(), &end);
+            if (text.empty() || end != text.c_str() + text.size()) return "";  // CLI11 reports what is not a number
+            if (range != nullptr) {
+              const bool ok = (range->lo_open ? v > range->lo : v >= range->lo) &&
+                              (range->hi_open ? v < range->hi : v <= range->hi);
+              if (!ok) {
+                return text + ": must be in " + RangeText(range->lo, range->hi, range->lo_open, range->hi_open) + " (" +
+                       range->source + ")";
+              }
+            }
+            if (!std::isfinite(v) || std::abs(v) > kMaxOptionMagnitude) {
+              std::ostringstream os;
+              os << text << ": must be a finite number of magnitude <= " << kMaxOptionMagnitude;
+              return os.str();
+            }
+            if (unsigned_type && v < 0) return text + ": must be >= 0";
+            return "";
+          },
+          range != nullptr ? RangeText(range->lo, range->hi, range->lo_open, range->hi_open) : std::string(),
+          "gyrocomp-range"));
+    }
+  }
+}
+
+// The first argument that is not an option names the subcommand: an unknown one is refused here,
+// before CLI11 sees it, because with --help CLI11 would print the top-level help and exit 0
+// (issue 24: scripts could not tell whether a subcommand exists).
+Status CheckSubcommandName(CLI::App& app, int argc, char** argv) {
+  if (argc < 2) return Status::Ok();
+  const std::string first = argv[1];
+  if (first.empty() || first[0] == '-') return Status::Ok();
+  for (const CLI::App* sub : app.get_subcommands({})) {
+    if (sub->check_name(first)) return Status::Ok();
+  }
+  std::string names;
+  for (const CLI::App* sub : app.get_subcommands({})) names += (names.empty() ? "" : ", ") + sub->get_name();
+  return InvalidArgument("unknown subcommand '" + first + "' (subcommands: " + names + ")");
+}
+
 // Runs the parsed command inside the output transaction of cli_common.h.
 int RunCommand(const Command& c) {
   const std::string name = c.app->get_name();
@@ -107,12 +228,25 @@ int main(int argc, char** argv) {
   std::vector<Command> commands;
   for (CommandFactory make : RegisteredCommands()) commands.push_back(make(app));
   CheckSeedOptions(app);
+  CheckNumericOptions(app);
   InstallSignalHandlers();
+  if (gyrocomp::Status s = CheckSubcommandName(app, argc, argv); !s) {
+    std::cerr << "gyrocomp: error: " << s.error().message << "\n";
+    return kExitBadInput;
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    const int code = app.exit(e);
-    return code == 0 ? kExitOk : kExitBadInput;
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
+    // One line (cli.md), prefixed with the subcommand when there is one; no "Run with --help".
+    std::string where = "gyrocomp";
+    for (const CLI::App* sub : app.get_subcommands({})) {
+      if (argc > 1 && sub->check_name(argv[1])) where += " " + sub->get_name();
+    }
+    std::string what = e.what();
+    std::replace(what.begin(), what.end(), '\n', ' ');
+    std::cerr << where << ": error: " << what << "\n";
+    return kExitBadInput;
   }
   try {
     for (const Command& c : commands) {

@@ -24,6 +24,23 @@ nlohmann::json AllanTermsJson(const AllanResult& r) {
   j["rrw_fit_tau_range_s"] = {Num(t.rrw_fit_tau_min_s), Num(t.rrw_fit_tau_max_s)};
   j["bias_instability_deg_per_h"] = Num(t.bias_instability_deg_per_h);
   j["rrw_deg_per_h_per_sqrt_h"] = Num(t.rrw_deg_per_h_per_sqrt_h);
+  // A figure that cannot be computed is null with "<key>_reason" beside it (issue 24).
+  if (!t.arw_deg_per_sqrt_h) {
+    j["arw_deg_per_sqrt_h_reason"] = "tau = 1 s is beyond the longest tau of the curve (record too short)";
+  }
+  if (!t.arw_fit_deg_per_sqrt_h) {
+    j["arw_fit_deg_per_sqrt_h_reason"] =
+        "no usable tau before the minimum has a local slope near -1/2 (no white-rate region)";
+  }
+  if (!t.rrw_deg_per_h_per_sqrt_h) {
+    j["rrw_deg_per_h_per_sqrt_h_reason"] =
+        "no usable tau after the minimum has a local slope near +1/2 (no rate-random-walk region)";
+  }
+  if (!t.rrw_fit_tau_min_s) j["rrw_fit_tau_range_s_reason"] = "no +1/2 region was fitted";
+  for (const char* key : {"adev_min_deg_per_h", "tau_at_min_s", "adev_min_usable_deg_per_h", "tau_at_min_usable_s",
+                          "bias_instability_deg_per_h", "min_edf"}) {
+    if (j[key].is_null()) j[std::string(key) + "_reason"] = "not a finite number (the curve holds a NaN or an infinity)";
+  }
   j["conventions"] = {
       {"arw", "N = sigma(tau = 1 s) x sqrt(1 s), deg/sqrt(h) (IEEE 952; x 60 from deg/s*sqrt(s))"},
       {"adev_min", "minimum of the whole overlapping ADEV curve, deg/h (the paper's 'bias stability', as allantools users read it)"},

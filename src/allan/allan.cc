@@ -386,6 +386,13 @@ AllanNoiseTerms ExtractNoiseTerms(const AllanCurve& c, const AllanOptions& optio
       t.rrw_fit_tau_max_s = c.tau_s[j];
     }
   }
+  // A rate with no noise at all (every ADEV exactly 0: a constant record) has no -1/2 or +1/2
+  // region to fit, but its white and random-walk terms are known: 0 (issue 24: was null).
+  const bool all_zero = std::all_of(c.adev_dps.begin(), c.adev_dps.end(), [](double a) { return a == 0.0; });
+  if (all_zero) {
+    t.arw_fit_deg_per_sqrt_h = 0.0;
+    t.rrw_deg_per_h_per_sqrt_h = 0.0;
+  }
   if (wsum > 0.0) {
     // K in deg/s/sqrt(s) (numerically sigma(3 s) in deg/s for rrw_tau = 3 s) -> deg/h/sqrt(h).
     const double k_dps_per_sqrt_s = std::exp(sum / wsum) / std::sqrt(options.rrw_tau_s / 3.0);
@@ -393,6 +400,30 @@ AllanNoiseTerms ExtractNoiseTerms(const AllanCurve& c, const AllanOptions& optio
   }
   return t;
 }
+
+namespace {
+
+// A curve near the largest double (rates within a factor ~3600 of it) is finite in deg/s, but its
+// confidence bounds or its noise terms in deg/h (x 3600) are not: refused rather than returned
+// as infinities (issue 24, found by fuzz_numeric_stages).
+Status CheckRepresentable(const AllanResult& r) {
+  const AllanNoiseTerms& t = r.terms;
+  bool ok = std::all_of(r.curve.adev_hi_dps.begin(), r.curve.adev_hi_dps.end(), [](double v) { return std::isfinite(v); });
+  for (double v : {t.adev_min_deg_per_h, t.bias_instability_deg_per_h, t.adev_min_usable_deg_per_h}) {
+    ok = ok && std::isfinite(v);
+  }
+  for (const std::optional<double>& v : {t.arw_deg_per_sqrt_h, t.arw_fit_deg_per_sqrt_h, t.rrw_deg_per_h_per_sqrt_h}) {
+    ok = ok && (!v || std::isfinite(*v));
+  }
+  if (ok) return Status::Ok();
+  const double top = r.curve.adev_dps.empty() ? 0.0 : *std::max_element(r.curve.adev_dps.begin(), r.curve.adev_dps.end());
+  std::ostringstream os;
+  os << "Allan deviation: the curve reaches " << top
+     << " deg/s: its confidence bound or its noise terms in deg/h (x 3600) exceed the range of a double";
+  return InvalidInput(os.str());
+}
+
+}  // namespace
 
 Result<AllanResult> ComputeAllan(std::span<const double> y, double fs_hz, const AllanOptions& options) {
   std::string why;
@@ -427,6 +458,7 @@ Result<AllanResult> ComputeAllan(std::span<const double> y, double fs_hz, const 
   AllanCurve& c = r.curve;
   const auto num_phase = static_cast<std::int64_t>(n) + 1;
   for (std::int64_t m : *ms) {
+    if (options.cancel != nullptr && options.cancel->cancelled()) throw Cancelled();  // AllanOptions::cancel
     // NIST SP 1065 Eq. (11) in phase form: sigma^2 = sum (x_{i+2m} - 2x_{i+m} + x_i)^2 / (2 n tau^2).
     const std::int64_t count = num_phase - 2 * m;
     const double* x0 = x.data();
@@ -482,6 +514,7 @@ Result<AllanResult> ComputeAllan(std::span<const double> y, double fs_hz, const 
     c.adev_hi_dps.push_back(c.adev_dps[j] * std::sqrt(edf / ChiSquareQuantile(p_lo, edf)));
   }
   r.terms = ExtractNoiseTerms(c, options);
+  if (Status s = CheckRepresentable(r); !s) return s.error();
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;
 }

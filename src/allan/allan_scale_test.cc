@@ -45,12 +45,26 @@ TEST(AllanScale, CurveAndTermsScaleExactlyWithTheInput) {
 
 TEST(AllanScale, AlternatingNearTheLargestDoubleIsFinite) {
   std::vector<double> y(1000);
-  for (std::size_t i = 0; i < y.size(); ++i) y[i] = i % 2 ? 1e308 : -1e308;
+  for (std::size_t i = 0; i < y.size(); ++i) y[i] = i % 2 ? 1e304 : -1e304;
   const Result<AllanResult> r = ComputeAllan(y, 1.0, AllanOptions{});
   ASSERT_TRUE(r.ok()) << r.error().message;
-  // tau = 1 sample: second differences of the phase are +-2e308 (normalised: +-2): sqrt(2) 1e308.
-  EXPECT_NEAR(r->curve.adev_dps[0], std::sqrt(2.0) * 1e308, 1e-12 * 1e308);
+  // tau = 1 sample: second differences of the phase are +-2e304 (normalised: +-2): sqrt(2) 1e304.
+  EXPECT_NEAR(r->curve.adev_dps[0], std::sqrt(2.0) * 1e304, 1e-12 * 1e304);
   for (double a : r->curve.adev_dps) EXPECT_TRUE(std::isfinite(a));
+  for (double a : r->curve.adev_hi_dps) EXPECT_TRUE(std::isfinite(a));
+  EXPECT_TRUE(std::isfinite(r->terms.adev_min_deg_per_h));
+  EXPECT_TRUE(std::isfinite(r->terms.bias_instability_deg_per_h));
+}
+
+// Issue 24 (fuzz_numeric_stages): at +-1e308 the curve is finite in deg/s but its noise terms in
+// deg/h (x 3600) and its upper confidence bounds are not; they were returned as infinities with
+// a success status. Now refused, with the reason.
+TEST(AllanScale, TermsBeyondTheDoubleRangeAreRefusedNotInfinite) {
+  std::vector<double> y(1000);
+  for (std::size_t i = 0; i < y.size(); ++i) y[i] = i % 2 ? 1e308 : -1e308;
+  const Result<AllanResult> r = ComputeAllan(y, 1.0, AllanOptions{});
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().message.find("exceed the range of a double"), std::string::npos) << r.error().message;
 }
 
 }  // namespace

@@ -512,5 +512,17 @@ TEST(AllanCli, SeveralAxesAndBadInput) {
   EXPECT_NE(out.find("--taus fortnightly"), std::string::npos) << out;
 }
 
+// Issue 24: AllanOptions::cancel is polled before every tau.
+TEST(AllanCancel, ACancelledTokenStopsTheCurve) {
+  std::vector<double> y(10000);
+  for (std::size_t i = 0; i < y.size(); ++i) y[i] = ((static_cast<int>(i * 7919 % 101)) - 50) / 50.0;
+  CancellationToken token;
+  AllanOptions o;
+  o.cancel = &token;
+  EXPECT_TRUE(ComputeAllan(y, 100.0, o).ok());
+  token.Cancel();
+  EXPECT_THROW((void)ComputeAllan(y, 100.0, o), Cancelled);
+}
+
 }  // namespace
 }  // namespace gyrocomp

@@ -128,5 +128,25 @@ TEST(DeviationKinds, NamesRoundTripAndErrors) {
   EXPECT_EQ(r.error().kind, ErrorKind::kInvalidInput);
 }
 
+// Issue 24 (fuzz_numeric_stages): a record alternating near the largest double gave a finite
+// Hadamard deviation but an infinite upper confidence bound with a success status. Every kind:
+// refused with a message, or every value finite.
+TEST(Deviations, NearTheLargestDoubleIsRefusedOrFinite) {
+  std::vector<double> y = {-1.37153e303, 1.37153e303, -1.37153e303, 1.37153e303, -1.37153e303,
+                           1.37153e303, -1.37153e303, 1.79769e308, -1.79769e308, 1.79769e308};
+  for (DeviationKind k : {DeviationKind::kAdev, DeviationKind::kMdev, DeviationKind::kHdev, DeviationKind::kOhdev,
+                          DeviationKind::kTotdev}) {
+    SCOPED_TRACE(DeviationKindName(k));
+    const Result<DeviationCurve> d = ComputeDeviation(y, 1.0, k);
+    if (!d.ok()) {
+      EXPECT_FALSE(d.error().message.empty());
+      continue;
+    }
+    for (std::size_t j = 0; j < d->size(); ++j) {
+      EXPECT_TRUE(std::isfinite(d->dev_dps[j]) && std::isfinite(d->lo_dps[j]) && std::isfinite(d->hi_dps[j])) << j;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace gyrocomp

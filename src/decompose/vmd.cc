@@ -381,6 +381,7 @@ void RunAdmm(AdmmState& st, int threads, int keep_from) {
     for (std::size_t b = b0; b < b1; ++b) UpdateBlock(st, io, b, om_snapshot);
   };
   while ((st.n == 0 || st.u_diff > st.tol_norm) && st.n < opt.max_iterations - 1) {
+    if (opt.cancel != nullptr && opt.cancel->cancelled()) throw Cancelled();  // VmdOptions::cancel
     st.stop_sums_now = StopSchedule(st, st.n + 1);
     const bool keep = KeepPrevious(st, keep_from);
     io = {st.cur_re, st.cur_im, st.cur_re, st.cur_im};

@@ -540,5 +540,24 @@ TEST(Vmd, RefusesMoreModesThanTheRecordHoldsOrMemoryAllows) {
   EXPECT_TRUE(DecomposeVmd(x, opt).ok());
 }
 
+// Issue 24: VmdOptions::cancel is polled before every update; a cancel from another thread (a
+// Python Ctrl-C, a Dask cancel) stops the decomposition with Cancelled.
+TEST(VmdCancel, ThrowsCancelledAtTheNextUpdate) {
+  std::vector<double> x(4096);
+  for (std::size_t i = 0; i < x.size(); ++i) x[i] = std::sin(0.01 * static_cast<double>(i)) + std::sin(0.3 * static_cast<double>(i));
+  CancellationToken token;
+  VmdOptions o;
+  o.num_modes = 3;
+  o.max_iterations = 100000;
+  o.tol = 1e-300;
+  o.cancel = &token;
+  int updates = 0;
+  o.on_iteration = [&](int, double) {
+    if (++updates == 5) token.Cancel();
+  };
+  EXPECT_THROW((void)DecomposeVmd(x, o), Cancelled);
+  EXPECT_EQ(updates, 5);
+}
+
 }  // namespace
 }  // namespace gyrocomp

@@ -1,6 +1,8 @@
 // Variable-step LMS forward linear predictor (paper Eqs. 14-16), normalised so it is scale-free.
 #include "gyrocomp/denoise/flp.h"
 
+#include "normalising_scale.h"
+
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -142,6 +144,19 @@ Result<FlpResult> RunFlp(std::span<const double> x, const FlpOptions& options) {
   if (x.empty()) return InvalidInput("FLP: empty signal");
   for (std::size_t i = 0; i < x.size(); ++i) {
     if (!std::isfinite(x[i])) return InvalidInput("FLP: sample " + std::to_string(i) + " is not finite");
+  }
+  // Near the ends of the double range the prediction and its error overflow: filter a
+  // power-of-two scaled copy (normalising_scale.h; ordinary records are not touched).
+  if (const double scale = denoise_internal::NormalisingScale(x); scale != 1.0) {
+    Result<FlpResult> r = RunFlp(denoise_internal::Scaled(x, scale), options);
+    if (!r.ok()) return r.error();
+    if (!denoise_internal::Unscale(&r->filtered, scale)) {
+      return InvalidInput("FLP: the filtered signal exceeds the range of a double (the signal is within a factor 2 "
+                          "of the largest double)");
+    }
+    r->summary.rms_error /= scale;
+    r->summary.rms_error_second_half /= scale;
+    return r;
   }
   FlpFilter& filter = *created;
   FlpResult result;

@@ -1,6 +1,8 @@
 // Wavelet-threshold denoising (VisuShrink by default, as ../golden/wavelet/wavedec.json).
 #include "gyrocomp/denoise/wavelet_denoise.h"
 
+#include "normalising_scale.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -182,6 +184,19 @@ Result<WaveletDenoiseResult> RunWaveletDenoise(std::span<const double> x, const 
   if (x.empty()) return InvalidInput("wavelet denoising: empty signal");
   for (std::size_t i = 0; i < x.size(); ++i) {
     if (!std::isfinite(x[i])) return InvalidInput("wavelet denoising: sample " + std::to_string(i) + " is not finite");
+  }
+  if (const double scale = denoise_internal::NormalisingScale(x); scale != 1.0) {
+    WaveletDenoiseOptions o = options;
+    if (o.noise_sigma) *o.noise_sigma *= scale;
+    Result<WaveletDenoiseResult> r = RunWaveletDenoise(denoise_internal::Scaled(x, scale), o);
+    if (!r.ok()) return r.error();
+    if (!denoise_internal::Unscale(&r->denoised, scale)) {
+      return InvalidInput("wavelet denoising: the reconstruction exceeds the range of a double (the signal is "
+                          "within a factor 2 of the largest double)");
+    }
+    for (double& v : r->summary.sigma) v /= scale;
+    for (double& v : r->summary.threshold) v /= scale;
+    return r;
   }
   Result<Wavelet> wavelet = MakeWavelet(options.wavelet);
   if (!wavelet.ok()) return wavelet.error();

@@ -1,6 +1,8 @@
 // WFLP: DWT, FLP on the approximation, thresholded details, reconstruction (paper Section 3.3).
 #include "gyrocomp/denoise/wflp.h"
 
+#include "normalising_scale.h"
+
 #include <cmath>
 #include <sstream>
 #include <string>
@@ -54,6 +56,22 @@ Result<WflpResult> RunWflp(std::span<const double> x, const WflpOptions& options
   if (x.empty()) return InvalidInput("WFLP: empty signal");
   for (std::size_t i = 0; i < x.size(); ++i) {
     if (!std::isfinite(x[i])) return InvalidInput("WFLP: sample " + std::to_string(i) + " is not finite");
+  }
+  // Near the ends of the double range: a power-of-two scaled copy (normalising_scale.h).
+  if (const double scale = denoise_internal::NormalisingScale(x); scale != 1.0) {
+    WflpOptions o = options;
+    if (o.noise_sigma) *o.noise_sigma *= scale;
+    Result<WflpResult> r = RunWflp(denoise_internal::Scaled(x, scale), o);
+    if (!r.ok()) return r.error();
+    if (!denoise_internal::Unscale(&r->denoised, scale)) {
+      return InvalidInput("WFLP: the denoised signal exceeds the range of a double (the signal is within a factor 2 "
+                          "of the largest double)");
+    }
+    r->summary.flp.rms_error /= scale;
+    r->summary.flp.rms_error_second_half /= scale;
+    for (double& v : r->summary.thresholds.sigma) v /= scale;
+    for (double& v : r->summary.thresholds.threshold) v /= scale;
+    return r;
   }
   Result<Wavelet> wavelet = MakeWavelet(options.wavelet);
   if (!wavelet.ok()) return wavelet.error();

@@ -86,22 +86,25 @@ std::string CuckooSearchSummary::BriefReport() const {
 
 std::vector<double> EvaluateInParallel(const SearchObjective& objective,
                                        const std::vector<std::vector<double>>& points,
-                                       int num_threads) {
+                                       int num_threads,
+                                       const CancellationToken* cancel) {
   std::vector<double> values(points.size(), std::numeric_limits<double>::infinity());
   const int workers = std::max(1, std::min<int>(num_threads, static_cast<int>(points.size())));
   std::atomic<std::size_t> next{0};
+  auto cancelled = [cancel] { return cancel != nullptr && cancel->cancelled(); };
   auto work = [&] {
-    for (std::size_t i = next++; i < points.size(); i = next++)
+    for (std::size_t i = next++; i < points.size() && !cancelled(); i = next++)
       values[i] = Sanitize(objective(points[i]));
   };
   if (workers == 1) {
     work();
-    return values;
+  } else {
+    std::vector<std::thread> threads;
+    for (int t = 1; t < workers; ++t) threads.emplace_back(work);
+    work();
+    for (auto& th : threads) th.join();
   }
-  std::vector<std::thread> threads;
-  for (int t = 1; t < workers; ++t) threads.emplace_back(work);
-  work();
-  for (auto& th : threads) th.join();
+  if (cancelled()) throw Cancelled();  // on the calling thread, after the workers joined
   return values;
 }
 
@@ -233,7 +236,7 @@ class CuckooRun {
     const std::size_t count = static_cast<std::size_t>(std::min<long>(left, static_cast<long>(nests.size())));
     Nests natural;
     for (std::size_t i = 0; i < count; ++i) natural.push_back(space_.ToNatural(nests[i]));
-    std::vector<double> v = EvaluateInParallel(objective_, natural, summary_.num_threads);
+    std::vector<double> v = EvaluateInParallel(objective_, natural, summary_.num_threads, opt_.cancel);
     v.resize(nests.size(), std::numeric_limits<double>::infinity());
     summary_.evaluations += static_cast<long>(count);
     return v;

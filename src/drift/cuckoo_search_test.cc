@@ -156,5 +156,25 @@ TEST(CuckooSearch, RejectsBadOptions) {
   EXPECT_NE(r.error().message.find("'C'"), std::string::npos);
 }
 
+// Issue 24: a cancel is honoured between evaluations, not only between generations: no new
+// parameter set starts once the token is cancelled, and the search throws Cancelled.
+TEST(CuckooSearchCancel, StopsWithinAGenerationAndThrows) {
+  CancellationToken token;
+  std::atomic<int> calls{0};
+  const SearchObjective objective = [&](std::span<const double> p) {
+    if (++calls == 7) token.Cancel();
+    return p[0] * p[0];
+  };
+  CuckooSearchOptions o;
+  o.num_nests = 25;
+  o.max_generations = 50;
+  o.num_threads = 2;
+  o.cancel = &token;
+  const SearchDimension x{"x", -1.0, 1.0, false};
+  EXPECT_THROW((void)CuckooSearch(objective, std::span<const SearchDimension>(&x, 1), o), Cancelled);
+  // The cancelling call and at most one running on the other thread.
+  EXPECT_LE(calls.load(), 8);
+}
+
 }  // namespace
 }  // namespace gyrocomp

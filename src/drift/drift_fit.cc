@@ -349,6 +349,7 @@ Result<DriftModel> FitDriftModel(const DriftInputs& inputs, std::span<const doub
     model = drift_internal::FitPrepared(*data, inputs, options.model, options, plan);
   }
   if (!model.ok()) return model.error();
+  if (Status st = drift_internal::CheckModelLoads(*model); !st.ok()) return st.error();
   model->summary.identifiability = drift_internal::DescribeIdentifiability(inputs, options);
   model->summary.fit_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return model;

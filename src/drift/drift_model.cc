@@ -100,6 +100,18 @@ bool PolynomialOptions::IsValid(std::string* error) const {
 bool SvrSearchOptions::IsValid(std::string* error) const {
   if (!ValidDimension(C, "C", error) || !ValidDimension(sigma, "sigma", error)) return false;
   if (epsilon && !ValidDimension(*epsilon, "epsilon", error)) return false;
+  // The searched values must be valid SvrOptions (issue 24: a fit must give a loadable model).
+  auto within = [&](const SearchDimension& d, double lo, double hi, const char* range) {
+    if (d.lower >= lo && d.upper <= hi) return true;
+    if (error) *error = "SvrSearchOptions::" + d.name + " = [" + FormatNumber(d.lower) + ", " + FormatNumber(d.upper) +
+                        "]: must lie in " + range;
+    return false;
+  };
+  if (!within(C, 0.0, SvrOptions::kMaxC, "(0, 1e6]") ||
+      !within(sigma, SvrOptions::kMinSigma, SvrOptions::kMaxSigma, "[0.001, 1000]") ||
+      (epsilon && !within(*epsilon, 0.0, SvrOptions::kMaxEpsilon, "[0, 1e6]"))) {
+    return false;
+  }
   if (!cuckoo.IsValid(error)) return false;
   if (grid_budget && *grid_budget < 4) {
     if (error) *error = "SvrSearchOptions::grid_budget = " + std::to_string(*grid_budget) + ": must be >= 4";

@@ -115,6 +115,10 @@ struct FitData {
 // |dT/dt| above which a sample is on a ramp (segment plan, identifiability), deg C / s: 0.06 C/min.
 inline constexpr double kSegmentRateThreshold = 1e-3;
 
+// What fit writes, apply must load (issue 24, fuzz_numeric_drift: a +-1.8e308 target gave a
+// training RMSE of inf, written as null and refused at load): the model through its JSON and
+// back (drift_model_io.cc); kInvalidInput with the loader's reason otherwise.
+Status CheckModelLoads(const DriftModel& model);
 Status CheckFitArguments(const DriftInputs& inputs, std::span<const double> target, const DriftFitOptions& o);
 Result<FitData> PrepareFitData(const DriftInputs& inputs, std::span<const double> target, const DriftFitOptions& o);
 // The CV plan of o.cv_scheme (automatic: segments for hybrid and auto, blocks otherwise).

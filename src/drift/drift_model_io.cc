@@ -1,6 +1,7 @@
 // The drift model file: JSON with a format name and a schema version (see drift_model.h).
 // Writes version 2 (a list of per-axis models); reads versions 1 (drift_model_io_v1.cc) and 2.
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <optional>
 #include <sstream>
@@ -346,6 +347,17 @@ Result<DriftModel> DriftModelFromJson(std::string_view text, const std::string& 
   return std::move(set->axes[0]);
 }
 
+namespace drift_internal {
+
+Status CheckModelLoads(const DriftModel& model) {
+  Result<DriftModelSet> back = DriftModelSetFromJson(DriftModelToJson(model), "model");
+  if (back.ok()) return Status::Ok();
+  return InvalidInput("the fit gives a model that a model file cannot hold (" + back.error().message +
+                      "): the target or temperature values are beyond what a drift model represents");
+}
+
+}  // namespace drift_internal
+
 Status SaveDriftModelSet(const DriftModelSet& models, const std::string& path) {
   return WriteTextAtomic(path, DriftModelSetToJson(models));
 }
@@ -355,12 +367,32 @@ Status SaveDriftModel(const DriftModel& model, const std::string& path) {
 }
 
 Result<DriftModelSet> LoadDriftModelSet(const std::string& path) {
+  // Read with a size limit, whatever the file is (/dev/zero, a FIFO, a huge file): a model
+  // file is a few MB at most (issue 24: /dev/zero was read until std::bad_alloc).
+  constexpr std::size_t kMaxModelFileBytes = std::size_t{64} << 20;
   std::ifstream in(path, std::ios::binary);
   if (!in) return IoError(path + ": cannot open model file");
-  std::ostringstream text;
-  text << in.rdbuf();
+  std::string text;
+  char chunk[1 << 16];
+  bool start_checked = false;
+  while (in.read(chunk, sizeof chunk) || in.gcount() > 0) {
+    const std::size_t before = text.size();
+    text.append(chunk, static_cast<std::size_t>(in.gcount()));
+    const std::size_t first = start_checked ? std::string::npos : text.find_first_not_of(" \t\r\n", before);
+    if (first != std::string::npos) start_checked = true;
+    if (first != std::string::npos && text[first] != '{') {
+      char byte[8];
+      std::snprintf(byte, sizeof byte, "0x%02x", static_cast<unsigned char>(text[first]));
+      return InvalidInput(path + ": byte " + std::to_string(first) + " is " + byte +
+                          ": not a JSON model file (it must start with '{')");
+    }
+    if (text.size() > kMaxModelFileBytes) {
+      return InvalidInput(path + ": larger than " + std::to_string(kMaxModelFileBytes >> 20) +
+                          " MiB: not a model file (a model file is a few MB at most)");
+    }
+  }
   if (in.bad()) return IoError(path + ": cannot read model file");
-  return DriftModelSetFromJson(text.str(), path);
+  return DriftModelSetFromJson(text, path);
 }
 
 Result<DriftModel> LoadDriftModel(const std::string& path) {

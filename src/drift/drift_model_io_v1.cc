@@ -121,6 +121,11 @@ SvrModel ReadSvrModel(Reader& r, const json& scaler, const json& model, const Af
           r.Fail("field '" + path + ".support_vectors' must hold numbers");
           break;
         }
+        // The documented rule for every model number (Reader::kMaxModelValue), here too (issue 24).
+        if (!(std::abs(v.get<double>()) <= Reader::kMaxModelValue)) {
+          r.Fail("field '" + path + ".support_vectors' = ... " + v.dump() + " ...: must hold numbers of magnitude <= 1e100");
+          break;
+        }
         s.support_vectors.push_back(v.get<double>());
       }
     }

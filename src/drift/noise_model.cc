@@ -106,6 +106,10 @@ bool NoisePsdOptions::IsValid(std::string* error) const {
   return true;
 }
 
+namespace {
+constexpr double kMaxNoiseValue = 1e40;
+}  // namespace
+
 Result<NoisePsd> FitNoisePsd(std::span<const double> x, double fs_hz, const NoisePsdOptions& options) {
   std::string why;
   if (!options.IsValid(&why)) return InvalidArgument(why);
@@ -115,6 +119,12 @@ Result<NoisePsd> FitNoisePsd(std::span<const double> x, double fs_hz, const Nois
   std::vector<double> c(n + 1, 0.0);
   for (std::size_t i = 0; i < n; ++i) {
     if (!std::isfinite(x[i])) return InvalidInput("FitNoisePsd: non-finite value at sample " + std::to_string(i));
+    // The coefficients are in x^2 units and a model file holds at most 1e100 (model_file_reader.h);
+    // beyond kMaxNoiseValue their products overflowed to inf (issue 24, fuzz_numeric_drift).
+    if (!(std::abs(x[i]) <= kMaxNoiseValue)) {
+      return InvalidInput("FitNoisePsd: value " + FormatNumber(x[i], 4) + " at sample " + std::to_string(i) +
+                          ": beyond 1e40 the noise coefficients (squared units) leave the range a model holds");
+    }
     c[i + 1] = c[i] + x[i];
   }
   // Log-spaced averaging factors m_min .. max_tau_fraction * n (at most n / 2: two adjacent means).

@@ -54,16 +54,21 @@ bool SvrOptions::IsValid(std::string* error) const {
     if (error) *error = "SvrOptions::" + what;
     return false;
   };
-  if (!(C > 0.0) || !std::isfinite(C)) return fail("C = " + FormatNumber(C) + ": must be > 0");
+  // Bounds (issue 24): every number of a fitted model must load again (model files refuse any
+  // magnitude above 1e100, model_file_reader.h). C bounds the dual coefficients and with them the
+  // intercept (C = 1e300 gave an intercept of 1.4e159); gamma = 1/(2 sigma^2) above 1e6 or sigma
+  // outside [1e-3, 1e3] (in input SDs when scaled) makes the kernel a delta or a constant; an
+  // epsilon above 1e6 target SDs is a tube nothing leaves.
+  if (!(C > 0.0 && C <= kMaxC)) return fail("C = " + FormatNumber(C) + ": must be in (0, 1e6]");
   if (gamma && sigma) return fail("gamma and sigma both given: give one (gamma = 1/(2 sigma^2))");
-  if (gamma && (!(*gamma > 0.0) || !std::isfinite(*gamma)))
-    return fail("gamma = " + FormatNumber(*gamma) + ": must be > 0");
-  if (sigma && (!(*sigma > 0.0) || !std::isfinite(*sigma)))
-    return fail("sigma = " + FormatNumber(*sigma) + ": must be > 0");
-  if (!(epsilon >= 0.0) || !std::isfinite(epsilon))
-    return fail("epsilon = " + FormatNumber(epsilon) + ": must be >= 0");
-  if (!(tolerance > 0.0) || !std::isfinite(tolerance))
-    return fail("tolerance = " + FormatNumber(tolerance) + ": must be > 0");
+  if (gamma && !(*gamma > 0.0 && *gamma <= kMaxGamma))
+    return fail("gamma = " + FormatNumber(*gamma) + ": must be in (0, 1e6]");
+  if (sigma && !(*sigma >= kMinSigma && *sigma <= kMaxSigma))
+    return fail("sigma = " + FormatNumber(*sigma) + ": must be in [0.001, 1000]");
+  if (!(epsilon >= 0.0 && epsilon <= kMaxEpsilon))
+    return fail("epsilon = " + FormatNumber(epsilon) + ": must be in [0, 1e6]");
+  if (!(tolerance > 0.0 && tolerance <= 1.0))
+    return fail("tolerance = " + FormatNumber(tolerance) + ": must be in (0, 1]");
   if (!(cache_mb > 0.0)) return fail("cache_mb = " + FormatNumber(cache_mb) + ": must be > 0");
   return true;
 }

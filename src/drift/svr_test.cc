@@ -177,7 +177,7 @@ TEST(Svr, RejectsBadOptionsAndData) {
   auto r = FitSvr({x}, y, o);
   ASSERT_FALSE(r.ok());
   EXPECT_EQ(r.error().kind, ErrorKind::kInvalidArgument);
-  EXPECT_EQ(r.error().message, "SvrOptions::C = -1: must be > 0");
+  EXPECT_EQ(r.error().message, "SvrOptions::C = -1: must be in (0, 1e6]");
 
   o = SvrOptions{};
   o.gamma = 1.0;

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <sstream>
 
+#include "gyrocomp/core/format.h"
+
 namespace gyrocomp {
 namespace {
 
@@ -94,10 +96,23 @@ double ThermalStateEvaluator::Step(double dt_s, double temp_c) {
   return 0.0;
 }
 
+namespace {
+constexpr double kMinStateTempC = -273.15;  // LogSpec::min_temp_c
+constexpr double kMaxStateTempC = 1000.0;   // LogSpec::max_temp_c
+}  // namespace
+
 Result<std::vector<double>> ComputeThermalState(std::span<const double> temp_c, double fs_hz,
                                                 DriftInputSet inputs, const TemperatureRateOptions& rate,
                                                 const ThermalStateOptions& options, bool causal) {
   if (inputs == DriftInputSet::kTemp) return std::vector<double>(temp_c.size(), 0.0);
+  // A temperature outside what a log may hold (LogSpec::min_temp_c / max_temp_c, gyro_log.h)
+  // makes the lags' differences overflow (issue 24, fuzz_numeric_drift: +-1.8e308 C gave -inf).
+  for (std::size_t i = 0; i < temp_c.size(); ++i) {
+    if (!(temp_c[i] >= kMinStateTempC && temp_c[i] <= kMaxStateTempC)) {
+      return InvalidInput("thermal state: temperature " + FormatNumber(temp_c[i]) + " C at sample " + std::to_string(i) +
+                          ": must be in [-273.15, 1000] C");
+    }
+  }
   if (inputs == DriftInputSet::kTempAndRate && !causal) return TemperatureRate(temp_c, fs_hz, rate);
   std::string why;
   if (!options.IsValid(&why)) return InvalidArgument(why);

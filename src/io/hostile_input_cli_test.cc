@@ -107,8 +107,8 @@ TEST_F(HostileInputCliTest, RecordNear1eMinus302IsRefusedWithTheReasonNotASegfau
 
 TEST_F(HostileInputCliTest, OptionsAtTheEdgesAreRefusedBeforeAllocating) {
   const std::string log = Log("log.csv", 1.0);
-  ExpectRefused("allan -i '" + log + "' --fs 1e-300 --json -", "fs_hz = 1e-300 Hz: must be in [1e-06, 1e+09] Hz");
-  ExpectRefused("allan -i '" + log + "' --fs 1e308 --json -", "must be in [1e-06, 1e+09] Hz");
+  ExpectRefused("allan -i '" + log + "' --fs 1e-300 --json -", "--fs: 1e-300: must be in [1e-06, 1e+09]");
+  ExpectRefused("allan -i '" + log + "' --fs 1e308 --json -", "--fs: 1e308: must be in [1e-06, 1e+09]");
   ExpectRefused("allan -i '" + log + "' --resample 1e9 --json -", "needs");
   ExpectRefused("allan -i '" + log + "' --resample 1e9 --json -", "(--max-memory)");
   ExpectRefused("allan -i '" + log + "' --max-memory 0.00001 --json -", "at most 1e-05 GB allowed (--max-memory)");

@@ -267,6 +267,17 @@ Status OutputSet::Declare(const std::string& path) {
   }
   Result<std::string> final_path = FollowLinks(path);
   if (!final_path) return final_path.error();
+  // The write-through rule is decided on what the name resolves to, not on its spelling: a link
+  // to /dev/stdout (-> /proc/self/fd/1 -> "pipe:[...]", not a path) or to a FIFO is written
+  // through the link itself (issue 24).
+  struct stat resolved;
+  if (final_path->rfind("/dev/", 0) == 0 || final_path->rfind("/proc/", 0) == 0 ||
+      (::stat(path.c_str(), &resolved) == 0 && (S_ISFIFO(resolved.st_mode) || S_ISCHR(resolved.st_mode)))) {
+    e->write_through = true;
+    e->final_path = path;
+    entries_.push_back(std::move(e));
+    return Status::Ok();
+  }
   e->final_path = *final_path;
   struct stat st;
   mode_t mode = 0666;
@@ -297,6 +308,10 @@ Result<OutputSet::Entry*> OutputSet::FindOrDeclare(const std::string& path) {
     if (Status s = Declare(path); !s) return s.error();
   }
   Entry* e = Find(path);
+  if (e->staged && path == "/dev/null") {  // -o /dev/null --json /dev/null: both discarded
+    e->buffer.clear();
+    e->staged = false;
+  }
   if (e->staged) return InternalError(path + ": written twice in one command");
   return e;
 }

@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "gyrocomp/io/gyro_log.h"
+#include "gyrocomp/core/cancel.h"
 #include "gyrocomp/core/status.h"
 
 namespace gyrocomp {
@@ -72,6 +73,9 @@ struct AllanOptions {
   // fits use only taus with at least this many equivalent degrees of freedom (10: ~22% one-sigma
   // relative error of sigma). The curve and the default minimum keep every tau. CLI: --min-edf.
   double min_edf_for_terms = 10.0;
+  // Polled before every tau (issue 24: a curve over 1e9 samples takes seconds per tau); once
+  // cancelled, ComputeAllan throws Cancelled. nullptr: not polled. Not owned.
+  const CancellationToken* cancel = nullptr;
   bool IsValid(std::string* error) const;
 };
 
@@ -101,7 +105,8 @@ struct AllanNoiseTerms {
   std::string arw_method;  // "on grid" | "log-log interpolation" | "extrapolated along -1/2" | ""
   // Second ARW estimate: least-squares fit of ln sigma = ln N - ln(tau)/2 (weights 2 EDF, the
   // inverse variance of ln sigma) over the usable taus up to the minimum whose local slope is within tol
-  // of -1/2 (IEEE 952 -1/2 line), evaluated at tau = 1 s. nullopt if no such region.
+  // of -1/2 (IEEE 952 -1/2 line), evaluated at tau = 1 s. nullopt if no such region; 0 when every
+  // ADEV is exactly 0 (a constant record: no noise).
   std::optional<double> arw_fit_deg_per_sqrt_h;
   // Minimum of the whole ADEV curve, deg/h, and its tau: the "bias stability" as the paper,
   // allantools users, MATLAB's examples and allan_variance_ros read it. The last taus carry few
@@ -126,7 +131,8 @@ struct AllanNoiseTerms {
   // Rate random walk K from the +1/2 region: least-squares fit of sigma = K sqrt(tau / 3) (slope
   // fixed at +1/2, weights 2 EDF) over the usable taus after the minimum whose local slope is within tol
   // of +1/2,
-  // K = fitted sigma(3 s), shown in deg/h/sqrt(h). nullopt when the curve has no +1/2 region.
+  // K = fitted sigma(3 s), shown in deg/h/sqrt(h). nullopt when the curve has no +1/2 region;
+  // 0 when every ADEV is exactly 0 (a constant record).
   std::optional<double> rrw_deg_per_h_per_sqrt_h;
   std::optional<double> rrw_fit_tau_min_s, rrw_fit_tau_max_s;  // the region used
 };

@@ -2,9 +2,13 @@
 // merged with issue 15's mechanism when that lands). The library installs no signal handlers: the
 // owner of the process (the CLI's main, a Python interpreter) decides what sets the flag.
 //
-// Today the library's long calls do not poll it themselves; callers poll it in the progress hooks
-// they install (VmdOptions::on_iteration, CuckooSearchOptions::on_generation, the pipeline's
-// ProgressCallback) and leave the call by throwing Cancelled from the hook. Those hooks run on
+// Some long calls poll a token themselves (issue 24): VmdOptions::cancel (before every update),
+// CuckooSearchOptions::cancel (before every evaluation: no new parameter set starts, the running
+// ones finish) and AllanOptions::cancel (before every tau); they throw Cancelled on the calling
+// thread. Elsewhere callers poll it in the progress hooks they install (VmdOptions::on_iteration,
+// CuckooSearchOptions::on_generation, the pipeline's ProgressCallback) and leave the call by
+// throwing Cancelled from the hook. Not polled yet: inside sample entropy counting and inside
+// one LIBSVM fit. Those hooks run on
 // the calling thread between rounds of work, and the code around them releases everything by
 // RAII (worker pools join in their destructors), so unwinding from them is safe.
 #pragma once

@@ -33,6 +33,7 @@
 #include <string>
 #include <vector>
 
+#include "gyrocomp/core/cancel.h"
 #include "gyrocomp/core/status.h"
 
 namespace gyrocomp {
@@ -62,8 +63,10 @@ struct VmdOptions {
   // 1 + alpha (w - w_k)^2, w in cycles per sample). Larger alpha: narrower modes. > 0.
   // (MATLAB's own `vmd` scales its penalty differently.)
   double alpha = 2000.0;
-  // Dual-ascent time step tau of Eq. (6). 0 = no Lagrangian update (noise-slack). >= 0.
+  // Dual-ascent time step tau of Eq. (6). 0 = no Lagrangian update (noise-slack). In [0, kMaxTau]
+  // (larger steps diverge: vmd_options.cc).
   double tau = 0.0;
+  static constexpr double kMaxTau = 2.0;
   // Convergence tolerance of the stopping rule (dimensionless for kRelative; squared signal
   // units for kAbsolute). > 0.
   double tol = 1e-7;
@@ -108,6 +111,9 @@ struct VmdOptions {
   // Each update is reported once; when a run is repeated internally, updates past the returned
   // count may have been reported. Empty: not called. Does not change the result.
   std::function<void(int iteration, double update)> on_iteration;
+  // Polled before every ADMM update on the calling thread (issue 24): once cancelled,
+  // DecomposeVmd throws Cancelled (the worker pool joins in its destructor). nullptr: not polled.
+  const CancellationToken* cancel = nullptr;
   // Largest working set DecomposeVmd may allocate, bytes (K modes x N bins x two complex iterates
   // and the accumulator, ~48 K N bytes, plus the modes returned). Checked before allocating: a
   // larger problem is refused with the estimate, never a std::bad_alloc. 8 GiB.

@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "gyrocomp/core/cancel.h"
 #include "gyrocomp/core/status.h"
 
 namespace gyrocomp {
@@ -56,6 +57,10 @@ struct CuckooSearchOptions {
   // Called after every generation with its number (1-based) and the best value so far, from the
   // calling thread (progress displays). Empty: not called. Does not change the result.
   std::function<void(int generation, double best_value)> on_generation;
+  // Polled before every evaluation (issue 24): once cancelled, no new parameter set is started,
+  // the ones running finish, and CuckooSearch throws Cancelled on the calling thread. nullptr:
+  // not polled. Not owned.
+  const CancellationToken* cancel = nullptr;
 
   bool IsValid(std::string* error) const;
 };
@@ -88,6 +93,7 @@ Result<CuckooSearchSummary> CuckooSearch(const SearchObjective& objective,
 // Shared by cuckoo search and the grid-search baseline.
 std::vector<double> EvaluateInParallel(const SearchObjective& objective,
                                        const std::vector<std::vector<double>>& points,
-                                       int num_threads);
+                                       int num_threads,
+                                       const CancellationToken* cancel = nullptr);
 
 }  // namespace gyrocomp

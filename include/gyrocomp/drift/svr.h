@@ -52,6 +52,14 @@ struct SvrOptions {
 
   // gamma actually used for `num_inputs` input columns (resolves sigma / the default).
   double ResolvedGamma(std::size_t num_inputs) const;
+  // Valid ranges (IsValid; issue 24): C in (0, kMaxC], gamma in (0, kMaxGamma], sigma in
+  // [kMinSigma, kMaxSigma], epsilon in [0, kMaxEpsilon], tolerance in (0, 1]: a fit inside them
+  // gives a model whose every number loads again (<= 1e100).
+  static constexpr double kMaxC = 1e6;
+  static constexpr double kMaxGamma = 1e6;
+  static constexpr double kMinSigma = 1e-3;
+  static constexpr double kMaxSigma = 1e3;
+  static constexpr double kMaxEpsilon = 1e6;
   bool IsValid(std::string* error) const;
 };
 

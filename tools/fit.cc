@@ -141,6 +141,11 @@ nlohmann::json AxisJson(const FitArgs& a, const DriftModel& m) {
   j["best_cv_history_dps"] = s.best_cv_history;
   j["dtemp_window_s"] = a.fit.rate.window_s;
   j["cv_in_range_only"] = s.cv_in_range_only;
+  j["drift_span"] = s.drift_span;
+  j["data_support"] = s.data_support;
+  j["excluded_terms"] = nlohmann::json::array();
+  for (const ExcludedTerm& e : s.excluded_terms)
+    j["excluded_terms"].push_back({{"term", e.term}, {"reason", e.reason}, {"would_identify", e.would_identify}});
   if (s.model == DriftModelKind::kPolynomial) j["noise_model"] = DriftNoiseModelName(s.noise_model);
   if (s.noise_psd)
     j["noise_psd"] = {{"h0", s.noise_psd->h0}, {"h_1", s.noise_psd->h_1}, {"h_2", s.noise_psd->h_2},

@@ -259,6 +259,11 @@ Result<DriftModel> FitPrepared(const FitData& d, const DriftInputs& inputs, Drif
   s.cv_in_range_only = plan.in_range_only;
   s.train_period_s = d.train_period_s;
   MinMax(d.x[0], &s.temp_min_c, &s.temp_max_c);
+  {
+    double lo = 0.0, hi = 0.0;
+    MinMax(d.yd, &lo, &hi);
+    s.drift_span = hi - lo;
+  }
   s.dtemp_min_c_per_s = d.dtemp_min_c_per_s;  // centred dT/dt, whatever the state
   s.dtemp_max_c_per_s = d.dtemp_max_c_per_s;
   if (o.inputs != DriftInputSet::kTemp) MinMax(d.x[1], &s.state_min, &s.state_max);

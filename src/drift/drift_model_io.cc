@@ -50,6 +50,13 @@ json SummaryJson(const DriftFitSummary& s) {
             {"candidates", cands},
             {"selection_reason", s.selection_reason},
             {"identifiability", s.identifiability}};
+  // Issue 23 (optional on reading: older files have none).
+  json excluded = json::array();
+  for (const ExcludedTerm& e : s.excluded_terms)
+    excluded.push_back({{"term", e.term}, {"reason", e.reason}, {"would_identify", e.would_identify}});
+  j["excluded_terms"] = excluded;
+  j["data_support"] = s.data_support;
+  j["drift_span"] = s.drift_span;
   if (s.C) {
     j["C"] = *s.C;
     j["gamma"] = *s.gamma;

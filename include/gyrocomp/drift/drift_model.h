@@ -211,6 +211,14 @@ struct DriftCandidateScore {
   std::string note;        // why it was skipped / failed, "" otherwise
 };
 
+// A candidate term the calibration run does not identify, left out of the model (drift_identify.cc,
+// docs/drift_model.md "What a run identifies"). Written into the model file's "training".
+struct ExcludedTerm {
+  std::string term;            // "dT/dt gain" | "lag tau" | "memory" | "kernel" | "degree"
+  std::string reason;          // the test and the numbers it failed on
+  std::string would_identify;  // what calibration run would identify it
+};
+
 // What the fit did: the numbers the CLI, the report and the model file show.
 struct DriftFitSummary {
   DriftModelKind model = DriftModelKind::kPolynomial;
@@ -247,6 +255,12 @@ struct DriftFitSummary {
   std::string identifiability;
   // hybrid: whether its kernel was kept or dropped, with the per-block gains (Eq. H-1); "" else.
   std::string kernel_decision;
+  // auto: terms left out because the run does not identify them (Eqs. I-0..I-3), with why.
+  std::vector<ExcludedTerm> excluded_terms;
+  // auto: how many points the fit had and which candidates they support (Eq. I-0); "" else.
+  std::string data_support;
+  // Span (max - min) of the target's training copy, target units: the scale CV figures are read on.
+  double drift_span = 0.0;
   // Polynomial: its noise model (DriftFitOptions::noise_model) and, kAllan, the Eq. G-0
   // coefficients fitted to the OLS residual.
   DriftNoiseModel noise_model = DriftNoiseModel::kWhite;

@@ -354,6 +354,12 @@ Result<DriftModel> FitAuto(const DriftInputs& inputs, std::span<const double> ta
       !all.back().model->summary.kernel_decision.empty() && !all.back().model->kernel)
     excluded.push_back({"kernel", all.back().model->summary.kernel_decision,
                         "a longer run whose blocks share the residual structure (Eq. H-1)"});
+  if (!sup.rate.identified && std::isfinite(sup.rate.gain) && std::isfinite(sup.rate.gain_se) &&
+      model.inputs != DriftInputSet::kTempAndRate) {
+    model.summary.unidentified_rate_gain = sup.rate.gain;
+    model.summary.unidentified_rate_gain_se = sup.rate.gain_se;
+    model.summary.calibration_rate_vs_temp = sup.rate.rate_vs_temp;
+  }
   model.summary.excluded_terms = std::move(excluded);
   model.summary.data_support = sup.description + (plan_note.empty() ? "" : "; " + plan_note);
   model.summary.selection_reason = SelectionReason(all, best, plan) + "; " + state_reason +

@@ -354,6 +354,14 @@ Result<DriftModel> FitDriftModel(const DriftInputs& inputs, std::span<const doub
     model = drift_internal::FitPrepared(*data, inputs, options.model, options, plan);
   }
   if (!model.ok()) return model.error();
+  if (options.band) {
+    // The CV's training copy: PrepareFitData's automatic block period.
+    const double n = static_cast<double>(target.size());
+    const double cv_period_s = options.train_period_s.value_or(
+        target.size() <= options.max_train_samples ? 1.0 / inputs.fs_hz
+                                                   : std::max(30.0, n / inputs.fs_hz / static_cast<double>(options.max_train_samples)));
+    if (Status st = drift_internal::AttachBand(inputs, target, options, cv_period_s, &*model); !st.ok()) return st.error();
+  }
   model->summary.identifiability = drift_internal::DescribeIdentifiability(inputs, options);
   model->summary.fit_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return model;

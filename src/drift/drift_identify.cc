@@ -45,8 +45,10 @@ constexpr double kMinSpreadToNoise = 3.0; // Eq. I-1 (c)
 constexpr double kMinGainToSe = 2.0;      // Eq. I-1 (d)
 constexpr double kMinLagRise = 0.01;      // Eq. I-2
 
-// Residual of y after least squares on the temperature basis 1, t, .., t^degree (t standardised).
-Eigen::VectorXd ResidualOnTemperature(std::span<const double> temp, std::span<const double> y, int degree) {
+// Residual of y after least squares on the temperature basis 1, t, .., t^degree (t standardised);
+// the fit into *curve when given.
+Eigen::VectorXd ResidualOnTemperature(std::span<const double> temp, std::span<const double> y, int degree,
+                                      RateCurve* curve = nullptr) {
   const auto n = static_cast<Eigen::Index>(y.size());
   double mean = 0.0, ss = 0.0;
   for (double v : temp) mean += v / static_cast<double>(n);
@@ -57,6 +59,11 @@ Eigen::VectorXd ResidualOnTemperature(std::span<const double> temp, std::span<co
     for (int p = 0; p <= degree; ++p) a(i, p) = std::pow((temp[static_cast<std::size_t>(i)] - mean) / sd, p);
   const Eigen::VectorXd b = Eigen::Map<const Eigen::VectorXd>(y.data(), n);
   const Eigen::VectorXd c = a.colPivHouseholderQr().solve(b);
+  if (curve) {
+    curve->offset_c = mean;
+    curve->scale_c = sd;
+    curve->coefficients.assign(c.data(), c.data() + c.size());
+  }
   return b - a * c;
 }
 
@@ -140,7 +147,7 @@ TermTest TestRateGain(const FitData& d, const CvPlan& plan, const PolynomialOpti
     heat_cool += b[2] >= need && b[3] >= need ? 1 : 0;
   }
   const bool composition = hold_ramp >= kMinContrastBins || heat_cool >= kMinContrastBins;
-  const Eigen::VectorXd e = ResidualOnTemperature(d.xd[0], r, p.degree);
+  const Eigen::VectorXd e = ResidualOnTemperature(d.xd[0], r, p.degree, &t.rate_vs_temp);
   const Eigen::VectorXd rv = Eigen::Map<const Eigen::VectorXd>(r.data(), static_cast<Eigen::Index>(n));
   const double sd_r = Sd(rv), sd_e = Sd(e);
   const double r2 = sd_r > 0.0 ? 1.0 - (sd_e * sd_e) / (sd_r * sd_r) : 1.0;
@@ -163,6 +170,7 @@ TermTest TestRateGain(const FitData& d, const CvPlan& plan, const PolynomialOpti
   else s << "not fitted without every fold";
   t.evidence = s.str();
   t.identified = composition && r2 <= kMaxStateR2 && spread && stable;
+  if (fitted) t.gain = gain, t.gain_se = se;
   t.why.reason = t.evidence;
   return t;
 }
@@ -212,7 +220,7 @@ CvPlan EnsureTrainablePlan(const CvPlan& plan, std::span<const double> temp, std
       << " coefficients: scored on " << std::min<std::size_t>(static_cast<std::size_t>(folds), n)
       << " contiguous blocks instead";
     *note = s.str();
-    return BlockPlan(n, folds, /*in_range_only=*/false);
+    return BlockPlan(n, folds, /*in_range_only=*/true);
   }
   return plan;
 }

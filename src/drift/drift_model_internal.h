@@ -140,6 +140,10 @@ struct TermTest {
   bool identified = false;
   ExcludedTerm why;
   std::string evidence;  // the numbers the test read
+  // Eq. I-1 (d): the gain and its segment-jackknife SE (NaN when not fitted).
+  double gain = std::nan(""), gain_se = std::nan("");
+  // Eq. I-1 (b): the run's dT/dt as a polynomial in temperature (what poly(T) absorbs).
+  RateCurve rate_vs_temp;
 };
 // Eq. I-1 on the decimated (T, dT/dt) training copy `d` (inputs kTempAndRate) and the CV plan.
 TermTest TestRateGain(const FitData& d, const CvPlan& plan, const PolynomialOptions& p);
@@ -151,6 +155,11 @@ TermTest TestLagTau(double tau_s, double score_at_tau, double score_below, doubl
 // with *note saying why. `temp` is the training copy's temperature column.
 CvPlan EnsureTrainablePlan(const CvPlan& plan, std::span<const double> temp, std::size_t coefficients, int folds,
                            std::string* note);
+
+// Eqs. B-1..B-3 (drift_band.cc): the prediction band of a fitted model from its calibration run;
+// cv_period_s = the block period of the training copy its CV score was computed on.
+Status AttachBand(const DriftInputs& inputs, std::span<const double> target, const DriftFitOptions& o,
+                  double cv_period_s, DriftModel* m);
 
 // Evaluations the cuckoo search makes: num_nests * (1 + 2 * max_generations), capped.
 long CuckooBudget(const CuckooSearchOptions& o);

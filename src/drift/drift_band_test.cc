@@ -185,3 +185,33 @@ TEST(DriftBand, ApplyWritesBandColumnsOrSaysThereIsNone) {
 
 }  // namespace
 }  // namespace gyrocomp
+
+namespace gyrocomp {
+namespace {
+
+// gyrocomp plan: one table row per profile with the predicted and the simulated error, a
+// recommendation among them, and JSON with both numbers.
+TEST(DriftPlan, ComparesProfilesAndRecommendsOne) {
+  const std::string cli = testing::CliPath();
+  if (cli.empty()) GTEST_SKIP() << "the gyrocomp CLI is not built (GYROCOMP_BUILD_CLI=OFF)";
+  const std::string dir = testing::MakeTempDir("drift_plan_test");
+  std::string out;
+  ASSERT_EQ(testing::RunCommand(cli + " plan --profiles ramp,paper --seeds 1 --fs 0.2 --json " + dir + "/p.json", &out), 0)
+      << out;
+  EXPECT_NE(out.find("| ramp |"), std::string::npos) << out;
+  EXPECT_NE(out.find("recommended: "), std::string::npos) << out;
+  const nlohmann::json j = testing::ReadJsonFile(dir + "/p.json");
+  ASSERT_EQ(j["profiles"].size(), 2u);
+  for (const auto& p : j["profiles"]) {
+    EXPECT_GT(p["predicted_rms"].get<double>(), 0.0);
+    EXPECT_GT(p["simulated_rms"].get<double>(), 0.0);
+  }
+  // The heating-only ramp identifies no dT/dt gain (Eq. I-1).
+  EXPECT_NE(j["profiles"][0]["left_out"].dump().find("dT/dt gain"), std::string::npos);
+  EXPECT_TRUE(j["recommended"] == "ramp" || j["recommended"] == "paper");
+  EXPECT_EQ(testing::RunCommand(cli + " plan --profiles nosuch --seeds 1", &out), 2) << out;
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace gyrocomp

@@ -112,6 +112,7 @@ Result<Eigen::MatrixXd> ParameterCovariance(const DriftModel& m, const DriftInpu
   g.state = m.state;
   g.rate = m.rate;
   g.train_period_s = period_s;
+  g.cv_folds = 2;  // only the block means are used here
   auto d = PrepareFitData(inputs, target, g);
   if (!d.ok()) return d.error();
   const PolynomialModel& p = *m.structured;
@@ -140,7 +141,10 @@ Status AttachBand(const DriftInputs& inputs, std::span<const double> target, con
   std::vector<double> residual(target.size());
   for (std::size_t i = 0; i < residual.size(); ++i) residual[i] = target[i] - (*pred)[i];
   const double duration_s = static_cast<double>(target.size()) / inputs.fs_hz;
-  const double period_s = std::max({o.gls_block_s, duration_s / static_cast<double>(o.max_gls_blocks), 1.0 / inputs.fs_hz});
+  // gls_block_s (longer when the record would give more than max_gls_blocks), but at least 20
+  // blocks when the record allows (a short table: every row).
+  const double period_s = std::max(1.0 / inputs.fs_hz, std::min(std::max(o.gls_block_s, duration_s / static_cast<double>(o.max_gls_blocks)),
+                                                                 duration_s / 20.0));
   DriftBandModel band;
   band.noise = ResidualNoise(residual, inputs.fs_hz, period_s, o.noise_psd);
   band.coverage_check = "docs/drift_model.md, Prediction bands (issue 23): held-out simulated runs";

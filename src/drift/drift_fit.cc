@@ -360,7 +360,12 @@ Result<DriftModel> FitDriftModel(const DriftInputs& inputs, std::span<const doub
     const double cv_period_s = options.train_period_s.value_or(
         target.size() <= options.max_train_samples ? 1.0 / inputs.fs_hz
                                                    : std::max(30.0, n / inputs.fs_hz / static_cast<double>(options.max_train_samples)));
-    if (Status st = drift_internal::AttachBand(inputs, target, options, cv_period_s, &*model); !st.ok()) return st.error();
+    // A band that cannot be computed leaves the model without one (apply says so); never fails the fit.
+    if (Status st = drift_internal::AttachBand(inputs, target, options, cv_period_s, &*model); !st.ok()) {
+      model->band.reset();
+      model->summary.data_support += std::string(model->summary.data_support.empty() ? "" : "; ") +
+                                     "no prediction band: " + st.error().message;
+    }
   }
   model->summary.identifiability = drift_internal::DescribeIdentifiability(inputs, options);
   model->summary.fit_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -38,6 +38,8 @@ PROFILES = {
 }
 if os.environ.get("TWO_DIRECTION"):
     PROFILES["heat-cool"] = ("--profile heat-cool", HEAT, COOL)
+if os.environ.get("ONLY"):  # e.g. ONLY=heat-cool (with TWO_DIRECTION=1)
+    PROFILES = {k: v for k, v in PROFILES.items() if k == os.environ["ONLY"]}
 
 
 def run(cmd):

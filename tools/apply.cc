@@ -85,6 +85,27 @@ int Run(const ApplyArgs& a) {
     j["fraction_outside_fitted_range"] = range.fraction_outside;
     // When the record carries the true drift (simulator output), score the prediction.
     if (truth >= 0) j["rmse_vs_" + a.truth_col] = Rmse(*predicted, out.columns[truth]);
+    // The 90% band (issue 23; cli.md "apply (bands)"): a model file written before it has none.
+    if (model->band) {
+      Result<DriftBand> band = model->PredictBand(inputs, a.causal);
+      if (!band.ok()) return ReportError(kName, band.error());
+      if (truth >= 0) {
+        std::size_t inside = 0;
+        for (std::size_t i = 0; i < band->lo.size(); ++i)
+          inside += out.columns[truth][i] >= band->lo[i] && out.columns[truth][i] <= band->hi[i] ? 1 : 0;
+        j["band_coverage_of_" + a.truth_col] = band->lo.empty() ? 0.0 : static_cast<double>(inside) / band->lo.size();
+      }
+      double half2 = 0.0;
+      for (std::size_t i = 0; i < band->lo.size(); ++i) half2 += std::pow(0.5 * (band->hi[i] - band->lo[i]), 2);
+      j["band_level"] = band->level;
+      j["band_half_width_rms"] = band->lo.empty() ? 0.0 : std::sqrt(half2 / band->lo.size());
+      SetColumn(kName, &out, one ? "predicted_drift_lo_dps" : log.axis_names[k] + "_predicted_drift_lo", band->lo);
+      SetColumn(kName, &out, one ? "predicted_drift_hi_dps" : log.axis_names[k] + "_predicted_drift_hi", band->hi);
+    } else {
+      j["band_level"] = nullptr;
+      if (k == 0) Note(kName, "note: " + a.model_path + " has no prediction band (written before gyrocomp's issue 23); "
+                                  "no _lo/_hi columns: refit it to get one");
+    }
     axes.push_back(j);
     SetColumn(kName, &out, one ? "predicted_drift_dps" : log.axis_names[k] + "_predicted_drift", *predicted);
     SetColumn(kName, &out, one ? "compensated_dps" : log.axis_names[k] + "_compensated", std::move(comp));
@@ -119,12 +140,15 @@ Command Make(CLI::App& app) {
   sub->footer(
       "OUT.csv: the input columns plus predicted_drift_dps and compensated_dps (= rate -\n"
       "predicted); with several --rate-col axes, <axis>_predicted_drift and <axis>_compensated, each\n"
-      "with the model file's model for that rate column (or its only model). Thermal states, when the\n"
+      "with the model file's model for that rate column (or its only model). The 90% prediction band\n"
+      "of the drift: predicted_drift_lo_dps / predicted_drift_hi_dps (<axis>_predicted_drift_lo / _hi);\n"
+      "a model file written before the bands existed has none (a note says so). Thermal states, when the\n"
       "model uses one, are computed from this record with the model's own parameters. Temperatures outside the\n"
       "range the model was fitted on are reported (how far, what share of samples).\n"
       "JSON: model summary, n_samples, fs_hz, causal, out_of_range, axes[], temp_outside_fitted_range, temp_below_fitted_c,\n"
       "  temp_above_fitted_c, fraction_outside_fitted_range, and rmse_vs_true_drift_dps when the\n"
-      "  record has a true_drift_dps column (simulator output).\n"
+      "  record has a true_drift_dps column (simulator output); band_level, band_half_width_rms and\n"
+      "  band_coverage_of_true_drift_dps (share of samples whose true drift lies in the band).\n"
       "Example: gyrocomp apply -m model.json -i run2.csv -o compensated.csv");
   AddInputOption(sub, "-m,--model", &a->model_path, "Model file written by gyrocomp fit")->required();
   AddLogOptions(sub, &a->log);

@@ -141,6 +141,14 @@ nlohmann::json AxisJson(const FitArgs& a, const DriftModel& m) {
   j["best_cv_history_dps"] = s.best_cv_history;
   j["dtemp_window_s"] = a.fit.rate.window_s;
   j["cv_in_range_only"] = s.cv_in_range_only;
+  j["drift_span"] = s.drift_span;
+  j["data_support"] = s.data_support;
+  j["excluded_terms"] = nlohmann::json::array();
+  for (const ExcludedTerm& e : s.excluded_terms)
+    j["excluded_terms"].push_back({{"term", e.term}, {"reason", e.reason}, {"would_identify", e.would_identify}});
+  if (const auto& b = m.band)
+    j["band"] = {{"level", b->level}, {"expected_rms", b->expected_rms}, {"model_form_rms", b->model_form_rms},
+                 {"noise", {{"white", b->noise.h0}, {"flicker", b->noise.h_1}, {"random_walk", b->noise.h_2}}}};
   if (s.model == DriftModelKind::kPolynomial) j["noise_model"] = DriftNoiseModelName(s.noise_model);
   if (s.noise_psd)
     j["noise_psd"] = {{"h0", s.noise_psd->h0}, {"h_1", s.noise_psd->h_1}, {"h_2", s.noise_psd->h_2},
@@ -206,6 +214,10 @@ int Run(FitArgs a) {
     if (a.json_path != "-") {
       if (!feature_report.empty()) std::cout << "VMD modes: " << feature_report << "\n";
       std::cout << model->rate_col << ": " << model->summary.BriefReport() << "\n";
+      if (const auto& b = model->band)
+        std::cout << "expected drift error on a next run like this one: RMS " << b->expected_rms << " " << model->unit
+                  << " (90% band, model-form part " << b->model_form_rms << "; noise " << b->noise.BriefReport()
+                  << ")\n";
     }
     set.axes.push_back(std::move(*model));
   }

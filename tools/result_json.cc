@@ -165,6 +165,11 @@ nlohmann::json DriftValidationJson(const DriftValidation& v) {
   j["fraction_dtemp_outside_fitted_range"] = v.fraction_dtemp_outside;
   j["temp_below_fitted_c"] = v.excursion.below_c;
   j["temp_above_fitted_c"] = v.excursion.above_c;
+  // Issue 23: the prediction band on this run (null when the model file has none).
+  j["band_level"] = Num(v.band_level);
+  j["band_half_width_rms_dps"] = Num(v.band_half_width_rms);
+  j["band_coverage_of_true_drift"] = Num(v.band_coverage_truth);
+  j["band_coverage_of_block_means"] = Num(v.band_coverage_blocks);
   return j;
 }
 

@@ -22,6 +22,7 @@ struct SimulateArgs {
   SimulatorOptions sim;  // library defaults
   std::string profile = "paper";
   std::string drift_poly;  // comma-separated, overrides the default polynomial when given
+  std::string profile_csv;  // --profile-csv: the user's chamber schedule (profile user)
   std::optional<double> duration_s;
   std::string output;
   std::string json_path;
@@ -50,9 +51,44 @@ Status WriteBoardLog(const std::string& path, const SimulateArgs& a, bool ulog) 
   return WriteText(path, *bytes);
 }
 
+// --profile-csv FILE: a CSV with a header and the columns time_s and chamber_temp_c (or temp_c),
+// one row per breakpoint of the chamber schedule (issue 23). Errors name the file and the row.
+Status ReadUserProfile(const std::string& path, ThermalProfileOptions* p) {
+  Result<Table> t = ReadCsv(path);
+  if (!t.ok()) return t.error();
+  const int time = t->Find("time_s");
+  int temp = t->Find("chamber_temp_c");
+  if (temp < 0) temp = t->Find("temp_c");
+  if (time < 0 || temp < 0)
+    return InvalidInput(path + ":1: --profile-csv needs the columns time_s and chamber_temp_c (or temp_c)");
+  const std::vector<double>& ts = t->columns[time];
+  const std::vector<double>& cs = t->columns[temp];
+  if (ts.size() < 2) return InvalidInput(path + ": --profile-csv needs at least 2 rows, got " + std::to_string(ts.size()));
+  for (std::size_t i = 0; i < ts.size(); ++i) {
+    if (ts[i] < 0.0 || (i > 0 && !(ts[i] > ts[i - 1])))
+      return InvalidInput(path + ":" + std::to_string(i + 2) + ": time_s " + std::to_string(ts[i]) +
+                          " must be >= 0 and greater than the previous row's");
+    if (cs[i] < -273.15 || cs[i] > 1000.0)
+      return InvalidInput(path + ":" + std::to_string(i + 2) + ": chamber temperature " + std::to_string(cs[i]) +
+                          " C is outside [-273.15, 1000]");
+  }
+  p->user_time_s = ts;
+  p->user_temp_c = cs;
+  return Status::Ok();
+}
+
 int Run(SimulateArgs& a) {
+  if (!a.profile_csv.empty()) {
+    if (a.profile != "paper" && a.profile != "user")
+      return ReportError(kName, InvalidArgument("--profile-csv: the profile is the file's (got --profile " + a.profile + ")"));
+    a.profile = "user";
+    if (Status s = ReadUserProfile(a.profile_csv, &a.sim.profile); !s.ok()) return ReportError(kName, s.error());
+  } else if (a.profile == "user") {
+    return ReportError(kName, InvalidArgument("--profile user: give the schedule with --profile-csv FILE"));
+  }
   const auto kind = ParseThermalProfileKind(a.profile);
-  if (!kind) return ReportError(kName, InvalidArgument("--profile " + a.profile + ": must be paper, soak, ramp or cycle"));
+  if (!kind)
+    return ReportError(kName, InvalidArgument("--profile " + a.profile + ": must be paper, soak, ramp, cycle, heat-cool or user"));
   a.sim.profile.kind = *kind;
   a.sim.duration_s = a.duration_s;
   if (!a.drift_poly.empty()) {
@@ -112,7 +148,10 @@ Command Make(CLI::App& app) {
       "true_drift_dps, true_noise_dps (rate = true_rate + true_drift + true_noise).\n"
       "Profiles: paper = 1 h at room temperature, ramp to 60 C, 1 h, then 10 C steps down to -40 C,\n"
       "each held 1 h (14.25 h at 1 C/min); soak; ramp (room -> --ramp-end); cycle (room -> hot ->\n"
-      "cold -> room, --cycles times: heating and cooling, for hysteresis).\n"
+      "cold -> room, --cycles times: heating and cooling, for hysteresis); heat-cool (--room-hold at\n"
+      "--cold, heat to --hot, --hold, cool to --cold, --hold: both directions over the whole range,\n"
+      "6.3 h at 1 C/min); user (--profile-csv FILE: columns time_s and chamber_temp_c or temp_c, one\n"
+      "row per breakpoint, linear in between).\n"
       "Noise in datasheet units (IEEE 952); bias instability = flicker floor / 0.664, made of a sum of\n"
       "Gauss-Markov processes (docs/simulator.md). Same options and --seed: identical output.\n"
       "-o run.ulg writes a PX4 ULog instead: a board of --imus IMUs as sensor_gyro (rad/s) and sensor_accel\n"
@@ -128,7 +167,9 @@ Command Make(CLI::App& app) {
   sub->add_option("--ahrs-orientation", a->ahrs_orientation, ".bin: board rotation AHRS_ORIENTATION (0..43) applied to the logged IMU rows")
       ->check(CLI::Range(0, 43))->capture_default_str();
   AddOutputOption(sub, "--json", &a->json_path, "Write a summary of the run as JSON ('-' = stdout)");
-  sub->add_option("--profile", a->profile, "paper | soak | ramp | cycle")->capture_default_str();
+  sub->add_option("--profile", a->profile, "paper | soak | ramp | cycle | heat-cool | user")->capture_default_str();
+  AddInputOption(sub, "--profile-csv", &a->profile_csv,
+                 "Chamber schedule CSV (time_s, chamber_temp_c or temp_c): profile user");
   sub->add_option("--fs", o.fs_hz, "Sample rate, Hz")->check(CLI::PositiveNumber)->capture_default_str();
   sub->add_option("--seed", o.seed, "Random seed")->capture_default_str();
   sub->add_option("--duration", a->duration_s, "Record length, s (default: the profile's; longer holds the end)")

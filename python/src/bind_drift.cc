@@ -80,6 +80,21 @@ void BindDrift(py::module_& m) {
             return ToNumpy(Predict(model, temp_c, fs_hz));
           },
           py::arg("temp_c"), py::arg("fs_hz"), "Predicted drift (target units, deg/s) for a temperature record.")
+      .def(
+          "predict_band",
+          [](const DriftModel& model, const DoubleArray& temp_c, double fs_hz) {
+            const DriftInputs inputs{AsSpan(temp_c, "temp_c"), fs_hz};
+            DriftBand b = Unwrap(WithoutGil([&] { return model.PredictBand(inputs); }));
+            py::dict d;
+            d["center"] = ToNumpy(std::move(b.center));
+            d["lo"] = ToNumpy(std::move(b.lo));
+            d["hi"] = ToNumpy(std::move(b.hi));
+            d["level"] = b.level;
+            return d;
+          },
+          py::arg("temp_c"), py::arg("fs_hz"),
+          "Predicted drift with its prediction band (issue 23): dict center, lo, hi (numpy), level (0.9). "
+          "Raises for a model loaded from a file written before the bands existed.")
       .def("save", [](const DriftModel& model, const std::string& path) { Check(SaveDriftModel(model, path)); },
            py::arg("path"), "Writes the model file (JSON, atomic).")
       .def("to_json", &DriftModelToJson)

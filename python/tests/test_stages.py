@@ -90,6 +90,11 @@ def test_drift_model_fit_predict_save_load(tmp_path):
     model.save(str(path))
     again = gyrocomp.load_drift_model(str(path))
     assert again.predict(temp, fs).tolist() == predicted.tolist()
+    # Issue 23: the prediction band, kept through the file.
+    band = again.predict_band(temp, fs)
+    assert band["level"] == 0.9
+    assert np.all(band["lo"] <= band["center"]) and np.all(band["hi"] >= band["center"])
+    assert band["center"].tolist() == predicted.tolist()
     with pytest.raises(ValueError):
         gyrocomp.drift_model_from_json("{}")
     with pytest.raises((RuntimeError, ValueError)):

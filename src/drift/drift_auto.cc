@@ -178,85 +178,194 @@ std::string SelectionReason(const std::vector<Candidate>& all, std::size_t best,
   return s.str();
 }
 
+// A candidate left out before it was fitted: scored +inf with the note.
+Candidate Skipped(DriftModelKind kind, DriftInputSet in, const DriftFitOptions& c, const std::string& note) {
+  (void)c;
+  return {kind, in, std::nullopt,
+          {std::string(DriftModelKindName(kind)) + "(" + DriftInputSetName(in) + ")", kind, in, kInf, note}};
+}
+
+// What the run supports before anything is fitted (Eqs. I-0, I-1, I-3): the degree, whether a
+// state or a kernel may enter, the dT/dt test. Excluded terms go to *excluded.
+struct Support {
+  int degree = 3;
+  bool states = true;         // Eq. I-0: a state coefficient fits the points
+  bool kernels = true;        // Eq. I-0: enough points for a kernel
+  bool memory = false;        // Eq. I-3
+  TermTest rate;              // Eq. I-1
+  std::string description;    // data_support
+};
+
+Support AssessSupport(const DriftInputs& inputs, std::span<const double> target, const DriftFitOptions& o,
+                      const CvPlan& plan, std::size_t points, double train_period_s, std::vector<ExcludedTerm>* excluded) {
+  Support s;
+  const std::size_t max_coef = MaxCoefficients(points);
+  s.degree = std::min<int>(o.polynomial.degree, std::max<int>(1, static_cast<int>(max_coef) - 1));
+  s.states = max_coef >= static_cast<std::size_t>(s.degree + 1 + o.polynomial.dtemp_degree);
+  s.kernels = points >= kMinKernelPoints;
+  s.memory = MemoryIdentifiable(inputs, o);
+  std::ostringstream d;
+  d << points << " training points (" << FormatNumber(train_period_s, 4) << " s each) support at most " << max_coef
+    << " coefficients (Eq. I-0: " << kPointsPerCoefficient << " points per coefficient): degree " << s.degree
+    << " in T" << (s.degree < o.polynomial.degree ? " (reduced from " + std::to_string(o.polynomial.degree) + ")" : "")
+    << (s.states ? "" : ", no thermal state") << (s.kernels ? "" : ", no kernel (needs >= 60 points)");
+  s.description = d.str();
+  const std::string would = "a longer or denser run: " + std::to_string(kPointsPerCoefficient) +
+                            " training points per coefficient (with block means of " +
+                            FormatNumber(train_period_s, 4) + " s)";
+  if (!s.states) {
+    for (const char* term : {"dT/dt gain", "lag tau", "memory"})
+      excluded->push_back({term, "Eq. I-0: " + std::to_string(points) + " points support " + std::to_string(max_coef) +
+                                     " coefficients, the temperature polynomial uses " + std::to_string(s.degree + 1),
+                           would});
+  }
+  if (!s.kernels)
+    excluded->push_back({"kernel", "Eq. I-0: " + std::to_string(points) + " points, a kernel needs >= " +
+                                       std::to_string(kMinKernelPoints), would});
+  if (s.states) {
+    DriftFitOptions r = o;
+    r.inputs = DriftInputSet::kTempAndRate;
+    r.polynomial.degree = s.degree;
+    auto rd = PrepareFitData(inputs, target, r);
+    if (rd.ok()) s.rate = TestRateGain(*rd, plan, r.polynomial);
+    else s.rate.why = {"dT/dt gain", rd.error().message, ""};
+    if (!s.rate.identified) excluded->push_back(s.rate.why);
+    if (!s.memory) {
+      const std::string cover = "Eq. I-3: heating or cooling covers < 50% of the fitted range";
+      excluded->push_back({"lag tau", cover,
+                           "a run that heats and cools over most of the range (simulate --profile heat-cool or cycle)"});
+      excluded->push_back({"memory", cover,
+                           "a run that heats and cools over most of the range (simulate --profile heat-cool or cycle)"});
+    }
+  }
+  if (s.kernels && !s.memory)
+    excluded->push_back({"kernel",
+                         "Eq. I-3: the run does not cover both directions; a kernel in (T, state) cannot be validated "
+                         "on the other",
+                         "a run that heats and cools over most of the range"});
+  return s;
+}
+
+// The lag candidate: tau by the 1-D search, then Eq. I-2 on the CV profile around it.
+Candidate FitLagCandidate(const DriftInputs& inputs, std::span<const double> target, DriftFitOptions c,
+                          const CvPlan& plan, const Support& s, std::vector<ExcludedTerm>* excluded) {
+  c.inputs = DriftInputSet::kTempAndLag;
+  c.state.lag_tau_s = SearchLagTau(inputs, target, c, plan);
+  const double tau = c.state.lag_tau_s;
+  const TermTest t = TestLagTau(tau, LagScore(inputs, target, c, tau, plan), LagScore(inputs, target, c, tau / 3.0, plan),
+                                LagScore(inputs, target, c, 3.0 * tau, plan), s.rate.identified, s.memory);
+  if (!t.identified) {
+    excluded->push_back(t.why);
+    return Skipped(DriftModelKind::kPolynomial, c.inputs, c, "left out: the run does not identify tau (" + t.evidence + ")");
+  }
+  return FitCandidate(inputs, target, DriftModelKind::kPolynomial, c, plan);
+}
+
+// The CV scores and the span, with any score larger than the span flagged: such a candidate
+// extrapolated a left-out segment far outside what the others cover.
+std::string FlagCvScale(const std::vector<Candidate>& all, double span) {
+  std::ostringstream s;
+  for (const Candidate& c : all)
+    if (std::isfinite(c.score.cv_rmse) && c.score.cv_rmse > span)
+      s << (s.tellp() > 0 ? ", " : "") << c.score.name << " (" << FormatNumber(c.score.cv_rmse, 3) << ")";
+  if (s.tellp() == 0) return "";
+  return "; CV RMSE larger than the drift span " + FormatNumber(span, 3) + " for " + s.str() +
+         ": on some left-out segment that candidate's inputs lie outside the rest of the run (a state value or "
+         "temperature no other segment has) and it extrapolated; its score says it must not be used there, not that "
+         "the drift is that large";
+}
+
 Result<DriftModel> FitAuto(const DriftInputs& inputs, std::span<const double> target, const DriftFitOptions& o,
-                           const CvPlan& plan) {
+                           const CvPlan& plan, std::size_t points, double train_period_s, const std::string& plan_note) {
   std::vector<Candidate> all;
+  std::vector<ExcludedTerm> excluded;
+  const Support sup = AssessSupport(inputs, target, o, plan, points, train_period_s, &excluded);
   DriftFitOptions c = o;
   c.cv_scheme = plan.scheme;
   c.search.cuckoo.max_generations = o.auto_select.search_generations;
-  // Structured candidates: the polynomial with each thermal state.
-  const bool memory = MemoryIdentifiable(inputs, o);
+  c.polynomial.degree = sup.degree;
+  const bool memory = sup.memory;
+  // Structured candidates: the polynomial with each thermal state the run identifies.
   for (DriftInputSet in : {DriftInputSet::kTemp, DriftInputSet::kTempAndRate, DriftInputSet::kTempAndLag,
                            DriftInputSet::kTempAndMemory}) {
     c.inputs = in;
+    if (in != DriftInputSet::kTemp && !sup.states) {
+      all.push_back(Skipped(DriftModelKind::kPolynomial, in, c, "left out: too few points (Eq. I-0)"));
+      continue;
+    }
+    if (in == DriftInputSet::kTempAndRate && !sup.rate.identified) {
+      all.push_back(Skipped(DriftModelKind::kPolynomial, in, c, "left out: the run does not identify the dT/dt gain (Eq. I-1)"));
+      continue;
+    }
     // The lag and memory states carry history: on a ramp the lag excess is ~ -tau dT/dt and
     // settles only after ~tau, so a long tau is a direction memory, identified only by a run that
     // both heats and cools. On paper-profile runs (one short heating leg) auto chose lags of
     // 638-5314 s that fitted the cooling blocks and were 1.6-5.1x worse than poly(T, dT/dt) on
     // the next heating run (docs/drift_model.md, docs/notes/issue-11-s3-i11gls.md).
     if ((in == DriftInputSet::kTempAndMemory || in == DriftInputSet::kTempAndLag) && !memory) {
-      all.push_back({DriftModelKind::kPolynomial, in, std::nullopt,
-                     {std::string("poly(") + DriftInputSetName(in) + ")", DriftModelKind::kPolynomial, in, kInf,
-                      "skipped: the run does not both heat and cool over enough of its range"}});
+      all.push_back(Skipped(DriftModelKind::kPolynomial, in, c,
+                            "skipped: the run does not both heat and cool over enough of its range (Eq. I-3)"));
       continue;
     }
-    if (in == DriftInputSet::kTempAndLag) c.state.lag_tau_s = SearchLagTau(inputs, target, c, plan);
+    if (in == DriftInputSet::kTempAndLag) {
+      all.push_back(FitLagCandidate(inputs, target, c, plan, sup, &excluded));
+      continue;
+    }
     all.push_back(FitCandidate(inputs, target, DriftModelKind::kPolynomial, c, plan));
   }
   std::string state_reason;
-  const std::size_t best_poly = ChooseStructured(inputs, target, o, &all, &state_reason);
+  const std::size_t best_poly = ChooseStructured(inputs, target, c, &all, &state_reason);
   if (o.auto_select.try_svr) {
+    const bool kernels = memory && sup.kernels;
+    const std::string why_not = !sup.kernels ? "not fitted: too few points for a kernel (Eq. I-0)"
+                                             : "not fitted: the run does not cover both directions, an RBF kernel "
+                                               "cannot extrapolate the state";
     c.inputs = DriftInputSet::kTempAndRate;
-    for (DriftModelKind k : {DriftModelKind::kSvr, DriftModelKind::kCsSvr}) {
-      if (memory) {
-        all.push_back(FitCandidate(inputs, target, k, c, plan));
-        continue;
-      }
-      // Not eligible (see below): not fitted, which saves most of auto's time on such runs.
-      all.push_back({k, c.inputs, std::nullopt,
-                     {CandidateName(k, c.inputs, c), k, c.inputs, kInf,
-                      "not fitted: the run does not cover both directions, an RBF kernel cannot extrapolate the "
-                      "state"}});
-    }
+    for (DriftModelKind k : {DriftModelKind::kSvr, DriftModelKind::kCsSvr})
+      all.push_back(kernels ? FitCandidate(inputs, target, k, c, plan) : Skipped(k, c.inputs, c, why_not));
     // The hybrid on the best structured state (and its tau), on runs that heat and cool only: its
     // kernel in (T, state) is validated on the direction(s) the run covers, and on a cooling
     // calibration it learnt what the cooling blocks share (flicker, a hysteresis branch) and
     // applied it to the next heating run: B6 passed Eq. H-1 and was 1.88x poly's heating error.
     c.inputs = all[best_poly].inputs;
     if (all[best_poly].model) c.state = all[best_poly].model->state;
-    if (memory) {
-      all.push_back(FitCandidate(inputs, target, DriftModelKind::kHybrid, c, plan));
-    } else {
-      all.push_back({DriftModelKind::kHybrid, c.inputs, std::nullopt,
-                     {CandidateName(DriftModelKind::kHybrid, c.inputs, c), DriftModelKind::kHybrid, c.inputs, kInf,
-                      "not fitted: the run does not cover both directions, its kernel cannot be validated on the "
-                      "other"}});
-    }
+    all.push_back(kernels ? FitCandidate(inputs, target, DriftModelKind::kHybrid, c, plan)
+                          : Skipped(DriftModelKind::kHybrid, c.inputs, c,
+                                    !sup.kernels ? why_not
+                                                 : "not fitted: the run does not cover both directions, its kernel "
+                                                   "cannot be validated on the other"));
   }
   // A kernel candidate must beat the best structured one by one standard error of the latter's
   // fold scores: the CV error is dominated by the flicker bias no model can predict, and a
   // searched model's CV score is optimistic (its parameters were chosen on it), so a small CV
   // gain does not buy a gain on the next run (docs/drift_model.md).
-  // A pure kernel model (svr, cs-svr) with a state input reverts to its intercept away from its
-  // support: it is eligible only when the run covers both directions (memory identifiable); so is
-  // the hybrid (above).
-  const double se = FoldStandardError(inputs, target, all[best_poly], plan, o);
+  const double se = FoldStandardError(inputs, target, all[best_poly], plan, c);
   std::size_t best = best_poly;
   for (std::size_t i = 0; i < all.size(); ++i) {
-    const bool kernel_only = all[i].kind == DriftModelKind::kSvr || all[i].kind == DriftModelKind::kCsSvr;
-    if (kernel_only && !memory && all[i].score.note.empty())
-      all[i].score.note = "not eligible: the run does not cover both directions, an RBF kernel cannot extrapolate "
-                          "the state";
-    if (all[i].kind == DriftModelKind::kPolynomial || (kernel_only && !memory) || !all[i].model) continue;
+    if (all[i].kind == DriftModelKind::kPolynomial || !all[i].model) continue;
     if (all[i].score.cv_rmse < all[best_poly].score.cv_rmse - se && all[i].score.cv_rmse < all[best].score.cv_rmse)
       best = i;
   }
   if (!all[best].model) return InvalidInput("--model auto: no candidate could be fitted: " + all[best].score.note);
   DriftModel model = std::move(*all[best].model);
   for (const Candidate& k : all) model.summary.candidates.push_back(k.score);
+  // A hybrid whose kernel Eq. H-1 dropped: the kernel is an excluded term too.
+  if (all.back().kind == DriftModelKind::kHybrid && all.back().model &&
+      !all.back().model->summary.kernel_decision.empty() && !all.back().model->kernel)
+    excluded.push_back({"kernel", all.back().model->summary.kernel_decision,
+                        "a longer run whose blocks share the residual structure (Eq. H-1)"});
+  if (!sup.rate.identified && std::isfinite(sup.rate.gain) && std::isfinite(sup.rate.gain_se) &&
+      model.inputs != DriftInputSet::kTempAndRate) {
+    model.summary.unidentified_rate_gain = sup.rate.gain;
+    model.summary.unidentified_rate_gain_se = sup.rate.gain_se;
+    model.summary.calibration_rate_vs_temp = sup.rate.rate_vs_temp;
+  }
+  model.summary.excluded_terms = std::move(excluded);
+  model.summary.data_support = sup.description + (plan_note.empty() ? "" : "; " + plan_note);
   model.summary.selection_reason = SelectionReason(all, best, plan) + "; " + state_reason +
                                    "; a kernel model must beat the chosen structured one by one standard error of "
-                                   "its fold scores (" + FormatNumber(se, 4) + ")";
+                                   "its fold scores (" + FormatNumber(se, 4) + ")" +
+                                   FlagCvScale(all, model.summary.drift_span);
   return model;
 }
 
@@ -266,8 +375,17 @@ Result<DriftModel> FitSelected(const DriftInputs& inputs, std::span<const double
   // One plan for every candidate: it depends on the temperature only.
   auto base = PrepareFitData(inputs, target, o);
   if (!base.ok()) return base.error();
-  const CvPlan plan = MakeCvPlan(*base, o, o.model);
-  if (o.model == DriftModelKind::kAuto) return FitAuto(inputs, target, o, plan);
+  CvPlan plan = MakeCvPlan(*base, o, o.model);
+  if (o.model == DriftModelKind::kAuto) {
+    // Eq. I-0: every fold must leave enough points for the largest candidate the points support.
+    const std::size_t points = base->yd.size();
+    const std::size_t coefficients = std::max<std::size_t>(
+        2, std::min<std::size_t>(MaxCoefficients(points),
+                                 static_cast<std::size_t>(o.polynomial.degree + 1 + o.polynomial.dtemp_degree)));
+    std::string note;
+    plan = EnsureTrainablePlan(plan, base->xd[0], coefficients, o.cv_folds, &note);
+    return FitAuto(inputs, target, o, plan, points, base->train_period_s, note);
+  }
   // A given model with the lag state: tau first, then the model.
   DriftFitOptions c = o;
   c.state.lag_tau_s = SearchLagTau(inputs, target, o, plan);

@@ -259,6 +259,11 @@ Result<DriftModel> FitPrepared(const FitData& d, const DriftInputs& inputs, Drif
   s.cv_in_range_only = plan.in_range_only;
   s.train_period_s = d.train_period_s;
   MinMax(d.x[0], &s.temp_min_c, &s.temp_max_c);
+  {
+    double lo = 0.0, hi = 0.0;
+    MinMax(d.yd, &lo, &hi);
+    s.drift_span = hi - lo;
+  }
   s.dtemp_min_c_per_s = d.dtemp_min_c_per_s;  // centred dT/dt, whatever the state
   s.dtemp_max_c_per_s = d.dtemp_max_c_per_s;
   if (o.inputs != DriftInputSet::kTemp) MinMax(d.x[1], &s.state_min, &s.state_max);
@@ -349,7 +354,27 @@ Result<DriftModel> FitDriftModel(const DriftInputs& inputs, std::span<const doub
     model = drift_internal::FitPrepared(*data, inputs, options.model, options, plan);
   }
   if (!model.ok()) return model.error();
-  if (Status st = drift_internal::CheckModelLoads(*model); !st.ok()) return st.error();
+  if (options.band) {
+    // The CV's training copy: PrepareFitData's automatic block period.
+    const double n = static_cast<double>(target.size());
+    const double cv_period_s = options.train_period_s.value_or(
+        target.size() <= options.max_train_samples ? 1.0 / inputs.fs_hz
+                                                   : std::max(30.0, n / inputs.fs_hz / static_cast<double>(options.max_train_samples)));
+    // A band that cannot be computed leaves the model without one (apply says so); never fails the fit.
+    if (Status st = drift_internal::AttachBand(inputs, target, options, cv_period_s, &*model); !st.ok()) {
+      model->band.reset();
+      model->summary.data_support += std::string(model->summary.data_support.empty() ? "" : "; ") +
+                                     "no prediction band: " + st.error().message;
+    }
+  }
+  if (Status st = drift_internal::CheckModelLoads(*model); !st.ok()) {
+    // A band whose numbers no model file may hold is dropped (the fit stands without it).
+    if (!model->band) return st.error();
+    model->band.reset();
+    model->summary.data_support += std::string(model->summary.data_support.empty() ? "" : "; ") +
+                                   "no prediction band: " + st.error().message;
+    if (Status again = drift_internal::CheckModelLoads(*model); !again.ok()) return again.error();
+  }
   model->summary.identifiability = drift_internal::DescribeIdentifiability(inputs, options);
   model->summary.fit_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return model;

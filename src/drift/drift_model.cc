@@ -170,13 +170,21 @@ std::string DriftFitSummary::BriefReport() const {
   if (lag_tau_s) s << ", lag tau = " << *lag_tau_s << " s";
   s << "; CV RMSE (" << DriftCvSchemeName(cv_scheme) << ", " << cv_folds << " folds";
   if (cv_scheme == DriftCvScheme::kThermalSegments) s << " over " << cv_segments << " thermal segments";
-  s << ") = " << cv_rmse << ", train RMSE = " << train_rmse;
+  s << ") = " << cv_rmse;
+  if (drift_span > 0.0) s << " (" << FormatNumber(100.0 * cv_rmse / drift_span, 3) << "% of the drift span " << FormatNumber(drift_span, 4) << ")";
+  s << ", train RMSE = " << train_rmse;
   if (evaluations > 0) s << ", " << evaluations << " parameter sets tried";
   s << ", " << fit_time_s << " s";
   if (noise_psd) s << "\nnoise model allan (generalised least squares): " << noise_psd->BriefReport();
   if (!kernel_decision.empty()) s << "\n" << kernel_decision;
   if (!selection_reason.empty()) s << "\n" << selection_reason;
   if (!identifiability.empty()) s << "\n" << identifiability;
+  if (!data_support.empty()) s << "\npoints: " << data_support;
+  for (const ExcludedTerm& e : excluded_terms)
+    s << "\nleft out: " << e.term << ": " << e.reason << "; would be identified by " << e.would_identify;
+  if (drift_span > 0.0 && cv_rmse > drift_span)
+    s << "\nwarning: the CV RMSE exceeds the drift span: a left-out segment lay outside what the rest of the run "
+         "covers and the model extrapolated there; expect errors of that size on such a run";
   return s.str();
 }
 

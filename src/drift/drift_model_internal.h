@@ -133,6 +133,38 @@ std::string DescribeIdentifiability(const DriftInputs& inputs, const DriftFitOpt
 // Whether both directions cover enough of the temperature range for the memory state.
 bool MemoryIdentifiable(const DriftInputs& inputs, const DriftFitOptions& o);
 
+// ---- what a run identifies (drift_identify.cc, Eqs. I-0..I-3) ----
+// Eq. I-0: training points per coefficient a candidate needs, and the points a kernel needs.
+inline constexpr std::size_t kPointsPerCoefficient = 6;
+inline constexpr std::size_t kMinKernelPoints = 60;
+// Coefficients `points` training points support (Eq. I-0).
+std::size_t MaxCoefficients(std::size_t points);
+// The outcome of one term's test: identified, or the ExcludedTerm to record.
+struct TermTest {
+  bool identified = false;
+  ExcludedTerm why;
+  std::string evidence;  // the numbers the test read
+  // Eq. I-1 (d): the gain and its segment-jackknife SE (NaN when not fitted).
+  double gain = std::nan(""), gain_se = std::nan("");
+  // Eq. I-1 (b): the run's dT/dt as a polynomial in temperature (what poly(T) absorbs).
+  RateCurve rate_vs_temp;
+};
+// Eq. I-1 on the decimated (T, dT/dt) training copy `d` (inputs kTempAndRate) and the CV plan.
+TermTest TestRateGain(const FitData& d, const CvPlan& plan, const PolynomialOptions& p);
+// Eq. I-2 from the lag search's segment-CV scores at tau, tau/3 and 3 tau.
+TermTest TestLagTau(double tau_s, double score_at_tau, double score_below, double score_above, bool rate_identified,
+                    bool both_directions);
+// A CV plan every fold of which leaves at least 2 x `coefficients` training points at >=
+// `coefficients` distinct temperatures; otherwise `folds` contiguous blocks (all samples scored),
+// with *note saying why. `temp` is the training copy's temperature column.
+CvPlan EnsureTrainablePlan(const CvPlan& plan, std::span<const double> temp, std::size_t coefficients, int folds,
+                           std::string* note);
+
+// Eqs. B-1..B-3 (drift_band.cc): the prediction band of a fitted model from its calibration run;
+// cv_period_s = the block period of the training copy its CV score was computed on.
+Status AttachBand(const DriftInputs& inputs, std::span<const double> target, const DriftFitOptions& o,
+                  double cv_period_s, DriftModel* m);
+
 // Evaluations the cuckoo search makes: num_nests * (1 + 2 * max_generations), capped.
 long CuckooBudget(const CuckooSearchOptions& o);
 

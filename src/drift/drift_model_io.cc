@@ -51,6 +51,13 @@ json SummaryJson(const DriftFitSummary& s) {
             {"candidates", cands},
             {"selection_reason", s.selection_reason},
             {"identifiability", s.identifiability}};
+  // Issue 23 (optional on reading: older files have none).
+  json excluded = json::array();
+  for (const ExcludedTerm& e : s.excluded_terms)
+    excluded.push_back({{"term", e.term}, {"reason", e.reason}, {"would_identify", e.would_identify}});
+  j["excluded_terms"] = excluded;
+  j["data_support"] = s.data_support;
+  j["drift_span"] = s.drift_span;
   if (s.C) {
     j["C"] = *s.C;
     j["gamma"] = *s.gamma;
@@ -148,6 +155,26 @@ json AxisJson(const DriftModel& m) {
                 {"support_vectors", svs}};
   }
   j["training"] = SummaryJson(m.summary);
+  if (const auto& b = m.band) {
+    const std::size_t p = m.structured ? m.structured->terms.size() : 0;
+    json cov = json::array();
+    for (std::size_t r = 0; r < p && b->parameter_cov.size() == p * p; ++r)
+      cov.push_back(std::vector<double>(b->parameter_cov.begin() + r * p, b->parameter_cov.begin() + (r + 1) * p));
+    j["band"] = {{"level", b->level},
+                 {"parameter_cov", cov},
+                 {"noise", {{"white", b->noise.h0}, {"flicker", b->noise.h_1}, {"random_walk", b->noise.h_2}}},
+                 {"model_form_rms", b->model_form_rms},
+                 {"expected_rms", b->expected_rms},
+                 {"unidentified_rate_gain_rms", b->unidentified_rate_gain_rms},
+                 {"calibration_rate_vs_temp", {{"offset_c", b->calibration_rate_vs_temp.offset_c},
+                                               {"scale_c", b->calibration_rate_vs_temp.scale_c},
+                                               {"coefficients", b->calibration_rate_vs_temp.coefficients}}},
+                 {"coverage_check", b->coverage_check},
+                 {"equation", "var_i = a_i' parameter_cov a_i + model_form_rms^2, a_i = the structured terms at sample i "
+                              "(standardised inputs), + (unidentified_rate_gain_rms d_i)^2 with d_i = the sample's dT/dt - "
+                              "sum coefficients[k] ((T - offset_c) / scale_c)^k of calibration_rate_vs_temp; band = prediction +- z(level) sqrt(var_i); noise: one-sided PSD "
+                              "white + flicker / f + random_walk / f^2"}};
+  }
   return j;
 }
 
@@ -201,6 +228,48 @@ void ReadThermalState(Reader& r, const json& ts, DriftModel* m) {
   if (r.ok() && (!m->rate.IsValid(&why) || !m->state.IsValid(&why))) r.Fail("thermal_state: " + why);
 }
 
+// "band" (issue 23): level in (0, 1), a terms x terms covariance, noise and spreads >= 0.
+void ReadBand(Reader& r, const json& band, DriftModel* m) {
+  if (!band.is_object()) return r.Fail("field 'band' must be an object");
+  DriftBandModel b;
+  b.level = r.Number(band, "level", "band.level");
+  const json* cov = r.Get(band, "parameter_cov", "band.parameter_cov");
+  const json* noise = r.Get(band, "noise", "band.noise");
+  b.model_form_rms = r.Number(band, "model_form_rms", "band.model_form_rms");
+  b.coverage_check = r.String(band, "coverage_check", "band.coverage_check");
+  if (band.contains("expected_rms")) b.expected_rms = r.Number(band, "expected_rms", "band.expected_rms");
+  if (band.contains("unidentified_rate_gain_rms"))
+    b.unidentified_rate_gain_rms = r.Number(band, "unidentified_rate_gain_rms", "band.unidentified_rate_gain_rms");
+  if (band.contains("calibration_rate_vs_temp")) {
+    const json& c = band["calibration_rate_vs_temp"];
+    b.calibration_rate_vs_temp.offset_c = r.Number(c, "offset_c", "band.calibration_rate_vs_temp.offset_c");
+    b.calibration_rate_vs_temp.scale_c = r.Number(c, "scale_c", "band.calibration_rate_vs_temp.scale_c");
+    b.calibration_rate_vs_temp.coefficients = r.Numbers(c, "coefficients", "band.calibration_rate_vs_temp.coefficients");
+    if (r.ok() && !(b.calibration_rate_vs_temp.scale_c > 0.0))
+      return r.Fail("field 'band.calibration_rate_vs_temp.scale_c' must be > 0");
+  }
+  if (!r.ok()) return;
+  b.noise.h0 = r.Number(*noise, "white", "band.noise.white");
+  b.noise.h_1 = r.Number(*noise, "flicker", "band.noise.flicker");
+  b.noise.h_2 = r.Number(*noise, "random_walk", "band.noise.random_walk");
+  if (!r.ok()) return;
+  if (!(b.level > 0.0 && b.level < 1.0)) return r.Fail("field 'band.level' must be in (0, 1)");
+  if (!(b.model_form_rms >= 0.0) || !std::isfinite(b.model_form_rms) || !(b.noise.h0 >= 0.0) ||
+      !(b.noise.h_1 >= 0.0) || !(b.noise.h_2 >= 0.0) || !(b.unidentified_rate_gain_rms >= 0.0) ||
+      !std::isfinite(b.unidentified_rate_gain_rms))
+    return r.Fail("fields 'band.model_form_rms' and 'band.noise.*' must be finite and >= 0");
+  const std::size_t p = m->structured ? m->structured->terms.size() : 0;
+  if (!cov->is_array() || cov->size() != p) return r.Fail("field 'band.parameter_cov' must be " + std::to_string(p) + " x " + std::to_string(p));
+  for (const json& row : *cov) {
+    if (!row.is_array() || row.size() != p) return r.Fail("field 'band.parameter_cov' must be " + std::to_string(p) + " x " + std::to_string(p));
+    for (const json& v : row) {
+      if (!v.is_number() || !std::isfinite(v.get<double>())) return r.Fail("field 'band.parameter_cov' holds a non-number");
+      b.parameter_cov.push_back(v.get<double>());
+    }
+  }
+  m->band = std::move(b);
+}
+
 Result<DriftModel> ReadAxis(const json& axis, const std::string& where) {
   Reader r(where);
   DriftModel m;
@@ -236,6 +305,7 @@ Result<DriftModel> ReadAxis(const json& axis, const std::string& where) {
   if (r.ok()) drift_internal::ReadTrainingSummary(r, *training, 2, want_poly, want_svr, &m.summary);
   if (r.ok() && m.inputs == DriftInputSet::kTempAndLag) m.summary.lag_tau_s = m.state.lag_tau_s;
   if (r.ok() && !(m.summary.temp_min_c <= m.summary.temp_max_c)) r.Fail("training.temp_min_c > training.temp_max_c");
+  if (r.ok() && axis.contains("band")) ReadBand(r, axis["band"], &m);  // optional: files before issue 23
   if (!r.ok()) return InvalidInput(r.error());
   return m;
 }

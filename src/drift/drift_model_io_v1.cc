@@ -36,6 +36,21 @@ void ReadVersion2Training(Reader& r, const json& training, DriftFitSummary& s) {
   s.state_max = r.Number(training, "state_max", "training.state_max");
   s.selection_reason = r.String(training, "selection_reason", "training.selection_reason");
   s.identifiability = r.String(training, "identifiability", "training.identifiability");
+  // Issue 23, optional (files before it have none).
+  if (training.contains("drift_span")) s.drift_span = r.Number(training, "drift_span", "training.drift_span");
+  if (training.contains("data_support")) s.data_support = r.String(training, "data_support", "training.data_support");
+  if (training.contains("excluded_terms")) {
+    const json& ex = training["excluded_terms"];
+    if (!ex.is_array()) return r.Fail("field 'training.excluded_terms' must be an array");
+    for (const json& e : ex) {
+      ExcludedTerm t;
+      t.term = r.String(e, "term", "training.excluded_terms[].term");
+      t.reason = r.String(e, "reason", "training.excluded_terms[].reason");
+      t.would_identify = r.String(e, "would_identify", "training.excluded_terms[].would_identify");
+      if (!r.ok()) return;
+      s.excluded_terms.push_back(std::move(t));
+    }
+  }
   const json* cands = r.Get(training, "candidates", "training.candidates");
   if (cands && !cands->is_array()) r.Fail("field 'training.candidates' must be an array");
   if (!r.ok()) return;

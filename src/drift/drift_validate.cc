@@ -45,6 +45,15 @@ std::string DriftValidation::BriefReport() const {
   if (rmse_vs_true_drift) s << ", RMSE vs true drift " << *rmse_vs_true_drift;
   s << "; outside the fitted range: T " << 100.0 * fraction_temp_outside << "%, dT/dt "
     << 100.0 * fraction_dtemp_outside << "%";
+  if (!band_level) {
+    s << "; the model has no prediction band (a file written before issue 23)";
+  } else {
+    s << "; " << 100.0 * *band_level << "% band: half-width RMS " << *band_half_width_rms;
+    if (band_coverage_truth) s << ", covers " << 100.0 * *band_coverage_truth << "% of the true drift";
+    if (band_coverage_blocks)
+      s << ", covers " << 100.0 * *band_coverage_blocks << "% of the rate's block means (these include the run's "
+        << "noise)";
+  }
   return s.str();
 }
 
@@ -100,6 +109,25 @@ Result<DriftValidation> ValidateDriftModel(const DriftModel& model, std::span<co
         v.adev_compensated.push_back(comp_adev->curve.adev_dps[k]);
       }
   if (!true_drift.empty()) v.rmse_vs_true_drift = drift_internal::Rmse(*predicted, true_drift);
+  if (model.band) {
+    auto band = model.PredictBand({temp_c, fs_hz}, o.causal);
+    if (!band.ok()) return band.error();
+    v.band_level = band->level;
+    double half2 = 0.0;
+    std::size_t inside = 0;
+    for (std::size_t i = 0; i < band->lo.size(); ++i) {
+      half2 += std::pow(0.5 * (band->hi[i] - band->lo[i]), 2);
+      if (!true_drift.empty()) inside += true_drift[i] >= band->lo[i] && true_drift[i] <= band->hi[i] ? 1 : 0;
+    }
+    const double n = static_cast<double>(std::max<std::size_t>(1, band->lo.size()));
+    v.band_half_width_rms = std::sqrt(half2 / n);
+    if (!true_drift.empty()) v.band_coverage_truth = static_cast<double>(inside) / n;
+    const std::vector<double> lob = drift_internal::BlockMeans(band->lo, block);
+    const std::vector<double> hib = drift_internal::BlockMeans(band->hi, block);
+    std::size_t in_blocks = 0;
+    for (std::size_t i = 0; i < rb.size(); ++i) in_blocks += rb[i] >= lob[i] && rb[i] <= hib[i] ? 1 : 0;
+    v.band_coverage_blocks = rb.empty() ? 0.0 : static_cast<double>(in_blocks) / static_cast<double>(rb.size());
+  }
   v.excursion = model.CheckTemperatureRange(temp_c);
   v.fraction_temp_outside = v.excursion.fraction_outside;
   v.fraction_dtemp_outside =

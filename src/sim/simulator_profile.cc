@@ -50,6 +50,20 @@ class ScheduleBuilder {
   double rate_;
 };
 
+// kUser: sizes, finite values, strictly increasing times from >= 0, plausible temperatures.
+bool UserScheduleValid(const std::vector<double>& time_s, const std::vector<double>& temp_c, std::string* error) {
+  if (time_s.size() != temp_c.size() || time_s.size() < 2)
+    return Fail(error, "ThermalProfileOptions::user_time_s.size()", static_cast<double>(time_s.size()),
+                "must equal user_temp_c.size() and be >= 2");
+  for (std::size_t i = 0; i < time_s.size(); ++i) {
+    if (!Finite(time_s[i]) || time_s[i] < 0.0 || (i > 0 && !(time_s[i] > time_s[i - 1])))
+      return Fail(error, "ThermalProfileOptions::user_time_s[i]", time_s[i], "must be finite, >= 0 and increasing");
+    if (!Finite(temp_c[i]) || temp_c[i] < -273.15 || temp_c[i] > 1000.0)
+      return Fail(error, "ThermalProfileOptions::user_temp_c[i]", temp_c[i], "must be a temperature in [-273.15, 1000] deg C");
+  }
+  return true;
+}
+
 }  // namespace
 
 std::optional<ThermalProfileKind> ParseThermalProfileKind(const std::string& name) {
@@ -57,6 +71,8 @@ std::optional<ThermalProfileKind> ParseThermalProfileKind(const std::string& nam
   if (name == "soak") return ThermalProfileKind::kSoak;
   if (name == "ramp") return ThermalProfileKind::kRamp;
   if (name == "cycle") return ThermalProfileKind::kCycle;
+  if (name == "heat-cool") return ThermalProfileKind::kHeatCool;
+  if (name == "user") return ThermalProfileKind::kUser;
   return std::nullopt;
 }
 
@@ -66,6 +82,8 @@ const char* ThermalProfileKindName(ThermalProfileKind kind) {
     case ThermalProfileKind::kSoak: return "soak";
     case ThermalProfileKind::kRamp: return "ramp";
     case ThermalProfileKind::kCycle: return "cycle";
+    case ThermalProfileKind::kHeatCool: return "heat-cool";
+    case ThermalProfileKind::kUser: return "user";
   }
   return "?";
 }
@@ -99,6 +117,7 @@ bool ThermalProfileOptions::IsValid(std::string* error) const {
   if (num_cycles < 1 || num_cycles > 1000) {
     return Fail(error, "ThermalProfileOptions::num_cycles", num_cycles, "must be in [1, 1000]");
   }
+  if (kind == ThermalProfileKind::kUser) return UserScheduleValid(user_time_s, user_temp_c, error);
   return true;
 }
 
@@ -147,6 +166,27 @@ Result<ThermalSchedule> MakeThermalSchedule(const ThermalProfileOptions& o) {
         b.Hold(o.hold_s);
       }
       return b.Take();
+    }
+    case ThermalProfileKind::kHeatCool: {
+      // Issue 23: both directions over the whole range, holds at both ends (a cold soak first,
+      // as PX4's procedure starts), so a memory and a lag are identifiable (Eqs. I-2, I-3).
+      ScheduleBuilder b(o.cold_temp_c, rate_c_per_s);
+      b.Hold(o.room_hold_s);
+      b.RampTo(o.hot_temp_c);
+      b.Hold(o.hold_s);
+      b.RampTo(o.cold_temp_c);
+      b.Hold(o.hold_s);
+      return b.Take();
+    }
+    case ThermalProfileKind::kUser: {
+      ThermalSchedule s;
+      if (o.user_time_s.front() > 0.0) {  // held at the first temperature from t = 0
+        s.time_s.push_back(0.0);
+        s.temp_c.push_back(o.user_temp_c.front());
+      }
+      s.time_s.insert(s.time_s.end(), o.user_time_s.begin(), o.user_time_s.end());
+      s.temp_c.insert(s.temp_c.end(), o.user_temp_c.begin(), o.user_temp_c.end());
+      return s;
     }
   }
   return InternalError("MakeThermalSchedule: unknown profile kind");

@@ -184,6 +184,8 @@ struct DriftFitOptions {
   std::size_t max_gls_blocks = 2000;
   // Name of the target (for the model file and reports), e.g. "rate_dps" or "drift-mode".
   std::string target_name = "rate_dps";
+  // Attach the prediction band (DriftModel::band, Eqs. B-1..B-3) to the fitted model.
+  bool band = true;
   bool IsValid(std::string* error) const;
 };
 
@@ -209,6 +211,22 @@ struct DriftCandidateScore {
   DriftInputSet inputs = DriftInputSet::kTemp;
   double cv_rmse = 0.0;    // on the auto's CV scheme, target units; +inf when the fit failed
   std::string note;        // why it was skipped / failed, "" otherwise
+};
+
+// A calibration run's dT/dt as a polynomial in temperature: sum c_k ((T - offset_c) / scale_c)^k
+// (Eq. I-1 (b), least squares on its block means), C/s.
+struct RateCurve {
+  double offset_c = 0.0, scale_c = 1.0;
+  std::vector<double> coefficients;
+  double At(double temp_c) const;
+};
+
+// A candidate term the calibration run does not identify, left out of the model (drift_identify.cc,
+// docs/drift_model.md "What a run identifies"). Written into the model file's "training".
+struct ExcludedTerm {
+  std::string term;            // "dT/dt gain" | "lag tau" | "memory" | "kernel" | "degree"
+  std::string reason;          // the test and the numbers it failed on
+  std::string would_identify;  // what calibration run would identify it
 };
 
 // What the fit did: the numbers the CLI, the report and the model file show.
@@ -247,6 +265,16 @@ struct DriftFitSummary {
   std::string identifiability;
   // hybrid: whether its kernel was kept or dropped, with the per-block gains (Eq. H-1); "" else.
   std::string kernel_decision;
+  // auto: terms left out because the run does not identify them (Eqs. I-0..I-3), with why.
+  std::vector<ExcludedTerm> excluded_terms;
+  // auto: the dT/dt gain Eq. I-1 fitted but did not accept, and its segment-jackknife SE
+  // (deg/s per C/s for a rate); used by the band (Eq. B-4).
+  std::optional<double> unidentified_rate_gain, unidentified_rate_gain_se;
+  RateCurve calibration_rate_vs_temp;  // with them: the run's dT/dt against T
+  // auto: how many points the fit had and which candidates they support (Eq. I-0); "" else.
+  std::string data_support;
+  // Span (max - min) of the target's training copy, target units: the scale CV figures are read on.
+  double drift_span = 0.0;
   // Polynomial: its noise model (DriftFitOptions::noise_model) and, kAllan, the Eq. G-0
   // coefficients fitted to the OLS residual.
   DriftNoiseModel noise_model = DriftNoiseModel::kWhite;
@@ -266,6 +294,36 @@ struct TemperatureExcursion {
   std::string Message() const;     // "" when inside
 };
 
+// A prediction with its band (DriftModel::PredictBand): per sample, the predicted drift and the
+// interval that holds the true drift of another run with probability `level` (issue 23).
+struct DriftBand {
+  std::vector<double> center, lo, hi;  // target units
+  double level = 0.9;
+};
+
+// What the band is made of, stored per axis in the model file ("band"; docs/drift_model.md
+// "Prediction bands"). Eq. B-1: var_i = a_i' C a_i + model_form_rms^2, half-width z(level)
+// sqrt(var_i), a_i the structured part's terms at sample i (standardised inputs).
+struct DriftBandModel {
+  double level = 0.9;
+  // Covariance C of the structured coefficients (row-major, terms x terms; empty for a model
+  // without a structured part), from the OLS fit under the run's measured noise (Eq. B-2).
+  std::vector<double> parameter_cov;
+  // The Eq. G-0 noise model fitted to the residual's Allan variance (h0, h_1, h_2).
+  NoisePsd noise;
+  // The model-form spread the thermal-segment CV shows, target units (Eq. B-3).
+  double model_form_rms = 0.0;
+  // Eq. B-4: sqrt(g^2 + SE^2) of a dT/dt gain the run did not identify (0: none), target units
+  // per C/s, and the calibration run's dT/dt against T (what the T polynomial absorbed of it).
+  double unidentified_rate_gain_rms = 0.0;
+  RateCurve calibration_rate_vs_temp;
+  // Where the coverage was measured.
+  std::string coverage_check;
+  // RMS of the band's standard deviation over the calibration run: the expected RMS drift error
+  // on a next run like it, target units.
+  double expected_rms = 0.0;
+};
+
 struct DriftModel {
   DriftModelKind kind = DriftModelKind::kPolynomial;  // never kAuto
   DriftInputSet inputs = DriftInputSet::kTemp;
@@ -281,6 +339,8 @@ struct DriftModel {
   std::string rate_col = "rate_dps";
   std::string unit = "deg/s";
   DriftFitSummary summary;
+  // Prediction band (issue 23); absent in files written before it: PredictBand then fails.
+  std::optional<DriftBandModel> band;
 
   // ---- evaluator accessors (exporters, generated C) ----
   // The model function at one temperature and state value (after the out-of-range policy).
@@ -296,6 +356,9 @@ struct DriftModel {
   // way. Errors: empty record, or fs_hz <= 0 / fewer than 2 samples when a state is needed.
   Result<std::vector<double>> Predict(const DriftInputs& inputs, bool causal = false) const;
   TemperatureExcursion CheckTemperatureRange(std::span<const double> temp_c) const;
+  // Predict with the band (Eq. B-1): center = Predict(inputs, causal), [lo, hi] the band at
+  // band->level. Errors: those of Predict, or no band (a model file written before issue 23).
+  Result<DriftBand> PredictBand(const DriftInputs& inputs, bool causal = false) const;
 };
 
 // Causal evaluation, one sample at a time: the reference for firmware and generated C, and what

@@ -45,6 +45,11 @@ struct DriftValidation {
   double fraction_temp_outside = 0.0;
   double fraction_dtemp_outside = 0.0;
   TemperatureExcursion excursion;
+  // The model's prediction band on this run (issue 23; absent when the model has none): its
+  // level, RMS half-width, the share of samples whose true drift lies in it (truth given), and
+  // the share of residual block means (block_s) of the raw rate inside the band of block means
+  // (no truth: this also counts the run's own noise, so it reads low).
+  std::optional<double> band_level, band_half_width_rms, band_coverage_truth, band_coverage_blocks;
   std::string BriefReport() const;
 };
 

@@ -32,8 +32,12 @@ enum class ThermalProfileKind {
   kSoak,   // constant at soak_temp_c for soak_duration_s
   kRamp,   // room hold, ramp to ramp_end_c at ramp_rate, hold
   kCycle,  // room hold, heat to hot, hold, cool to cold, hold, heat to room, hold; num_cycles times
+  // Issue 23 (calibration design):
+  kHeatCool,  // cold soak (room_hold_s at cold), heat to hot, hold, cool to cold, hold: both
+              // directions over the whole range with holds at both ends (6.3 h at 1 C/min)
+  kUser,      // the user's chamber schedule: user_time_s / user_temp_c (simulate --profile-csv)
 };
-// "paper" | "soak" | "ramp" | "cycle".
+// "paper" | "soak" | "ramp" | "cycle" | "heat-cool" | "user".
 std::optional<ThermalProfileKind> ParseThermalProfileKind(const std::string& name);
 const char* ThermalProfileKindName(ThermalProfileKind kind);
 
@@ -59,6 +63,9 @@ struct ThermalProfileOptions {
   double ramp_end_c = 60.0;
   // kCycle: number of hot-cold-room cycles. Must be >= 1.
   int num_cycles = 1;
+  // kUser: chamber set point at these times (s, strictly increasing, first >= 0; linear in
+  // between, held before the first and after the last), deg C. At least 2 points.
+  std::vector<double> user_time_s, user_temp_c;
   bool IsValid(std::string* error) const;
 };
 

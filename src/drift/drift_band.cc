@@ -1,0 +1,253 @@
+// Prediction bands (issue 23; docs/drift_model.md "Prediction bands"): how far the next run's
+// true drift may lie from a fitted model's prediction.
+//
+//   Eq. B-1  var_i = a_i' C a_i + m^2,   band_i = center_i +- z sqrt(var_i),  z = 1.6449 (90%),
+//            a_i the structured part's terms at sample i (standardised T and state).
+//   Eq. B-2  C = (A'A)^-1 A' Sigma A (A'A)^-1: the covariance of the ordinary least squares
+//            coefficients when the residual has the covariance Sigma of the run's measured noise:
+//            the Eq. G-0 model (white + flicker + random walk) fitted to the Allan variance of the
+//            fit's residual (Eq. G-1), Sigma(i, j) = R(|i - j|) of block means of gls_block_s
+//            (Eq. G-2, with the spectrum held flat below f_floor = 1 / (2 pi tau_max), tau_max
+//            the longest Allan averaging time fitted: the 1/f and 1/f^2 terms are not extrapolated
+//            below what the Allan variance measured; extrapolated, a Gauss-Markov wander of 1500 s
+//            fitted as a small random walk made the band 5x the realised error), A the terms at
+//            those block means. The OLS on every sample and on block
+//            means give nearly the same coefficients (the drift is slow).
+//   Eq. B-3  m^2 = min(var(y), max(0, CV_RMSE^2 - R_seg(0) - mean_i a_i' C a_i)): the
+//            thermal-segment CV error minus what the held-out target's own noise and the
+//            parameter error explain: the model-form spread, e.g. a hysteresis or a lag the form
+//            cannot follow. R_seg(0) is the Eq. G-2 variance of a block mean of the CV's training
+//            period P_cv about the mean of a left-out unit (duration / segments): the noise a
+//            left-out segment carries of its own; its slower wander is shared with the training
+//            segments and stays in the CV error. Measured alternatives: subtracting only the
+//            white part made the band 3.2-4.6x the realised error on a plain cubic; subtracting
+//            the block-mean variance over the whole record left m = 0 and covered 55-60% where a
+//            dT/dt term was left out. Capped at the target's variance: a larger CV error is
+//            extrapolation (flagged by the fit), not the spread inside the range.
+//   Eq. B-4  a dT/dt gain the run does not identify (Eq. I-1) is not in the model, and poly(T)
+//            absorbed g r_cal(T), r_cal the calibration run's dT/dt as a cubic in T; on another
+//            run it errs by g (r_i - r_cal(T_i)): var_i += (g^2 + SE^2) (r_i - r_cal(T_i))^2, g and
+//            SE the gain and its segment-jackknife SE from Eq. I-1, sqrt(g^2 + SE^2) capped at
+//            drift_span / max |dT/dt| of the run (a larger gain would have shown in it). A heating-only calibration
+//            applied to a cooling run: r - r_cal ~ -1 C/min on the cooling holds.
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Dense>
+
+#include "drift_model_internal.h"
+#include "gyrocomp/core/format.h"
+
+namespace gyrocomp {
+namespace drift_internal {
+namespace {
+
+constexpr double kZ90 = 1.6448536269514722;  // standard normal 95th percentile: two-sided 90%
+
+// Terms of the structured polynomial at one raw (T, state) pair.
+Eigen::VectorXd TermRow(const PolynomialModel& p, double temp_c, double state) {
+  const double t = (temp_c - p.input_scaler.offset[0]) / p.input_scaler.scale[0];
+  const double r = p.input_scaler.offset.size() > 1 ? (state - p.input_scaler.offset[1]) / p.input_scaler.scale[1] : 0.0;
+  Eigen::VectorXd a(static_cast<Eigen::Index>(p.terms.size()));
+  for (std::size_t k = 0; k < p.terms.size(); ++k)
+    a(static_cast<Eigen::Index>(k)) = std::pow(t, p.terms[k].temp_power) * std::pow(r, p.terms[k].dtemp_power);
+  return a;
+}
+
+// The residual's noise model (Eq. G-1), or white noise of the residual's variance when the
+// record is too short for an Allan fit.
+NoisePsd ResidualNoise(std::span<const double> residual, double fs_hz, double min_tau_s, const NoisePsdOptions& o) {
+  NoisePsdOptions po = o;
+  if (!po.min_tau_s) po.min_tau_s = min_tau_s;
+  auto psd = FitNoisePsd(residual, fs_hz, po);
+  if (psd.ok()) return *psd;
+  double ss = 0.0;
+  for (double v : residual) ss += v * v;
+  NoisePsd white;
+  white.h0 = 2.0 * ss / static_cast<double>(std::max<std::size_t>(1, residual.size())) / fs_hz;  // var = h0 fs / 2
+  return white;
+}
+
+// Eq. G-2 (noise_model.cc) with the red part of the spectrum flat below f_floor_hz.
+std::vector<double> FlooredBlockAutocovariance(const NoisePsd& psd, std::size_t n, double block_s, double f_floor_hz) {
+  constexpr double kPi = 3.14159265358979323846;
+  constexpr int kAliases = 200;
+  std::vector<double> r(n, 0.0);
+  if (n == 0) return r;
+  const std::size_t m = 2 * n;
+  const double df = 1.0 / (static_cast<double>(m) * block_s);
+  std::vector<double> s(n + 1, 0.0);
+  for (std::size_t j = 1; j <= n; ++j) {
+    const double f0 = static_cast<double>(j) * df;
+    const double sin_x = std::sin(kPi * f0 * block_s);
+    double folded = 0.0;
+    for (int a = -kAliases; a <= kAliases; ++a) {
+      const double f = std::abs(f0 + a / block_s);
+      const double x = kPi * f * block_s;
+      const double fs = std::max(f, f_floor_hz);
+      folded += (psd.h_1 / fs + psd.h_2 / (fs * fs)) * sin_x * sin_x / (x * x);
+    }
+    s[j] = folded * df * (j == n ? 0.5 : 1.0);
+  }
+  std::vector<double> cos_table(m);
+  for (std::size_t i = 0; i < m; ++i) cos_table[i] = std::cos(2.0 * kPi * static_cast<double>(i) / static_cast<double>(m));
+  for (std::size_t k = 0; k < n; ++k) {
+    double sum = 0.0;
+    std::size_t phase = 0;
+    for (std::size_t j = 1; j <= n; ++j) {
+      phase = (phase + k) % m;
+      sum += s[j] * cos_table[phase];
+    }
+    r[k] = sum;
+  }
+  r[0] += psd.h0 / (2.0 * block_s);
+  return r;
+}
+
+// Eq. B-2 on block means of `period_s`.
+Result<Eigen::MatrixXd> ParameterCovariance(const DriftModel& m, const DriftInputs& inputs, std::span<const double> target,
+                                            const DriftFitOptions& o, const NoisePsd& psd, double period_s) {
+  DriftFitOptions g = o;
+  g.inputs = m.inputs;
+  g.state = m.state;
+  g.rate = m.rate;
+  g.train_period_s = period_s;
+  g.cv_folds = 2;  // only the block means are used here
+  auto d = PrepareFitData(inputs, target, g);
+  if (!d.ok()) return d.error();
+  const PolynomialModel& p = *m.structured;
+  const std::size_t n = d->yd.size();
+  const auto pn = static_cast<Eigen::Index>(p.terms.size());
+  Eigen::MatrixXd a(static_cast<Eigen::Index>(n), pn);
+  for (std::size_t i = 0; i < n; ++i)
+    a.row(static_cast<Eigen::Index>(i)) = TermRow(p, d->xd[0][i], d->xd.size() > 1 ? d->xd[1][i] : 0.0).transpose();
+  const double duration_s = static_cast<double>(target.size()) / inputs.fs_hz;
+  const double f_floor_hz = 1.0 / (2.0 * 3.14159265358979323846 * o.noise_psd.max_tau_fraction * duration_s);
+  const std::vector<double> r = FlooredBlockAutocovariance(psd, n, d->train_period_s, f_floor_hz);
+  Eigen::MatrixXd sigma(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(n));
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = 0; j < n; ++j) sigma(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = r[i > j ? i - j : j - i];
+  const Eigen::MatrixXd ata = a.transpose() * a;
+  const Eigen::MatrixXd bread = ata.completeOrthogonalDecomposition().pseudoInverse();
+  return Eigen::MatrixXd(bread * (a.transpose() * sigma * a) * bread);
+}
+
+}  // namespace
+
+Status AttachBand(const DriftInputs& inputs, std::span<const double> target, const DriftFitOptions& o,
+                  double cv_period_s, DriftModel* m) {
+  auto pred = m->Predict(inputs);
+  if (!pred.ok()) return pred.error();
+  std::vector<double> residual(target.size());
+  for (std::size_t i = 0; i < residual.size(); ++i) residual[i] = target[i] - (*pred)[i];
+  const double duration_s = static_cast<double>(target.size()) / inputs.fs_hz;
+  // gls_block_s (longer when the record would give more than max_gls_blocks), but at least 20
+  // blocks when the record allows (a short table: every row).
+  const double period_s = std::max(1.0 / inputs.fs_hz, std::min(std::max(o.gls_block_s, duration_s / static_cast<double>(o.max_gls_blocks)),
+                                                                 duration_s / 20.0));
+  DriftBandModel band;
+  band.noise = ResidualNoise(residual, inputs.fs_hz, period_s, o.noise_psd);
+  band.coverage_check = "docs/drift_model.md, Prediction bands (issue 23): held-out simulated runs";
+  double param_var = 0.0;
+  Eigen::MatrixXd cov;
+  if (m->structured) {
+    auto c = ParameterCovariance(*m, inputs, target, o, band.noise, period_s);
+    if (!c.ok()) return c.error();
+    cov = *c;
+    band.parameter_cov.assign(cov.data(), cov.data() + cov.size());  // symmetric: order irrelevant
+    auto features = BuildFeatures(inputs, m->inputs, m->rate, m->state, /*causal=*/false);
+    if (!features.ok()) return features.error();
+    for (std::size_t i = 0; i < target.size(); ++i) {
+      const Eigen::VectorXd a = TermRow(*m->structured, (*features)[0][i], features->size() > 1 ? (*features)[1][i] : 0.0);
+      param_var += a.dot(cov * a) / static_cast<double>(target.size());
+    }
+  }
+  // Eq. B-3: what the segment CV shows beyond the held-out noise and the parameter error.
+  const double cv_period = std::max(cv_period_s, 1.0 / inputs.fs_hz);
+  const int units = std::max(1, m->summary.cv_segments > 0 ? m->summary.cv_segments : m->summary.cv_folds);
+  const auto unit_blocks = static_cast<std::size_t>(std::clamp(duration_s / units / cv_period, 1.0, 2000.0));
+  const double noise_cv = BlockMeanAutocovariance(band.noise, unit_blocks, cv_period)[0];
+  const double cv = m->summary.cv_rmse;
+  double mean = 0.0, var_y = 0.0;
+  for (double v : target) mean += v / static_cast<double>(target.size());
+  for (double v : target) var_y += (v - mean) * (v - mean) / static_cast<double>(target.size());
+  band.model_form_rms = std::sqrt(std::min(var_y, std::max(0.0, cv * cv - noise_cv - param_var)));
+  band.expected_rms = std::sqrt(param_var + band.model_form_rms * band.model_form_rms);
+  const DriftFitSummary& fs = m->summary;
+  if (fs.unidentified_rate_gain && fs.unidentified_rate_gain_se) {
+    // Capped at the gain that would by itself span the run's whole drift at its fastest dT/dt:
+    // a larger one would have shown in the run.
+    const double r_max = std::max(std::abs(fs.dtemp_min_c_per_s), std::abs(fs.dtemp_max_c_per_s));
+    const double cap = r_max > 0.0 ? fs.drift_span / r_max : 0.0;
+    band.unidentified_rate_gain_rms = std::min(cap, std::hypot(*fs.unidentified_rate_gain, *fs.unidentified_rate_gain_se));
+  }
+  band.calibration_rate_vs_temp = fs.calibration_rate_vs_temp;
+  m->band = std::move(band);
+  return Status::Ok();
+}
+
+}  // namespace drift_internal
+
+double RateCurve::At(double temp_c) const {
+  const double t = (temp_c - offset_c) / scale_c;
+  double f = 0.0, p = 1.0;
+  for (double c : coefficients) f += c * p, p *= t;
+  return f;
+}
+
+Result<DriftBand> DriftModel::PredictBand(const DriftInputs& in, bool causal) const {
+  if (!band) return InvalidInput("drift model: no prediction band (a model file written before issue 23; refit it)");
+  auto center = Predict(in, causal);
+  if (!center.ok()) return center.error();
+  DriftBand b;
+  b.level = band->level;
+  b.center = std::move(*center);
+  b.lo.resize(b.center.size());
+  b.hi.resize(b.center.size());
+  // z of a two-sided normal interval at `level` (0.9 -> 1.645); other levels by bisection.
+  double z = drift_internal::kZ90;
+  if (std::abs(band->level - 0.9) > 1e-12) {
+    double lo = 0.0, hi = 10.0;
+    for (int k = 0; k < 100; ++k) {
+      const double mid = 0.5 * (lo + hi);
+      (std::erf(mid / std::sqrt(2.0)) < band->level ? lo : hi) = mid;
+    }
+    z = 0.5 * (lo + hi);
+  }
+  Eigen::MatrixXd cov;
+  std::optional<drift_internal::Columns> features;
+  if (structured && !band->parameter_cov.empty()) {
+    const auto p = static_cast<Eigen::Index>(structured->terms.size());
+    if (band->parameter_cov.size() != static_cast<std::size_t>(p * p))
+      return InvalidInput("drift model: band.parameter_cov does not match the structured terms");
+    cov = Eigen::Map<const Eigen::MatrixXd>(band->parameter_cov.data(), p, p);
+    auto f = drift_internal::BuildFeatures(in, inputs, rate, state, causal);
+    if (!f.ok()) return f.error();
+    features = std::move(*f);
+  }
+  const double mf2 = band->model_form_rms * band->model_form_rms;
+  std::vector<double> dtemp;
+  if (band->unidentified_rate_gain_rms > 0.0) {
+    auto r = TemperatureRate(in.temp_c, in.fs_hz, rate);
+    if (!r.ok()) return r.error();
+    dtemp = std::move(*r);
+  }
+  for (std::size_t i = 0; i < b.center.size(); ++i) {
+    double var = mf2;
+    if (!dtemp.empty()) {  // Eq. B-4
+      const double d = dtemp[i] - band->calibration_rate_vs_temp.At(in.temp_c[i]);
+      var += std::pow(band->unidentified_rate_gain_rms * d, 2);
+    }
+    if (features) {
+      const Eigen::VectorXd a = drift_internal::TermRow(*structured, EffectiveTemp((*features)[0][i]),
+                                                        features->size() > 1 ? (*features)[1][i] : 0.0);
+      var += a.dot(cov * a);
+    }
+    const double half = z * std::sqrt(std::max(0.0, var));
+    b.lo[i] = b.center[i] - half;
+    b.hi[i] = b.center[i] + half;
+  }
+  return b;
+}
+
+}  // namespace gyrocomp

@@ -1,0 +1,217 @@
+// Prediction bands (issue 23, drift_band.cc Eqs. B-1..B-4): what they cover, the model file, apply.
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "gyrocomp/drift/drift_model.h"
+#include "test_support.h"
+
+namespace gyrocomp {
+namespace {
+
+double Cubic(double t) {
+  const double x = (t - 20.0) / 40.0;
+  return 0.02 + 0.05 * x - 0.03 * x * x + 0.01 * x * x * x;
+}
+
+// A staircase 60 -> -40 C (1 h holds every 10 C, 10-min ramps, first-order sensor lag of 600 s)
+// at 0.2 Hz.
+std::vector<double> Staircase(double fs) {
+  std::vector<double> temp;
+  double sensor = 60.0, chamber = 60.0;
+  const double dt = 1.0 / fs;
+  for (double c = 60.0; c >= -40.0; c -= 10.0) {
+    for (double t = 0.0; t < 4200.0; t += dt) {
+      chamber = t < 600.0 && c < 60.0 ? c + 10.0 * (1.0 - t / 600.0) : c;
+      sensor += (chamber - sensor) * (1.0 - std::exp(-dt / 600.0));
+      temp.push_back(sensor);
+    }
+  }
+  return temp;
+}
+
+// The drift the record carries (the truth) plus slow correlated noise (Gauss-Markov, 1500 s,
+// SD 4 mdps: flicker-like wander the fit absorbs) and white noise.
+std::vector<double> Measured(const std::vector<double>& temp, double fs, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> n(0.0, 1.0);
+  const double a = std::exp(-1.0 / (fs * 1500.0));
+  double gm = 0.0;
+  std::vector<double> y(temp.size());
+  for (std::size_t i = 0; i < temp.size(); ++i) {
+    gm = a * gm + std::sqrt(1.0 - a * a) * 0.004 * n(rng);
+    y[i] = Cubic(temp[i]) + gm + 0.01 * n(rng);
+  }
+  return y;
+}
+
+// Over 8 noise seeds the nominal 90% band covers most of the true drift, and it is not wider
+// than 3x the realised error: a band of zero width (parameter covariance or model form lost)
+// covers ~0, an unscaled one far more than 3x.
+TEST(DriftBand, CoversTheTrueDriftOnAnotherRunAndIsNotTooWide) {
+  const double fs = 0.2;
+  const std::vector<double> temp = Staircase(fs);
+  std::vector<double> truth(temp.size());
+  for (std::size_t i = 0; i < temp.size(); ++i) truth[i] = Cubic(temp[i]);
+  DriftFitOptions o;
+  o.auto_select.try_svr = false;
+  double inside = 0.0, count = 0.0, err2 = 0.0, half2 = 0.0;
+  for (unsigned seed = 1; seed <= 8; ++seed) {
+    auto m = FitDriftModel({temp, fs}, Measured(temp, fs, seed), o);
+    ASSERT_TRUE(m.ok()) << m.error().message;
+    ASSERT_TRUE(m->band.has_value());
+    EXPECT_GT(m->band->expected_rms, 0.0);
+    auto b = m->PredictBand({temp, fs});
+    ASSERT_TRUE(b.ok()) << b.error().message;
+    EXPECT_EQ(b->level, 0.9);
+    for (std::size_t i = 0; i < temp.size(); ++i) {
+      ASSERT_LE(b->lo[i], b->center[i]);
+      ASSERT_GE(b->hi[i], b->center[i]);
+      inside += truth[i] >= b->lo[i] && truth[i] <= b->hi[i] ? 1.0 : 0.0;
+      count += 1.0;
+      err2 += std::pow(b->center[i] - truth[i], 2);
+      half2 += std::pow(0.5 * (b->hi[i] - b->lo[i]), 2);
+    }
+  }
+  const double coverage = inside / count;
+  EXPECT_GE(coverage, 0.75) << "coverage " << coverage;
+  EXPECT_LE(std::sqrt(half2 / err2), 3.0) << "RMS half-width / RMS error";
+}
+
+// The band is stored per axis and read back: the same band after a round trip; a version-1 file
+// (before issue 23) has none, and PredictBand says so instead of inventing one.
+TEST(DriftBand, RoundTripsThroughTheModelFileAndOldFilesHaveNone) {
+  const double fs = 0.2;
+  const std::vector<double> temp = Staircase(fs);
+  auto m = FitDriftModel({temp, fs}, Measured(temp, fs, 3), DriftFitOptions{});
+  ASSERT_TRUE(m.ok() && m->band) << (m.ok() ? "no band" : m.error().message);
+  auto back = DriftModelFromJson(DriftModelToJson(*m), "mem");
+  ASSERT_TRUE(back.ok()) << back.error().message;
+  ASSERT_TRUE(back->band.has_value());
+  auto a = m->PredictBand({temp, fs});
+  auto b = back->PredictBand({temp, fs});
+  ASSERT_TRUE(a.ok() && b.ok());
+  for (std::size_t i = 0; i < a->lo.size(); i += 97) {
+    EXPECT_NEAR(a->lo[i], b->lo[i], 1e-12);
+    EXPECT_NEAR(a->hi[i], b->hi[i], 1e-12);
+  }
+  auto old = LoadDriftModel(testing::GoldenPath("drift_v1/poly.json"));
+  ASSERT_TRUE(old.ok()) << old.error().message;
+  EXPECT_FALSE(old->band.has_value());
+  auto none = old->PredictBand({temp, fs});
+  ASSERT_FALSE(none.ok());
+  EXPECT_NE(none.error().message.find("no prediction band"), std::string::npos);
+  // A malformed band is refused with the field named.
+  std::string text = DriftModelToJson(*m);
+  const std::size_t at = text.find("\"model_form_rms\"");
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, 16, "\"model_form_rmx\"");
+  auto bad = DriftModelFromJson(text, "bad.json");
+  ASSERT_FALSE(bad.ok());
+  EXPECT_NE(bad.error().message.find("band.model_form_rms"), std::string::npos) << bad.error().message;
+}
+
+// Eq. B-4: a heating-only calibration leaves the dT/dt gain out (Eq. I-1) but the band widens on
+// a run whose dT/dt differs from the calibration's at the same temperature (a cooling run).
+TEST(DriftBand, WidensWhereALeftOutRateTermActs) {
+  const double fs = 0.2;
+  std::vector<double> heat;
+  double sensor = -40.0;
+  for (double t = 0.0; t < 13200.0; t += 1.0 / fs) {
+    const double chamber = t < 3600.0 ? -40.0 : std::min(60.0, -40.0 + (t - 3600.0) / 60.0);
+    sensor += (chamber - sensor) * (1.0 - std::exp(-1.0 / fs / 600.0));
+    heat.push_back(sensor);
+  }
+  auto rate = TemperatureRate(heat, fs);
+  ASSERT_TRUE(rate.ok());
+  std::vector<double> y = Measured(heat, fs, 5);
+  for (std::size_t i = 0; i < y.size(); ++i) y[i] += 1.5 * (*rate)[i];
+  auto m = FitDriftModel({heat, fs}, y, DriftFitOptions{});
+  ASSERT_TRUE(m.ok()) << m.error().message;
+  ASSERT_EQ(m->inputs, DriftInputSet::kTemp);
+  ASSERT_TRUE(m->band.has_value());
+  EXPECT_GT(m->band->unidentified_rate_gain_rms, 0.0);
+  const std::vector<double> cool = Staircase(fs);
+  auto on_heat = m->PredictBand({heat, fs});
+  auto on_cool = m->PredictBand({cool, fs});
+  ASSERT_TRUE(on_heat.ok() && on_cool.ok());
+  auto rms_half = [](const DriftBand& b) {
+    double s = 0.0;
+    for (std::size_t i = 0; i < b.lo.size(); ++i) s += std::pow(0.5 * (b.hi[i] - b.lo[i]), 2);
+    return std::sqrt(s / static_cast<double>(b.lo.size()));
+  };
+  EXPECT_GT(rms_half(*on_cool), 1.3 * rms_half(*on_heat));
+}
+
+// apply writes the band columns (cli.md "apply (bands)"); with a model file without a band it
+// writes none and says so.
+TEST(DriftBand, ApplyWritesBandColumnsOrSaysThereIsNone) {
+  const std::string cli = testing::CliPath();
+  if (cli.empty()) GTEST_SKIP() << "the gyrocomp CLI is not built (GYROCOMP_BUILD_CLI=OFF)";
+  const std::string dir = testing::MakeTempDir("drift_band_test");
+  const double fs = 0.2;
+  const std::vector<double> temp = Staircase(fs);
+  const std::vector<double> y = Measured(temp, fs, 2);
+  {
+    std::ofstream f(dir + "/cal.csv");
+    f << "time_s,rate_dps,temp_c\n";
+    for (std::size_t i = 0; i < temp.size(); ++i) f << i / fs << "," << y[i] << "," << temp[i] << "\n";
+  }
+  std::string out;
+  ASSERT_EQ(testing::RunCommand(cli + " fit -i " + dir + "/cal.csv -o " + dir + "/m.json", &out), 0) << out;
+  EXPECT_NE(out.find("expected drift error on a next run"), std::string::npos) << out;
+  ASSERT_EQ(testing::RunCommand(cli + " apply -m " + dir + "/m.json -i " + dir + "/cal.csv -o " + dir + "/o.csv", &out), 0)
+      << out;
+  auto o = testing::ReadGoldenCsv(dir + "/o.csv");
+  ASSERT_TRUE(o.count("predicted_drift_lo_dps") && o.count("predicted_drift_hi_dps"));
+  for (std::size_t i = 0; i < o["predicted_drift_dps"].size(); ++i) {
+    ASSERT_LT(o["predicted_drift_lo_dps"][i], o["predicted_drift_dps"][i]);
+    ASSERT_GT(o["predicted_drift_hi_dps"][i], o["predicted_drift_dps"][i]);
+  }
+  ASSERT_EQ(testing::RunCommand(cli + " apply -m " + testing::GoldenPath("drift_v1/poly.json") + " -i " + dir +
+                                    "/cal.csv -o " + dir + "/o1.csv",
+                                &out),
+            0)
+      << out;
+  EXPECT_NE(out.find("no prediction band"), std::string::npos) << out;
+  auto o1 = testing::ReadGoldenCsv(dir + "/o1.csv");
+  EXPECT_FALSE(o1.count("predicted_drift_lo_dps"));
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace gyrocomp
+
+namespace gyrocomp {
+namespace {
+
+// gyrocomp plan: one table row per profile with the predicted and the simulated error, a
+// recommendation among them, and JSON with both numbers.
+TEST(DriftPlan, ComparesProfilesAndRecommendsOne) {
+  const std::string cli = testing::CliPath();
+  if (cli.empty()) GTEST_SKIP() << "the gyrocomp CLI is not built (GYROCOMP_BUILD_CLI=OFF)";
+  const std::string dir = testing::MakeTempDir("drift_plan_test");
+  std::string out;
+  ASSERT_EQ(testing::RunCommand(cli + " plan --profiles ramp,paper --seeds 1 --fs 0.2 --json " + dir + "/p.json", &out), 0)
+      << out;
+  EXPECT_NE(out.find("| ramp |"), std::string::npos) << out;
+  EXPECT_NE(out.find("recommended: "), std::string::npos) << out;
+  const nlohmann::json j = testing::ReadJsonFile(dir + "/p.json");
+  ASSERT_EQ(j["profiles"].size(), 2u);
+  for (const auto& p : j["profiles"]) {
+    EXPECT_GT(p["predicted_rms"].get<double>(), 0.0);
+    EXPECT_GT(p["simulated_rms"].get<double>(), 0.0);
+  }
+  // The heating-only ramp identifies no dT/dt gain (Eq. I-1).
+  EXPECT_NE(j["profiles"][0]["left_out"].dump().find("dT/dt gain"), std::string::npos);
+  EXPECT_TRUE(j["recommended"] == "ramp" || j["recommended"] == "paper");
+  EXPECT_EQ(testing::RunCommand(cli + " plan --profiles nosuch --seeds 1", &out), 2) << out;
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace gyrocomp

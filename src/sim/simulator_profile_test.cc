@@ -1,0 +1,77 @@
+// Chamber profiles for calibration design (issue 23): heat-cool, the user's schedule (CSV).
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "gyrocomp/sim/simulator.h"
+#include "test_support.h"
+
+namespace gyrocomp {
+namespace {
+
+// heat-cool: cold soak, heat to hot, hold, cool to cold, hold; 6.33 h with the defaults.
+TEST(SimulatorProfile, HeatCoolHeatsThenCoolsOverTheWholeRange) {
+  ThermalProfileOptions o;
+  o.kind = ThermalProfileKind::kHeatCool;
+  auto s = MakeThermalSchedule(o);
+  ASSERT_TRUE(s.ok()) << s.error().message;
+  EXPECT_DOUBLE_EQ(s->duration_s(), 3600.0 + 6000.0 + 3600.0 + 6000.0 + 3600.0);
+  EXPECT_DOUBLE_EQ(s->ChamberTempC(0.0), -40.0);
+  EXPECT_DOUBLE_EQ(s->ChamberTempC(3600.0 + 3000.0), 10.0);   // heating, half way
+  EXPECT_DOUBLE_EQ(s->ChamberTempC(9600.0 + 1800.0), 60.0);   // hot hold
+  EXPECT_DOUBLE_EQ(s->ChamberTempC(13200.0 + 3000.0), 10.0);  // cooling, half way
+  EXPECT_DOUBLE_EQ(s->ChamberTempC(22800.0), -40.0);
+  EXPECT_STREQ(ThermalProfileKindName(*ParseThermalProfileKind("heat-cool")), "heat-cool");
+}
+
+// user: the given breakpoints, linear in between, held at the first before it.
+TEST(SimulatorProfile, UserScheduleIsFollowedAndCheckedAsGiven) {
+  ThermalProfileOptions o;
+  o.kind = ThermalProfileKind::kUser;
+  o.user_time_s = {600.0, 1200.0, 4800.0};
+  o.user_temp_c = {20.0, 20.0, -40.0};
+  auto s = MakeThermalSchedule(o);
+  ASSERT_TRUE(s.ok()) << s.error().message;
+  EXPECT_DOUBLE_EQ(s->ChamberTempC(0.0), 20.0);
+  EXPECT_DOUBLE_EQ(s->ChamberTempC(3000.0), -10.0);
+  EXPECT_DOUBLE_EQ(s->duration_s(), 4800.0);
+  std::string why;
+  o.user_time_s = {0.0, 1200.0, 1200.0};
+  EXPECT_FALSE(o.IsValid(&why));
+  EXPECT_NE(why.find("user_time_s"), std::string::npos) << why;
+  o.user_time_s = {0.0};
+  o.user_temp_c = {20.0};
+  EXPECT_FALSE(o.IsValid(&why));
+}
+
+// simulate --profile-csv: follows the file; a bad row is refused with the file and row, exit 2,
+// no output.
+TEST(SimulatorProfile, SimulateProfileCsv) {
+  const std::string cli = testing::CliPath();
+  if (cli.empty()) GTEST_SKIP() << "the gyrocomp CLI is not built (GYROCOMP_BUILD_CLI=OFF)";
+  const std::string dir = testing::MakeTempDir("sim_profile_test");
+  {
+    std::ofstream f(dir + "/p.csv");
+    f << "time_s,chamber_temp_c\n0,25\n600,25\n3000,-15\n3600,-15\n";
+  }
+  std::string out;
+  ASSERT_EQ(testing::RunCommand(cli + " simulate --profile-csv " + dir + "/p.csv --fs 1 -o " + dir + "/r.csv", &out), 0)
+      << out;
+  auto r = testing::ReadGoldenCsv(dir + "/r.csv");
+  ASSERT_EQ(r["chamber_temp_c"].size(), 3600u);
+  EXPECT_NEAR(r["chamber_temp_c"][1800], 5.0, 1e-9);
+  EXPECT_NEAR(r["chamber_temp_c"][3500], -15.0, 1e-9);
+  {
+    std::ofstream f(dir + "/bad.csv");
+    f << "time_s,chamber_temp_c\n0,25\n600,25\n500,-15\n";
+  }
+  EXPECT_EQ(testing::RunCommand(cli + " simulate --profile-csv " + dir + "/bad.csv -o " + dir + "/b.csv", &out), 2);
+  EXPECT_NE(out.find("bad.csv:4"), std::string::npos) << out;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/b.csv"));
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace gyrocomp

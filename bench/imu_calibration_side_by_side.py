@@ -13,19 +13,22 @@ package. A script that is not given or does not run (it needs numpy, scipy, matp
 python3-scipy python3-matplotlib) is skipped with its reason.
 
 For each seed and drift structure (`dtemp`: bias(T) + 1.5 deg/s per C/s x dT/dt + hysteresis, the
-simulator's default; `static`: bias(T) only), one IMU is simulated:
+simulator's default; `static`: bias(T) only; the accelerometers have neither term in both), one IMU
+is simulated:
   calibration   cold start at 10 C, 10 min hold, heating at 1 C/min to 60 C, 20 min hold
   heating       the same profile, another seed            (held out)
   cooling       60 C -> 10 C at 1 C/min, holds, another seed  (held out)
-Each parameter set is scored per gyro axis on the held-out runs: the residual the firmware leaves,
-rate - offset(T) (PX4 calc_thermal_offsets_3D, float32, T clamped to [TMIN, TMAX]; ArduPilot
-correct_sensor relative to the temperature at boot, float32, clamped), as 10 s block means with
-their mean removed (the constant is the boot offset calibration's), RMS in deg/s. Rows: no
-correction, each script, gyrocomp (PX4 file also with --optimise-for warm-up / both), and the
-true static curve (the simulator's bias polynomial,
-the best a static cubic can do against its own static part). Printed: mean over seeds and axes,
-the seed spread (SD of the per-seed means), and per-axis win counts of gyrocomp against each
-script.
+  warm-up       power-on self-heating 20 -> 50 C at 3 C/min, 20 min steady, another seed (held out)
+The held-out runs are read with pyulog (--pyulog, required). Each parameter set is scored per gyro
+and accel axis on the held-out runs: the residual the firmware leaves, value - offset(T) (PX4
+calc_thermal_offsets_3D, float32, T clamped to [TMIN, TMAX]; ArduPilot correct_sensor relative to
+INS_GYRn_CALTEMP / INS_ACCn_CALTEMP = the run's boot temperature, float32, clamped), as 10 s block
+means with their mean removed (the constant is the boot offset calibration's), RMS in deg/s and
+m/s^2. Rows: no correction, each script, gyrocomp (PX4 file also with --optimise-for warm-up /
+both), and the true static curve (the simulator's bias cubic, the best a static cubic can do
+against its own static part). Printed: mean over seeds and axes, the seed spread (SD of the
+per-seed means), per-axis win counts of gyrocomp against each script and the RMS ratios.
+Figures and the scripts' commits: docs/export.md, "Side by side with the autopilots' scripts".
 """
 import argparse
 import math
@@ -70,7 +73,10 @@ def simulate(gc, path, seed, fs, structure, profile="heating"):
 
 def read_imu(log):
     """(temperature C, 3 x n rad/s, temperature C, 3 x n m/s^2) of instance 0 of a ULog (pyulog)."""
-    from pyulog import ULog
+    try:
+        from pyulog import ULog
+    except ImportError:
+        sys.exit("the held-out runs are read with pyulog: give --pyulog DIR (the folder holding the package)")
     u = ULog(log, ["sensor_gyro", "sensor_accel"])
     out = {}
     for d in u.data_list:

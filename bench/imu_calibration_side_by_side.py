@@ -13,19 +13,22 @@ package. A script that is not given or does not run (it needs numpy, scipy, matp
 python3-scipy python3-matplotlib) is skipped with its reason.
 
 For each seed and drift structure (`dtemp`: bias(T) + 1.5 deg/s per C/s x dT/dt + hysteresis, the
-simulator's default; `static`: bias(T) only), one IMU is simulated:
+simulator's default; `static`: bias(T) only; the accelerometers have neither term in both), one IMU
+is simulated:
   calibration   cold start at 10 C, 10 min hold, heating at 1 C/min to 60 C, 20 min hold
   heating       the same profile, another seed            (held out)
   cooling       60 C -> 10 C at 1 C/min, holds, another seed  (held out)
-Each parameter set is scored per gyro axis on the held-out runs: the residual the firmware leaves,
-rate - offset(T) (PX4 calc_thermal_offsets_3D, float32, T clamped to [TMIN, TMAX]; ArduPilot
-correct_sensor relative to the temperature at boot, float32, clamped), as 10 s block means with
-their mean removed (the constant is the boot offset calibration's), RMS in deg/s. Rows: no
-correction, each script, gyrocomp (PX4 file also with --optimise-for warm-up / both), and the
-true static curve (the simulator's bias polynomial,
-the best a static cubic can do against its own static part). Printed: mean over seeds and axes,
-the seed spread (SD of the per-seed means), and per-axis win counts of gyrocomp against each
-script.
+  warm-up       power-on self-heating 20 -> 50 C at 3 C/min, 20 min steady, another seed (held out)
+The held-out runs are read with pyulog (--pyulog, required). Each parameter set is scored per gyro
+and accel axis on the held-out runs: the residual the firmware leaves, value - offset(T) (PX4
+calc_thermal_offsets_3D, float32, T clamped to [TMIN, TMAX]; ArduPilot correct_sensor relative to
+INS_GYRn_CALTEMP / INS_ACCn_CALTEMP = the run's boot temperature, float32, clamped), as 10 s block
+means with their mean removed (the constant is the boot offset calibration's), RMS in deg/s and
+m/s^2. Rows: no correction, each script, gyrocomp (PX4 file also with --optimise-for warm-up /
+both), and the true static curve (the simulator's bias cubic, the best a static cubic can do
+against its own static part). Printed: mean over seeds and axes, the seed spread (SD of the
+per-seed means), per-axis win counts of gyrocomp against each script and the RMS ratios.
+Figures and the scripts' commits: docs/export.md, "Side by side with the autopilots' scripts".
 """
 import argparse
 import math
@@ -37,9 +40,17 @@ import tempfile
 
 import numpy as np
 
-DEFAULT_POLY = [0.02, 1.5e-3, 1.2e-5, -2.0e-7]  # simulator.h BiasModelOptions::poly_dps
+DEFAULT_POLY = [0.02, 1.5e-3, 1.2e-5, -2.0e-7]  # simulator.h BiasModelOptions::poly_dps (deg/s)
+ACCEL_POLY = [0.02, 1.5e-3, 1.0e-5, -1.0e-7]    # simulator.h AccelAxisOptions::bias_poly_m_s2
 AXIS_SCALE = [1.0, -0.7, 0.5]                     # BoardAxisDriftScale(imu 0, axis)
 RAD = math.pi / 180.0
+# Held-out runs (name -> simulate arguments). warm-up: power-on self-heating from room temperature,
+# 20 -> 50 C at 3 C/min behind the same 120 s lag, then steady (the condition a vehicle meets each boot).
+PROFILES = {
+    "heating": ["--room-temp", "10", "--ramp-end", "60"],
+    "cooling": ["--room-temp", "60", "--ramp-end", "10"],
+    "warm-up": ["--room-temp", "20", "--ramp-end", "50", "--ramp-rate", "3", "--room-hold", "60"],
+}
 
 
 def run(cmd, env=None, cwd=None):
@@ -47,23 +58,32 @@ def run(cmd, env=None, cwd=None):
     return r.returncode, r.stdout + r.stderr
 
 
-def simulate(gc, path, seed, fs, structure, cooling=False):
-    prof = (["--room-temp", "60", "--ramp-end", "10"] if cooling else ["--room-temp", "10", "--ramp-end", "60"])
+def simulate(gc, path, seed, fs, structure, profile="heating"):
+    base = {"--room-hold": "600", "--hold": "1200", "--ramp-rate": "1"}
+    prof = PROFILES[profile]
+    for k in list(base):
+        if k in prof:
+            del base[k]
     drift = [] if structure == "dtemp" else ["--dtemp-coeff", "0", "--hysteresis-coeff", "0"]
-    rc, out = run([gc, "simulate", "--profile", "ramp", "--room-hold", "600", "--hold", "1200", "--ramp-rate", "1",
-                   "--thermal-lag", "120", "--fs", str(fs), "--seed", str(seed), "--imus", "1"] + prof + drift +
-                  ["-o", path])
+    rc, out = run([gc, "simulate", "--profile", "ramp", "--thermal-lag", "120", "--fs", str(fs), "--seed", str(seed),
+                   "--imus", "1"] + [x for kv in base.items() for x in kv] + prof + drift + ["-o", path])
     if rc != 0:
         sys.exit("simulate failed: " + out)
 
 
-def read_gyro(gc, log, tmp):
-    csv = os.path.join(tmp, os.path.basename(log) + ".csv")
-    rc, out = run([gc, "convert", "-i", log, "--instance", "0", "-o", csv])
-    if rc != 0:
-        sys.exit("convert failed: " + out)
-    d = np.genfromtxt(csv, delimiter=",", names=True)
-    return d["temp_c"], np.vstack([d["x_rad_s"], d["y_rad_s"], d["z_rad_s"]])
+def read_imu(log):
+    """(temperature C, 3 x n rad/s, temperature C, 3 x n m/s^2) of instance 0 of a ULog (pyulog)."""
+    try:
+        from pyulog import ULog
+    except ImportError:
+        sys.exit("the held-out runs are read with pyulog: give --pyulog DIR (the folder holding the package)")
+    u = ULog(log, ["sensor_gyro", "sensor_accel"])
+    out = {}
+    for d in u.data_list:
+        if d.multi_id == 0:
+            out[d.name] = (d.data["temperature"].astype(np.float64),
+                           np.vstack([d.data[a].astype(np.float64) for a in "xyz"]))
+    return out["sensor_gyro"], out["sensor_accel"]
 
 
 def read_params(path):
@@ -80,9 +100,11 @@ def read_params(path):
     return p
 
 
-def px4_offsets(p, slot, temp):
+def px4_offsets(p, slot, temp, sensor="G"):
+    """PX4 TemperatureCompensation::calc_thermal_offsets_3D: offset = sum X_k (T - TREF)^k, T clamped
+    to [TMIN, TMAX], float32; the sensor's Correct() subtracts it (gyro TC_G, accel TC_A)."""
     f32 = np.float32
-    s = "TC_G%d_" % slot
+    s = "TC_%s%d_" % (sensor, slot)
     t = np.clip(temp.astype(f32), f32(p[s + "TMIN"]), f32(p[s + "TMAX"]))
     dt = (t - f32(p[s + "TREF"])).astype(f32)
     out = []
@@ -92,29 +114,38 @@ def px4_offsets(p, slot, temp):
     return np.array(out, dtype=np.float64)
 
 
-def ardupilot_correction(p, imu, temp):
+def ardupilot_correction(p, imu, temp, sensor="GYR"):
+    """AP_InertialSensor_TCal::correct_sensor: v -= poly(T - 35) - poly(CALTEMP - 35), poly with no
+    constant term, coefficients 1e-6 scaled, T clamped to [TMIN, TMAX], float32. CALTEMP
+    (INS_GYRn_CALTEMP / INS_ACCn_CALTEMP) is the temperature of the offset calibration: for the gyro
+    ArduPilot calibrates its offsets at every boot, so it is the held-out run's first temperature."""
     f32 = np.float32
     s = "INS_TCAL%d_" % imu
     tmin, tmax = f32(p.get(s + "TMIN", 0.0)), f32(p.get(s + "TMAX", 70.0))
     t = np.clip(temp.astype(f32), tmin, tmax)
-    tcal = t[0]  # INS_GYR_CALTEMP: the boot temperature of the held-out run
+    tcal = t[0]  # INS_GYRn_CALTEMP / INS_ACCn_CALTEMP: the boot temperature of the held-out run
     out = []
     for a, ax in enumerate("XYZ"):
-        c = [f32(p.get("%sGYR%d_%s" % (s, k, ax), 0.0)) for k in (1, 2, 3)]
+        c = [f32(p.get("%s%s%d_%s" % (s, sensor, k, ax), 0.0)) for k in (1, 2, 3)]
         poly = lambda x: (c[0] + (c[1] + c[2] * x) * x) * x * f32(1e-6)
         out.append(poly(t - f32(35.0)) - poly(tcal - f32(35.0)))
     return np.array(out, dtype=np.float64)
 
 
-def truth_offsets(temp, structure):
+def truth_offsets(temp, sensor):
+    """The simulator's static curve (its bias cubic; its own least-squares cubic), rad/s or m/s^2."""
     d = temp - 25.0
-    return np.array([sum(DEFAULT_POLY[k] * AXIS_SCALE[a] * d ** k for k in range(4)) * RAD for a in range(3)])
+    if sensor == "gyro":
+        return np.array([sum(DEFAULT_POLY[k] * AXIS_SCALE[a] * d ** k for k in range(4)) * RAD for a in range(3)])
+    # accel axis a carries BoardAxisDriftScale(0, (a + 1) % 3) (simulator.cc SimulateBoard)
+    return np.array([sum(ACCEL_POLY[k] * AXIS_SCALE[(a + 1) % 3] * d ** k for k in range(4)) for a in range(3)])
 
 
-def score(rate, correction, fs):
-    """RMS (deg/s) of the 10 s block means of rate - correction, their mean removed, per axis."""
+def score(rate, correction, fs, unit=1.0 / RAD):
+    """RMS of the 10 s block means of rate - correction, their mean removed, per axis (deg/s for the
+    gyro, m/s^2 for the accel)."""
     n = int(round(10 * fs))
-    r = (rate - correction) / RAD
+    r = (rate - correction) * unit
     m = r[:, : (r.shape[1] // n) * n].reshape(3, -1, n).mean(axis=2)
     m -= m.mean(axis=1, keepdims=True)
     return np.sqrt((m ** 2).mean(axis=1))
@@ -124,11 +155,12 @@ def try_px4_script(args, ulg, tmp):
     if not args.px4_script:
         return None, "not given (--px4-script)"
     env = dict(os.environ, MPLBACKEND="Agg", PYTHONPATH=args.pyulog or "")
+    env.pop("PYTHONHOME", None)
     local = os.path.join(tmp, "px4_" + os.path.basename(ulg))
     shutil.copy(ulg, local)
     rc, out = run([sys.executable, args.px4_script, local], env=env)
     if rc != 0 or not os.path.exists(local + ".params"):
-        return None, "failed: " + out.strip().splitlines()[-1] if out.strip() else "failed"
+        return None, ("failed: " + out.strip().splitlines()[-1]) if out.strip() else "failed"
     return read_params(local + ".params"), ""
 
 
@@ -139,7 +171,7 @@ def try_tempcal(args, binlog, tmp):
     outfile = os.path.join(tmp, "tempcal_" + os.path.basename(binlog) + ".parm")
     rc, out = run([sys.executable, args.tempcal, "--no-graph", "--outfile", outfile, binlog], env=env)
     if rc != 0 or not os.path.exists(outfile):
-        return None, "failed: " + out.strip().splitlines()[-1] if out.strip() else "failed"
+        return None, ("failed: " + out.strip().splitlines()[-1]) if out.strip() else "failed"
     return read_params(outfile), ""
 
 
@@ -149,22 +181,28 @@ def main():
     ap.add_argument("--seeds", type=int, default=5)
     ap.add_argument("--fs", type=float, default=10.0)
     ap.add_argument("--px4-script")
-    ap.add_argument("--pyulog")
+    ap.add_argument("--pyulog", help="folder holding the pyulog package (needed: the held-out runs are read with it)")
     ap.add_argument("--tempcal")
     ap.add_argument("--pymavlink")
+    ap.add_argument("--structures", default="dtemp,static")
     args = ap.parse_args()
+    if args.pyulog:
+        sys.path.insert(0, args.pyulog)
     gc = os.path.join(args.build, "gyrocomp")
-    rows = {}   # (structure, run, set) -> list of per-seed arrays of 3 axes
+    rows = {}   # (structure, sensor, run, set) -> list of per-seed arrays of 3 axes
     skipped = {}
+    structures = args.structures.split(",")
+    runs = list(PROFILES)
     with tempfile.TemporaryDirectory() as tmp:
-        for structure in ("dtemp", "static"):
+        for structure in structures:
             for seed in range(1, args.seeds + 1):
                 cal_ulg, cal_bin = os.path.join(tmp, "cal.ulg"), os.path.join(tmp, "cal.bin")
                 simulate(gc, cal_ulg, 100 * seed, args.fs, structure)
                 simulate(gc, cal_bin, 100 * seed, args.fs, structure)
-                held = {"heating": os.path.join(tmp, "heat.ulg"), "cooling": os.path.join(tmp, "cool.ulg")}
-                simulate(gc, held["heating"], 100 * seed + 50, args.fs, structure)
-                simulate(gc, held["cooling"], 100 * seed + 70, args.fs, structure, cooling=True)
+                held = {}
+                for k, name in enumerate(runs):
+                    held[name] = os.path.join(tmp, "held_%s.ulg" % name)
+                    simulate(gc, held[name], 100 * seed + 50 + 10 * k, args.fs, structure, name)
                 sets = {}
                 for fmt, log in (("px4", cal_ulg), ("ardupilot", cal_bin)):
                     for cond in ("steady", "warm-up", "both"):
@@ -187,38 +225,51 @@ def main():
                 else:
                     sets["tempcal_IMU"] = ("ardupilot", p)
                 for name, path in held.items():
-                    temp, rate = read_gyro(gc, path, tmp)
-                    rows.setdefault((structure, name, "no correction"), []).append(score(rate, 0 * rate, args.fs))
-                    rows.setdefault((structure, name, "true static curve"), []).append(
-                        score(rate, truth_offsets(temp, structure), args.fs))
-                    for sname, (fmt, p) in sets.items():
-                        corr = px4_offsets(p, 0, temp) if fmt == "px4" else ardupilot_correction(p, 1, temp)
-                        rows.setdefault((structure, name, sname), []).append(score(rate, corr, args.fs))
-    print("Held-out residual after each parameter set, deg/s RMS of 10 s means (mean over %d seeds x 3 axes; "
-          "+- SD of the per-seed means)" % args.seeds)
+                    gyro, accel = read_imu(path)
+                    for sensor, (temp, v), unit in (("gyro", gyro, 1.0 / RAD), ("accel", accel, 1.0)):
+                        key = lambda s: (structure, sensor, name, s)
+                        rows.setdefault(key("no correction"), []).append(score(v, 0 * v, args.fs, unit))
+                        rows.setdefault(key("true static curve"), []).append(
+                            score(v, truth_offsets(temp, sensor), args.fs, unit))
+                        for sname, (fmt, p) in sets.items():
+                            if fmt == "px4":
+                                corr = px4_offsets(p, 0, temp, "G" if sensor == "gyro" else "A")
+                            else:
+                                corr = ardupilot_correction(p, 1, temp, "GYR" if sensor == "gyro" else "ACC")
+                            rows.setdefault(key(sname), []).append(score(v, corr, args.fs, unit))
+                print("done: %s seed %d" % (structure, seed), file=sys.stderr)
+    print("Held-out residual after each parameter set: RMS of 10 s means, mean removed (gyro deg/s, accel m/s^2);"
+          " mean over %d seeds x 3 axes, +- SD of the per-seed means" % args.seeds)
     for why_name, why in skipped.items():
         print("  %s skipped: %s" % (why_name, why))
-    names = sorted({k[2] for k in rows})
-    print("| structure | parameter set | heating | cooling |")
-    print("|---|---|---|---|")
-    for structure in ("dtemp", "static"):
-        for n in names:
-            cells = []
-            for run_name in ("heating", "cooling"):
-                v = rows.get((structure, run_name, n))
-                if not v:
-                    cells.append("-")
-                    continue
-                per_seed = [x.mean() for x in v]
-                cells.append("%.4f +- %.4f" % (np.mean(per_seed), np.std(per_seed)))
-            print("| %s | %s | %s | %s |" % (structure, n, cells[0], cells[1]))
-        for script, mine in (("PX4 script", "gyrocomp -> px4"), ("tempcal_IMU", "gyrocomp -> ardupilot")):
-            for run_name in ("heating", "cooling"):
-                a, b = rows.get((structure, run_name, mine)), rows.get((structure, run_name, script))
-                if a and b:
-                    wins = sum(int(x < y) for xa, ya in zip(a, b) for x, y in zip(xa, ya))
-                    print("  %s, %s: gyrocomp better than %s on %d of %d axes" %
-                          (structure, run_name, script, wins, 3 * len(a)))
+    order = ["no correction", "PX4 script", "tempcal_IMU", "gyrocomp -> px4", "gyrocomp -> ardupilot",
+             "gyrocomp -> px4 (--optimise-for warm-up)", "gyrocomp -> px4 (--optimise-for both)", "true static curve"]
+    names = [n for n in order if any(k[3] == n for k in rows)]
+    for sensor in ("gyro", "accel"):
+        print()
+        print("| structure | %s parameter set | %s |" % (sensor, " | ".join(runs)))
+        print("|---|---|" + "---|" * len(runs))
+        for structure in structures:
+            for n in names:
+                cells = []
+                for run_name in runs:
+                    v = rows.get((structure, sensor, run_name, n))
+                    per_seed = [x.mean() for x in v]
+                    cells.append("%.3g +- %.2g" % (np.mean(per_seed), np.std(per_seed)))
+                print("| %s | %s | %s |" % (structure, n, " | ".join(cells)))
+        for structure in structures:
+            for script, mine in (("PX4 script", "gyrocomp -> px4"), ("tempcal_IMU", "gyrocomp -> ardupilot")):
+                cells = []
+                for run_name in runs:
+                    a, b = rows.get((structure, sensor, run_name, mine)), rows.get((structure, sensor, run_name, script))
+                    t = rows.get((structure, sensor, run_name, "true static curve"))
+                    if a and b:
+                        wins = sum(int(x < y) for xa, ya in zip(a, b) for x, y in zip(xa, ya))
+                        ratio = np.mean([x.mean() for x in a]) / np.mean([x.mean() for x in b])
+                        cells.append("%s %d/%d axes better, RMS ratio %.2f (true curve / script %.2f)" % (
+                            run_name, wins, 3 * len(a), ratio, np.mean([x.mean() for x in t]) / np.mean([x.mean() for x in b])))
+                if cells:
+                    print("  %s %s, %s vs %s: %s" % (structure, sensor, mine, script, "; ".join(cells)))
 
 
 if __name__ == "__main__":

@@ -2,13 +2,18 @@
 # Installs what gyrocomp needs to build, test and write its report, from Debian 12 packages and
 # the npm registry. Idempotent: safe to run again. Run as root (or with sudo).
 #   --browser   also install Debian's chromium (used by the report's headless-browser test)
+#   --allan-variance-ros   also the Debian ROS 1 / ROS 2 headers needed to build ori-drs/allan_variance_ros
+#               outside catkin, and rosmaster / scipy / matplotlib to run it, for
+#               bench/allan_variance_ros_side_by_side.sh (docs/kalibr.md; not needed by CI)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 want_browser=0
+want_avr=0
 for arg in "$@"; do
   case "$arg" in
     --browser) want_browser=1 ;;
+    --allan-variance-ros) want_avr=1 ;;
     *) echo "install-deps.sh: unknown option $arg" >&2; exit 2 ;;
   esac
 done
@@ -28,6 +33,11 @@ packages=(
 )
 command -v npm >/dev/null 2>&1 || packages+=(nodejs npm)
 if [ "$want_browser" = 1 ]; then packages+=(chromium); fi
+if [ "$want_avr" = 1 ]; then
+  packages+=(libroscpp-dev librosbag-dev libsensor-msgs-dev libyaml-cpp-dev libboost-filesystem-dev pluginlib-dev
+             libclass-loader-dev librcpputils-dev librcutils-dev libament-index-cpp-dev libroslib-dev libtinyxml2-dev
+             python3-rosmaster python3-scipy python3-matplotlib python3-yaml)
+fi
 
 missing=()
 for p in "${packages[@]}"; do

@@ -83,5 +83,7 @@ std::string Decompress(const std::string& method, const std::uint8_t* src, std::
 
 // zlib crc32 (the CRC-32 of ISO 3309 / ITU-T V.42, as MCAP's CRC fields: spec "Chunk").
 std::uint32_t Crc32(const std::uint8_t* data, std::size_t size);
+// The CRC-32 of (the bytes whose CRC-32 is `previous`) followed by `data` (zlib crc32 chaining).
+std::uint32_t Crc32Update(std::uint32_t previous, const std::uint8_t* data, std::size_t size);
 
 }  // namespace gyrocomp::bag_internal

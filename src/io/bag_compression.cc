@@ -76,8 +76,10 @@ std::string Decompress(const std::string& method, const std::uint8_t* src, std::
   return "unknown compression '" + method + "'";
 }
 
-std::uint32_t Crc32(const std::uint8_t* data, std::size_t size) {
-  uLong crc = crc32(0L, Z_NULL, 0);
+std::uint32_t Crc32(const std::uint8_t* data, std::size_t size) { return Crc32Update(0, data, size); }
+
+std::uint32_t Crc32Update(std::uint32_t previous, const std::uint8_t* data, std::size_t size) {
+  uLong crc = previous;
   while (size > 0) {
     const uInt step = static_cast<uInt>(std::min<std::size_t>(size, 1u << 30));
     crc = crc32(crc, data, step);

@@ -220,12 +220,14 @@ std::string ChunkRec(const std::string& records, const ChunkSpec& spec) {
   return Rec(0x06, c + data);
 }
 
-std::string McapFile(const std::string& data_section, bool footer = true) {
+// data_crc: the Data End's data_section_crc (0: missing; nullopt: the true CRC-32 of every byte
+// before the Data End record, leading magic included).
+std::string McapFile(const std::string& data_section, bool footer = true, std::optional<std::uint32_t> data_crc = 0u) {
   std::string s = "\x89MCAP0\r\n";
   s += Rec(0x01, Str("ros2") + Str("bag_test"));
   s += data_section;
   std::string crc;
-  Le(&crc, 0, 4);
+  Le(&crc, data_crc.value_or(static_cast<std::uint32_t>(crc32(0, reinterpret_cast<const Bytef*>(s.data()), s.size()))), 4);
   s += Rec(0x0F, crc);
   if (footer) {
     std::string f;
@@ -522,6 +524,36 @@ TEST_F(McapTest, UnstampedMessagesAskForReceiveTime) {
   Result<BagImuTable> t = Read(McapFile(r), o);
   ASSERT_TRUE(t.ok()) << t.error().message;
   EXPECT_EQ(t->table.columns[0][4], 1004e-9);
+}
+
+TEST_F(McapTest, DataSectionCrcIsCheckedWhenEveryByteIsRead) {
+  // Chunked (zstd) and unchunked files, with an image topic and a message index-like unknown
+  // record between the chunks: the true CRC reads, a wrong one is refused at the Data End.
+  const std::string unknown = Rec(0x07, std::string(100, '\x01'));  // "Message Index": skipped, read for the CRC
+  for (const std::string& data : {ChunkRec(ImuRecords(50), {"zstd", {}, {}}) + unknown +
+                                      ChunkRec(ImuRecords(50, false, 50), {"", {}, {}}) + unknown,
+                                  ImuRecords(100)}) {
+    Result<BagImuTable> r = Read(McapFile(data, true, std::nullopt));
+    ASSERT_TRUE(r.ok()) << r.error().message;
+    ExpectSamples(*r, 100);
+    const std::string good = McapFile(data, true, std::nullopt);
+    const std::size_t data_end_at = good.size() - 9 - 4 - 9 - 20 - 8;  // Data End, Footer, magic
+    ASSERT_EQ(good[data_end_at], '\x0f');
+    const std::string want = "byte " + std::to_string(data_end_at) + ": Data End: data section CRC mismatch";
+    ExpectRefused(McapFile(data, true, 12345u), want);
+    // One flipped byte inside the data section (the Header's library string) is caught too.
+    std::string flipped = good;
+    flipped[30] ^= 1;
+    ExpectRefused(flipped, want);
+  }
+  // An unwanted message outside chunks larger than 1 MiB is skipped unread: the CRC is then not
+  // checked, unless verify_mcap_data_crc asks for every byte.
+  const std::string big = ImuRecords(20) + MessageRec(3, 1, std::string((1 << 20) + 10, 'x'));
+  EXPECT_TRUE(Read(McapFile(big, true, 12345u)).ok());
+  BagReadOptions verify;
+  verify.verify_mcap_data_crc = true;
+  EXPECT_TRUE(Read(McapFile(big, true, std::nullopt), verify).ok());
+  ExpectRefused(McapFile(big, true, 12345u), "data section CRC mismatch", verify);
 }
 
 TEST_F(McapTest, DamagedSqliteIsRefusedOnOneLine) {

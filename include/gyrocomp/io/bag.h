@@ -61,6 +61,11 @@ struct BagReadOptions {
   // unread and the CRC then not checked. true: such records are read too, so the CRC is always
   // checked (a 10 GB bag of camera frames outside chunks is then read whole).
   bool verify_mcap_data_crc = false;
+  // rosbag2 per-file compression (`x.mcap.zstd`, `x.db3.zstd`; metadata.yaml compression_mode
+  // FILE, compression_format zstd): the file is stream-decompressed into a temporary file in
+  // $TMPDIR (sqlite3 needs a file) and read there. Largest decompressed size, bytes: a file
+  // decompressing to more is refused (a compression bomb filling the disk). 64 GiB.
+  std::uint64_t max_decompressed_file_bytes = std::uint64_t{64} << 30;
   bool IsValid(std::string* error) const;
 };
 

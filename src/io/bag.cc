@@ -181,7 +181,17 @@ std::optional<Error> StreamZstdFile(const std::string& path, const BagReadOption
     std::ifstream in(path, std::ios::binary);
     if (!in) return IoError(path + ": cannot open");
     std::ofstream out(temp.path(), std::ios::binary | std::ios::trunc);
-    const std::string why = bag_internal::DecompressZstdFile(in, out, options.max_decompressed_file_bytes);
+    // Never more than the free space of the temporary folder (less 64 MiB for everyone else).
+    std::error_code ec;
+    const fs::space_info space = fs::space(fs::path(temp.path()).parent_path(), ec);
+    const std::uint64_t margin = std::uint64_t{64} << 20;
+    const std::uint64_t free_bytes = ec ? UINT64_MAX : (space.available > margin ? space.available - margin : 0);
+    const std::uint64_t limit = std::min(options.max_decompressed_file_bytes, free_bytes);
+    std::string why = bag_internal::DecompressZstdFile(in, out, limit);
+    if (!why.empty() && limit < options.max_decompressed_file_bytes && why.find("compression bomb") != std::string::npos) {
+      why = "decompresses to more than the " + std::to_string(limit) + " bytes free in " +
+            fs::path(temp.path()).parent_path().string() + " (set TMPDIR to a folder with room)";
+    }
     if (!why.empty()) return InvalidInput(path + ": " + why);
     out.close();
     if (!out) return IoError(path + ": cannot write the decompressed file " + temp.path() + " (disk full?)");

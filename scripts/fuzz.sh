@@ -58,6 +58,11 @@ if [ ! -e "$seeds/.done_ros2_sqlite" ]; then
   /usr/bin/python3 tests/bags/make_imu_bags.py "$seeds/bags_db3" --seconds 0.2 --camera-bytes 64 --formats db3 \
     >/dev/null 2>&1 && cp "$seeds"/bags_db3/imu_db3/*.db3 "$seeds/ros2_sqlite/" || true
   cp tests/bags/rosbag2/talker_db3/talker.db3 "$seeds/ros2_sqlite/"
+  # rosbag2 per-file compression: the same files zstd-compressed whole (.db3.zstd, .mcap.zstd).
+  for f in "$seeds"/ros2_sqlite/*.db3 tests/bags/rosbag2/talker_mcap/talker.mcap; do
+    case "$f" in *.db3) d=ros2_sqlite ;; *) d=mcap ;; esac
+    zstd -q -c "$f" > "$seeds/$d/$(basename "$f").zstd" || true
+  done
   touch "$seeds/.done_ros2_sqlite"
 fi
 

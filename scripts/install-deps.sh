@@ -26,6 +26,7 @@ packages=(
   libfftw3-dev libeigen3-dev libsvm-dev zlib1g-dev
   libcli11-dev nlohmann-json3-dev
   libzstd-dev liblz4-dev libsqlite3-dev libbz2-dev  # ROS bag readers (MCAP, rosbag2 sqlite3, ROS 1)
+  zstd lz4  # CLI compressors tests/bags/make_imu_bags.py and scripts/fuzz.sh use for MCAP chunks and .zstd seeds
   python3-rosbag python3-sensor-msgs python3-roslz4  # ROS 1 bags written / read back by the bag tests (independent reference)
   libgtest-dev libgmock-dev libbenchmark-dev
   python3-dev python3-numpy python3-pytest pybind11-dev python3-distributed

@@ -64,11 +64,28 @@ if [ ! -e "$seeds/numeric/.done" ]; then
   touch "$seeds/numeric/.done"
 fi
 
+# rosbag2 sqlite3 seeds (issue 25): the simulated IMU as a .db3 and rosbag2's talker (its -wal
+# is empty: the .db3 holds every row).
+if [ ! -e "$seeds/.done_ros2_sqlite" ]; then
+  mkdir -p "$seeds/ros2_sqlite"
+  /usr/bin/python3 tests/bags/make_imu_bags.py "$seeds/bags_db3" --seconds 0.2 --camera-bytes 64 --formats db3 \
+    >/dev/null 2>&1 && cp "$seeds"/bags_db3/imu_db3/*.db3 "$seeds/ros2_sqlite/" || true
+  cp tests/bags/rosbag2/talker_db3/talker.db3 "$seeds/ros2_sqlite/"
+  # rosbag2 per-file compression: the same files zstd-compressed whole (.db3.zstd, .mcap.zstd).
+  for f in "$seeds"/ros2_sqlite/*.db3 tests/bags/rosbag2/talker_mcap/talker.mcap; do
+    case "$f" in *.db3) d=ros2_sqlite ;; *) d=mcap ;; esac
+    zstd -q -c "$f" > "$seeds/$d/$(basename "$f").zstd" || true
+  done
+  touch "$seeds/.done_ros2_sqlite"
+fi
+
 declare -A corpus_of=([fuzz_csv]=csv [fuzz_gz]=gz [fuzz_ulog]=ulog [fuzz_dataflash]=dataflash [fuzz_model]=model
                       [fuzz_mcap]=mcap [fuzz_rosbag1]=rosbag1 [fuzz_numeric_stages]=numeric [fuzz_numeric_drift]=numeric)
 fuzzers=("$@")
 [ ${#fuzzers[@]} -eq 0 ] && fuzzers=(fuzz_csv fuzz_gz fuzz_ulog fuzz_dataflash fuzz_model fuzz_mcap fuzz_rosbag1
                                      fuzz_numeric_stages fuzz_numeric_drift)
+corpus_of[fuzz_ros2_sqlite]=ros2_sqlite
+[ $# -eq 0 ] && fuzzers+=(fuzz_ros2_sqlite)
 status=0
 for fz in "${fuzzers[@]}"; do
   corpus=$build/corpus/$fz

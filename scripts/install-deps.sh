@@ -2,13 +2,18 @@
 # Installs what gyrocomp needs to build, test and write its report, from Debian 12 packages and
 # the npm registry. Idempotent: safe to run again. Run as root (or with sudo).
 #   --browser   also install Debian's chromium (used by the report's headless-browser test)
+#   --allan-variance-ros   also the Debian ROS 1 / ROS 2 headers needed to build ori-drs/allan_variance_ros
+#               outside catkin, and rosmaster / scipy / matplotlib to run it, for
+#               bench/allan_variance_ros_side_by_side.sh (docs/kalibr.md; not needed by CI)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 want_browser=0
+want_avr=0
 for arg in "$@"; do
   case "$arg" in
     --browser) want_browser=1 ;;
+    --allan-variance-ros) want_avr=1 ;;
     *) echo "install-deps.sh: unknown option $arg" >&2; exit 2 ;;
   esac
 done
@@ -21,6 +26,7 @@ packages=(
   libfftw3-dev libeigen3-dev libsvm-dev zlib1g-dev
   libcli11-dev nlohmann-json3-dev
   libzstd-dev liblz4-dev libsqlite3-dev libbz2-dev  # ROS bag readers (MCAP, rosbag2 sqlite3, ROS 1)
+  zstd lz4  # CLI compressors tests/bags/make_imu_bags.py and scripts/fuzz.sh use for MCAP chunks and .zstd seeds
   python3-rosbag python3-sensor-msgs python3-roslz4  # ROS 1 bags written / read back by the bag tests (independent reference)
   libgtest-dev libgmock-dev libbenchmark-dev
   python3-dev python3-numpy python3-pytest pybind11-dev python3-distributed
@@ -28,6 +34,11 @@ packages=(
 )
 command -v npm >/dev/null 2>&1 || packages+=(nodejs npm)
 if [ "$want_browser" = 1 ]; then packages+=(chromium); fi
+if [ "$want_avr" = 1 ]; then
+  packages+=(libroscpp-dev librosbag-dev libsensor-msgs-dev libyaml-cpp-dev libboost-filesystem-dev pluginlib-dev
+             libclass-loader-dev librcpputils-dev librcutils-dev libament-index-cpp-dev libroslib-dev libtinyxml2-dev
+             python3-rosmaster python3-scipy python3-matplotlib python3-yaml)
+fi
 
 missing=()
 for p in "${packages[@]}"; do

@@ -10,9 +10,16 @@
 #include <map>
 #include <numeric>
 #include <set>
+#include <sstream>
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
 
 #include "gyrocomp/core/format.h"
 #include "gyrocomp/io/cdr.h"
+#include "bag_bytes.h"
 
 namespace gyrocomp {
 
@@ -26,6 +33,15 @@ constexpr std::uint8_t kMcapMagic[8] = {0x89, 'M', 'C', 'A', 'P', '0', '\r', '\n
 constexpr char kSqliteMagic[16] = "SQLite format 3";  // with its NUL: 16 bytes
 constexpr char kRos1Magic[] = "#ROSBAG V2.0\n";
 
+BagFormat DetectHead(const std::uint8_t* head, std::size_t n) {
+  if (n >= 8 && std::memcmp(head, kMcapMagic, 8) == 0) return BagFormat::kMcap;
+  if (n >= 16 && std::memcmp(head, kSqliteMagic, 16) == 0) return BagFormat::kRos2Sqlite;
+  if (n >= 13 && std::memcmp(head, kRos1Magic, 13) == 0) return BagFormat::kRos1;
+  return BagFormat::kNone;
+}
+
+// By the first 16 bytes; a Zstandard file (rosbag2 per-file compression) by the first 16 bytes
+// it decompresses to.
 BagFormat DetectFile(const std::string& path) {
   std::error_code ec;
   if (!fs::is_regular_file(path, ec)) return BagFormat::kNone;
@@ -33,10 +49,20 @@ BagFormat DetectFile(const std::string& path) {
   std::uint8_t head[16] = {};
   in.read(reinterpret_cast<char*>(head), sizeof head);
   const auto n = static_cast<std::size_t>(in.gcount());
-  if (n >= 8 && std::memcmp(head, kMcapMagic, 8) == 0) return BagFormat::kMcap;
-  if (n >= 16 && std::memcmp(head, kSqliteMagic, 16) == 0) return BagFormat::kRos2Sqlite;
-  if (n >= 13 && std::memcmp(head, kRos1Magic, 13) == 0) return BagFormat::kRos1;
-  return BagFormat::kNone;
+  if (!bag_internal::HasZstdMagic(head, n)) return DetectHead(head, n);
+  in.clear();
+  in.seekg(0);
+  std::ostringstream inner;
+  if (!bag_internal::DecompressZstdFile(in, inner, sizeof head, true).empty()) return BagFormat::kNone;
+  const std::string h = inner.str();
+  return DetectHead(reinterpret_cast<const std::uint8_t*>(h.data()), h.size());
+}
+
+bool IsZstdFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::uint8_t head[4] = {};
+  in.read(reinterpret_cast<char*>(head), sizeof head);
+  return bag_internal::HasZstdMagic(head, static_cast<std::size_t>(in.gcount()));
 }
 
 // The storage files of a ROS 2 bag folder: metadata.yaml's rosbag2_bagfile_information.
@@ -66,10 +92,28 @@ std::vector<std::string> FolderFiles(const std::string& dir) {
   std::error_code ec;
   for (const auto& e : fs::directory_iterator(dir, ec)) {
     const std::string ext = e.path().extension().string();
-    if (ext == ".mcap" || ext == ".db3") files.push_back(e.path().string());
+    const std::string stem_ext = e.path().stem().extension().string();
+    if (ext == ".mcap" || ext == ".db3" || (ext == ".zstd" && (stem_ext == ".mcap" || stem_ext == ".db3"))) {
+      files.push_back(e.path().string());
+    }
   }
   std::sort(files.begin(), files.end());
   return files;
+}
+
+// metadata.yaml's rosbag2_bagfile_information.compression_mode ("", FILE or MESSAGE;
+// rosbag2_storage metadata_io.cpp), unquoted.
+std::string CompressionMode(const std::string& dir) {
+  std::ifstream meta(dir + "/metadata.yaml");
+  std::string line;
+  while (std::getline(meta, line)) {
+    const std::size_t at = line.find("compression_mode:");
+    if (at == std::string::npos) continue;
+    std::string v = line.substr(at + 17);
+    v.erase(std::remove_if(v.begin(), v.end(), [](char c) { return c == ' ' || c == '"' || c == '\'' || c == '\r'; }), v.end());
+    return v;
+  }
+  return "";
 }
 
 bool IsFolderBag(const std::string& path) {
@@ -100,13 +144,79 @@ class OffsetVisitor : public BagVisitor {
   std::uint64_t offset_;
 };
 
+std::optional<Error> StreamFile(const std::string& path, const BagReadOptions& options, BagVisitor* visitor);
+
+// A temporary file removed (with sqlite3's side files) when it goes out of scope.
+class TempFile {
+ public:
+  TempFile() {
+    std::error_code ec;
+    std::string pattern = (fs::temp_directory_path(ec) / "gyrocomp_bag_XXXXXX").string();
+    const int fd = ::mkstemp(pattern.data());
+    if (fd >= 0) {
+      ::close(fd);
+      path_ = pattern;
+    }
+  }
+  ~TempFile() {
+    if (path_.empty()) return;
+    for (const char* side : {"", "-journal", "-wal", "-shm"}) std::remove((path_ + side).c_str());
+  }
+  TempFile(const TempFile&) = delete;
+  TempFile& operator=(const TempFile&) = delete;
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+};
+
+// rosbag2 per-file compression (rosbag2_compression, compression_mode FILE, format zstd): the
+// storage file is Zstandard-compressed whole. sqlite3 needs a file and the MCAP reader seeks, so
+// the file is stream-decompressed (bounded buffers) into a temporary file ($TMPDIR), read there
+// and removed; errors name the compressed file.
+std::optional<Error> StreamZstdFile(const std::string& path, const BagReadOptions& options, BagVisitor* visitor) {
+  TempFile temp;
+  if (temp.path().empty()) return IoError(path + ": cannot create a temporary file to decompress into");
+  {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) return IoError(path + ": cannot open");
+    std::ofstream out(temp.path(), std::ios::binary | std::ios::trunc);
+    // Never more than the free space of the temporary folder (less 64 MiB for everyone else).
+    std::error_code ec;
+    const fs::space_info space = fs::space(fs::path(temp.path()).parent_path(), ec);
+    const std::uint64_t margin = std::uint64_t{64} << 20;
+    const std::uint64_t free_bytes = ec ? UINT64_MAX : (space.available > margin ? space.available - margin : 0);
+    const std::uint64_t limit = std::min(options.max_decompressed_file_bytes, free_bytes);
+    std::string why = bag_internal::DecompressZstdFile(in, out, limit);
+    if (!why.empty() && limit < options.max_decompressed_file_bytes && why.find("compression bomb") != std::string::npos) {
+      why = "decompresses to more than the " + std::to_string(limit) + " bytes free in " +
+            fs::path(temp.path()).parent_path().string() + " (set TMPDIR to a folder with room)";
+    }
+    if (!why.empty()) return InvalidInput(path + ": " + why);
+    out.close();
+    if (!out) return IoError(path + ": cannot write the decompressed file " + temp.path() + " (disk full?)");
+  }
+  if (DetectFile(temp.path()) == BagFormat::kNone || IsZstdFile(temp.path())) {
+    return InvalidInput(path + ": decompressed byte 0: not an MCAP, ROS 2 sqlite3 or ROS 1 v2.0 bag (by its first bytes)");
+  }
+  std::optional<Error> e = StreamFile(temp.path(), options, visitor);
+  if (e) {
+    // The reader named the temporary file: name the bag instead.
+    const std::string decompressed = path + " (decompressed)";
+    for (std::size_t at = e->message.find(temp.path()); at != std::string::npos;
+         at = e->message.find(temp.path(), at + decompressed.size())) {
+      e->message.replace(at, temp.path().size(), decompressed);
+    }
+  }
+  return e;
+}
+
 std::optional<Error> StreamFile(const std::string& path, const BagReadOptions& options, BagVisitor* visitor) {
+  if (IsZstdFile(path)) return StreamZstdFile(path, options, visitor);
   const BagFormat format = DetectFile(path);
   if (format == BagFormat::kRos2Sqlite) return StreamRos2Sqlite(path, options, visitor);
   if (format == BagFormat::kNone) {
-    return InvalidInput(path + ": byte 0: not an MCAP, ROS 2 sqlite3 or ROS 1 v2.0 bag (by its first bytes)" +
-                        std::string(path.size() > 5 && path.substr(path.size() - 5) == ".zstd"
-                                        ? "; rosbag2 file-compressed bags: decompress with `zstd -d` first" : ""));
+    return InvalidInput(path + ": byte 0: not an MCAP, ROS 2 sqlite3 or ROS 1 v2.0 bag (by its first bytes)");
   }
   std::ifstream in(path, std::ios::binary);
   if (!in) return IoError(path + ": cannot open");
@@ -401,6 +511,10 @@ bool BagReadOptions::IsValid(std::string* error) const {
     *error = "BagReadOptions::max_chunk_bytes = 0: must be > 0";
     return false;
   }
+  if (max_decompressed_file_bytes == 0) {
+    *error = "BagReadOptions::max_decompressed_file_bytes = 0: must be > 0";
+    return false;
+  }
   if (topic && topic->empty()) {
     *error = "BagReadOptions::topic is empty: name a topic or leave it unset";
     return false;
@@ -419,6 +533,10 @@ std::optional<Error> StreamBag(const std::string& path, const BagReadOptions& op
   if (!IsFolderBag(path)) return StreamFile(path, options, visitor);
   const std::vector<std::string> files = FolderFiles(path);
   if (files.empty()) return InvalidInput(path + ": a ROS 2 bag folder without .mcap or .db3 files");
+  if (CompressionMode(path) == "MESSAGE") {
+    return Unsupported(path + "/metadata.yaml: compression_mode MESSAGE (every message compressed on its own) is not "
+                              "read; record with compression_mode FILE (read directly) or none");
+  }
   for (std::size_t k = 0; k < files.size(); ++k) {
     OffsetVisitor moved(visitor, static_cast<std::uint64_t>(k) << 32);
     if (auto e = StreamFile(files[k], options, &moved)) return e;

@@ -83,5 +83,16 @@ std::string Decompress(const std::string& method, const std::uint8_t* src, std::
 
 // zlib crc32 (the CRC-32 of ISO 3309 / ITU-T V.42, as MCAP's CRC fields: spec "Chunk").
 std::uint32_t Crc32(const std::uint8_t* data, std::size_t size);
+// The CRC-32 of (the bytes whose CRC-32 is `previous`) followed by `data` (zlib crc32 chaining).
+std::uint32_t Crc32Update(std::uint32_t previous, const std::uint8_t* data, std::size_t size);
+
+// rosbag2 per-file compression (compression_mode FILE, compression_format zstd: the storage file
+// `x.mcap.zstd` / `x.db3.zstd` is one or more Zstandard frames, RFC 8878): the Zstandard frame
+// magic 28 B5 2F FD (RFC 8878, 3.1.1 "Magic_Number" 0xFD2FB528, little-endian).
+bool HasZstdMagic(const std::uint8_t* head, std::size_t n);
+// Stream-decompresses the Zstandard file `in` into `out` (ZSTD_decompressStream, bounded
+// buffers), writing at most `max_bytes` (more: refused as a compression bomb), or only the first
+// `max_bytes` when `prefix_only`. Returns "" or what went wrong with the compressed byte offset.
+std::string DecompressZstdFile(std::istream& in, std::ostream& out, std::uint64_t max_bytes, bool prefix_only = false);
 
 }  // namespace gyrocomp::bag_internal

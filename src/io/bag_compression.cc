@@ -7,6 +7,9 @@
 #include <algorithm>
 #include <climits>
 #include <memory>
+#include <istream>
+#include <ostream>
+#include <vector>
 
 #include "bag_bytes.h"
 
@@ -76,8 +79,10 @@ std::string Decompress(const std::string& method, const std::uint8_t* src, std::
   return "unknown compression '" + method + "'";
 }
 
-std::uint32_t Crc32(const std::uint8_t* data, std::size_t size) {
-  uLong crc = crc32(0L, Z_NULL, 0);
+std::uint32_t Crc32(const std::uint8_t* data, std::size_t size) { return Crc32Update(0, data, size); }
+
+std::uint32_t Crc32Update(std::uint32_t previous, const std::uint8_t* data, std::size_t size) {
+  uLong crc = previous;
   while (size > 0) {
     const uInt step = static_cast<uInt>(std::min<std::size_t>(size, 1u << 30));
     crc = crc32(crc, data, step);
@@ -85,6 +90,51 @@ std::uint32_t Crc32(const std::uint8_t* data, std::size_t size) {
     size -= step;
   }
   return static_cast<std::uint32_t>(crc);
+}
+
+bool HasZstdMagic(const std::uint8_t* head, std::size_t n) {
+  return n >= 4 && head[0] == 0x28 && head[1] == 0xB5 && head[2] == 0x2F && head[3] == 0xFD;
+}
+
+std::string DecompressZstdFile(std::istream& in, std::ostream& out, std::uint64_t max_bytes, bool prefix_only) {
+  std::unique_ptr<ZSTD_DCtx, decltype(&ZSTD_freeDCtx)> dctx(ZSTD_createDCtx(), &ZSTD_freeDCtx);
+  if (!dctx) return "zstd: out of memory";
+  std::vector<char> src(ZSTD_DStreamInSize()), dst(ZSTD_DStreamOutSize());
+  std::uint64_t consumed = 0, written = 0;
+  std::size_t last = 0;  // ZSTD_decompressStream's last return: 0 = a frame ended and was flushed
+  bool any = false;
+  while (true) {
+    in.read(src.data(), static_cast<std::streamsize>(src.size()));
+    const auto got = static_cast<std::size_t>(in.gcount());
+    if (got == 0) break;
+    any = true;
+    ZSTD_inBuffer input{src.data(), got, 0};
+    while (input.pos < input.size) {
+      ZSTD_outBuffer output{dst.data(), dst.size(), 0};
+      last = ZSTD_decompressStream(dctx.get(), &output, &input);
+      if (ZSTD_isError(last)) {
+        return "compressed byte " + std::to_string(consumed + input.pos) + ": zstd: " + ZSTD_getErrorName(last);
+      }
+      const std::uint64_t room = max_bytes - written;
+      if (output.pos > room) {
+        if (prefix_only) {
+          out.write(dst.data(), static_cast<std::streamsize>(room));
+          return out ? "" : "cannot write the decompressed file";
+        }
+        return "decompresses to more than " + std::to_string(max_bytes) +
+               " bytes (BagReadOptions::max_decompressed_file_bytes); refused as a possible compression bomb";
+      }
+      out.write(dst.data(), static_cast<std::streamsize>(output.pos));
+      if (!out) return "cannot write the decompressed file (disk full?)";
+      written += output.pos;
+    }
+    consumed += got;
+  }
+  if (!any) return "empty file";
+  if (last != 0 && !prefix_only) {
+    return "compressed byte " + std::to_string(consumed) + ": zstd: the file ends inside a frame (truncated)";
+  }
+  return "";
 }
 
 }  // namespace gyrocomp::bag_internal

@@ -14,6 +14,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <sstream>
 #include <string>
@@ -220,12 +221,14 @@ std::string ChunkRec(const std::string& records, const ChunkSpec& spec) {
   return Rec(0x06, c + data);
 }
 
-std::string McapFile(const std::string& data_section, bool footer = true) {
+// data_crc: the Data End's data_section_crc (0: missing; nullopt: the true CRC-32 of every byte
+// before the Data End record, leading magic included).
+std::string McapFile(const std::string& data_section, bool footer = true, std::optional<std::uint32_t> data_crc = 0u) {
   std::string s = "\x89MCAP0\r\n";
   s += Rec(0x01, Str("ros2") + Str("bag_test"));
   s += data_section;
   std::string crc;
-  Le(&crc, 0, 4);
+  Le(&crc, data_crc.value_or(static_cast<std::uint32_t>(crc32(0, reinterpret_cast<const Bytef*>(s.data()), s.size()))), 4);
   s += Rec(0x0F, crc);
   if (footer) {
     std::string f;
@@ -522,6 +525,116 @@ TEST_F(McapTest, UnstampedMessagesAskForReceiveTime) {
   Result<BagImuTable> t = Read(McapFile(r), o);
   ASSERT_TRUE(t.ok()) << t.error().message;
   EXPECT_EQ(t->table.columns[0][4], 1004e-9);
+}
+
+TEST_F(McapTest, DataSectionCrcIsCheckedWhenEveryByteIsRead) {
+  // Chunked (zstd) and unchunked files, with an image topic and a message index-like unknown
+  // record between the chunks: the true CRC reads, a wrong one is refused at the Data End.
+  const std::string unknown = Rec(0x07, std::string(100, '\x01'));  // "Message Index": skipped, read for the CRC
+  for (const std::string& data : {ChunkRec(ImuRecords(50), {"zstd", {}, {}}) + unknown +
+                                      ChunkRec(ImuRecords(50, false, 50), {"", {}, {}}) + unknown,
+                                  ImuRecords(100)}) {
+    Result<BagImuTable> r = Read(McapFile(data, true, std::nullopt));
+    ASSERT_TRUE(r.ok()) << r.error().message;
+    ExpectSamples(*r, 100);
+    const std::string good = McapFile(data, true, std::nullopt);
+    const std::size_t data_end_at = good.size() - 9 - 4 - 9 - 20 - 8;  // Data End, Footer, magic
+    ASSERT_EQ(good[data_end_at], '\x0f');
+    const std::string want = "byte " + std::to_string(data_end_at) + ": Data End: data section CRC mismatch";
+    ExpectRefused(McapFile(data, true, 12345u), want);
+    // One flipped byte inside the data section (the Header's library string) is caught too.
+    std::string flipped = good;
+    flipped[30] ^= 1;
+    ExpectRefused(flipped, want);
+  }
+  // An unwanted message outside chunks larger than 1 MiB is skipped unread: the CRC is then not
+  // checked, unless verify_mcap_data_crc asks for every byte.
+  const std::string big = ImuRecords(20) + MessageRec(3, 1, std::string((1 << 20) + 10, 'x'));
+  EXPECT_TRUE(Read(McapFile(big, true, 12345u)).ok());
+  BagReadOptions verify;
+  verify.verify_mcap_data_crc = true;
+  EXPECT_TRUE(Read(McapFile(big, true, std::nullopt), verify).ok());
+  ExpectRefused(McapFile(big, true, 12345u), "data section CRC mismatch", verify);
+}
+
+std::string Zstd(const std::string& bytes) {
+  std::string z(ZSTD_compressBound(bytes.size()), '\0');
+  z.resize(ZSTD_compress(z.data(), z.size(), bytes.data(), bytes.size(), 3));
+  return z;
+}
+
+std::string ReadAll(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+TEST_F(McapTest, Rosbag2FileCompressedZstdIsReadDirectly) {
+  // rosbag2 compression_mode FILE: x.mcap.zstd read as the MCAP it holds (two zstd frames, as
+  // a stream may be written), alone and in a bag folder.
+  const std::string mcap = McapFile(ChunkRec(ImuRecords(100), {"lz4", {}, {}}));
+  const std::string half = mcap.substr(0, 1000);
+  const std::string file = Write("imu.mcap.zstd", Zstd(half) + Zstd(mcap.substr(1000)));
+  EXPECT_EQ(DetectBagFormat(file), BagFormat::kMcap);
+  Result<BagImuTable> r = ReadBagImu(file, {});
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  ExpectSamples(*r, 100);
+  fs::create_directories(dir_ + "/folder");
+  std::ofstream(dir_ + "/folder/metadata.yaml") << "rosbag2_bagfile_information:\n  relative_file_paths:\n    - "
+                                                   "imu.mcap.zstd\n  compression_format: zstd\n  compression_mode: FILE\n";
+  std::ofstream(dir_ + "/folder/imu.mcap.zstd", std::ios::binary) << ReadAll(file);
+  r = ReadBagImu(dir_ + "/folder", {});
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  ExpectSamples(*r, 100);
+  // rosbag2's talker .db3, compressed: the same listing as the plain file.
+  const std::string db3 = Write("talker.db3.zstd", Zstd(ReadAll(BagsDir() + "/rosbag2/talker_db3/talker.db3")));
+  EXPECT_EQ(DetectBagFormat(db3), BagFormat::kRos2Sqlite);
+  Result<BagListing> plain = ListBag(BagsDir() + "/rosbag2/talker_db3/talker.db3");
+  Result<BagListing> packed = ListBag(db3);
+  ASSERT_TRUE(plain.ok()) << plain.error().message;
+  ASSERT_TRUE(packed.ok()) << packed.error().message;
+  ASSERT_EQ(packed->topics.size(), plain->topics.size());
+  ASSERT_EQ(packed->topics.size(), 3u);
+  for (std::size_t k = 0; k < plain->topics.size(); ++k) {
+    EXPECT_EQ(packed->topics[k].topic, plain->topics[k].topic);
+    EXPECT_EQ(packed->topics[k].messages, plain->topics[k].messages);
+    EXPECT_EQ(packed->topics[k].last_receive_ns, plain->topics[k].last_receive_ns);
+  }
+}
+
+TEST_F(McapTest, HostileZstdFilesAreRefusedOnOneLine) {
+  const std::string z = Zstd(McapFile(ChunkRec(ImuRecords(100), {"", {}, {}})));
+  auto refused = [&](const std::string& bytes, const std::string& what, BagReadOptions o = {}) {
+    Result<BagImuTable> r = ReadBagImu(Write("bad.mcap.zstd", bytes), o);
+    ASSERT_FALSE(r.ok()) << what;
+    EXPECT_NE(r.error().message.find(what), std::string::npos) << r.error().message;
+    EXPECT_EQ(r.error().message.find('\n'), std::string::npos) << r.error().message;
+    std::string m = r.error().message;  // never the temporary file's name (gyrocomp_bag_XXXXXX)
+    m.erase(0, m.find("bad.mcap.zstd"));
+    EXPECT_EQ(m.find("gyrocomp_bag_"), std::string::npos) << r.error().message;
+  };
+  refused(z.substr(0, z.size() - 7), "the file ends inside a frame (truncated)");
+  std::string damaged = z;
+  damaged[8] = '\xff';  // inside the frame header / first block header
+  damaged[9] = '\xff';
+  damaged[10] = '\xff';
+  refused(damaged, "compressed byte ");
+  refused(z + "garbage!", "compressed byte " + std::to_string(z.size()) + ": zstd: ");
+  BagReadOptions small;
+  small.max_decompressed_file_bytes = 1000;
+  refused(z, "decompresses to more than 1000 bytes (BagReadOptions::max_decompressed_file_bytes); refused as a possible "
+             "compression bomb", small);
+  refused(Zstd("not a bag at all, just text"), "decompressed byte 0: not an MCAP");
+  // A damaged MCAP inside names the compressed file.
+  std::string inner = McapFile(ChunkRec(ImuRecords(10), {"", {}, 12345u}));
+  refused(Zstd(inner), "bad.mcap.zstd (decompressed): byte 37: Chunk CRC mismatch");
+  // compression_mode MESSAGE is refused up front.
+  fs::create_directories(dir_ + "/msg");
+  std::ofstream(dir_ + "/msg/metadata.yaml") << "rosbag2_bagfile_information:\n  relative_file_paths:\n    - x.mcap\n"
+                                                "  compression_format: zstd\n  compression_mode: MESSAGE\n";
+  std::ofstream(dir_ + "/msg/x.mcap", std::ios::binary) << McapFile(ImuRecords(10));
+  Result<BagImuTable> r = ReadBagImu(dir_ + "/msg", {});
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().message.find("compression_mode MESSAGE"), std::string::npos) << r.error().message;
 }
 
 TEST_F(McapTest, DamagedSqliteIsRefusedOnOneLine) {

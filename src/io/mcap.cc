@@ -12,8 +12,17 @@
 // names its topic and message encoding, its Schema the type), Message records of channels the
 // consumer does not want are skipped without being read, Chunks are decompressed one at a time
 // and only their wanted messages are passed on. The summary section is optional and not needed:
-// after "Data End" the records are skipped up to the Footer. The data section CRC (Data End) is
-// not checked: it would need every skipped byte of a 10 GB bag read; chunk CRCs are checked.
+// after "Data End" the records are skipped up to the Footer. Chunk CRCs are checked.
+// "Data End": "data_section_crc: CRC-32 of all bytes in the data section. A value of zero
+// indicates the CRC is missing." The data section runs from the leading magic (byte 0) to the
+// Data End record (excluded), as foxglove/mcap's python StreamReader computes it. Every byte
+// this reader reads in that range, in file order, goes into a running CRC-32; the CRC is checked
+// when no byte was left unread: chunks (rosbag2 chunks every message) and Schema / Channel
+// records are read whole anyway, and records otherwise skipped (message indexes, metadata,
+// unknown records, messages of unwanted channels outside chunks) are read for the CRC when they
+// are at most kCrcReadBytes; a larger one is skipped unread and the CRC left unchecked, unless
+// BagReadOptions::verify_mcap_data_crc asks for every byte to be read.
+#include <algorithm>
 #include <array>
 #include <cstring>
 #include <map>
@@ -49,6 +58,8 @@ constexpr std::size_t kMessagePrefixBytes = 2 + 4 + 8 + 8;
 // "Chunk": Timestamp message_start_time, Timestamp message_end_time, uint64 uncompressed_size,
 // uint32 uncompressed_crc, String compression, uint64-prefixed Bytes records.
 constexpr std::size_t kChunkFixedBytes = 8 + 8 + 8 + 4;
+// Records the reader would skip are still read, for the data section CRC, up to this size.
+constexpr std::uint64_t kCrcReadBytes = std::uint64_t{1} << 20;
 
 std::string Hex(unsigned v) {
   static const char* d = "0123456789abcdef";
@@ -74,6 +85,11 @@ class McapReader {
   std::optional<Error> Chunk(std::uint64_t at, std::uint64_t len);
   std::optional<Error> ChunkRecords(std::uint64_t at);
   std::optional<Error> Footer(std::uint64_t at, std::uint64_t len);
+  std::optional<Error> DataEnd(std::uint64_t at, std::uint64_t len);
+  // Feeds bytes [at, at + n) of the file, just read, into the data section CRC.
+  void Crc(std::uint64_t at, const std::uint8_t* p, std::size_t n);
+  // Reads bytes [at, at + n) that the reader itself does not need, for the CRC only.
+  std::optional<Error> CrcSkipped(std::uint64_t at, std::uint64_t n);
 
   std::istream& in_;
   const std::string& source_;
@@ -82,6 +98,9 @@ class McapReader {
   std::uint64_t size_ = 0;
   bool data_end_ = false;
   bool done_ = false;
+  std::uint32_t crc_ = 0;       // CRC-32 of bytes [0, crc_end_)
+  std::uint64_t crc_end_ = 0;
+  bool crc_gap_ = false;        // a byte of the data section was not read
   std::map<std::uint16_t, std::string> schema_names_;   // "Schema": id -> name
   std::set<std::uint16_t> channels_;                    // channel ids announced
   std::vector<std::uint8_t> record_, compressed_, chunk_;
@@ -95,6 +114,7 @@ std::optional<Error> McapReader::Run() {
       std::memcmp(record_.data(), kMagic.data(), kMagic.size()) != 0) {
     return Bad(0, "not an MCAP file (\"Magic\": 89 4D 43 41 50 30 0D 0A)");
   }
+  Crc(0, record_.data(), record_.size());
   std::uint64_t pos = kMagic.size();
   bool first = true;
   while (!done_) {
@@ -108,6 +128,7 @@ std::optional<Error> McapReader::Run() {
     std::vector<std::uint8_t> head;
     if (!bag_internal::ReadAt(in_, pos, kRecordHeaderBytes, &head)) return IoError(source_ + ": read error at byte " + std::to_string(pos));
     const std::uint8_t op = head[0];
+    if (!data_end_ && op != kDataEnd) Crc(pos, head.data(), head.size());
     const std::uint64_t len = bag_internal::LoadLe(head.data() + 1, 8);
     const std::uint64_t body = pos + kRecordHeaderBytes;
     if (len > size_ - body) {
@@ -129,17 +150,60 @@ std::optional<Error> McapReader::Record(std::uint8_t op, std::uint64_t at, std::
   // Summary section records (after Data End) repeat what the data section said: skipped.
   if (data_end_) return std::nullopt;
   switch (op) {
-    case kDataEnd: data_end_ = true; return std::nullopt;
+    case kDataEnd: return DataEnd(at, len);
     case kSchema:
     case kChannel: {
       if (auto e = Body(at, len, op == kSchema ? "Schema" : "Channel")) return e;
+      Crc(body, record_.data(), record_.size());
       const BagPosition where{at, {}, {}};
       return op == kSchema ? Schema(record_.data(), record_.size(), where) : Channel(record_.data(), record_.size(), where);
     }
     case kMessage: return DataMessage(at, len);
     case kChunk: return Chunk(at, len);
-    default: (void)body; return std::nullopt;  // Header, indexes, attachments, metadata, unknown
+    default: return CrcSkipped(body, len);  // Header, indexes, attachments, metadata, unknown
   }
+}
+
+void McapReader::Crc(std::uint64_t at, const std::uint8_t* p, std::size_t n) {
+  if (crc_gap_ || at > crc_end_) {
+    crc_gap_ = true;
+    return;
+  }
+  const std::uint64_t skip = crc_end_ - at;  // bytes already in the CRC (a record read again)
+  if (skip >= n) return;
+  crc_ = bag_internal::Crc32Update(crc_, p + skip, n - static_cast<std::size_t>(skip));
+  crc_end_ = at + n;
+}
+
+std::optional<Error> McapReader::CrcSkipped(std::uint64_t at, std::uint64_t n) {
+  if (crc_gap_ || n == 0) return std::nullopt;
+  if (n > kCrcReadBytes && !options_.verify_mcap_data_crc) {
+    crc_gap_ = true;
+    return std::nullopt;
+  }
+  std::vector<std::uint8_t> piece;
+  for (std::uint64_t done = 0; done < n;) {
+    const auto k = static_cast<std::size_t>(std::min<std::uint64_t>(n - done, kCrcReadBytes));
+    if (!bag_internal::ReadAt(in_, at + done, k, &piece)) return IoError(source_ + ": read error at byte " + std::to_string(at + done));
+    Crc(at + done, piece.data(), k);
+    done += k;
+  }
+  return std::nullopt;
+}
+
+// "Data End": uint32 data_section_crc (0: missing). Checked when every byte before it was read.
+std::optional<Error> McapReader::DataEnd(std::uint64_t at, std::uint64_t len) {
+  data_end_ = true;
+  if (len < 4) return Bad(at, "Data End record of " + std::to_string(len) + " bytes, needs 4");
+  std::vector<std::uint8_t> field;
+  if (!bag_internal::ReadAt(in_, at + kRecordHeaderBytes, 4, &field)) return IoError(source_ + ": read error at byte " + std::to_string(at));
+  const auto declared = static_cast<std::uint32_t>(bag_internal::LoadLe(field.data(), 4));
+  if (declared == 0 || crc_gap_ || crc_end_ != at) return std::nullopt;
+  if (crc_ != declared) {
+    return Bad(at, "Data End: data section CRC mismatch: bytes 0-" + std::to_string(at) + " have CRC-32 " +
+                       std::to_string(crc_) + ", the record declares " + std::to_string(declared) + " (corrupt data)");
+  }
+  return std::nullopt;
 }
 
 // Reads a record's content into record_ (bounded by max_chunk_bytes).
@@ -218,12 +282,14 @@ std::optional<Error> McapReader::DataMessage(std::uint64_t at, std::uint64_t len
   if (!bag_internal::ReadAt(in_, at + kRecordHeaderBytes, kMessagePrefixBytes, &prefix)) {
     return IoError(source_ + ": read error at byte " + std::to_string(at));
   }
+  Crc(at + kRecordHeaderBytes, prefix.data(), prefix.size());
   const auto channel = static_cast<std::uint16_t>(bag_internal::LoadLe(prefix.data(), 2));
   if (channels_.count(channel) && !visitor_->Wants(channel)) {
     visitor_->Count(channel, bag_internal::LoadLe(prefix.data() + 6, 8));
-    return std::nullopt;
+    return CrcSkipped(at + kRecordHeaderBytes + kMessagePrefixBytes, len - kMessagePrefixBytes);
   }
   if (auto e = Body(at, len, "Message")) return e;
+  Crc(at + kRecordHeaderBytes, record_.data(), record_.size());
   return Message(record_.data(), record_.size(), where);
 }
 
@@ -234,6 +300,7 @@ std::optional<Error> McapReader::Chunk(std::uint64_t at, std::uint64_t len) {
   if (!bag_internal::ReadAt(in_, at + kRecordHeaderBytes, head_len, &head)) {
     return IoError(source_ + ": read error at byte " + std::to_string(at));
   }
+  Crc(at + kRecordHeaderBytes, head.data(), head.size());
   Cursor c{head.data(), head.size()};
   std::uint64_t start = 0, end = 0, usize = 0, crc = 0, records_len = 0;
   std::string compression;
@@ -265,6 +332,12 @@ std::optional<Error> McapReader::Chunk(std::uint64_t at, std::uint64_t len) {
   std::vector<std::uint8_t>& target = compression.empty() ? chunk_ : compressed_;
   if (!bag_internal::ReadAt(in_, records_at, static_cast<std::size_t>(records_len), &target)) {
     return IoError(source_ + ": read error at byte " + std::to_string(records_at));
+  }
+  Crc(records_at, target.data(), target.size());
+  // Bytes after the records (fields of a later version) are not needed but go into the CRC.
+  const std::uint64_t record_end = at + kRecordHeaderBytes + len;
+  if (!crc_gap_ && crc_end_ < record_end) {
+    if (auto e = CrcSkipped(crc_end_, record_end - crc_end_)) return e;
   }
   if (!compression.empty()) {
     chunk_.assign(static_cast<std::size_t>(usize), 0);

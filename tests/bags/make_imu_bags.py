@@ -148,8 +148,15 @@ def compress(method, data):
 def write_mcap(path, msgs, compression, chunk_bytes=768 * 1024):
     ids = {t: i + 1 for i, t in enumerate(TYPES)}
     with open(path, "wb") as f:
-        f.write(MAGIC)
-        f.write(record(0x01, mstr("ros2") + mstr("gyrocomp make_imu_bags.py")))
+        crc = 0  # "Data End" data_section_crc: CRC-32 of every byte before it, leading magic included
+
+        def put(b):
+            nonlocal crc
+            f.write(b)
+            crc = zlib.crc32(b, crc)
+
+        put(MAGIC)
+        put(record(0x01, mstr("ros2") + mstr("gyrocomp make_imu_bags.py")))
         pending = bytearray()
         start = end = None
         announced = set()
@@ -162,7 +169,7 @@ def write_mcap(path, msgs, compression, chunk_bytes=768 * 1024):
             comp = compress(compression, data)
             content = (struct.pack("<QQQI", start, end, len(data), zlib.crc32(data)) + mstr(compression) +
                        struct.pack("<Q", len(comp)) + comp)
-            f.write(record(0x06, content))
+            put(record(0x06, content))
             pending = bytearray()
             start = end = None
 
@@ -180,7 +187,7 @@ def write_mcap(path, msgs, compression, chunk_bytes=768 * 1024):
             if len(pending) >= chunk_bytes:
                 flush()
         flush()
-        f.write(record(0x0F, struct.pack("<I", 0)))
+        f.write(record(0x0F, struct.pack("<I", crc)))
         f.write(record(0x02, struct.pack("<QQI", 0, 0, 0)))
         f.write(MAGIC)
 

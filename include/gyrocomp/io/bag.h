@@ -53,6 +53,19 @@ struct BagReadOptions {
   // allocated (a compression bomb); decompression never writes past the declared size. rosbag2
   // writes 768 KiB MCAP chunks by default, ROS 1 768 KiB; 1 GiB leaves room for anything sane.
   std::uint64_t max_chunk_bytes = std::uint64_t{1} << 30;
+  // MCAP "Data End" data_section_crc (CRC-32 of bytes 0 .. Data End; 0 = not written). false
+  // (default): checked whenever the reader has read every byte of the data section anyway, which
+  // it does for chunked files (rosbag2's) since chunks are read whole and the small records
+  // between them (indexes, metadata; up to 1 MiB each) are read for the CRC; a larger record the
+  // reader does not need (an attachment, an unwanted unchunked message over 1 MiB) is skipped
+  // unread and the CRC then not checked. true: such records are read too, so the CRC is always
+  // checked (a 10 GB bag of camera frames outside chunks is then read whole).
+  bool verify_mcap_data_crc = false;
+  // rosbag2 per-file compression (`x.mcap.zstd`, `x.db3.zstd`; metadata.yaml compression_mode
+  // FILE, compression_format zstd): the file is stream-decompressed into a temporary file in
+  // $TMPDIR (sqlite3 needs a file) and read there. Largest decompressed size, bytes: a file
+  // decompressing to more is refused (a compression bomb filling the disk). 64 GiB.
+  std::uint64_t max_decompressed_file_bytes = std::uint64_t{64} << 30;
   bool IsValid(std::string* error) const;
 };
 

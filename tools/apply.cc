@@ -8,6 +8,8 @@
 
 #include "commands.h"
 #include "gyrocomp/drift/drift_model.h"
+#include "gyrocomp/core/units.h"
+#include "gyrocomp/io/flight_log.h"
 #include "gyrocomp/io/io.h"
 #include "result_json.h"
 
@@ -61,6 +63,10 @@ int Run(const ApplyArgs& a) {
   // One axis: predicted_drift_dps, compensated_dps. Several: <axis>_predicted_drift /
   // <axis>_compensated, each with its own model when the file has one per axis.
   const bool one = log.axis_names.size() == 1;
+  // <axis>_predicted_drift / <axis>_compensated are in the unit of the rate column they are named
+  // after (ULog / DataFlash: rad/s; CSV: --rate-unit); the _dps columns stay deg/s.
+  const RateUnit col_unit = DetectLogFormat(a.log.input) == LogFormat::kCsv ? spec->rate_unit : RateUnit::kRadPerSec;
+  const double to_col_unit = one ? 1.0 : 1.0 / units::ToDegPerSec(col_unit);
   const int truth = out.Find(a.truth_col);
   nlohmann::json axes = nlohmann::json::array();
   std::vector<double> first_prediction;
@@ -99,6 +105,9 @@ int Run(const ApplyArgs& a) {
       for (std::size_t i = 0; i < band->lo.size(); ++i) half2 += std::pow(0.5 * (band->hi[i] - band->lo[i]), 2);
       j["band_level"] = band->level;
       j["band_half_width_rms"] = band->lo.empty() ? 0.0 : std::sqrt(half2 / band->lo.size());
+      // In the unit of the rate column they are named after, as the prediction below.
+      for (double& v : band->lo) v *= to_col_unit;
+      for (double& v : band->hi) v *= to_col_unit;
       SetColumn(kName, &out, one ? "predicted_drift_lo_dps" : log.axis_names[k] + "_predicted_drift_lo", band->lo);
       SetColumn(kName, &out, one ? "predicted_drift_hi_dps" : log.axis_names[k] + "_predicted_drift_hi", band->hi);
     } else {
@@ -107,7 +116,10 @@ int Run(const ApplyArgs& a) {
                                   "no _lo/_hi columns: refit it to get one");
     }
     axes.push_back(j);
-    SetColumn(kName, &out, one ? "predicted_drift_dps" : log.axis_names[k] + "_predicted_drift", *predicted);
+    std::vector<double> predicted_col = *predicted;
+    for (double& v : predicted_col) v *= to_col_unit;
+    for (double& v : comp) v *= to_col_unit;
+    SetColumn(kName, &out, one ? "predicted_drift_dps" : log.axis_names[k] + "_predicted_drift", std::move(predicted_col));
     SetColumn(kName, &out, one ? "compensated_dps" : log.axis_names[k] + "_compensated", std::move(comp));
   }
   if (Status s = WriteCsv(a.output, out); !s.ok()) return ReportError(kName, s.error());

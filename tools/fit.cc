@@ -203,6 +203,9 @@ int Run(FitArgs a) {
   // One model per axis (--rate-col gx,gy,gz), all in one model file.
   DriftModelSet set;
   set.device_id = log.device_id;  // PX4 ULog: for export --format px4 (TC_G<i>_ID)
+  // A flight log's gyro: the model file's "sensor" (docs/design-imu-trust.md), which export
+  // --index follows. Rate columns other than the gyro's (--target COLUMN) name no sensor.
+  if (log.instance && !target_is_column) set.sensor = SensorIdentity{"gyro", *log.instance, log.device_id, "sensor"};
   std::string feature_report;
   const std::size_t axes = target_is_column ? 1 : log.rate_dps.size();
   for (std::size_t k = 0; k < axes; ++k) {

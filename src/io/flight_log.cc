@@ -394,6 +394,7 @@ void AttachFlightLogInfo(const LogTableRead& read, GyroLog* log) {
   if (!read.flight) return;
   log->device_id = read.flight->device_id;
   log->origin = read.flight->origin;
+  log->instance = read.flight->instance;
   log->warnings = read.flight->warnings;
 }
 

@@ -114,6 +114,8 @@ struct GyroLog {
   // Where the rows came from in a flight log, e.g. "ULog sensor_gyro multi_id 1" or
   // "DataFlash IMU I=0"; empty for CSV.
   std::string origin;
+  // The flight log's gyro instance (ULog multi_id, DataFlash IMU I); empty for CSV.
+  std::optional<int> instance;
   // What the flight-log reader warned about (truncated last record, rates that may already be
   // compensated); also passed to LogSpec::on_warning as they happen.
   std::vector<std::string> warnings;

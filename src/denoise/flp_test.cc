@@ -1,6 +1,7 @@
 // FLP (Eqs. 14-16): closed-form steps, AR(2) convergence, scale invariance, streaming = batch,
 // causality, long-run stability.
 #include "gyrocomp/denoise/flp.h"
+#include "denoise_numeric_edges.h"
 
 #include <cmath>
 #include <limits>
@@ -194,32 +195,10 @@ TEST(Flp, InvalidOptionsAndInputs) {
   EXPECT_EQ(*ParseFlpInitialWeights("zero"), FlpInitialWeights::kZero);
 }
 
-// Issue 24 (fuzz_numeric_stages): +-1.8e308 alternating gave NaN / -inf with a success status.
-// Records beyond 2^+-500 are denoised as a power-of-two scaled copy: the same bits scaled, or a
-// refusal with a message when the result itself leaves the double range.
+// Issue 24 (fuzz_numeric_stages): see denoise_numeric_edges.h.
 TEST(NumericEdges, FlpDenoiseNearTheEndsOfTheDoubleRange) {
-  std::vector<double> x(64);
-  for (std::size_t i = 0; i < x.size(); ++i) x[i] = (i % 2 ? 1.0 : -1.0) * std::numeric_limits<double>::max();
-  const auto r = FlpDenoise(x, FlpOptions{});
-  if (r.ok()) {
-    for (double v : *r) EXPECT_TRUE(std::isfinite(v));
-  } else {
-    EXPECT_FALSE(r.error().message.empty());
-  }
-  std::vector<double> y(300), big(300), tiny(300);
-  for (std::size_t i = 0; i < y.size(); ++i) {
-    y[i] = std::sin(0.05 * static_cast<double>(i)) + 0.1 * ((static_cast<int>(i * 7919 % 101)) - 50) / 50.0;
-    big[i] = std::ldexp(y[i], 900);
-    tiny[i] = std::ldexp(y[i], -900);
-  }
-  const auto a = FlpDenoise(y, FlpOptions{});
-  const auto b = FlpDenoise(big, FlpOptions{});
-  const auto c = FlpDenoise(tiny, FlpOptions{});
-  ASSERT_TRUE(a.ok() && b.ok() && c.ok());
-  for (std::size_t i = 0; i < y.size(); ++i) {
-    EXPECT_EQ(std::ldexp((*a)[i], 900), (*b)[i]) << i;
-    EXPECT_EQ(std::ldexp((*a)[i], -900), (*c)[i]) << i;
-  }
+  testing::ExpectDenoiseScaleFreeNearTheEndsOfTheDoubleRange(
+      [](const std::vector<double>& x) { return FlpDenoise(x, FlpOptions{}); });
 }
 
 }  // namespace

@@ -312,7 +312,10 @@ int Run(const AllanArgs& a) {
         std::cout << "  " << DeviationKindName(d.kind) << ": " << d.size() << " taus in " << d.seconds << " s\n";
       }
     }
-    for (const auto& [name, axis] : j.value("accel_axes", nlohmann::json::object()).items()) {
+    // A named copy: items() of the temporary j.value() returns would outlive it (ASan:
+    // stack-use-after-scope).
+    const nlohmann::json accel_axes = j.value("accel_axes", nlohmann::json::object());
+    for (const auto& [name, axis] : accel_axes.items()) {
       if (!axis.contains("noise_density_m_s2_per_sqrt_hz")) continue;
       std::cout << name << ": accelerometer noise density " << FormatNumber(axis["noise_density_m_s2_per_sqrt_hz"].get<double>())
                 << " m/s^2/sqrt(Hz), random walk " << FormatNumber(axis["random_walk_m_s3_per_sqrt_hz"].get<double>())

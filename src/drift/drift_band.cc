@@ -68,42 +68,6 @@ NoisePsd ResidualNoise(std::span<const double> residual, double fs_hz, double mi
   return white;
 }
 
-// Eq. G-2 (noise_model.cc) with the red part of the spectrum flat below f_floor_hz.
-std::vector<double> FlooredBlockAutocovariance(const NoisePsd& psd, std::size_t n, double block_s, double f_floor_hz) {
-  constexpr double kPi = 3.14159265358979323846;
-  constexpr int kAliases = 200;
-  std::vector<double> r(n, 0.0);
-  if (n == 0) return r;
-  const std::size_t m = 2 * n;
-  const double df = 1.0 / (static_cast<double>(m) * block_s);
-  std::vector<double> s(n + 1, 0.0);
-  for (std::size_t j = 1; j <= n; ++j) {
-    const double f0 = static_cast<double>(j) * df;
-    const double sin_x = std::sin(kPi * f0 * block_s);
-    double folded = 0.0;
-    for (int a = -kAliases; a <= kAliases; ++a) {
-      const double f = std::abs(f0 + a / block_s);
-      const double x = kPi * f * block_s;
-      const double fs = std::max(f, f_floor_hz);
-      folded += (psd.h_1 / fs + psd.h_2 / (fs * fs)) * sin_x * sin_x / (x * x);
-    }
-    s[j] = folded * df * (j == n ? 0.5 : 1.0);
-  }
-  std::vector<double> cos_table(m);
-  for (std::size_t i = 0; i < m; ++i) cos_table[i] = std::cos(2.0 * kPi * static_cast<double>(i) / static_cast<double>(m));
-  for (std::size_t k = 0; k < n; ++k) {
-    double sum = 0.0;
-    std::size_t phase = 0;
-    for (std::size_t j = 1; j <= n; ++j) {
-      phase = (phase + k) % m;
-      sum += s[j] * cos_table[phase];
-    }
-    r[k] = sum;
-  }
-  r[0] += psd.h0 / (2.0 * block_s);
-  return r;
-}
-
 // Eq. B-2 on block means of `period_s`.
 Result<Eigen::MatrixXd> ParameterCovariance(const DriftModel& m, const DriftInputs& inputs, std::span<const double> target,
                                             const DriftFitOptions& o, const NoisePsd& psd, double period_s) {
@@ -123,7 +87,7 @@ Result<Eigen::MatrixXd> ParameterCovariance(const DriftModel& m, const DriftInpu
     a.row(static_cast<Eigen::Index>(i)) = TermRow(p, d->xd[0][i], d->xd.size() > 1 ? d->xd[1][i] : 0.0).transpose();
   const double duration_s = static_cast<double>(target.size()) / inputs.fs_hz;
   const double f_floor_hz = 1.0 / (2.0 * 3.14159265358979323846 * o.noise_psd.max_tau_fraction * duration_s);
-  const std::vector<double> r = FlooredBlockAutocovariance(psd, n, d->train_period_s, f_floor_hz);
+  const std::vector<double> r = BlockMeanAutocovariance(psd, n, d->train_period_s, f_floor_hz);  // Eq. G-2, floored
   Eigen::MatrixXd sigma(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(n));
   for (std::size_t i = 0; i < n; ++i)
     for (std::size_t j = 0; j < n; ++j) sigma(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = r[i > j ? i - j : j - i];

@@ -170,7 +170,7 @@ Result<NoisePsd> FitNoisePsd(std::span<const double> x, double fs_hz, const Nois
   return best;
 }
 
-std::vector<double> BlockMeanAutocovariance(const NoisePsd& psd, std::size_t n, double block_s) {
+std::vector<double> BlockMeanAutocovariance(const NoisePsd& psd, std::size_t n, double block_s, double f_floor_hz) {
   std::vector<double> r(n, 0.0);
   if (n == 0) return r;
   const std::size_t m = 2 * n;  // circulant grid
@@ -185,7 +185,8 @@ std::vector<double> BlockMeanAutocovariance(const NoisePsd& psd, std::size_t n, 
     for (int a = -kAliases; a <= kAliases; ++a) {
       const double f = std::abs(f0 + a / block_s);
       const double x = kPi * f * block_s;
-      folded += (psd.h_1 / f + psd.h_2 / (f * f)) * sin_x * sin_x / (x * x);
+      const double fr = std::max(f, f_floor_hz);  // = f when there is no floor
+      folded += (psd.h_1 / fr + psd.h_2 / (fr * fr)) * sin_x * sin_x / (x * x);
     }
     s[j] = folded * df * (j == n ? 0.5 : 1.0);
   }

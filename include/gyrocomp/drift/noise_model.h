@@ -81,6 +81,9 @@ Result<NoisePsd> FitNoisePsd(std::span<const double> x, double fs_hz, const Nois
 // Nyquist term (j = n) halved: the
 // inverse DFT on a circulant grid of 2n blocks, nothing below 1 / (2 record) (flicker and random
 // walk have no finite variance; a constant added to R changes no fit that has a constant term).
-std::vector<double> BlockMeanAutocovariance(const NoisePsd& psd, std::size_t n, double block_s);
+// f_floor_hz > 0: S_red evaluated at max(f, f_floor_hz), i.e. the red part held flat below the
+// floor (drift_band.cc: not extrapolated below the longest Allan tau fitted). 0: Eq. G-2 as above.
+std::vector<double> BlockMeanAutocovariance(const NoisePsd& psd, std::size_t n, double block_s,
+                                            double f_floor_hz = 0.0);
 
 }  // namespace gyrocomp

@@ -121,10 +121,35 @@ Result<AllanOutputs> Analyse(const AllanArgs& a, const AllanOptions& options, De
                              const LoadedLog& loaded) {
   AllanOutputs out;
   const GyroLog& log = loaded.log;
-  Result<std::vector<AllanResult>> results = ComputeAllan(log, options);
+  if (log.rate_dps.empty()) return InvalidInput(log.source + ": no rate column to analyse");
+  std::optional<GyroLog> accel_log;
+  const std::string accel_cols = AccelColumns(a, loaded);
+  if (!accel_cols.empty()) {
+    // Accelerometer columns (m/s^2), read as they are: the Allan arithmetic does not depend on the unit.
+    Result<LogSpec> spec = ToLogSpec(a.log);
+    if (!spec.ok()) return spec.error();
+    spec->rate_cols = SplitList(accel_cols);
+    spec->rate_unit = RateUnit::kDegPerSec;
+    spec->resample_hz.reset();
+    spec->min_samples = 3;
+    Result<GyroLog> loaded_accel = LoadGyroLog(loaded.table, *spec);
+    if (!loaded_accel.ok()) return loaded_accel.error();
+    accel_log = std::move(*loaded_accel);
+  }
+  // Gyro and accelerometer axes in one parallel batch (an IMU's six axes on both cores).
+  std::vector<AllanAxisInput> axes;
+  const GyroLog* accel = accel_log ? &*accel_log : nullptr;
+  for (const GyroLog* l : {&log, accel}) {
+    for (std::size_t i = 0; l != nullptr && i < l->rate_dps.size(); ++i) {
+      axes.push_back({i < l->axis_names.size() ? l->axis_names[i] : std::to_string(i), l->rate_dps[i], l->fs_hz});
+    }
+  }
+  Result<std::vector<AllanResult>> results = ComputeAllan(axes, log.source, options);
   if (!results.ok()) return results.error();
-  if (results->empty()) return InvalidInput(log.source + ": no rate column to analyse");
-  out.results = std::move(*results);
+  out.results.assign(std::make_move_iterator(results->begin()),
+                     std::make_move_iterator(results->begin() + static_cast<std::ptrdiff_t>(log.rate_dps.size())));
+  out.accel.assign(std::make_move_iterator(results->begin() + static_cast<std::ptrdiff_t>(log.rate_dps.size())),
+                   std::make_move_iterator(results->end()));
   if (kind != DeviationKind::kAdev) {
     for (std::size_t i = 0; i < log.rate_dps.size(); ++i) {
       Result<DeviationCurve> d = ComputeDeviation(log.rate_dps[i], log.fs_hz, kind, options);
@@ -135,21 +160,6 @@ Result<AllanOutputs> Analyse(const AllanArgs& a, const AllanOptions& options, De
       }
       out.deviations.push_back(std::move(*d));
     }
-  }
-  const std::string accel_cols = AccelColumns(a, loaded);
-  if (!accel_cols.empty()) {
-    // Accelerometer columns (m/s^2), read as they are: the Allan arithmetic does not depend on the unit.
-    Result<LogSpec> spec = ToLogSpec(a.log);
-    if (!spec.ok()) return spec.error();
-    spec->rate_cols = SplitList(accel_cols);
-    spec->rate_unit = RateUnit::kDegPerSec;
-    spec->resample_hz.reset();
-    spec->min_samples = 3;
-    Result<GyroLog> accel_log = LoadGyroLog(loaded.table, *spec);
-    if (!accel_log.ok()) return accel_log.error();
-    Result<std::vector<AllanResult>> accel = ComputeAllan(*accel_log, options);
-    if (!accel.ok()) return accel.error();
-    out.accel = std::move(*accel);
   }
   return out;
 }

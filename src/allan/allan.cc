@@ -8,9 +8,11 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <sstream>
 
 #include "blocked_sum.h"
+#include "gyrocomp/core/parallel.h"
 #include "gyrocomp/core/units.h"
 
 namespace gyrocomp {
@@ -519,18 +521,35 @@ Result<AllanResult> ComputeAllan(std::span<const double> y, double fs_hz, const 
   return r;
 }
 
-Result<std::vector<AllanResult>> ComputeAllan(const GyroLog& log, const AllanOptions& options) {
+Result<std::vector<AllanResult>> ComputeAllan(std::span<const AllanAxisInput> axes, const std::string& source,
+                                              const AllanOptions& options, int threads) {
+  std::vector<std::optional<Result<AllanResult>>> results(axes.size());
+  ParallelFor(axes.size(), threads > 0 ? threads : DefaultItemThreads(),
+              [&](std::size_t a) { results[a] = ComputeAllan(axes[a].rate, axes[a].fs_hz, options); });
   std::vector<AllanResult> out;
-  for (std::size_t a = 0; a < log.rate_dps.size(); ++a) {
-    Result<AllanResult> r = ComputeAllan(log.rate_dps[a], log.fs_hz, options);
+  out.reserve(axes.size());
+  for (std::size_t a = 0; a < axes.size(); ++a) {
+    Result<AllanResult>& r = *results[a];
     if (!r.ok()) {
       Error e = r.error();
-      const std::string axis = a < log.axis_names.size() ? log.axis_names[a] : std::to_string(a);
-      e.message = log.source + ": column '" + axis + "': " + e.message;
+      e.message = source + ": column '" + axes[a].name + "': " + e.message;
       return e;
     }
-    r->axis = a < log.axis_names.size() ? log.axis_names[a] : "";
+    r->axis = axes[a].name;
     out.push_back(std::move(*r));
+  }
+  return out;
+}
+
+Result<std::vector<AllanResult>> ComputeAllan(const GyroLog& log, const AllanOptions& options) {
+  std::vector<AllanAxisInput> axes;
+  for (std::size_t a = 0; a < log.rate_dps.size(); ++a) {
+    axes.push_back({a < log.axis_names.size() ? log.axis_names[a] : std::to_string(a), log.rate_dps[a], log.fs_hz});
+  }
+  Result<std::vector<AllanResult>> out = ComputeAllan(axes, log.source, options);
+  if (out.ok()) {
+    // An axis without a name keeps an empty AllanResult::axis (its error above names its index).
+    for (std::size_t a = log.axis_names.size(); a < out->size(); ++a) (*out)[a].axis.clear();
   }
   return out;
 }

@@ -408,6 +408,35 @@ TEST(AllanAxes, OneResultPerAxisNamedAfterItsColumn) {
   EXPECT_NE(r.error().message.find("17"), std::string::npos) << r.error().message;
 }
 
+// The axes of an IMU in parallel (issue 25): each result is the one ComputeAllan gives the axis
+// alone, bit for bit, for any thread count; an error names the lowest failing axis.
+TEST(AllanAxes, ParallelAxesAreTheSameBitsAsEachAxisAlone) {
+  std::vector<std::vector<double>> rates;
+  for (int a = 0; a < 6; ++a) rates.push_back(WhiteNoise(20000, 0.1 * (a + 1), 10 + a));
+  std::vector<AllanAxisInput> axes;
+  for (int a = 0; a < 6; ++a) axes.push_back({"axis" + std::to_string(a), rates[a], 100.0});
+  for (int threads : {1, 2, 5}) {
+    Result<std::vector<AllanResult>> all = ComputeAllan(axes, "mem", AllanOptions{}, threads);
+    ASSERT_TRUE(all.ok()) << all.error().message;
+    ASSERT_EQ(all->size(), 6u);
+    for (int a = 0; a < 6; ++a) {
+      Result<AllanResult> alone = ComputeAllan(rates[a], 100.0);
+      ASSERT_TRUE(alone.ok());
+      EXPECT_EQ((*all)[a].axis, "axis" + std::to_string(a));
+      EXPECT_EQ((*all)[a].curve.adev_dps, alone->curve.adev_dps) << "axis " << a << ", " << threads << " threads";
+      EXPECT_EQ((*all)[a].curve.adev_hi_dps, alone->curve.adev_hi_dps);
+      EXPECT_EQ((*all)[a].terms.arw_deg_per_sqrt_h, alone->terms.arw_deg_per_sqrt_h);
+    }
+  }
+  rates[4][9] = std::nan("");
+  rates[2][3] = INFINITY;
+  for (int threads : {1, 2}) {
+    Result<std::vector<AllanResult>> bad = ComputeAllan(axes, "mem", AllanOptions{}, threads);
+    ASSERT_FALSE(bad.ok());
+    EXPECT_EQ(bad.error().message.rfind("mem: column 'axis2': ", 0), 0u) << bad.error().message;
+  }
+}
+
 TEST(AllanErrors, BadInputAndOptions) {
   const std::vector<double> y = {1, 2, 3, 4};
   EXPECT_EQ(ComputeAllan(y, 0.0).error().kind, ErrorKind::kInvalidInput);

@@ -3,13 +3,12 @@
 #include "gyrocomp/decompose/feature_classifier.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <limits>
 #include <sstream>
-#include <thread>
 
 #include "gyrocomp/core/format.h"
+#include "gyrocomp/core/parallel.h"
 
 namespace gyrocomp {
 namespace {
@@ -147,19 +146,11 @@ Result<ClassificationResult> ClassifyVmdModes(const VmdResult& vmd, const Sample
     return InvalidArgument("ClassifyVmdModes: the VMD summary does not have one centre frequency per mode");
   }
   // Modes are measured in parallel, one SE per thread at a time (each SE single-threaded).
-  const int threads = se_options.num_threads.value_or(
-      std::max(1, std::min(2, static_cast<int>(std::thread::hardware_concurrency()))));
+  const int threads = se_options.num_threads.value_or(DefaultItemThreads());
   SampleEntropyOptions one = se_options;
   one.num_threads = 1;
   std::vector<std::optional<Result<SampleEntropyResult>>> se(K);
-  std::atomic<std::size_t> next{0};
-  auto worker = [&] {
-    for (std::size_t k; (k = next.fetch_add(1)) < K;) se[k] = SampleEntropy(MiddleWindow(vmd.modes[k], entropy_max_samples), one);
-  };
-  std::vector<std::thread> pool;
-  for (int t = 1; t < std::min<int>(threads, static_cast<int>(K)); ++t) pool.emplace_back(worker);
-  worker();
-  for (auto& th : pool) th.join();
+  ParallelFor(K, threads, [&](std::size_t k) { se[k] = SampleEntropy(MiddleWindow(vmd.modes[k], entropy_max_samples), one); });
   std::vector<ModeFeature> features(K);
   for (std::size_t k = 0; k < K; ++k) {
     const Result<SampleEntropyResult>& r = *se[k];

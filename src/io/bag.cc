@@ -218,9 +218,10 @@ std::optional<Error> StreamFile(const std::string& path, const BagReadOptions& o
   if (format == BagFormat::kNone) {
     return InvalidInput(path + ": byte 0: not an MCAP, ROS 2 sqlite3 or ROS 1 v2.0 bag (by its first bytes)");
   }
+  if (format == BagFormat::kRos1) return StreamRos1BagFile(path, options, visitor);
   std::ifstream in(path, std::ios::binary);
   if (!in) return IoError(path + ": cannot open");
-  return format == BagFormat::kMcap ? StreamMcap(in, path, options, visitor) : StreamRos1Bag(in, path, options, visitor);
+  return StreamMcap(in, path, options, visitor);
 }
 
 bool IsImuType(const std::string& t) { return t == "sensor_msgs/msg/Imu" || t == "sensor_msgs/Imu"; }

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "gyrocomp/io/mapped_file.h"
+
 namespace gyrocomp::bag_internal {
 
 inline std::uint64_t LoadLe(const std::uint8_t* p, std::size_t bytes) {
@@ -59,6 +61,19 @@ inline bool ReadAt(std::istream& in, std::uint64_t offset, std::size_t n, std::v
   return static_cast<std::size_t>(in.gcount()) == n;
 }
 
+// Where a sequential bag reader gets its bytes: a memory-mapped file (no copy; the pages behind
+// the cursor are given back) or a seekable stream (copied into the caller's scratch buffer).
+class ByteSource {
+ public:
+  virtual ~ByteSource() = default;
+  virtual std::uint64_t size() const = 0;
+  // The `n` bytes at `offset` (offset + n <= size()): valid until `scratch` is next used; nullptr
+  // on a read error.
+  virtual const std::uint8_t* View(std::uint64_t offset, std::size_t n, std::vector<std::uint8_t>* scratch) = 0;
+  // Nothing before `offset` will be viewed again.
+  virtual void Consumed(std::uint64_t /*offset*/) {}
+};
+
 // Size of a seekable stream, or -1.
 inline std::int64_t StreamSize(std::istream& in) {
   in.clear();
@@ -67,6 +82,46 @@ inline std::int64_t StreamSize(std::istream& in) {
   in.seekg(0);
   return in ? static_cast<std::int64_t>(size) : -1;
 }
+
+// A seekable stream (a file opened as a stream, the fuzzers' bytes). size() is -1 as unsigned
+// when the stream cannot seek: callers check `ok()` first.
+class StreamSource final : public ByteSource {
+ public:
+  explicit StreamSource(std::istream& in) : in_(in), size_(StreamSize(in)) {}
+  bool ok() const { return size_ >= 0; }
+  std::uint64_t size() const override { return static_cast<std::uint64_t>(size_); }
+  const std::uint8_t* View(std::uint64_t offset, std::size_t n, std::vector<std::uint8_t>* scratch) override {
+    static constexpr std::uint8_t kNothing = 0;  // a valid pointer for a 0-byte view
+    if (!ReadAt(in_, offset, n, scratch)) return nullptr;
+    return n == 0 ? &kNothing : scratch->data();
+  }
+
+ private:
+  std::istream& in_;
+  std::int64_t size_;
+};
+
+// A memory-mapped file: views point into the map; consumed pages are released
+// (MappedFile::ReleaseBefore) so the resident set stays near one record, not the file.
+class MappedSource final : public ByteSource {
+ public:
+  explicit MappedSource(MappedFile& file) : file_(file) {}
+  std::uint64_t size() const override { return file_.size(); }
+  const std::uint8_t* View(std::uint64_t offset, std::size_t /*n*/, std::vector<std::uint8_t>* /*scratch*/) override {
+    return file_.data() + offset;
+  }
+  void Consumed(std::uint64_t offset) override {
+    // One madvise per 8 MiB read, not per record.
+    if (offset - released_ >= (std::uint64_t{8} << 20)) {
+      file_.ReleaseBefore(static_cast<std::size_t>(offset));
+      released_ = offset;
+    }
+  }
+
+ private:
+  MappedFile& file_;
+  std::uint64_t released_ = 0;
+};
 
 }  // namespace gyrocomp::bag_internal
 

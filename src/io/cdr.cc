@@ -2,6 +2,7 @@
 // (include/gyrocomp/io/cdr.h, where the rules are cited).
 #include "gyrocomp/io/cdr.h"
 
+#include <bit>
 #include <cstring>
 
 namespace gyrocomp {
@@ -49,10 +50,23 @@ class Reader {
     std::memcpy(v, &x, sizeof *v);
     return true;
   }
+  // `count` doubles in a row. After the first is aligned the rest are too (8-byte elements), so
+  // the whole array is one bounds check and one copy; an array that does not fit is read element
+  // by element so that the error names the byte where it ends, as before.
   bool F64s(double* v, int count, const char* field) {
-    for (int i = 0; i < count; ++i) {
-      if (!F64(&v[i], field)) return false;
+    const auto bytes = static_cast<std::size_t>(count) * sizeof(double);
+    if (!Align(sizeof(double))) return false;
+    if (bytes > n_ - pos_) {
+      for (int i = 0; i < count; ++i) {
+        if (!F64(&v[i], field)) return false;
+      }
+      return true;
     }
+    std::memcpy(v, d_ + pos_, bytes);
+    if (big_ != (std::endian::native == std::endian::big)) {
+      for (int i = 0; i < count; ++i) v[i] = std::bit_cast<double>(__builtin_bswap64(std::bit_cast<std::uint64_t>(v[i])));
+    }
+    pos_ += bytes;
     return true;
   }
   // CDR string: uint32 length counting the NUL, the bytes, the NUL (9.3.2.7). ROS 1: uint32

@@ -173,7 +173,22 @@ Result<std::vector<double>> PhaseFromRate(std::span<const double> rate_dps, doub
 Result<AllanResult> ComputeAllan(std::span<const double> rate_dps, double fs_hz,
                                  const AllanOptions& options = {});
 
-// One AllanResult per axis of a log, in axis order, each named after its rate column.
+// One axis of a multi-axis analysis: its name (AllanResult::axis), samples and rate.
+struct AllanAxisInput {
+  std::string name;
+  std::span<const double> rate;
+  double fs_hz = 0.0;
+};
+
+// One AllanResult per axis, in order, each computed as ComputeAllan(rate, fs_hz, options) alone
+// would (the same bits), the axes spread over `threads` threads (0: DefaultItemThreads(), the
+// machine's threads up to 2; issue 25: the six axes of an IMU on both cores). An error names
+// `source` and the axis: "<source>: column '<name>': <what>" (the lowest failing axis).
+Result<std::vector<AllanResult>> ComputeAllan(std::span<const AllanAxisInput> axes, const std::string& source,
+                                              const AllanOptions& options = {}, int threads = 0);
+
+// One AllanResult per axis of a log, in axis order, each named after its rate column (the axes
+// in parallel, as above).
 Result<std::vector<AllanResult>> ComputeAllan(const GyroLog& log, const AllanOptions& options = {});
 
 // Noise terms from an already computed curve (used by ComputeAllan; exposed for reuse/tests).

@@ -114,6 +114,9 @@ std::optional<Error> StreamMcap(std::istream& in, const std::string& source, con
                                 BagVisitor* visitor);
 std::optional<Error> StreamRos1Bag(std::istream& in, const std::string& source, const BagReadOptions& options,
                                    BagVisitor* visitor);
+// The same from a file, memory-mapped (no copy of uncompressed chunks; the pages read are given
+// back as the reader moves on); a file that cannot be mapped is read as a stream.
+std::optional<Error> StreamRos1BagFile(const std::string& path, const BagReadOptions& options, BagVisitor* visitor);
 std::optional<Error> StreamRos2Sqlite(const std::string& path, const BagReadOptions& options, BagVisitor* visitor);
 // Any of them by DetectBagFormat; a ROS 2 folder streams its storage files in metadata.yaml's
 // order (relative_file_paths), else in name order.

@@ -245,6 +245,16 @@ struct ImuRows {
   std::string topic, type, encoding;
   std::vector<std::int64_t> time_ns;
   std::vector<double> gyro[3], accel[3];
+  // Room for `more` rows on top of those held (the index's count: the columns then grow once,
+  // with no copy and no shrink at the end). Address space only: nothing is touched.
+  void Reserve(std::uint64_t more) {
+    const std::size_t n = time_ns.size() + static_cast<std::size_t>(more);
+    time_ns.reserve(n);
+    for (int k = 0; k < 3; ++k) {
+      gyro[k].reserve(n);
+      accel[k].reserve(n);
+    }
+  }
 };
 
 struct TemperatureRows {
@@ -271,6 +281,7 @@ class ImuCollector : public BagVisitor {
       }
       auto [it, added] = imu_index_.emplace(c.topic, imus_.size());
       if (added) imus_.push_back(ImuRows{c.topic, c.type, c.encoding, {}, {}, {}});
+      if (c.expected_messages) imus_[it->second].Reserve(*c.expected_messages);
       channels_[c.id] = {false, it->second, c.encoding == "cdr"};
     } else if (IsTemperatureType(c.type) && (c.encoding == "cdr" || c.encoding == "ros1")) {
       auto [it, added] = temp_index_.emplace(c.topic, temps_.size());

@@ -111,16 +111,22 @@ class MappedSource final : public ByteSource {
     return file_.data() + offset;
   }
   void Consumed(std::uint64_t offset) override {
-    // One madvise per 8 MiB read, not per record.
-    if (offset - released_ >= (std::uint64_t{8} << 20)) {
+    // One madvise per 8 MiB read, not per record: the pages behind are given back and the next
+    // 8 MiB mapped in one call (MappedFile::Prefetch) instead of a page fault per 64 KiB.
+    if (offset >= prefetched_) {
+      file_.Prefetch(static_cast<std::size_t>(offset), kWindow);
+      prefetched_ = offset + kWindow;
+    }
+    if (offset - released_ >= kWindow) {
       file_.ReleaseBefore(static_cast<std::size_t>(offset));
       released_ = offset;
     }
   }
 
  private:
+  static constexpr std::uint64_t kWindow = std::uint64_t{8} << 20;
   MappedFile& file_;
-  std::uint64_t released_ = 0;
+  std::uint64_t released_ = 0, prefetched_ = 0;
 };
 
 }  // namespace gyrocomp::bag_internal

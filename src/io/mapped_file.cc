@@ -6,6 +6,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <utility>
 
 namespace gyrocomp {
@@ -51,6 +52,19 @@ void MappedFile::ReleaseBefore(std::size_t offset) {
   if (!data_ || end <= released_) return;
   ::madvise(const_cast<std::uint8_t*>(data_) + released_, end - released_, MADV_DONTNEED);
   released_ = end;
+}
+
+void MappedFile::Prefetch(std::size_t offset, std::size_t bytes) {
+#ifdef MADV_POPULATE_READ
+  const auto page = static_cast<std::size_t>(::sysconf(_SC_PAGESIZE));
+  const std::size_t begin = std::min(offset, size_) / page * page;
+  const std::size_t end = std::min(size_, offset + std::min(bytes, size_));
+  if (!data_ || end <= begin) return;
+  ::madvise(const_cast<std::uint8_t*>(data_) + begin, end - begin, MADV_POPULATE_READ);  // best effort
+#else
+  (void)offset;
+  (void)bytes;
+#endif
 }
 
 }  // namespace gyrocomp

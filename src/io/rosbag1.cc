@@ -17,7 +17,9 @@
 // same); connection records repeated in the index section are announced once. "lz4" chunks are
 // roslz4's, which writes the LZ4 frame format (ros_comm utilities/roslz4/src/lz4s.c).
 #include <cstring>
+#include <algorithm>
 #include <fstream>
+#include <map>
 #include <optional>
 #include <set>
 #include <string_view>
@@ -36,7 +38,13 @@ using bag_internal::LoadLe;
 constexpr char kVersionLine[] = "#ROSBAG V2.0\n";
 constexpr std::size_t kVersionBytes = sizeof kVersionLine - 1;
 
-enum Op : std::uint8_t { kMessageData = 0x02, kBagHeader = 0x03, kChunk = 0x05, kConnection = 0x07 };
+enum Op : std::uint8_t {
+  kMessageData = 0x02,
+  kBagHeader = 0x03,
+  kChunk = 0x05,
+  kChunkInfo = 0x06,
+  kConnection = 0x07
+};
 
 // The fields of a record header (or a connection header) by name: views into the header's
 // bytes, which outlive them (no allocation per record: a 3 h 200 Hz bag has 2 M of them).
@@ -100,12 +108,14 @@ class Ros1Reader {
   std::optional<Error> Chunk(std::uint64_t at, const Fields& f, std::uint64_t data_at, std::uint64_t data_len);
   std::optional<Error> ChunkRecords(std::uint64_t at, const std::uint8_t* chunk, std::size_t n);
   std::optional<Error> Connection(const BagPosition& where, const Fields& f, const std::uint8_t* data, std::size_t n);
+  void ReadIndexCounts(const Fields& bag_header);
 
   bag_internal::ByteSource& bytes_;
   const std::string& source_;
   const BagReadOptions& options_;
   BagVisitor* visitor_;
   std::set<std::uint64_t> connections_;
+  std::map<std::uint64_t, std::uint64_t> expected_;  // messages per connection, from the index
   // Scratch buffers of a stream source (a mapped file views its pages instead): the record
   // header, its data, a compressed chunk and its decompressed bytes. Separate, because the header
   // fields are views into the header's bytes while the data is read.
@@ -148,6 +158,7 @@ std::optional<Error> Ros1Reader::Run() {
     std::uint64_t op = 0;
     if (!FieldInt(f, "op", 1, &op)) return Bad(At(pos), "record without a 1-byte 'op' header field");
     if (first && op != kBagHeader) return Bad(At(pos), "the first record is op " + std::to_string(op) + ", not the bag header (0x03)");
+    if (first) ReadIndexCounts(f);
     first = false;
     if (op == kChunk) {
       if (auto e = Chunk(pos, f, data_at, data_len)) return e;
@@ -233,6 +244,42 @@ std::optional<Error> Ros1Reader::InnerRecord(const BagPosition& where, const Fie
   return visitor_->OnMessage(BagMessage{conn, receive_ns, data, n, where});
 }
 
+// The message count of every connection from the chunk info records of the index section. Only
+// a hint: anything odd (no index, a record that does not parse) leaves the counts incomplete or
+// empty, never an error: the sequential read checks every byte it uses. Each count is capped at
+// the number of message records the file could hold (a hostile index cannot make a reader
+// reserve more).
+void Ros1Reader::ReadIndexCounts(const Fields& bag_header) {
+  std::uint64_t index_pos = 0;
+  const std::uint64_t size = bytes_.size();
+  if (!FieldInt(bag_header, "index_pos", 8, &index_pos) || index_pos == 0 || index_pos >= size) return;
+  std::vector<std::uint8_t> header_buf, data_buf;
+  Fields f;
+  for (std::uint64_t pos = index_pos; size - pos >= 8;) {
+    const std::uint8_t* len = bytes_.View(pos, 4, &header_buf);
+    if (len == nullptr) break;
+    const std::uint64_t header_len = LoadLe(len, 4);
+    if (header_len > size - pos - 4 || size - pos - 4 - header_len < 4 || header_len > options_.max_chunk_bytes) break;
+    const std::uint8_t* header = bytes_.View(pos + 4, static_cast<std::size_t>(header_len) + 4, &header_buf);
+    if (header == nullptr) break;
+    const std::uint64_t data_len = LoadLe(header + header_len, 4);
+    const std::uint64_t data_at = pos + 8 + header_len;
+    std::uint64_t op = 0;
+    if (data_len > size - data_at || !ParseFields(header, static_cast<std::size_t>(header_len), &f).empty() ||
+        !FieldInt(f, "op", 1, &op)) {
+      break;
+    }
+    if (op == kChunkInfo && data_len % 8 == 0 && data_len <= options_.max_chunk_bytes) {
+      const std::uint8_t* d = bytes_.View(data_at, static_cast<std::size_t>(data_len), &data_buf);
+      if (d == nullptr) break;
+      for (std::uint64_t k = 0; k < data_len; k += 8) expected_[LoadLe(d + k, 4)] += LoadLe(d + k + 4, 4);
+    }
+    pos = data_at + data_len;
+  }
+  // A message data record is at least 8 length bytes and three fields (op, conn, time): 45 bytes.
+  for (auto& [conn, count] : expected_) count = std::min<std::uint64_t>(count, size / 45);
+}
+
 std::optional<Error> Ros1Reader::Connection(const BagPosition& where, const Fields& f, const std::uint8_t* data,
                                             std::size_t n) {
   std::uint64_t conn = 0;
@@ -248,6 +295,7 @@ std::optional<Error> Ros1Reader::Connection(const BagPosition& where, const Fiel
   ch.topic = std::string(*topic);
   ch.type = std::string(header.Find("type").value_or(""));
   ch.encoding = "ros1";
+  if (const auto it = expected_.find(conn); it != expected_.end()) ch.expected_messages = it->second;
   return visitor_->OnChannel(ch);
 }
 

@@ -76,6 +76,9 @@ struct BagChannel {
   std::string topic;
   std::string type;      // "sensor_msgs/msg/Imu" (ROS 2) or "sensor_msgs/Imu" (ROS 1)
   std::string encoding;  // "cdr" or "ros1"
+  // How many messages the bag's index says this channel has (ROS 1 chunk info records), when it
+  // says: a hint for reserving memory, capped by the file's size; never used as a count.
+  std::optional<std::uint64_t> expected_messages;
 };
 
 // Where a record is, for errors (built into text only when one is reported): "byte N", "byte N:

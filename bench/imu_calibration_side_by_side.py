@@ -25,7 +25,7 @@ calc_thermal_offsets_3D, float32, T clamped to [TMIN, TMAX]; ArduPilot correct_s
 INS_GYRn_CALTEMP / INS_ACCn_CALTEMP = the run's boot temperature, float32, clamped), as 10 s block
 means with their mean removed (the constant is the boot offset calibration's), RMS in deg/s and
 m/s^2. Rows: no correction, each script, gyrocomp (PX4 file also with --optimise-for warm-up /
-both), and the true static curve (the simulator's bias cubic, the best a static cubic can do
+both, and with --static-weight time: the model's own time-weighted curve), and the true static curve (the simulator's bias cubic, the best a static cubic can do
 against its own static part). Printed: mean over seeds and axes, the seed spread (SD of the
 per-seed means), per-axis win counts of gyrocomp against each script and the RMS ratios.
 Figures and the scripts' commits: docs/export.md, "Side by side with the autopilots' scripts".
@@ -205,14 +205,15 @@ def main():
                     simulate(gc, held[name], 100 * seed + 50 + 10 * k, args.fs, structure, name)
                 sets = {}
                 for fmt, log in (("px4", cal_ulg), ("ardupilot", cal_bin)):
-                    for cond in ("steady", "warm-up", "both"):
-                        if fmt == "ardupilot" and cond != "steady":
+                    for extra in ([], ["--optimise-for", "warm-up"], ["--optimise-for", "both"],
+                                  ["--static-weight", "time"]):
+                        if fmt == "ardupilot" and extra:
                             continue
                         out = os.path.join(tmp, "gc_" + fmt)
-                        rc, msg = run([gc, "calibrate", "-i", log, "--format", fmt, "--optimise-for", cond, "-o", out])
+                        rc, msg = run([gc, "calibrate", "-i", log, "--format", fmt, "-o", out] + extra)
                         if rc != 0:
                             sys.exit("calibrate failed: " + msg)
-                        sets["gyrocomp -> " + fmt + ("" if cond == "steady" else " (--optimise-for %s)" % cond)] = \
+                        sets["gyrocomp -> " + fmt + (" (%s)" % " ".join(extra) if extra else "")] = \
                             (fmt, read_params(out))
                 p, why = try_px4_script(args, cal_ulg, tmp)
                 if p is None:
@@ -243,7 +244,8 @@ def main():
     for why_name, why in skipped.items():
         print("  %s skipped: %s" % (why_name, why))
     order = ["no correction", "PX4 script", "tempcal_IMU", "gyrocomp -> px4", "gyrocomp -> ardupilot",
-             "gyrocomp -> px4 (--optimise-for warm-up)", "gyrocomp -> px4 (--optimise-for both)", "true static curve"]
+             "gyrocomp -> px4 (--optimise-for warm-up)", "gyrocomp -> px4 (--optimise-for both)",
+             "gyrocomp -> px4 (--static-weight time)", "true static curve"]
     names = [n for n in order if any(k[3] == n for k in rows)]
     for sensor in ("gyro", "accel"):
         print()

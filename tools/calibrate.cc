@@ -29,6 +29,7 @@
 #include "gyrocomp/drift/drift_model.h"
 #include "gyrocomp/export/cubic_score.h"
 #include "gyrocomp/export/param_export.h"
+#include "gyrocomp/export/static_cubic.h"
 #include "gyrocomp/export/thermal_cubic.h"
 #include "gyrocomp/io/flight_log.h"
 #include "gyrocomp/report/report.h"
@@ -53,6 +54,10 @@ struct CalibrateArgs {
   double min_span_c = 10.0;   // ArduPilot's TEMP_RANGE_MIN (AP_InertialSensor_tempcal.cpp)
   std::size_t min_rows = 60;  // after the block means
   std::string optimise_for = "steady";  // CubicCondition of the exported cubic
+  // How the static curve is estimated: "temperature" (each temperature alike: the run's data,
+  // the model's dynamic part removed, in equal-width temperature bins; static_cubic.h) or "time"
+  // (the fitted model's own curve at state 0, fitted on every sample).
+  std::string static_weight = "temperature";
 };
 
 // One sensor instance of the log, in its sensor frame and firmware unit.
@@ -204,6 +209,25 @@ std::pair<double, double> ConditionErrors(const DriftModel& m, const Temperature
   return {std::sqrt(ss_steady / kPoints), std::sqrt(ss_warm / kPoints)};
 }
 
+// --static-weight temperature: the static part of `cubic` (the model's curve at state 0) replaced
+// by the run's static curve with each temperature weighted alike; what --optimise-for adds to the
+// static curve (the model's warm-up state) is kept: the projection is linear in the curve, so
+// cubic = static + (projection for the condition - projection at state 0), on one range and ref.
+Status StaticByTemperature(const DriftModel& m, const DriftInputs& run, const std::vector<double>& y,
+                           const CubicProjectionOptions& po, TemperatureCubic* cubic) {
+  CubicProjectionOptions steady = po;
+  steady.condition = CubicCondition::kSteady;
+  steady.ref_temp_c = cubic->ref_temp_c;
+  Result<TemperatureCubic> model_static = ProjectOntoCubic(m, steady);
+  if (!model_static.ok()) return model_static.error();
+  StaticCubicOptions so;
+  so.temp_min_c = cubic->temp_min_c, so.temp_max_c = cubic->temp_max_c, so.ref_temp_c = cubic->ref_temp_c;
+  Result<TemperatureCubic> data_static = FitStaticCubicByTemperature(m, run, y, so);
+  if (!data_static.ok()) return data_static.error();
+  for (std::size_t j = 0; j < 4; ++j) cubic->coeff[j] = data_static->coeff[j] + (cubic->coeff[j] - model_static->coeff[j]);
+  return Status::Ok();
+}
+
 // Fits and projects one sensor; sets `reason` when it cannot be calibrated.
 void Calibrate(Sensor* s, const CalibrateArgs& a) {
   if (!s->reason.empty()) return;
@@ -253,6 +277,12 @@ void Calibrate(Sensor* s, const CalibrateArgs& a) {
     if (!c.ok()) {
       s->reason = "projection of " + s->cols[k] + " failed: " + c.error().message;
       return;
+    }
+    if (a.static_weight == "temperature") {
+      if (Status st = StaticByTemperature(*m, inputs, y, po, &*c); !st.ok()) {
+        s->reason = "static curve of " + s->cols[k] + ": " + st.error().message;
+        return;
+      }
     }
     Result<CubicProjectionCost> cost = MeasureCubicProjectionCost(*m, *c, inputs);
     TemperatureCubic fw = c->Scaled(1.0 / s->to_model);
@@ -377,7 +407,9 @@ std::vector<std::string> Comments(const CalibrateArgs& a, const std::vector<Sens
       "(docs/export.md). Every sensor of the log: the library's default drift model (auto) fitted on",
       "block means at " + Num(a.fit_rate_hz) + " Hz, its curve projected onto the firmware's cubic over the",
       "sensor's range, optimised for: " + a.optimise_for + " (steady: dT/dt = 0; warm-up: the state the run had while heating;",
-      "both: their mean). Units: gyro rad/s, accel m/s^2, baro Pa; sensor frame. Per sensor: model, projection cost",
+      "both: their mean); static curve weighted by: " + a.static_weight + " (temperature: each temperature alike,",
+      "the run's data with the model's dynamic part removed, 2000 bins; time: the model's own curve).",
+      "Units: gyro rad/s, accel m/s^2, baro Pa; sensor frame. Per sensor: model, projection cost",
       "(RMS full model - cubic on this run, firmware unit) and, per axis, the expected next-run error of the",
       "exported cubic: RMS of sqrt((cubic - model)^2 + sd^2), sd the model's prediction band / z (docs/export.md),",
       "at steady temperature and along this run's own heating (warm-up), constant excluded."};
@@ -587,7 +619,8 @@ int Run(const CalibrateArgs& a) {
   if (Status st = WriteModels(a, *sensors); !st.ok()) return ReportError(kName, st.error());
   if (Status st = WriteText(a.output, *text); !st.ok()) return ReportError(kName, st.error());
   nlohmann::json j = {{"input", a.input}, {"format", a.format}, {"output", a.output}, {"fit_rate_hz", a.fit_rate_hz},
-                      {"min_span_c", a.min_span_c}, {"optimised_for", a.optimise_for}};
+                      {"min_span_c", a.min_span_c}, {"optimised_for", a.optimise_for},
+                      {"static_weight", a.static_weight}};
   j["models_dir"] = a.models_dir.empty() ? nlohmann::json(nullptr) : nlohmann::json(a.models_dir);
   j["validation_run"] = a.validation_path.empty() ? nlohmann::json(nullptr) : nlohmann::json(a.validation_path);
   j["block_s"] = a.block_s;
@@ -632,6 +665,12 @@ Command Make(CLI::App& app) {
                   "What the exported cubic is optimised for: steady (dT/dt = 0, the static curve) | warm-up (the state the "
                   "run had while heating, at each temperature) | both (their mean)")
       ->check(CLI::IsMember({"steady", "warm-up", "both"}))
+      ->capture_default_str();
+  sub->add_option("--static-weight", a->static_weight,
+                  "How the static curve is estimated: temperature (each temperature alike: the run's data with the "
+                  "model's dynamic part removed, in 2000 equal temperature bins, as PX4's script bins) | time (the "
+                  "fitted model's curve, every sample alike)")
+      ->check(CLI::IsMember({"temperature", "time"}))
       ->capture_default_str();
   sub->add_option("--min-span", a->min_span_c, "Smallest temperature span calibrated, deg C (ArduPilot's TEMP_RANGE_MIN)")
       ->capture_default_str();

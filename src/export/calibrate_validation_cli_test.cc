@@ -195,6 +195,44 @@ TEST_F(CalibrateValidationCli, AValidationRunOfTheOtherKindIsExit2AndNoFile) {
   EXPECT_EQ(Run("calibrate -i " + cal + " --format px4 -o " + dir_ + "/tc.params --block 0", &out), 2) << out;
 }
 
+// calibrate -i A -i B: every sensor's cubics averaged over the runs on the range both cover; the
+// same log twice is the log once; the order of the runs does not change the cubics; a log of the
+// other kind is exit 2.
+TEST_F(CalibrateValidationCli, SeveralRunsOfOneBoardAverageTheirCubics) {
+  const std::string a = Simulate("a.ulg", 51, "--room-temp 10 --ramp-end 60");
+  const std::string b = Simulate("b.ulg", 52, "--room-temp 12 --ramp-end 58");
+  std::string out;
+  auto cubics = [&](const std::string& inputs, const std::string& name) {
+    EXPECT_EQ(Run("calibrate " + inputs + " --format px4 -o " + dir_ + "/" + name + ".params --json " + dir_ + "/" + name +
+                  ".json", &out), 0) << out;
+    return testing::ReadJsonFile(dir_ + "/" + name + ".json");
+  };
+  const nlohmann::json once = cubics("-i " + a, "once"), twice = cubics("-i " + a + " -i " + a, "twice");
+  const nlohmann::json ab = cubics("-i " + a + " -i " + b, "ab"), ba = cubics("-i " + b + " -i " + a, "ba");
+  EXPECT_EQ(twice["inputs"].size(), 2u);
+  for (std::size_t i = 0; i < once["sensors"].size(); ++i) {
+    EXPECT_EQ(once["sensors"][i]["runs_combined"], 1);
+    EXPECT_EQ(ab["sensors"][i]["runs_combined"], 2);
+    for (std::size_t k = 0; k < once["sensors"][i]["axes"].size(); ++k) {
+      const auto& c1 = once["sensors"][i]["axes"][k]["cubic"];
+      const auto& c2 = twice["sensors"][i]["axes"][k]["cubic"];
+      for (int j = 0; j < 4; ++j) EXPECT_NEAR(c2["coeff"][j].get<double>(), c1["coeff"][j].get<double>(),
+                                              1e-12 * std::abs(c1["coeff"][j].get<double>()) + 1e-300);
+      // Both runs: the range both cover (b's, inside a's) and the same cubics in either order.
+      const auto& x = ab["sensors"][i]["axes"][k]["cubic"];
+      const auto& y = ba["sensors"][i]["axes"][k]["cubic"];
+      EXPECT_EQ(x["temp_min_c"], y["temp_min_c"]);
+      EXPECT_GT(x["temp_min_c"].get<double>(), 11.0);
+      EXPECT_LT(x["temp_max_c"].get<double>(), 59.0);
+      for (int j = 0; j < 4; ++j) EXPECT_EQ(x["coeff"][j], y["coeff"][j]);
+    }
+  }
+  ASSERT_EQ(Run("simulate --profile ramp --fs 10 --seed 3 -o " + dir_ + "/c.bin", &out), 0) << out;
+  EXPECT_EQ(Run("calibrate -i " + a + " -i " + dir_ + "/c.bin --format px4 -o " + dir_ + "/x.params", &out), 2) << out;
+  EXPECT_NE(out.find("every -i must be a log of the same kind"), std::string::npos) << out;
+  EXPECT_FALSE(fs::exists(dir_ + "/x.params"));
+}
+
 // export: the header and the JSON carry each axis's expected error, the library's numbers.
 TEST_F(CalibrateValidationCli, ExportCarriesTheLibrarysExpectedError) {
   const SimulatedRun run = export_test::ChamberRun(41);

@@ -223,13 +223,16 @@ def main():
                 for k in range(1, args.runs):
                     extra_cal.append(os.path.join(tmp, "cal%d.ulg" % k))
                     simulate(gc, extra_cal[-1], 100 * seed + 1000 * k, args.fs, structure)
-                    cmd = [gc, "calibrate", "--format", "px4", "-o", os.path.join(tmp, "gc_runs")]
-                    for f in [cal_ulg] + extra_cal:
-                        cmd += ["-i", f]
-                    rc, msg = run(cmd)
-                    if rc != 0:
-                        sys.exit("calibrate failed: " + msg)
-                    sets["gyrocomp -> px4 (%d runs)" % (k + 1)] = ("px4", read_params(os.path.join(tmp, "gc_runs")))
+                    for weight in ("temperature", "time"):
+                        cmd = [gc, "calibrate", "--format", "px4", "-o", os.path.join(tmp, "gc_runs"),
+                               "--static-weight", weight]
+                        for f in [cal_ulg] + extra_cal:
+                            cmd += ["-i", f]
+                        rc, msg = run(cmd)
+                        if rc != 0:
+                            sys.exit("calibrate failed: " + msg)
+                        name = "gyrocomp -> px4 (%d runs%s)" % (k + 1, "" if weight == "temperature" else ", time")
+                        sets[name] = ("px4", read_params(os.path.join(tmp, "gc_runs")))
                 p, why = try_px4_script(args, cal_ulg, tmp)
                 if p is None:
                     skipped["PX4 script"] = why
@@ -260,8 +263,9 @@ def main():
         print("  %s skipped: %s" % (why_name, why))
     order = ["no correction", "PX4 script", "tempcal_IMU", "gyrocomp -> px4", "gyrocomp -> ardupilot",
              "gyrocomp -> px4 (--optimise-for warm-up)", "gyrocomp -> px4 (--optimise-for both)",
-             "gyrocomp -> px4 (--static-weight time)", "gyrocomp -> px4 (2 runs)", "gyrocomp -> px4 (3 runs)",
-             "gyrocomp -> px4 (4 runs)", "true static curve"]
+             "gyrocomp -> px4 (--static-weight time)"] + \
+        ["gyrocomp -> px4 (%d runs%s)" % (k, w) for k in range(2, args.runs + 1) for w in ("", ", time")] + \
+        ["true static curve"]
     names = [n for n in order if any(k[3] == n for k in rows)]
     for sensor in ("gyro", "accel"):
         print()
@@ -275,8 +279,8 @@ def main():
                     per_seed = [x.mean() for x in v]
                     cells.append("%.3g +- %.2g" % (np.mean(per_seed), np.std(per_seed)))
                 print("| %s | %s | %s |" % (structure, n, " | ".join(cells)))
-        multi = [("PX4 script", "gyrocomp -> px4 (%d runs)" % k) for k in range(2, args.runs + 1)] + \
-                [("tempcal_IMU", "gyrocomp -> px4 (%d runs)" % k) for k in range(2, args.runs + 1)]
+        multi = [(sc, "gyrocomp -> px4 (%d runs%s)" % (k, w)) for sc in ("PX4 script", "tempcal_IMU")
+                 for k in range(2, args.runs + 1) for w in ("", ", time")]
         for structure in structures:
             for script, mine in [("PX4 script", "gyrocomp -> px4"), ("tempcal_IMU", "gyrocomp -> ardupilot")] + multi:
                 cells = []

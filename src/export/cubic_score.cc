@@ -120,6 +120,7 @@ Result<CubicConditionError> SteadyError(const DriftModel& m, const TemperatureCu
   std::vector<double> temp(static_cast<std::size_t>(points));
   for (int i = 0; i < points; ++i) temp[static_cast<std::size_t>(i)] = c.temp_min_c + span * i / (points - 1);
   const double fs_hz = 1.0e-5 / (span / (points - 1));
+  if (!std::isfinite(fs_hz)) return InvalidInput("expected error: temperature range too small for a steady ramp");
   auto band = m.PredictBand({temp, fs_hz});
   if (!band.ok()) return band.error();
   std::vector<double> proj(temp.size());
@@ -170,6 +171,8 @@ Result<CubicExpectedError> ExpectedCubicError(const DriftModel& model, const Tem
     if (!warm.ok()) return warm.error();
     e.warm_up = *warm;
   }
+  for (const CubicConditionError* c : {&e.steady, e.warm_up ? &*e.warm_up : &e.steady})
+    if (!std::isfinite(c->total_rms)) return InvalidInput("expected error: non-finite band or prediction");
   return e;
 }
 

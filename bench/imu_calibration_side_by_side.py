@@ -5,7 +5,7 @@ tempcal_IMU.py on simulated boards, scored on held-out runs with each firmware's
 
     bench/imu_calibration_side_by_side.py [--build build] [--seeds 5] [--fs 10]
         [--px4-script PX4/Tools/process_sensor_caldata.py] [--pyulog DIR]
-        [--tempcal ARDUPILOT/Tools/scripts/tempcal_IMU.py] [--pymavlink DIR]
+        [--tempcal ARDUPILOT/Tools/scripts/tempcal_IMU.py] [--pymavlink DIR] [--runs K]
 
 The scripts are optional and are not dependencies of gyrocomp: give the path of each (from a
 checkout you fetched; never committed here) and the folder holding the `pyulog` / `pymavlink`
@@ -25,7 +25,8 @@ calc_thermal_offsets_3D, float32, T clamped to [TMIN, TMAX]; ArduPilot correct_s
 INS_GYRn_CALTEMP / INS_ACCn_CALTEMP = the run's boot temperature, float32, clamped), as 10 s block
 means with their mean removed (the constant is the boot offset calibration's), RMS in deg/s and
 m/s^2. Rows: no correction, each script, gyrocomp (PX4 file also with --optimise-for warm-up /
-both), and the true static curve (the simulator's bias cubic, the best a static cubic can do
+both, with --static-weight time: the model's own time-weighted curve, and with --runs K on 2..K
+calibration runs of the board, `calibrate -i` repeated), and the true static curve (the simulator's bias cubic, the best a static cubic can do
 against its own static part). Printed: mean over seeds and axes, the seed spread (SD of the
 per-seed means), per-axis win counts of gyrocomp against each script and the RMS ratios.
 Figures and the scripts' commits: docs/export.md, "Side by side with the autopilots' scripts".
@@ -185,6 +186,8 @@ def main():
     ap.add_argument("--tempcal")
     ap.add_argument("--pymavlink")
     ap.add_argument("--structures", default="dtemp,static")
+    ap.add_argument("--runs", type=int, default=1,
+                    help="also calibrate gyrocomp on 2..RUNS calibration runs of the board (other seeds, -i repeated)")
     args = ap.parse_args()
     if args.pyulog:
         sys.path.insert(0, args.pyulog)
@@ -205,15 +208,31 @@ def main():
                     simulate(gc, held[name], 100 * seed + 50 + 10 * k, args.fs, structure, name)
                 sets = {}
                 for fmt, log in (("px4", cal_ulg), ("ardupilot", cal_bin)):
-                    for cond in ("steady", "warm-up", "both"):
-                        if fmt == "ardupilot" and cond != "steady":
+                    for extra in ([], ["--optimise-for", "warm-up"], ["--optimise-for", "both"],
+                                  ["--static-weight", "time"]):
+                        if fmt == "ardupilot" and extra:
                             continue
                         out = os.path.join(tmp, "gc_" + fmt)
-                        rc, msg = run([gc, "calibrate", "-i", log, "--format", fmt, "--optimise-for", cond, "-o", out])
+                        rc, msg = run([gc, "calibrate", "-i", log, "--format", fmt, "-o", out] + extra)
                         if rc != 0:
                             sys.exit("calibrate failed: " + msg)
-                        sets["gyrocomp -> " + fmt + ("" if cond == "steady" else " (--optimise-for %s)" % cond)] = \
+                        sets["gyrocomp -> " + fmt + (" (%s)" % " ".join(extra) if extra else "")] = \
                             (fmt, read_params(out))
+                # More calibration runs of the same board (other seeds): calibrate -i ... -i ...
+                extra_cal = []
+                for k in range(1, args.runs):
+                    extra_cal.append(os.path.join(tmp, "cal%d.ulg" % k))
+                    simulate(gc, extra_cal[-1], 100 * seed + 1000 * k, args.fs, structure)
+                    for weight in ("temperature", "time"):
+                        cmd = [gc, "calibrate", "--format", "px4", "-o", os.path.join(tmp, "gc_runs"),
+                               "--static-weight", weight]
+                        for f in [cal_ulg] + extra_cal:
+                            cmd += ["-i", f]
+                        rc, msg = run(cmd)
+                        if rc != 0:
+                            sys.exit("calibrate failed: " + msg)
+                        name = "gyrocomp -> px4 (%d runs%s)" % (k + 1, "" if weight == "temperature" else ", time")
+                        sets[name] = ("px4", read_params(os.path.join(tmp, "gc_runs")))
                 p, why = try_px4_script(args, cal_ulg, tmp)
                 if p is None:
                     skipped["PX4 script"] = why
@@ -243,7 +262,10 @@ def main():
     for why_name, why in skipped.items():
         print("  %s skipped: %s" % (why_name, why))
     order = ["no correction", "PX4 script", "tempcal_IMU", "gyrocomp -> px4", "gyrocomp -> ardupilot",
-             "gyrocomp -> px4 (--optimise-for warm-up)", "gyrocomp -> px4 (--optimise-for both)", "true static curve"]
+             "gyrocomp -> px4 (--optimise-for warm-up)", "gyrocomp -> px4 (--optimise-for both)",
+             "gyrocomp -> px4 (--static-weight time)"] + \
+        ["gyrocomp -> px4 (%d runs%s)" % (k, w) for k in range(2, args.runs + 1) for w in ("", ", time")] + \
+        ["true static curve"]
     names = [n for n in order if any(k[3] == n for k in rows)]
     for sensor in ("gyro", "accel"):
         print()
@@ -257,8 +279,10 @@ def main():
                     per_seed = [x.mean() for x in v]
                     cells.append("%.3g +- %.2g" % (np.mean(per_seed), np.std(per_seed)))
                 print("| %s | %s | %s |" % (structure, n, " | ".join(cells)))
+        multi = [(sc, "gyrocomp -> px4 (%d runs%s)" % (k, w)) for sc in ("PX4 script", "tempcal_IMU")
+                 for k in range(2, args.runs + 1) for w in ("", ", time")]
         for structure in structures:
-            for script, mine in (("PX4 script", "gyrocomp -> px4"), ("tempcal_IMU", "gyrocomp -> ardupilot")):
+            for script, mine in [("PX4 script", "gyrocomp -> px4"), ("tempcal_IMU", "gyrocomp -> ardupilot")] + multi:
                 cells = []
                 for run_name in runs:
                     a, b = rows.get((structure, sensor, run_name, mine)), rows.get((structure, sensor, run_name, script))

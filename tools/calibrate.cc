@@ -25,10 +25,14 @@
 #include <vector>
 
 #include "commands.h"
+#include "calibrate_report.h"
 #include "gyrocomp/drift/drift_model.h"
+#include "gyrocomp/export/cubic_score.h"
 #include "gyrocomp/export/param_export.h"
+#include "gyrocomp/export/static_cubic.h"
 #include "gyrocomp/export/thermal_cubic.h"
 #include "gyrocomp/io/flight_log.h"
+#include "gyrocomp/report/report.h"
 #include "result_json.h"
 
 namespace gyrocomp::cli {
@@ -38,15 +42,23 @@ constexpr const char* kName = "calibrate";
 constexpr double kDegPerRad = 180.0 / std::numbers::pi;
 
 struct CalibrateArgs {
-  std::string input;
+  std::string input;                      // the first -i (the primary run: models, bands, cost)
+  std::vector<std::string> inputs;        // every -i: runs of one board, their cubics averaged
   std::string format;
   std::string output;
   std::string models_dir;
   std::string json_path;
+  std::string validation_path;  // a second log of the same board: every exported cubic scored on it
+  std::string report_path;      // HTML report
+  double block_s = 10.0;        // validation: residual block means, s (bench/imu_calibration_side_by_side.py)
   double fit_rate_hz = 1.0;   // block means of the rows before fitting
   double min_span_c = 10.0;   // ArduPilot's TEMP_RANGE_MIN (AP_InertialSensor_tempcal.cpp)
   std::size_t min_rows = 60;  // after the block means
   std::string optimise_for = "steady";  // CubicCondition of the exported cubic
+  // How the static curve is estimated: "temperature" (each temperature alike: the run's data,
+  // the model's dynamic part removed, in equal-width temperature bins; static_cubic.h) or "time"
+  // (the fitted model's own curve at state 0, fitted on every sample).
+  std::string static_weight = "temperature";
 };
 
 // One sensor instance of the log, in its sensor frame and firmware unit.
@@ -69,7 +81,19 @@ struct Sensor {
   // RMS over the range of cubic - full model at state 0 (steady) and along the run's warm-up
   // state (warm-up), firmware unit: what the exported cubic loses in each condition.
   std::vector<double> steady_rms, warm_up_rms;
+  // Expected next-run error of each axis's cubic (model band + projection), per condition.
+  std::vector<std::optional<CubicExpectedError>> expected;
+  std::string band_reason;  // why `expected` is missing (a model without a band)
   double temp_min_c = 0.0, temp_max_c = 0.0;
+  // --validation: per axis RMS of the residual block means on the validation run, firmware unit.
+  struct Validation {
+    std::string reason;  // non-empty: not validated
+    std::size_t rows = 0;
+    double temp_min_c = 0.0, temp_max_c = 0.0;
+    std::vector<double> raw, cubic, full_model;
+  };
+  std::optional<Validation> validation;
+  int runs_combined = 1;  // -i logs whose cubics were averaged
 };
 
 std::vector<double> Seconds(const std::vector<std::uint64_t>& us) {
@@ -187,8 +211,27 @@ std::pair<double, double> ConditionErrors(const DriftModel& m, const Temperature
   return {std::sqrt(ss_steady / kPoints), std::sqrt(ss_warm / kPoints)};
 }
 
+// --static-weight temperature: the static part of `cubic` (the model's curve at state 0) replaced
+// by the run's static curve with each temperature weighted alike; what --optimise-for adds to the
+// static curve (the model's warm-up state) is kept: the projection is linear in the curve, so
+// cubic = static + (projection for the condition - projection at state 0), on one range and ref.
+Status StaticByTemperature(const DriftModel& m, const DriftInputs& run, const std::vector<double>& y,
+                           const CubicProjectionOptions& po, TemperatureCubic* cubic) {
+  CubicProjectionOptions steady = po;
+  steady.condition = CubicCondition::kSteady;
+  steady.ref_temp_c = cubic->ref_temp_c;
+  Result<TemperatureCubic> model_static = ProjectOntoCubic(m, steady);
+  if (!model_static.ok()) return model_static.error();
+  StaticCubicOptions so;
+  so.temp_min_c = cubic->temp_min_c, so.temp_max_c = cubic->temp_max_c, so.ref_temp_c = cubic->ref_temp_c;
+  Result<TemperatureCubic> data_static = FitStaticCubicByTemperature(m, run, y, so);
+  if (!data_static.ok()) return data_static.error();
+  for (std::size_t j = 0; j < 4; ++j) cubic->coeff[j] = data_static->coeff[j] + (cubic->coeff[j] - model_static->coeff[j]);
+  return Status::Ok();
+}
+
 // Fits and projects one sensor; sets `reason` when it cannot be calibrated.
-void Calibrate(Sensor* s, const CalibrateArgs& a) {
+void Calibrate(Sensor* s, const CalibrateArgs& a, std::optional<std::pair<double, double>> range = std::nullopt) {
   if (!s->reason.empty()) return;
   if (s->slot < 0 || s->slot > (a.format == "px4" ? kPx4TcalSlots - 1 : 3) || (a.format == "ardupilot" && s->slot < 1)) {
     s->reason = a.format == "px4" ? "PX4 has 4 calibration slots per sensor kind" : "ArduPilot has INS_TCAL1..3 only";
@@ -209,11 +252,12 @@ void Calibrate(Sensor* s, const CalibrateArgs& a) {
     s->reason = "temperature span " + Num(*hi - *lo) + " C < " + Num(a.min_span_c) + " C";
     return;
   }
+  if (range) s->temp_min_c = range->first, s->temp_max_c = range->second;
   const double fs = static_cast<double>(s->time_s.size() - 1) / (s->time_s.back() - s->time_s.front());
   const DriftInputs inputs{s->temp_c, fs};
   CubicProjectionOptions po;
-  po.temp_min_c = *lo;
-  po.temp_max_c = *hi;
+  po.temp_min_c = s->temp_min_c;
+  po.temp_max_c = s->temp_max_c;
   po.condition = *ParseCubicCondition(a.optimise_for);
   static const DriftFitOptions kFitOptions;  // the library default (auto)
   for (std::size_t k = 0; k < s->values.size(); ++k) {
@@ -237,6 +281,12 @@ void Calibrate(Sensor* s, const CalibrateArgs& a) {
       s->reason = "projection of " + s->cols[k] + " failed: " + c.error().message;
       return;
     }
+    if (a.static_weight == "temperature") {
+      if (Status st = StaticByTemperature(*m, inputs, y, po, &*c); !st.ok()) {
+        s->reason = "static curve of " + s->cols[k] + ": " + st.error().message;
+        return;
+      }
+    }
     Result<CubicProjectionCost> cost = MeasureCubicProjectionCost(*m, *c, inputs);
     TemperatureCubic fw = c->Scaled(1.0 / s->to_model);
     if (a.format == "px4" && s->type != "gyro") fw.coeff[0] = 0.0;  // the script subtracts the median
@@ -244,9 +294,88 @@ void Calibrate(Sensor* s, const CalibrateArgs& a) {
     const auto [steady, warm_up] = ConditionErrors(*m, *c, *warm);
     s->steady_rms.push_back(steady / s->to_model);
     s->warm_up_rms.push_back(warm_up / s->to_model);
+    Result<CubicExpectedError> e = ExpectedCubicError(*m, *c, inputs);
+    if (e.ok()) {
+      s->expected.emplace_back(*e);
+    } else {
+      s->expected.emplace_back(std::nullopt);
+      s->band_reason = e.error().message;
+    }
     s->cubics.push_back(fw);
     s->models.push_back(std::move(*m));
   }
+}
+
+// The validation run's sensor of the same type and instance (PX4: and device id, when both log one).
+const Sensor* Match(const std::vector<Sensor>& run, const Sensor& s) {
+  for (const Sensor& v : run)
+    if (v.type == s.type && v.instance == s.instance && (!v.device_id || !s.device_id || *v.device_id == *s.device_id))
+      return &v;
+  return nullptr;
+}
+
+// Scores every axis of `s` on its match `v` of the validation run: the raw value, the exported
+// cubic under the firmware's formula (float32, clamped; ArduPilot's CALTEMP = the run's first
+// temperature) and the full model (causal, as the generated C runs it), as RMS of block means.
+Sensor::Validation ScoreOn(const Sensor& s, const Sensor* v, const CalibrateArgs& a) {
+  Sensor::Validation out;
+  if (!v) {
+    out.reason = "no " + s.type + " " + std::to_string(s.instance) + " in " + a.validation_path;
+    return out;
+  }
+  if (!v->reason.empty()) {
+    out.reason = v->reason;
+    return out;
+  }
+  out.rows = v->time_s.size();
+  if (out.rows < 2) {
+    out.reason = std::to_string(out.rows) + " rows";
+    return out;
+  }
+  const auto [lo, hi] = std::minmax_element(v->temp_c.begin(), v->temp_c.end());
+  out.temp_min_c = *lo, out.temp_max_c = *hi;
+  const double fs = static_cast<double>(out.rows - 1) / (v->time_s.back() - v->time_s.front());
+  const auto block = static_cast<std::size_t>(std::max(1.0, std::round(a.block_s * fs)));
+  const FirmwareFormula formula = a.format == "px4" ? FirmwareFormula::kPx4 : FirmwareFormula::kArduPilot;
+  const std::vector<double> zero(out.rows, 0.0);
+  for (std::size_t k = 0; k < s.cubics.size(); ++k) {
+    const std::vector<double> fw = FirmwareCorrection(formula, s.cubics[k], v->temp_c, v->temp_c.front());
+    Result<std::vector<double>> full = s.models[k].Predict({v->temp_c, fs}, /*causal=*/true);
+    if (!full.ok()) {
+      out.reason = "full model of " + s.cols[k] + ": " + full.error().message;
+      return out;
+    }
+    for (double& x : *full) x /= s.to_model;
+    Result<double> raw = ResidualBlockRms(v->values[k], zero, block);
+    Result<double> cubic = ResidualBlockRms(v->values[k], fw, block);
+    Result<double> model = ResidualBlockRms(v->values[k], *full, block);
+    for (const Result<double>* r : {&raw, &cubic, &model})
+      if (!r->ok()) {
+        out.reason = r->error().message;
+        return out;
+      }
+    out.raw.push_back(*raw), out.cubic.push_back(*cubic), out.full_model.push_back(*model);
+  }
+  return out;
+}
+
+// --validation: the second log read as the calibration log, each calibrated sensor scored on it.
+Status Validate(const CalibrateArgs& a, LogFormat format, std::vector<Sensor>* all) {
+  if (a.validation_path.empty()) return Status::Ok();
+  if (DetectLogFormat(a.validation_path) != format)
+    return InvalidInput(a.validation_path + ": --validation must be a log of the same kind as -i (" +
+                        std::string(LogFormatName(format)) + ")");
+  auto run = format == LogFormat::kULog ? SensorsOfULog(a.validation_path, a.fit_rate_hz)
+                                        : SensorsOfDataFlash(a.validation_path, a.fit_rate_hz);
+  if (!run.ok()) return run.error();
+  for (Sensor& v : *run) {
+    if (!v.reason.empty()) continue;
+    BlockMeans(&v, a.fit_rate_hz);
+    if (v.time_s.size() < 2) v.reason = "fewer than 2 rows in " + a.validation_path;
+  }
+  for (Sensor& s : *all)
+    if (s.reason.empty()) s.validation = ScoreOn(s, Match(*run, s), a);
+  return Status::Ok();
 }
 
 ThreeAxisCubics Three(const Sensor& s) { return {s.cubics[0], s.cubics[1], s.cubics[2]}; }
@@ -257,24 +386,55 @@ const Sensor* Find(const std::vector<Sensor>& all, const std::string& type, int 
   return nullptr;
 }
 
+// "steady 1e-4 2e-4 3e-4" (firmware unit) or the reason no band is available.
+std::string ExpectedText(const Sensor& s, bool warm_up) {
+  std::string t = warm_up ? "warm-up" : "steady";
+  for (const auto& e : s.expected) {
+    if (!e) return t + " n/a (" + s.band_reason + ")";
+    if (warm_up && !e->warm_up) return t + " n/a (the run has no heating sample)";
+    t += " " + Num((warm_up ? e->warm_up->total_rms : e->steady.total_rms) / s.to_model);
+  }
+  return t;
+}
+
+std::string ValidationText(const Sensor::Validation& v) {
+  if (!v.reason.empty()) return "validation: not scored, " + v.reason;
+  std::string t = "validation run (" + std::to_string(v.rows) + " rows): RMS raw / cubic / full model";
+  for (std::size_t k = 0; k < v.raw.size(); ++k) t += " " + Num(v.raw[k]) + "/" + Num(v.cubic[k]) + "/" + Num(v.full_model[k]);
+  return t;
+}
+
+std::string Joined(const std::vector<std::string>& v) {
+  std::string t;
+  for (const std::string& x : v) t += (t.empty() ? "" : " + ") + x;
+  return v.size() > 1 ? t + " (cubics averaged over the runs; models and bands from the first)" : t;
+}
+
 std::vector<std::string> Comments(const CalibrateArgs& a, const std::vector<Sensor>& all) {
   std::vector<std::string> c = {
-      "Thermal calibration generated by gyrocomp calibrate --format " + a.format + " from " + a.input,
+      "Thermal calibration generated by gyrocomp calibrate --format " + a.format + " from " + Joined(a.inputs),
       "(docs/export.md). Every sensor of the log: the library's default drift model (auto) fitted on",
       "block means at " + Num(a.fit_rate_hz) + " Hz, its curve projected onto the firmware's cubic over the",
       "sensor's range, optimised for: " + a.optimise_for + " (steady: dT/dt = 0; warm-up: the state the run had while heating;",
-      "both: their mean). Units: gyro rad/s, accel m/s^2, baro Pa; sensor frame. Per sensor: model, projection cost",
-      "(RMS full model - cubic on this run, firmware unit); the expected held-out error band is not yet available."};
+      "both: their mean); static curve weighted by: " + a.static_weight + " (temperature: each temperature alike,",
+      "the run's data with the model's dynamic part removed, 2000 bins; time: the model's own curve).",
+      "Units: gyro rad/s, accel m/s^2, baro Pa; sensor frame. Per sensor: model, projection cost",
+      "(RMS full model - cubic on this run, firmware unit) and, per axis, the expected next-run error of the",
+      "exported cubic: RMS of sqrt((cubic - model)^2 + sd^2), sd the model's prediction band / z (docs/export.md),",
+      "at steady temperature and along this run's own heating (warm-up), constant excluded."};
   for (const Sensor& s : all) {
     std::ostringstream l;
     l << "  " << s.type << " " << s.instance << (s.device_id ? " (device_id " + std::to_string(*s.device_id) + ")" : "");
     if (!s.reason.empty()) {
       l << ": SKIPPED, " << s.reason;
-    } else {
-      l << ": " << DriftModelKindName(s.models[0].kind) << ", " << Num(s.temp_min_c) << ".." << Num(s.temp_max_c) << " C, cost";
-      for (double v : s.cost_rms) l << " " << Num(v);
+      c.push_back(l.str());
+      continue;
     }
+    l << ": " << DriftModelKindName(s.models[0].kind) << ", " << Num(s.temp_min_c) << ".." << Num(s.temp_max_c) << " C, cost";
+    for (double v : s.cost_rms) l << " " << Num(v);
     c.push_back(l.str());
+    c.push_back("    expected error " + ExpectedText(s, false) + "; " + ExpectedText(s, true));
+    if (s.validation) c.push_back("    " + ValidationText(*s.validation));
   }
   return c;
 }
@@ -313,6 +473,46 @@ Result<std::string> WriteFile(const CalibrateArgs& a, const std::vector<Sensor>&
   return WriteArduPilotTcalFile(imus, comments);
 }
 
+nlohmann::json ConditionJson(const CubicConditionError& e, double to_model) {
+  return {{"total_rms", e.total_rms / to_model}, {"projection_rms", e.projection_rms / to_model},
+          {"band_sd_rms", e.band_sd_rms / to_model}, {"samples", e.num_samples}};
+}
+
+// Per axis, firmware unit: the exported cubic's expected next-run error in each condition.
+nlohmann::json ExpectedJson(const CalibrateArgs& a, const Sensor& s) {
+  nlohmann::json steady = nlohmann::json::array(), warm = nlohmann::json::array(), axes = nlohmann::json::array();
+  nlohmann::json proj_steady = nlohmann::json::array(), proj_warm = nlohmann::json::array();
+  nlohmann::json level = nullptr;
+  for (std::size_t k = 0; k < s.models.size(); ++k) {
+    proj_steady.push_back(s.steady_rms[k]);
+    proj_warm.push_back(s.warm_up_rms[k]);
+    const auto& e = s.expected[k];
+    if (e) level = e->level;
+    steady.push_back(e ? nlohmann::json(e->steady.total_rms / s.to_model) : nlohmann::json(nullptr));
+    warm.push_back(e && e->warm_up ? nlohmann::json(e->warm_up->total_rms / s.to_model) : nlohmann::json(nullptr));
+    nlohmann::json ax = {{"col", s.cols[k]}};
+    if (e) {
+      ax["steady"] = ConditionJson(e->steady, s.to_model);
+      ax["warm_up"] = e->warm_up ? ConditionJson(*e->warm_up, s.to_model) : nlohmann::json(nullptr);
+    }
+    axes.push_back(ax);
+  }
+  nlohmann::json j = {{"optimised_for", a.optimise_for}, {"band_level", level}, {"steady", steady}, {"warm_up", warm},
+                      {"projection_steady", proj_steady}, {"projection_warm_up", proj_warm}, {"axes", axes}};
+  if (!s.band_reason.empty()) j["steady_reason"] = j["warm_up_reason"] = s.band_reason;
+  j["note"] = "per axis, firmware unit: expected next-run RMS error of the exported cubic, RMS of sqrt((cubic - "
+              "model)^2 + sd^2) with sd the model's prediction band / z(band_level), at steady temperature (a "
+              "slow ramp over the range) and along this run's heating samples (warm_up); projection_*: the "
+              "cubic - model part alone, over the range";
+  return j;
+}
+
+nlohmann::json ValidationJson(const Sensor::Validation& v) {
+  if (!v.reason.empty()) return {{"status", "not scored"}, {"reason", v.reason}};
+  return {{"status", "scored"}, {"rows", v.rows}, {"temp_min_c", v.temp_min_c}, {"temp_max_c", v.temp_max_c},
+          {"raw_rms", v.raw}, {"cubic_rms", v.cubic}, {"full_model_rms", v.full_model}};
+}
+
 nlohmann::json SensorJson(const CalibrateArgs& a, const Sensor& s) {
   nlohmann::json j = {{"type", s.type}, {"instance", s.instance}, {"slot", s.slot},
                       {"status", s.reason.empty() ? "calibrated" : "skipped"}};
@@ -324,6 +524,7 @@ nlohmann::json SensorJson(const CalibrateArgs& a, const Sensor& s) {
   }
   j["temp_min_c"] = s.temp_min_c;
   j["temp_max_c"] = s.temp_max_c;
+  j["runs_combined"] = s.runs_combined;
   j["kind"] = DriftModelKindName(s.models[0].kind);
   j["unit"] = s.unit;
   nlohmann::json axes = nlohmann::json::array();
@@ -335,14 +536,8 @@ nlohmann::json SensorJson(const CalibrateArgs& a, const Sensor& s) {
                     {"projection_cost_rms", s.cost_rms[k]}, {"fit_rmse", s.models[k].summary.train_rmse / s.to_model}});
   }
   j["axes"] = axes;
-  nlohmann::json steady = nlohmann::json::array(), warm = nlohmann::json::array();
-  for (std::size_t k = 0; k < s.models.size(); ++k) steady.push_back(s.steady_rms[k]), warm.push_back(s.warm_up_rms[k]);
-  j["expected_error"] = {{"optimised_for", a.optimise_for},
-                         {"steady", steady},
-                         {"warm_up", warm},
-                         {"note", "per axis, firmware unit: RMS over the range of (exported cubic - the full model) at "
-                                  "steady temperature and along this run's warm-up; the model's own held-out "
-                                  "uncertainty (prediction bands, issue 23) is not included yet"}};
+  j["expected_error"] = ExpectedJson(a, s);
+  if (s.validation) j["validation"] = ValidationJson(*s.validation);
   return j;
 }
 
@@ -377,13 +572,99 @@ void PrintTable(const std::vector<Sensor>& all) {
       << std::string(15 - std::min<std::size_t>(14, std::string(DriftModelKindName(s.models[0].kind)).size()), ' ');
     for (double v : s.cost_rms) t << Num(v) << " ";
     t << s.unit << "\n";
+    t << "                  expected next-run error of the cubic: " << ExpectedText(s, false) << "; "
+      << ExpectedText(s, true) << " " << s.unit << "\n";
+  }
+  bool any_validation = false;
+  for (const Sensor& s : all) any_validation |= s.validation.has_value();
+  if (any_validation) {
+    t << "validation run: RMS of block means, mean removed, per axis (raw / exported cubic, firmware formula / "
+         "full model, causal)\n";
+    for (const Sensor& s : all) {
+      if (!s.validation) continue;
+      t << s.type << std::string(8 - std::min<std::size_t>(7, s.type.size()), ' ') << s.instance << "     ";
+      const Sensor::Validation& v = *s.validation;
+      if (!v.reason.empty()) {
+        t << "not scored: " << v.reason << "\n";
+        continue;
+      }
+      for (std::size_t k = 0; k < v.raw.size(); ++k)
+        t << s.cols[k] << " " << Num(v.raw[k]) << " / " << Num(v.cubic[k]) << " / " << Num(v.full_model[k]) << "   ";
+      t << s.unit << "\n";
+    }
   }
   std::cerr << t.str();
 }
 
+// The gyro cubics for the report's chart (deg/s).
+std::vector<CalibrateCurve> CubicCurves(const std::vector<Sensor>& all) {
+  std::vector<CalibrateCurve> out;
+  for (const Sensor& s : all) {
+    if (s.type != "gyro" || !s.reason.empty()) continue;
+    for (std::size_t k = 0; k < s.cubics.size(); ++k)
+      out.push_back({s.type + " " + std::to_string(s.instance) + " " + s.cols[k], s.cubics[k], s.to_model});
+  }
+  return out;
+}
+
+// Several -i logs of one board: each sensor of the first log is matched in the others (type,
+// instance, device id), every match calibrated over the range all of them cover, and the cubics
+// averaged coefficient by coefficient (one range and reference): the calibration runs' noise
+// averages out as 1/sqrt(runs) (docs/export.md). Models, bands and costs stay the first run's.
+Status CombineRuns(const CalibrateArgs& a, LogFormat format, std::vector<Sensor>* primary) {
+  if (a.inputs.size() < 2) return Status::Ok();
+  std::vector<std::vector<Sensor>> others;
+  for (std::size_t r = 1; r < a.inputs.size(); ++r) {
+    if (DetectLogFormat(a.inputs[r]) != format)
+      return InvalidInput(a.inputs[r] + ": every -i must be a log of the same kind as " + a.input);
+    auto run = format == LogFormat::kULog ? SensorsOfULog(a.inputs[r], a.fit_rate_hz) : SensorsOfDataFlash(a.inputs[r], a.fit_rate_hz);
+    if (!run.ok()) return run.error();
+    for (Sensor& v : *run) Calibrate(&v, a);
+    others.push_back(std::move(*run));
+  }
+  for (Sensor& s : *primary) {
+    if (!s.reason.empty()) continue;
+    std::vector<Sensor*> runs;
+    double lo = s.temp_min_c, hi = s.temp_max_c;
+    for (std::size_t r = 0; r < others.size(); ++r) {
+      const Sensor* m = Match(others[r], s);
+      if (!m || !m->reason.empty()) {
+        s.reason = "not calibrated in " + a.inputs[r + 1] + (m ? ": " + m->reason : ": no such sensor");
+        break;
+      }
+      runs.push_back(const_cast<Sensor*>(m));
+      lo = std::max(lo, m->temp_min_c), hi = std::min(hi, m->temp_max_c);
+    }
+    if (!s.reason.empty()) continue;
+    if (hi - lo < a.min_span_c) {
+      s.reason = "the -i logs share only " + Num(lo) + ".." + Num(hi) + " C < --min-span";
+      continue;
+    }
+    runs.insert(runs.begin(), &s);
+    for (Sensor* r : runs) {  // again over the common range (the block means are kept: n = 1)
+      r->models.clear(), r->cubics.clear(), r->cost_rms.clear(), r->steady_rms.clear(), r->warm_up_rms.clear();
+      r->expected.clear();
+      Calibrate(r, a, std::pair{lo, hi});
+      if (!r->reason.empty()) {
+        s.reason = r->reason;
+        break;
+      }
+    }
+    if (!s.reason.empty()) continue;
+    for (std::size_t k = 0; k < s.cubics.size(); ++k)
+      for (std::size_t j = 0; j < 4; ++j) {
+        double sum = 0.0;
+        for (const Sensor* r : runs) sum += r->cubics[k].coeff[j];
+        s.cubics[k].coeff[j] = sum / static_cast<double>(runs.size());
+      }
+    s.runs_combined = static_cast<int>(runs.size());
+  }
+  return Status::Ok();
+}
+
 int Run(const CalibrateArgs& a) {
-  if (!(a.fit_rate_hz > 0.0) || !(a.min_span_c >= 0.0))
-    return ReportError(kName, InvalidArgument("--fit-rate must be > 0 Hz and --min-span >= 0 C"));
+  if (!(a.fit_rate_hz > 0.0) || !(a.min_span_c >= 0.0) || !(a.block_s > 0.0))
+    return ReportError(kName, InvalidArgument("--fit-rate must be > 0 Hz, --min-span >= 0 C and --block > 0 s"));
   const LogFormat format = DetectLogFormat(a.input);
   if (format == LogFormat::kCsv)
     return ReportError(kName, InvalidInput(a.input + ": not a PX4 ULog or ArduPilot DataFlash log (by its first bytes)"));
@@ -393,20 +674,30 @@ int Run(const CalibrateArgs& a) {
   auto sensors = format == LogFormat::kULog ? SensorsOfULog(a.input, a.fit_rate_hz) : SensorsOfDataFlash(a.input, a.fit_rate_hz);
   if (!sensors.ok()) return ReportError(kName, sensors.error());
   for (Sensor& s : *sensors) Calibrate(&s, a);
+  if (Status st = CombineRuns(a, format, &*sensors); !st.ok()) return ReportError(kName, st.error());
   const bool any = std::any_of(sensors->begin(), sensors->end(), [](const Sensor& s) { return s.reason.empty(); });
+  if (any)
+    if (Status st = Validate(a, format, &*sensors); !st.ok()) return ReportError(kName, st.error());
   PrintTable(*sensors);
   if (!any) return ReportError(kName, InvalidInput(a.input + ": no sensor could be calibrated (reasons above)"));
   Result<std::string> text = WriteFile(a, *sensors);
   if (!text.ok()) return ReportError(kName, text.error());
   if (Status st = WriteModels(a, *sensors); !st.ok()) return ReportError(kName, st.error());
   if (Status st = WriteText(a.output, *text); !st.ok()) return ReportError(kName, st.error());
-  if (!a.json_path.empty()) {
-    nlohmann::json j = {{"input", a.input}, {"format", a.format}, {"output", a.output}, {"fit_rate_hz", a.fit_rate_hz},
-                        {"min_span_c", a.min_span_c}, {"optimised_for", a.optimise_for}};
-    j["models_dir"] = a.models_dir.empty() ? nlohmann::json(nullptr) : nlohmann::json(a.models_dir);
-    j["sensors"] = nlohmann::json::array();
-    for (const Sensor& s : *sensors) j["sensors"].push_back(SensorJson(a, s));
+  nlohmann::json j = {{"input", a.input}, {"format", a.format}, {"output", a.output}, {"fit_rate_hz", a.fit_rate_hz},
+                      {"min_span_c", a.min_span_c}, {"optimised_for", a.optimise_for},
+                      {"static_weight", a.static_weight}};
+  j["models_dir"] = a.models_dir.empty() ? nlohmann::json(nullptr) : nlohmann::json(a.models_dir);
+  j["inputs"] = a.inputs;
+  j["validation_run"] = a.validation_path.empty() ? nlohmann::json(nullptr) : nlohmann::json(a.validation_path);
+  j["block_s"] = a.block_s;
+  j["sensors"] = nlohmann::json::array();
+  for (const Sensor& s : *sensors) j["sensors"].push_back(SensorJson(a, s));
+  if (!a.json_path.empty())
     if (Status st = WriteJson(a.json_path, j); !st.ok()) return ReportError(kName, st.error());
+  if (!a.report_path.empty()) {
+    const ReportData report = BuildCalibrateReport(j, CubicCurves(*sensors));
+    if (Status st = WriteText(a.report_path, RenderReportHtml(report)); !st.ok()) return ReportError(kName, st.error());
   }
   Note(kName, "-> " + a.output);
   return kExitOk;
@@ -421,21 +712,42 @@ Command Make(CLI::App& app) {
       "ardupilot (DataFlash): every IMU, rotated back by AHRS_ORIENTATION and with any INS_TCAL correction the\n"
       "  log ran undone -> INS_TCAL1..3 ENABLE, TMIN, TMAX, ACC1..3, GYR1..3 (an IMU not calibrated: ENABLE 0).\n"
       "A sensor that cannot be calibrated (span < --min-span, too few rows) is listed with the reason.\n"
-      "Example: gyrocomp calibrate -i heat.ulg --format px4 -o tc.params --models models/ --json cal.json");
-  AddInputOption(sub, "-i,--input", &a->input, "Flight log: PX4 ULog or ArduPilot DataFlash")->required();
+      "Expected error: per axis, the cubic's expected next-run RMS at steady temperature and on the run's warm-up\n"
+      "  (the model's prediction band and the projection). --validation RUN: the cubics, with the firmware's\n"
+      "  formula, and the full model scored on RUN (RMS of --block s means, mean removed).\n"
+      "Example: gyrocomp calibrate -i heat.ulg --format px4 -o tc.params --models models/ --json cal.json\n"
+      "           --validation cool.ulg --report cal.html");
+  AddInputOption(sub, "-i,--input", &a->inputs,
+                 "Flight log: PX4 ULog or ArduPilot DataFlash; repeated: runs of the same board, each sensor's cubics "
+                 "averaged over them (models and bands from the first)")
+      ->required();
   sub->add_option("--format", a->format, "px4 | ardupilot")->required()->check(CLI::IsMember({"px4", "ardupilot"}));
   AddOutputOption(sub, "-o,--output", &a->output, "Parameter file to write")->required();
   sub->add_option("--models", a->models_dir, "Directory for each sensor's model file (<type><instance>.json) for apply / validate / export");
   AddOutputOption(sub, "--json", &a->json_path, "Write the per-sensor summary as JSON ('-' = stdout)");
+  AddInputOption(sub, "--validation", &a->validation_path,
+                 "A second log of the same board (same format as -i): every exported cubic (firmware formula) and "
+                 "the full model scored on it, per axis");
+  AddOutputOption(sub, "--report", &a->report_path, "Write an HTML report to FILE (self-contained, opens offline)");
+  sub->add_option("--block", a->block_s, "--validation: residual block means, s")->capture_default_str();
   sub->add_option("--fit-rate", a->fit_rate_hz, "Rows per second the fit sees (block means), Hz")->capture_default_str();
   sub->add_option("--optimise-for", a->optimise_for,
                   "What the exported cubic is optimised for: steady (dT/dt = 0, the static curve) | warm-up (the state the "
                   "run had while heating, at each temperature) | both (their mean)")
       ->check(CLI::IsMember({"steady", "warm-up", "both"}))
       ->capture_default_str();
+  sub->add_option("--static-weight", a->static_weight,
+                  "How the static curve is estimated: temperature (each temperature alike: the run's data with the "
+                  "model's dynamic part removed, in 2000 equal temperature bins, as PX4's script bins) | time (the "
+                  "fitted model's curve, every sample alike)")
+      ->check(CLI::IsMember({"temperature", "time"}))
+      ->capture_default_str();
   sub->add_option("--min-span", a->min_span_c, "Smallest temperature span calibrated, deg C (ArduPilot's TEMP_RANGE_MIN)")
       ->capture_default_str();
-  return {sub, [a] { return Run(*a); }};
+  return {sub, [a] {
+            a->input = a->inputs.front();
+            return Run(*a);
+          }};
 }
 
 const CommandRegistrar kReg(kName, 67, &Make);

@@ -17,6 +17,7 @@
 #include "gyrocomp/core/units.h"
 #include "gyrocomp/drift/drift_model.h"
 #include "gyrocomp/export/c_export.h"
+#include "gyrocomp/export/cubic_score.h"
 #include "gyrocomp/export/param_export.h"
 #include "gyrocomp/export/thermal_cubic.h"
 #include "result_json.h"
@@ -69,7 +70,24 @@ Result<std::vector<AxisDriftModel>> LoadAxes(const std::vector<std::string>& pat
 struct AxisCost {
   TemperatureCubic cubic_dps;
   std::optional<CubicProjectionCost> calibration, validation;
+  // The cubic's expected next-run error (model band + projection): steady always, warm-up on the
+  // heating of the -i run; nullopt with the reason for a model without a band.
+  std::optional<CubicExpectedError> expected;
+  std::string expected_reason;
 };
+
+nlohmann::json ConditionJson(const CubicConditionError& e) {
+  return {{"total_rms_dps", e.total_rms}, {"total_rms_rad_s", e.total_rms * kRadPerDeg},
+          {"projection_rms_dps", e.projection_rms}, {"band_sd_rms_dps", e.band_sd_rms}, {"samples", e.num_samples}};
+}
+
+nlohmann::json ExpectedJson(const AxisCost& c) {
+  if (!c.expected) return {{"reason", c.expected_reason}};
+  nlohmann::json j = {{"band_level", c.expected->level}, {"steady", ConditionJson(c.expected->steady)}};
+  j["warm_up"] = c.expected->warm_up ? ConditionJson(*c.expected->warm_up) : nlohmann::json(nullptr);
+  if (!c.expected->warm_up) j["warm_up_reason"] = "needs the calibration run (-i) with heating samples";
+  return j;
+}
 
 nlohmann::json CostJson(const std::optional<CubicProjectionCost>& c) {
   if (!c) return nullptr;
@@ -115,6 +133,11 @@ Result<std::vector<AxisCost>> ProjectAxes(const ExportArgs& a, const std::vector
     auto cubic = ProjectOntoCubic(x.model, po);
     if (!cubic.ok()) return cubic.error();
     c.cubic_dps = *cubic;
+    std::optional<DriftInputs> run;
+    if (cal) run = DriftInputs{cal->temp_c, cal->fs_hz};
+    auto expected = ExpectedCubicError(x.model, c.cubic_dps, run);
+    if (expected.ok()) c.expected = *expected;
+    else c.expected_reason = expected.error().message;
     for (auto [run, cost] : {std::pair{&cal, &c.calibration}, std::pair{&val, &c.validation}}) {
       if (!*run) continue;
       auto m = MeasureCubicProjectionCost(x.model, c.cubic_dps, DriftInputs{(*run)->temp_c, (*run)->fs_hz});
@@ -143,6 +166,17 @@ std::vector<std::string> ParamComments(const ExportArgs& a, const std::vector<Ax
     if (costs[k].validation) s << "; validation run " << costs[k].validation->rms;
     if (!costs[k].calibration && !costs[k].validation) s << "; cost not measured (give -i / --validation)";
     c.push_back(s.str());
+    std::ostringstream e;
+    const auto& x = costs[k].expected;
+    e << "     expected next-run error of the cubic (RMS, deg/s; band + projection, docs/export.md): ";
+    if (!x) {
+      e << "n/a, " << costs[k].expected_reason;
+    } else {
+      e << "steady " << x->steady.total_rms << ", warm-up ";
+      if (x->warm_up) e << x->warm_up->total_rms << " (the -i run's heating)";
+      else e << "n/a (give the calibration run with -i)";
+    }
+    c.push_back(e.str());
   }
   return c;
 }
@@ -187,7 +221,8 @@ int RunParams(const ExportArgs& a, const std::vector<AxisDriftModel>& axes, cons
     ax.push_back({{"model_file", src[k]}, {"rate_col", axes[k].axis}, {"model", DriftSummaryJson(axes[k].model.summary)},
                   {"cubic_dps", {{"ref_temp_c", c.ref_temp_c}, {"coeff", c.coeff}}},
                   {"cost_calibration", CostJson((*costs)[k].calibration)},
-                  {"cost_validation", CostJson((*costs)[k].validation)}});
+                  {"cost_validation", CostJson((*costs)[k].validation)},
+                  {"expected_error", ExpectedJson((*costs)[k])}});
   }
   (*j)["axes"] = ax;
   (*j)["temp_min_c"] = radps[0].temp_min_c;

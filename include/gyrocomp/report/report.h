@@ -31,7 +31,8 @@ std::vector<DisplaySeries> MinMaxEnvelopes(std::span<const double> x,
 //   title, subtitle: strings
 //   summary: {title, columns: [str], rows: [[str|num]], note}  headline table (title optional,
 //            default "Before and after")
-//   timeseries: {x_label, x: [..], series: [{name, y: [..], axis: "rate"|"temp"}]}
+//   timeseries: {title, note, x_label, x: [..], series: [{name, y: [..], axis: "rate"|"temp"}]}
+//            (title, note optional: default "Rate and temperature" and the envelope note)
 //   modes: [{index, sample_entropy, center_frequency_hz, class, x: [..], y: [..]}]
 //   allan: [{name, tau_s: [..], adev_dps: [..], lo_dps: [..], hi_dps: [..],
 //            lines: [{name, tau_s: [..], adev_dps: [..]}]}]    fitted noise-term lines

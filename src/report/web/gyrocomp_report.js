@@ -53,7 +53,7 @@
   });
 
   function drawTimeseries(ts) {
-    section("Rate and temperature", "Display only: each curve is a min/max envelope of the full-rate record.");
+    section(ts.title || "Rate and temperature", ts.note || "Display only: each curve is a min/max envelope of the full-rate record.");
     const series = [{ label: ts.x_label || "time" }];
     const data = [ts.x];
     const axes = [{ label: ts.x_label || "time" }, { scale: "rate", label: "rate (deg/s)" }];

@@ -16,6 +16,7 @@
 
 #include "gyrocomp/export/thermal_cubic.h"
 #include "gyrocomp/sim/simulator.h"
+#include "qgc_params_test_util.h"
 #include "test_support.h"
 
 namespace gyrocomp {
@@ -28,28 +29,18 @@ std::string ReadAll(const std::string& path) {
   return std::string((std::istreambuf_iterator<char>(f)), {});
 }
 
-// QGroundControl: '#' comments, then "sys<TAB>comp<TAB>NAME<TAB>VALUE<TAB>TYPE", names <= 16
-// characters (MAVLink param_id), TYPE 6 (INT32) for IDs and enables, 9 (REAL32) otherwise.
+// QGroundControl (qgc_params_test_util.h): names <= 16 characters (MAVLink param_id), TYPE 6
+// (INT32) for IDs and enables, 9 (REAL32) otherwise.
 std::map<std::string, std::string> ReadQgc(const std::string& text) {
+  const testing::QgcFile file = testing::ReadQgcFile(text);
+  EXPECT_TRUE(file.has_column_header);
   std::map<std::string, std::string> p;
-  std::istringstream in(text);
-  std::string line;
-  bool header = false;
-  while (std::getline(in, line)) {
-    if (line == "# Vehicle-Id Component-Id Name Value Type") header = true;
-    if (line.empty() || line[0] == '#') continue;
-    std::vector<std::string> f;
-    std::istringstream ls(line);
-    std::string x;
-    while (std::getline(ls, x, '\t')) f.push_back(x);
-    EXPECT_EQ(f.size(), 5u) << line;
-    if (f.size() != 5) continue;
-    EXPECT_LE(f[2].size(), 16u) << f[2];
-    const bool integer = f[2].ends_with("_ID") || f[2].ends_with("_ENABLE");
-    EXPECT_EQ(f[4], integer ? "6" : "9") << f[2];
-    p[f[2]] = f[3];
+  for (const auto& [name, param] : file.params) {
+    EXPECT_LE(name.size(), 16u) << name;
+    const bool integer = name.ends_with("_ID") || name.ends_with("_ENABLE");
+    EXPECT_EQ(param.type, integer ? "6" : "9") << name;
+    p[name] = param.value;
   }
-  EXPECT_TRUE(header);
   return p;
 }
 

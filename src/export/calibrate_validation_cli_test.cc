@@ -14,6 +14,7 @@
 #include "gyrocomp/export/cubic_score.h"
 #include "gyrocomp/export/thermal_cubic.h"
 #include "gyrocomp/io/ulog.h"
+#include "qgc_params_test_util.h"
 #include "test_support.h"
 
 namespace gyrocomp {
@@ -28,16 +29,7 @@ std::string ReadAll(const std::string& path) {
 
 std::map<std::string, float> ReadQgcValues(const std::string& text) {
   std::map<std::string, float> p;
-  std::istringstream in(text);
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.empty() || line[0] == '#') continue;
-    std::vector<std::string> f;
-    std::istringstream ls(line);
-    std::string x;
-    while (std::getline(ls, x, '\t')) f.push_back(x);
-    if (f.size() == 5) p[f[2]] = std::stof(f[3]);
-  }
+  for (const auto& [name, param] : testing::ReadQgcFile(text).params) p[name] = std::stof(param.value);
   return p;
 }
 

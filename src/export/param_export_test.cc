@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include "export_test_models.h"
+#include "qgc_params_test_util.h"
 #include "gyrocomp/export/causal_drift.h"
 
 namespace gyrocomp {
@@ -36,22 +37,13 @@ void Px4Offsets(const Px4GyroCal& c, float measured_temp, float offset[3]) {
     offset[i] = c.x0[i] + c.x1[i] * delta_temp + c.x2[i] * delta_temp_2 + c.x3[i] * delta_temp_3;
 }
 
-// QGroundControl file: '#' comments, then "sys<TAB>comp<TAB>name<TAB>value<TAB>type".
+// QGroundControl file (qgc_params_test_util.h): sys 1, comp 1; name -> (value, type).
 std::map<std::string, std::pair<std::string, int>> ParseQgc(const std::string& text) {
   std::map<std::string, std::pair<std::string, int>> out;
-  std::istringstream in(text);
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.empty() || line[0] == '#') continue;
-    std::vector<std::string> f;
-    std::istringstream ls(line);
-    std::string x;
-    while (std::getline(ls, x, '\t')) f.push_back(x);
-    EXPECT_EQ(f.size(), 5u) << line;
-    if (f.size() != 5) continue;
-    EXPECT_EQ(f[0], "1");
-    EXPECT_EQ(f[1], "1");
-    out[f[2]] = {f[3], std::stoi(f[4])};
+  for (const auto& [name, param] : testing::ReadQgcFile(text).params) {
+    EXPECT_EQ(param.sys, "1");
+    EXPECT_EQ(param.comp, "1");
+    out[name] = {param.value, std::stoi(param.type)};
   }
   return out;
 }
@@ -72,27 +64,17 @@ Px4GyroCal ReadPx4Slot(const std::map<std::string, std::pair<std::string, int>>&
   return c;
 }
 
+// A file of one enabled gyro slot: the enable, the slot's ID and its 15 REAL32 coefficients.
 Px4GyroCal ReadPx4(const std::string& text, int slot, std::uint32_t id) {
   auto p = ParseQgc(text);
   const std::string s = "TC_G" + std::to_string(slot) + "_";
   EXPECT_EQ(p.at("TC_G_ENABLE"), (std::pair<std::string, int>{"1", 6}));
   EXPECT_EQ(p.at(s + "ID"), (std::pair<std::string, int>{std::to_string(id), 6}));
   EXPECT_EQ(p.size(), 2u + 3u + 12u);
-  auto f = [&](const std::string& name) {
-    EXPECT_EQ(p.at(s + name).second, 9) << name;
-    return std::stof(p.at(s + name).first);
-  };
-  Px4GyroCal c;
-  c.tref = f("TREF");
-  c.tmin = f("TMIN");
-  c.tmax = f("TMAX");
-  for (int a = 0; a < 3; ++a) {
-    c.x0[a] = f("X0_" + std::to_string(a));
-    c.x1[a] = f("X1_" + std::to_string(a));
-    c.x2[a] = f("X2_" + std::to_string(a));
-    c.x3[a] = f("X3_" + std::to_string(a));
+  for (const auto& [name, value] : p) {
+    if (name.starts_with(s) && name != s + "ID") EXPECT_EQ(value.second, 9) << name;
   }
-  return c;
+  return ReadPx4Slot(p, s);
 }
 
 // ---- ArduPilot: AP_InertialSensor_TCal::polynomial_eval / correct_sensor, in float ----

@@ -365,6 +365,12 @@ Result<LogTableRead> ReadLogTable(const std::string& path, const LogSpec& spec) 
   if (out.format == LogFormat::kCsv) {
     CsvReadOptions read;
     read.max_memory_bytes = spec.max_memory_bytes;
+    if (spec.keep_cols) {  // only the columns the caller uses (issue 24: memory)
+      read.columns = *spec.keep_cols;
+      read.columns->push_back(spec.time_col);
+      read.columns->insert(read.columns->end(), spec.rate_cols.begin(), spec.rate_cols.end());
+      read.columns->push_back(spec.temp_col);
+    }
     Result<Table> table = ReadCsv(path, read);
     if (!table) return table.error();
     out.table = std::move(*table);

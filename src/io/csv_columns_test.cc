@@ -20,6 +20,7 @@
 
 #include "gyrocomp/io/flight_log.h"
 #include "gyrocomp/io/gyro_log.h"
+#include "gyrocomp/io/ulog.h"
 #include "test_support.h"
 
 namespace gyrocomp {
@@ -291,6 +292,40 @@ TEST_F(CsvColumnsTest, LogErrorsNameTheSameLineAndFileColumnFromASubset) {
             std::string::npos)
       << missing.error().message;
   EXPECT_EQ(missing.error().message, LoadGyroLog(*ReadCsv(files[0]), spec).error().message);
+}
+
+// ReadFlightLog keeps one gyro's values of a ULog (ULogReadOptions::keep_accel_baro = false,
+// gyro_instance) and moves them into the table: the table of every instance, and the messages
+// for a missing or absent instance, are those of the whole read.
+TEST(FlightLogMemory, OneGyroOfAULogReadsAsFromTheWholeLog) {
+  const std::string path = std::string(GYROCOMP_FIELDLOGS_DIR) + "/sample_log_small.ulg";
+  if (!fs::exists(path)) GTEST_SKIP() << "no " << path;
+  const Result<ULogContents> whole = ReadULog(path);
+  ASSERT_TRUE(whole.ok()) << whole.error().message;
+  ASSERT_GE(whole->gyros.size(), 2u) << "the fixture has several sensor_gyro instances";
+  for (const ULogGyroSeries& g : whole->gyros) {
+    SCOPED_TRACE(g.multi_id);
+    const Result<FlightLogTable> expected = FlightLogFromULog(*whole, g.multi_id);
+    const Result<FlightLogTable> got = ReadFlightLog(path, g.multi_id);
+    ASSERT_EQ(expected.ok(), got.ok());
+    if (!got.ok()) {
+      EXPECT_EQ(got.error().message, expected.error().message);
+      continue;
+    }
+    EXPECT_EQ(got->table.names, expected->table.names);
+    for (std::size_t j = 0; j < got->table.columns.size(); ++j) {
+      EXPECT_TRUE(SameBits(got->table.columns[j], expected->table.columns[j])) << got->table.names[j];
+    }
+    EXPECT_EQ(got->warnings, expected->warnings);
+    EXPECT_EQ(got->device_id, expected->device_id);
+  }
+  for (const std::optional<int> instance : {std::optional<int>(), std::optional<int>(9)}) {
+    const Result<FlightLogTable> expected = FlightLogFromULog(*whole, instance);
+    const Result<FlightLogTable> got = ReadFlightLog(path, instance);
+    ASSERT_FALSE(expected.ok());
+    ASSERT_FALSE(got.ok());
+    EXPECT_EQ(got.error().message, expected.error().message);
+  }
 }
 
 }  // namespace

@@ -361,7 +361,9 @@ Result<FlightLogTable> ReadFlightLog(const std::string& path, std::optional<int>
       return FromULog(*log, instance, true);
     }
     case LogFormat::kDataFlash: {
-      Result<DataFlashContents> log = ReadDataFlash(path);
+      DataFlashReadOptions options;  // only the chosen IMU's values (issue 24: memory)
+      options.imu_instance = instance;
+      Result<DataFlashContents> log = ReadDataFlash(path, options);
       if (!log) return log.error();
       return FlightLogFromDataFlash(*log, instance);
     }

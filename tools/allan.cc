@@ -255,6 +255,9 @@ int Run(const AllanArgs& a) {
   Result<LogSpec> spec = ToLogSpec(a.log);
   if (!spec.ok()) return ReportError(kName, spec.error());
   spec->min_samples = 3;  // one tau needs 3 samples
+  // Without --accel-col a CSV's other columns are not used (issue 24: memory); with it, the
+  // accelerometer log is loaded from the whole table.
+  if (a.accel_cols.empty()) spec->keep_cols.emplace();
   Result<LoadedLog> loaded = LoadLog(kName, a.log, *spec);
   if (!loaded.ok()) return ReportError(kName, loaded.error());
   const GyroLog& log = loaded->log;

@@ -91,7 +91,11 @@ Result<LoadedLog> LoadLog(const std::string& command, const LogOptions& options,
   Result<LogTableRead> read = ReadLogTable(options.input, spec);
   if (!read) return read.error();
   spec = read->spec;
-  Result<GyroLog> log = LoadGyroLog(read->table, spec);
+  // A CSV read for some of its columns only (LogSpec::keep_cols): the log's columns move out of
+  // the table (what stays are the ones the command named); otherwise the table stays whole.
+  // (A ROS bag's table keeps its accelerometer columns for allan: never taken apart.)
+  const bool take = spec.keep_cols.has_value() && read->format != LogFormat::kRosBag;
+  Result<GyroLog> log = take ? TakeGyroLog(&read->table, spec) : LoadGyroLog(read->table, spec);
   if (!log) return log.error();
   AttachFlightLogInfo(*read, &*log);
   LoadedLog out{std::move(read->table), std::move(*log)};

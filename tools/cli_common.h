@@ -71,7 +71,9 @@ struct LoadedLog {
   GyroLog log;
 };
 // ReadLogTable (CSV, ULog or DataFlash by magic bytes) + (ResampleTable) + LoadGyroLog. Prints
-// what resampling did, as a note, when it did. A --rate-unit other than rads given for a ULog or
+// what resampling did, as a note, when it did. With spec.keep_cols set, a CSV is read for the
+// log's columns and those only (TakeGyroLog moves the log's out: the table then holds just the
+// keep_cols columns the file has, plus the log's when resampled); without, the table is whole. A --rate-unit other than rads given for a ULog or
 // DataFlash log is an error (their rates are rad/s).
 Result<LoadedLog> LoadLog(const std::string& command, const LogOptions& options, LogSpec spec);
 

@@ -48,7 +48,7 @@ std::string RowsTable(const ComparisonResult& r, bool with_truth) {
 int Run(const CompareCli& c) {
   const std::string cmd = "compare";
   PipelineCliOptions pipe = c.pipeline;
-  Result<LoadedLog> loaded = LoadPipelineLog(cmd, c.log, &pipe);
+  Result<LoadedLog> loaded = LoadPipelineLog(cmd, c.log, &pipe, std::vector<std::string>{c.true_rate_col, c.true_drift_col});
   if (!loaded) return ReportError(cmd, loaded.error());
   const GyroLog& log = loaded->log;
   ComparisonTruth truth;

@@ -30,12 +30,14 @@ int Run(EntropyArgs a) {
   if (a.brute_force) a.options.algorithm = SampleEntropyAlgorithm::kBruteForce;
   std::string why;
   if (!a.options.IsValid(&why)) return ReportError(kName, InvalidArgument(why));
-  Result<Table> table = ReadCsv(a.input);
+  CsvReadOptions read;
+  read.columns = std::vector<std::string>{a.col};  // the one column used (issue 24: memory)
+  Result<Table> table = ReadCsv(a.input, read);
   if (!table.ok()) return ReportError(kName, table.error());
   const int j = table->Find(a.col);
   if (j < 0) {
     std::string names;
-    for (const std::string& n : table->names) names += (names.empty() ? "" : ", ") + n;
+    for (const std::string& n : table->FileNames()) names += (names.empty() ? "" : ", ") + n;
     return ReportError(kName, InvalidInput(table->source + ":1: no column '" + a.col + "' (columns: " + names + ")"));
   }
   Result<SampleEntropyResult> r = SampleEntropy(table->columns[j], a.options);

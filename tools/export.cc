@@ -100,6 +100,7 @@ Result<GyroLog> ReadRun(const LogOptions& options) {
   Result<LogSpec> spec = ToLogSpec(options);
   if (!spec.ok()) return spec.error();
   spec->temp_required = true;
+  spec->keep_cols.emplace();  // only the log (issue 24: memory)
   Result<LoadedLog> loaded = LoadLog(kName, options, *spec);
   if (!loaded.ok()) return loaded.error();
   return std::move(loaded->log);

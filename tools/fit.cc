@@ -165,6 +165,7 @@ Result<nlohmann::json> ValidateOn(const FitArgs& a, const DriftModelSet& set) {
   Result<LogSpec> spec = ToLogSpec(other);
   if (!spec.ok()) return spec.error();
   spec->temp_required = true;
+  spec->keep_cols = std::vector<std::string>{"true_drift_dps"};  // the log and the truth only (issue 24: memory)
   Result<LoadedLog> loaded = LoadLog(kName, other, *spec);
   if (!loaded.ok()) return loaded.error();
   nlohmann::json out = nlohmann::json::array();
@@ -195,6 +196,9 @@ int Run(FitArgs a) {
   spec->rates_required = !target_is_column;
   if (target_is_column && spec->rate_cols.size() != 1)
     return ReportError(kName, InvalidArgument("--rate-col: with --target COLUMN give one rate column"));
+  spec->keep_cols.emplace();  // the log and what Target reads (issue 24: memory)
+  if (target_is_column) spec->keep_cols->push_back(a.target);
+  if (!a.known_rate_col.empty()) spec->keep_cols->push_back(a.known_rate_col);
   Result<LoadedLog> loaded = LoadLog(kName, a.log, *spec);
   if (!loaded.ok()) return ReportError(kName, loaded.error());
   const GyroLog& log = loaded->log;

@@ -100,7 +100,12 @@ Result<Table> ReadInputAgain(const std::string& cmd, const ProcessCli& c, const 
 int Run(const ProcessCli& c) {
   const std::string cmd = "process";
   PipelineCliOptions pipe = c.pipeline;
-  Result<LoadedLog> loaded = LoadPipelineLog(cmd, c.log, &pipe);
+  // The input's other columns are needed now only for an output CSV that cannot read them again.
+  const bool whole = !c.output.empty() && !(c.log.input != "-" && DetectLogFormat(c.log.input) == LogFormat::kCsv &&
+                                            !c.log.resample_hz);
+  std::optional<std::vector<std::string>> keep;
+  if (!whole) keep = std::vector<std::string>{c.known_rate_col};
+  Result<LoadedLog> loaded = LoadPipelineLog(cmd, c.log, &pipe, keep);
   if (!loaded) return ReportError(cmd, loaded.error());
   const GyroLog& log = loaded->log;
   WarnIfTemperatureFlat(cmd, log);

@@ -104,12 +104,14 @@ Status ResolvePipelineOptions(PipelineCliOptions* c) {
   return Status::Ok();
 }
 
-Result<LoadedLog> LoadPipelineLog(const std::string& command, const LogOptions& log, PipelineCliOptions* pipe) {
+Result<LoadedLog> LoadPipelineLog(const std::string& command, const LogOptions& log, PipelineCliOptions* pipe,
+                                  std::optional<std::vector<std::string>> keep_cols) {
   if (Status s = ResolvePipelineOptions(pipe); !s) return s.error();
   Result<LogSpec> spec = ToLogSpec(log);
   if (!spec) return spec.error();
   spec->temp_required = true;
   spec->min_samples = 256;  // the parallel model's floor (VMD + blocked CV)
+  spec->keep_cols = std::move(keep_cols);
   return LoadLog(command, log, *spec);
 }
 

@@ -3,7 +3,9 @@
 // parameters are reachable from the command line"). Defaults shown in --help are the library's.
 #pragma once
 
+#include <optional>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -42,7 +44,9 @@ Status ResolvePipelineOptions(PipelineCliOptions* o);
 
 // What `process` and `compare` do first: resolve the stage options (into *pipe), then read the
 // log with its temperature required (`LoadLog`). Errors name the option or the file.
-Result<LoadedLog> LoadPipelineLog(const std::string& command, const LogOptions& log, PipelineCliOptions* pipe);
+// `keep_cols`: LogSpec::keep_cols (nullopt: every column of a CSV stays in the table).
+Result<LoadedLog> LoadPipelineLog(const std::string& command, const LogOptions& log, PipelineCliOptions* pipe,
+                                  std::optional<std::vector<std::string>> keep_cols = std::nullopt);
 
 // Every parameter, for the JSON output and the report (so a run can be repeated).
 nlohmann::json PipelineOptionsJson(const PipelineOptions& o);

@@ -33,6 +33,7 @@ int Run(const ValidateArgs& a) {
   Result<LogSpec> spec = ToLogSpec(a.log);
   if (!spec.ok()) return ReportError(kName, spec.error());
   spec->temp_required = true;
+  spec->keep_cols = std::vector<std::string>{a.truth_col};  // the log and the truth only (issue 24: memory)
   Result<LoadedLog> loaded = LoadLog(kName, a.log, *spec);
   if (!loaded.ok()) return ReportError(kName, loaded.error());
   const GyroLog& log = loaded->log;

@@ -106,7 +106,14 @@ LogFormat DetectLogFormat(const std::string& path) {
   return LogFormat::kCsv;
 }
 
-Result<FlightLogTable> FlightLogFromULog(const ULogContents& log, std::optional<int> instance) {
+namespace {
+
+// FlightLogFromULog; with `may_move` (ReadFlightLog's own contents, about to be dropped) the
+// picked series' columns move into the table instead of being copied (issue 24: memory).
+Result<FlightLogTable> FromULog(const ULogContents& log, std::optional<int> instance, bool may_move) {
+  const auto column = [may_move](const std::vector<double>& v) {
+    return may_move ? std::move(const_cast<std::vector<double>&>(v)) : std::vector<double>(v);
+  };
   FlightLogTable out;
   out.format = LogFormat::kULog;
   out.warnings = log.warnings;
@@ -129,12 +136,12 @@ Result<FlightLogTable> FlightLogFromULog(const ULogContents& log, std::optional<
   out.origin = "ULog " + what + " multi_id " + std::to_string(g.multi_id);
   out.table.source = log.source + "[" + what + "." + std::to_string(g.multi_id) + "]";
   out.table.Add(kFlightTimeCol, Seconds(g.timestamp_us));
-  out.table.Add(kFlightRateCols[0], g.x_rad_s);
-  out.table.Add(kFlightRateCols[1], g.y_rad_s);
-  out.table.Add(kFlightRateCols[2], g.z_rad_s);
+  out.table.Add(kFlightRateCols[0], column(g.x_rad_s));
+  out.table.Add(kFlightRateCols[1], column(g.y_rad_s));
+  out.table.Add(kFlightRateCols[2], column(g.z_rad_s));
   if (!g.temperature_c.empty()) {
-    out.table.Add(kFlightTempCol, g.temperature_c);
-    WarnIfConstant(g.temperature_c, log.source, out.origin, &out.warnings);
+    out.table.Add(kFlightTempCol, column(g.temperature_c));
+    WarnIfConstant(out.table.columns.back(), log.source, out.origin, &out.warnings);
   } else {
     out.warnings.push_back(log.source + ": " + out.origin + " has no temperature" +
                            (combined ? " (the log has no sensor_gyro data, only sensor_combined, which logs none)" : ""));
@@ -151,6 +158,12 @@ Result<FlightLogTable> FlightLogFromULog(const ULogContents& log, std::optional<
                            "sensor's drift (log sensor_gyro for a calibration)");
   }
   return out;
+}
+
+}  // namespace
+
+Result<FlightLogTable> FlightLogFromULog(const ULogContents& log, std::optional<int> instance) {
+  return FromULog(log, instance, false);
 }
 
 Result<FlightLogTable> FlightLogFromDataFlash(const DataFlashContents& log, std::optional<int> instance) {
@@ -338,12 +351,19 @@ Result<DataFlashImuSeries> ToSensorFrame(const DataFlashContents& log, const Dat
 Result<FlightLogTable> ReadFlightLog(const std::string& path, std::optional<int> instance) {
   switch (DetectLogFormat(path)) {
     case LogFormat::kULog: {
-      Result<ULogContents> log = ReadULog(path);
+      // Only the gyro rows (and, with an instance named, only its values) are kept, and they
+      // move into the table: one gyro of a 1 GB log in well under 300 MB (issue 24).
+      ULogReadOptions options;
+      options.keep_accel_baro = false;
+      options.gyro_instance = instance;
+      Result<ULogContents> log = ReadULog(path, options);
       if (!log) return log.error();
-      return FlightLogFromULog(*log, instance);
+      return FromULog(*log, instance, true);
     }
     case LogFormat::kDataFlash: {
-      Result<DataFlashContents> log = ReadDataFlash(path);
+      DataFlashReadOptions options;  // only the chosen IMU's values (issue 24: memory)
+      options.imu_instance = instance;
+      Result<DataFlashContents> log = ReadDataFlash(path, options);
       if (!log) return log.error();
       return FlightLogFromDataFlash(*log, instance);
     }
@@ -365,6 +385,12 @@ Result<LogTableRead> ReadLogTable(const std::string& path, const LogSpec& spec) 
   if (out.format == LogFormat::kCsv) {
     CsvReadOptions read;
     read.max_memory_bytes = spec.max_memory_bytes;
+    if (spec.keep_cols) {  // only the columns the caller uses (issue 24: memory)
+      read.columns = *spec.keep_cols;
+      read.columns->push_back(spec.time_col);
+      read.columns->insert(read.columns->end(), spec.rate_cols.begin(), spec.rate_cols.end());
+      read.columns->push_back(spec.temp_col);
+    }
     Result<Table> table = ReadCsv(path, read);
     if (!table) return table.error();
     out.table = std::move(*table);

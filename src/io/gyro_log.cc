@@ -43,7 +43,7 @@ Error MissingColumn(const Table& table, const std::string& name, const std::stri
                     const std::string& hint) {
   std::string list;
   std::string guess;
-  for (const std::string& n : table.names) {
+  for (const std::string& n : table.FileNames()) {
     list += (list.empty() ? "" : ", ") + n;
     if (guess.empty() && Lower(n) == Lower(name)) guess = n;
   }
@@ -61,18 +61,19 @@ std::size_t LineOf(std::size_t row) { return row + 2; }
 std::optional<Error> CheckMonotonic(const Table& table, int time_index) {
   const std::vector<double>& t = table.columns[static_cast<std::size_t>(time_index)];
   const std::string& col = table.names[static_cast<std::size_t>(time_index)];
+  const std::size_t file_col = table.FileColumn(static_cast<std::size_t>(time_index));
   for (std::size_t i = 1; i < t.size(); ++i) {
     if (t[i] > t[i - 1]) continue;
-    const std::string at = Where(SourceOf(table), LineOf(i), static_cast<std::size_t>(time_index) + 1);
+    const std::string at = Where(SourceOf(table), LineOf(i), file_col);
     const std::string here = col + " = " + Shortest(t[i]) + " at line " + std::to_string(LineOf(i));
     const std::string prev = Shortest(t[i - 1]) + " at line " + std::to_string(LineOf(i - 1));
     if (t[i] == t[i - 1]) {
       return InvalidInput(at + "time repeats: " + here + " equals the previous row's " + prev +
-                          " (column " + std::to_string(time_index + 1) + "); timestamps must be "
+                          " (column " + std::to_string(file_col) + "); timestamps must be "
                           "strictly increasing");
     }
     return InvalidInput(at + "time goes backwards: " + here + " is before the previous row's " +
-                        prev + " (column " + std::to_string(time_index + 1) + ")");
+                        prev + " (column " + std::to_string(file_col) + ")");
   }
   return std::nullopt;
 }
@@ -180,13 +181,18 @@ SamplingReport MeasureSampling(const std::vector<double>& time_s, const LogSpec&
   SamplingReport r;
   r.rows_in = r.rows_out = time_s.size();
   if (time_s.size() < 2) return r;
-  std::vector<double> dt(time_s.size() - 1);
-  for (std::size_t i = 0; i + 1 < time_s.size(); ++i) dt[i] = time_s[i + 1] - time_s[i];
-  r.num_intervals = dt.size();
-  r.min_dt_s = *std::min_element(dt.begin(), dt.end());
-  r.max_dt_s = *std::max_element(dt.begin(), dt.end());
+  // One vector of intervals, partly sorted for the median; the other statistics take the
+  // intervals from time_s again (the same differences, so the same bits).
+  const auto interval = [&time_s](std::size_t i) { return time_s[i + 1] - time_s[i]; };
+  r.num_intervals = time_s.size() - 1;
+  r.min_dt_s = r.max_dt_s = interval(0);
+  for (std::size_t i = 1; i < r.num_intervals; ++i) {
+    r.min_dt_s = std::min(r.min_dt_s, interval(i));
+    r.max_dt_s = std::max(r.max_dt_s, interval(i));
+  }
   {
-    std::vector<double> sorted = dt;
+    std::vector<double> sorted(r.num_intervals);
+    for (std::size_t i = 0; i < r.num_intervals; ++i) sorted[i] = interval(i);
     const std::size_t mid = sorted.size() / 2;
     std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(mid), sorted.end());
     r.median_dt_s = sorted[mid];
@@ -198,7 +204,8 @@ SamplingReport MeasureSampling(const std::vector<double>& time_s, const LogSpec&
   const double lo = (1.0 - spec.jitter_tolerance) * r.median_dt_s;
   const double hi = (1.0 + spec.jitter_tolerance) * r.median_dt_s;
   const double gap = spec.gap_factor * r.median_dt_s;
-  for (double d : dt) {
+  for (std::size_t i = 0; i < r.num_intervals; ++i) {
+    const double d = interval(i);
     if (d < lo || d > hi) ++r.num_irregular;
     if (d > gap) {
       ++r.num_gaps;
@@ -236,6 +243,7 @@ Result<Table> ResampleTable(const Table& table, const std::string& time_col, dou
   Table out;
   out.source = table.source;
   out.names = table.names;
+  out.header = table.header;
   out.columns = std::move(cols);
   out.columns[static_cast<std::size_t>(ti)] = grid;
   return out;
@@ -277,6 +285,47 @@ Result<LogColumns> FindLogColumns(const Table& table, const LogSpec& spec) {
   return cols;
 }
 
+// Hands the table's columns to the log: copies (LoadGyroLog), or, for TakeGyroLog, the columns
+// themselves, moved, when nothing else needs them: a column that serves two roles (time and
+// temperature named alike) is copied for all but its last, one LogSpec::keep_cols names is
+// copied (the caller reads it from the table too). RemoveMoved then drops the moved columns.
+class ColumnTaker {
+ public:
+  ColumnTaker(const Table& table, Table* movable, const LogSpec& spec, const LogColumns& cols)
+      : table_(table), movable_(movable), uses_(table.columns.size(), 0), moved_(table.columns.size(), false) {
+    if (cols.time >= 0) ++uses_[static_cast<std::size_t>(cols.time)];
+    for (int j : cols.rate) ++uses_[static_cast<std::size_t>(j)];
+    if (cols.temp >= 0) ++uses_[static_cast<std::size_t>(cols.temp)];
+    if (spec.keep_cols) {
+      for (const std::string& name : *spec.keep_cols) {
+        const int j = table.Find(name);
+        if (j >= 0) uses_[static_cast<std::size_t>(j)] += 1000;  // never the last use
+      }
+    }
+  }
+  // Column j: moved out when this is its last use and the table may give it up, else copied.
+  std::vector<double> Take(int j) {
+    const auto k = static_cast<std::size_t>(j);
+    if (movable_ != nullptr && --uses_[k] == 0) {
+      moved_[k] = true;
+      return std::move(movable_->columns[k]);
+    }
+    return table_.columns[k];
+  }
+  void RemoveMoved() {
+    if (movable_ == nullptr) return;
+    for (std::size_t k = moved_.size(); k-- > 0;) {
+      if (moved_[k]) movable_->Remove(k);
+    }
+  }
+
+ private:
+  const Table& table_;
+  Table* movable_;
+  std::vector<int> uses_;
+  std::vector<bool> moved_;
+};
+
 // Step 1b: values no instrument produces (LogSpec::max_abs_rate_dps, min_temp_c, max_temp_c).
 std::optional<Error> CheckValueRanges(const Table& table, const LogSpec& spec, const LogColumns& cols) {
   const double to_dps = units::ToDegPerSec(spec.rate_unit);
@@ -284,7 +333,7 @@ std::optional<Error> CheckValueRanges(const Table& table, const LogSpec& spec, c
     const std::vector<double>& v = table.columns[static_cast<std::size_t>(j)];
     for (std::size_t i = 0; i < v.size(); ++i) {
       if (std::abs(v[i] * to_dps) <= spec.max_abs_rate_dps) continue;
-      return InvalidInput(Where(SourceOf(table), LineOf(i), static_cast<std::size_t>(j) + 1) + "rate " +
+      return InvalidInput(Where(SourceOf(table), LineOf(i), table.FileColumn(static_cast<std::size_t>(j))) + "rate " +
                           table.names[static_cast<std::size_t>(j)] + " = " + Shortest(v[i]) +
                           " is beyond any gyroscope (|rate| <= " + FormatNumber(spec.max_abs_rate_dps) + " deg/s)");
     }
@@ -293,7 +342,7 @@ std::optional<Error> CheckValueRanges(const Table& table, const LogSpec& spec, c
     const std::vector<double>& v = table.columns[static_cast<std::size_t>(cols.temp)];
     for (std::size_t i = 0; i < v.size(); ++i) {
       if (v[i] >= spec.min_temp_c && v[i] <= spec.max_temp_c) continue;
-      return InvalidInput(Where(SourceOf(table), LineOf(i), static_cast<std::size_t>(cols.temp) + 1) +
+      return InvalidInput(Where(SourceOf(table), LineOf(i), table.FileColumn(static_cast<std::size_t>(cols.temp))) +
                           "temperature " + table.names[static_cast<std::size_t>(cols.temp)] + " = " +
                           Shortest(v[i]) + " C is outside [" + FormatNumber(spec.min_temp_c) + ", " +
                           FormatNumber(spec.max_temp_c) + "] C");
@@ -303,7 +352,8 @@ std::optional<Error> CheckValueRanges(const Table& table, const LogSpec& spec, c
 }
 
 // Step 2a (no time column): uniform by construction, time = i / fs.
-Result<GyroLog> LoadUniformLog(const Table& table, const LogSpec& spec, const LogColumns& cols, GyroLog log) {
+Result<GyroLog> LoadUniformLog(const Table& table, const LogSpec& spec, const LogColumns& cols, GyroLog log,
+                               ColumnTaker* taker) {
   const std::string& src = log.source;
   const std::size_t n = table.num_rows();
   const double to_dps = units::ToDegPerSec(spec.rate_unit);
@@ -320,11 +370,11 @@ Result<GyroLog> LoadUniformLog(const Table& table, const LogSpec& spec, const Lo
                         "' is missing); a log without one is uniform at --fs already");
   }
   for (int j : cols.rate) {
-    std::vector<double> r = table.columns[static_cast<std::size_t>(j)];
+    std::vector<double> r = taker->Take(j);
     if (to_dps != 1.0) for (double& v : r) v *= to_dps;
     log.rate_dps.push_back(std::move(r));
   }
-  if (cols.temp >= 0) log.temp_c = table.columns[static_cast<std::size_t>(cols.temp)];
+  if (cols.temp >= 0) log.temp_c = taker->Take(cols.temp);
   log.fs_hz = fs;
   return log;
 }
@@ -379,9 +429,9 @@ Error IrregularTimestamps(const std::vector<double>& t, const LogSpec& spec, con
 // Step 3: the rate (converted to deg/s) and temperature columns on the time column's grid, or
 // linearly interpolated onto a uniform grid at --resample HZ.
 Result<GyroLog> TakeTimedColumns(const Table& table, const LogSpec& spec, const LogColumns& cols,
-                                 SamplingReport rep, GyroLog log) {
+                                 SamplingReport rep, GyroLog log, ColumnTaker* taker) {
   const std::vector<double>& t = table.columns[static_cast<std::size_t>(cols.time)];
-  const std::size_t tcol = static_cast<std::size_t>(cols.time) + 1;
+  const std::size_t tcol = table.FileColumn(static_cast<std::size_t>(cols.time));
   const std::size_t n = table.num_rows();
   const double to_dps = units::ToDegPerSec(spec.rate_unit);
   std::vector<const std::vector<double>*> which;
@@ -406,8 +456,9 @@ Result<GyroLog> TakeTimedColumns(const Table& table, const LogSpec& spec, const 
                           std::to_string(spec.min_samples));
     }
   } else {
-    log.time_s = t;
-    for (const auto* c : which) taken.push_back(*c);
+    log.time_s = taker->Take(cols.time);  // (t is no longer used: it may have been moved)
+    for (int j : cols.rate) taken.push_back(taker->Take(j));
+    if (cols.temp >= 0) taken.push_back(taker->Take(cols.temp));
   }
   for (std::size_t a = 0; a < cols.rate.size(); ++a) {
     if (to_dps != 1.0) for (double& v : taken[a]) v *= to_dps;
@@ -419,9 +470,8 @@ Result<GyroLog> TakeTimedColumns(const Table& table, const LogSpec& spec, const 
   return log;
 }
 
-}  // namespace
-
-Result<GyroLog> LoadGyroLog(const Table& table, const LogSpec& spec) {
+// LoadGyroLog, or TakeGyroLog when `movable` (== &table) is given.
+Result<GyroLog> LoadGyroLogFrom(const Table& table, Table* movable, const LogSpec& spec) {
   std::string why;
   if (!spec.IsValid(&why)) return InvalidArgument(why);
   const std::string src = SourceOf(table);
@@ -437,10 +487,15 @@ Result<GyroLog> LoadGyroLog(const Table& table, const LogSpec& spec) {
     return InvalidInput(Where(src, n + 1, 1) + "too few samples: " + std::to_string(n) +
                         " data row(s), this analysis needs at least " + std::to_string(spec.min_samples));
   }
-  if (cols->time < 0) return LoadUniformLog(table, spec, *cols, std::move(log));
+  ColumnTaker taker(table, movable, spec, *cols);
+  if (cols->time < 0) {
+    Result<GyroLog> out = LoadUniformLog(table, spec, *cols, std::move(log), &taker);
+    if (out) taker.RemoveMoved();
+    return out;
+  }
 
   const std::vector<double>& t = table.columns[static_cast<std::size_t>(cols->time)];
-  const std::size_t tcol = static_cast<std::size_t>(cols->time) + 1;
+  const std::size_t tcol = table.FileColumn(static_cast<std::size_t>(cols->time));
   if (n < 2) {
     return InvalidInput(Where(src, n + 1, tcol) + "too few samples: 1 data row; at least 2 are needed "
                         "to measure the sampling interval");
@@ -456,16 +511,27 @@ Result<GyroLog> LoadGyroLog(const Table& table, const LogSpec& spec) {
   }
   if (auto e = CheckFsAgreesWithTime(spec, rep, src, tcol)) return *e;
   if (rep.irregular && !spec.resample_hz) return IrregularTimestamps(t, spec, rep, src, tcol);
-  return TakeTimedColumns(table, spec, *cols, rep, std::move(log));
+  Result<GyroLog> out = TakeTimedColumns(table, spec, *cols, rep, std::move(log), &taker);
+  if (out) taker.RemoveMoved();
+  return out;
 }
+
+}  // namespace
+
+Result<GyroLog> LoadGyroLog(const Table& table, const LogSpec& spec) { return LoadGyroLogFrom(table, nullptr, spec); }
+
+Result<GyroLog> TakeGyroLog(Table* table, const LogSpec& spec) { return LoadGyroLogFrom(*table, table, spec); }
 
 Result<GyroLog> ReadGyroLog(const std::string& path, const LogSpec& spec) {
   std::string why;
   if (!spec.IsValid(&why)) return InvalidArgument(why);
-  // CSV, PX4 ULog or ArduPilot DataFlash, by the file's first bytes (flight_log.h).
-  Result<LogTableRead> read = ReadLogTable(path, spec);
+  // CSV, PX4 ULog or ArduPilot DataFlash, by the file's first bytes (flight_log.h). Only the
+  // log's columns of a CSV are kept, and they move into the log (no copy).
+  LogSpec only_log = spec;
+  if (!only_log.keep_cols) only_log.keep_cols.emplace();
+  Result<LogTableRead> read = ReadLogTable(path, only_log);
   if (!read) return read.error();
-  Result<GyroLog> log = LoadGyroLog(read->table, read->spec);
+  Result<GyroLog> log = TakeGyroLog(&read->table, read->spec);
   if (!log) return log.error();
   AttachFlightLogInfo(*read, &*log);
   return log;

@@ -40,6 +40,21 @@ void Table::Add(std::string name, std::vector<double> values) {
   columns.push_back(std::move(values));
 }
 
+std::size_t Table::FileColumn(std::size_t j) const {
+  if (header.empty() || j >= names.size()) return j + 1;
+  for (std::size_t k = 0; k < header.size(); ++k) {
+    if (header[k] == names[j]) return k + 1;
+  }
+  return j + 1;
+}
+
+void Table::Remove(std::size_t j) {
+  assert(j < names.size());
+  if (header.empty()) header = names;
+  names.erase(names.begin() + static_cast<std::ptrdiff_t>(j));
+  columns.erase(columns.begin() + static_cast<std::ptrdiff_t>(j));
+}
+
 bool Table::Set(std::string name, std::vector<double> values) {
   const int j = Find(name);
   if (j < 0) {
@@ -55,6 +70,14 @@ namespace {
 
 constexpr std::size_t kChunkBytes = std::size_t{1} << 22;  // 4 MiB per read
 constexpr unsigned kGzBufferBytes = 1u << 20;              // zlib's internal buffer
+// Rows to read before the columns are reserved for the whole file, and the margin over the
+// estimate (bytes per row so far; for gzip, decompressed bytes per compressed byte so far). A
+// reservation costs address space only: the pages a column never reaches are never touched, so
+// the margin costs no resident memory, while an estimate short of the file makes every kept
+// column copy itself once (old and new both resident for a moment).
+constexpr std::size_t kRowsBeforeReserve = 1000;
+constexpr double kReserveMarginPlain = 1.05;
+constexpr double kReserveMarginGzip = 1.25;
 
 std::string Where(const std::string& file, std::size_t line, std::size_t column) {
   return file + ":" + std::to_string(line) + ":" + std::to_string(column) + ": ";
@@ -155,9 +178,9 @@ class CsvParser {
   CsvParser(std::string source, const CsvReadOptions& options)
       : source_(std::move(source)), opt_(options) {}
 
-  // `plain_size` is the file size when known (0 for stdin/pipes): used, for plain text only, to
-  // reserve the columns once the first chunk shows the bytes per row.
-  Result<Table> Run(gzFile in, std::size_t plain_size);
+  // `file_size` is the file size when known (0 for stdin/pipes): used to reserve the columns once
+  // the first rows show the bytes per row, and for the --max-memory check.
+  Result<Table> Run(gzFile in, std::size_t file_size);
 
  private:
   // Handles one line (without its '\n').
@@ -165,24 +188,31 @@ class CsvParser {
   std::optional<Error> Header(std::string_view line);
   std::optional<Error> Row(std::string_view line);
   Error RowError(std::string_view line);
-  std::optional<Error> CheckMemory(std::size_t plain_size, std::size_t consumed) const;
+  std::optional<double> EstimateRows(gzFile in, std::size_t file_size, std::size_t consumed) const;
+  std::optional<Error> CheckMemory(std::optional<double> rows_estimate) const;
+  void Reserve(double rows_estimate, bool gzip);
+  void KeepColumns();
   std::string ColumnLabel(std::size_t j) const {
-    return "column '" + table_.names[j] + "'";
+    return "column '" + header_[j] + "'";
   }
 
   std::string source_;
   CsvReadOptions opt_;
-  Table table_;
+  Table table_;                     // the kept columns
+  std::vector<std::string> header_; // every column name, in file order
+  std::vector<int> slot_;           // slot_[j]: index in table_.columns of file column j, or -1
+  std::size_t rows_ = 0;            // complete data rows read
   std::size_t line_no_ = 0;         // 1-based number of the line being handled
   bool have_header_ = false;
   std::size_t first_blank_line_ = 0; // a blank line seen after the header (0 = none yet)
 };
 
-Result<Table> CsvParser::Run(gzFile in, std::size_t plain_size) {
+Result<Table> CsvParser::Run(gzFile in, std::size_t file_size) {
   std::size_t consumed = 0;  // bytes of complete lines handled so far
   bool reserved = false;
   table_.source = source_;
-  std::vector<char> buf(plain_size > 0 ? std::min(kChunkBytes, plain_size + 1) : kChunkBytes);  // grows by doubling
+  // (For gzip the file size bounds nothing; the buffer grows by doubling up to max_line_bytes.)
+  std::vector<char> buf(file_size > 0 ? std::min(kChunkBytes, file_size + 1) : kChunkBytes);
   std::size_t filled = 0;
   bool eof = false;
   bool first = true;
@@ -233,12 +263,10 @@ Result<Table> CsvParser::Run(gzFile in, std::size_t plain_size) {
       start = filled;
     }
     consumed += start;
-    if (auto err = CheckMemory(plain_size, consumed)) return *err;
-    if (!reserved && plain_size > 0 && gzdirect(in) && table_.num_rows() >= 1000) {
-      // Avoids regrowing 5M-row columns; over-reserves by at most ~2 %.
-      const double per_row = static_cast<double>(consumed) / static_cast<double>(table_.num_rows());
-      const auto rows = static_cast<std::size_t>(static_cast<double>(plain_size) / per_row * 1.02) + 16;
-      for (auto& c : table_.columns) c.reserve(rows);
+    const std::optional<double> rows_estimate = EstimateRows(in, file_size, consumed);
+    if (auto err = CheckMemory(rows_estimate)) return *err;
+    if (!reserved && rows_estimate) {
+      Reserve(*rows_estimate, !gzdirect(in));
       reserved = true;
     }
     std::memmove(buf.data(), buf.data() + start, filled - start);
@@ -252,23 +280,45 @@ Result<Table> CsvParser::Run(gzFile in, std::size_t plain_size) {
                         "header only: no data rows after the header (columns: " +
                         [&] {
                           std::string s;
-                          for (std::size_t j = 0; j < table_.names.size(); ++j) {
-                            s += (j ? ", " : "") + table_.names[j];
-                          }
+                          for (std::size_t j = 0; j < header_.size(); ++j) s += (j ? ", " : "") + header_[j];
                           return s;
                         }() + ")");
   }
   return std::move(table_);
 }
 
-// The table so far, or (plain file of known size) the whole file at the bytes per row seen so
-// far, must fit in opt_.max_memory_bytes.
-std::optional<Error> CsvParser::CheckMemory(std::size_t plain_size, std::size_t consumed) const {
-  const double cells_per_row = static_cast<double>(table_.names.size());
-  double rows = static_cast<double>(table_.num_rows());
-  if (plain_size > 0 && table_.num_rows() >= 1000) {
-    rows = std::max(rows, static_cast<double>(plain_size) / (static_cast<double>(consumed) / rows));
+// The file's rows at the bytes per row seen so far, once kRowsBeforeReserve rows are in and the
+// size of the file is known: for plain text, file size / bytes per row; for gzip, the rows so
+// far times the compressed bytes still to come over those read (zlib's gzoffset: the compressed
+// input consumed, without its read-ahead). nullopt before that, or for stdin / a pipe.
+std::optional<double> CsvParser::EstimateRows(gzFile in, std::size_t file_size, std::size_t consumed) const {
+  if (file_size == 0 || rows_ < kRowsBeforeReserve || consumed == 0) return std::nullopt;
+  const double rows = static_cast<double>(rows_);
+  if (gzdirect(in)) return std::max(rows, static_cast<double>(file_size) / (static_cast<double>(consumed) / rows));
+  const z_off_t compressed = gzoffset(in);
+  if (compressed <= 0) return std::nullopt;
+  return std::max(rows, rows * static_cast<double>(file_size) / static_cast<double>(compressed));
+}
+
+// Reserves every kept column for the estimated rows plus a margin (see kReserveMarginPlain), so
+// that the columns are not regrown (each regrowth of a 5M-row column copies it).
+void CsvParser::Reserve(double rows_estimate, bool gzip) {
+  const double margin = gzip ? kReserveMarginGzip : kReserveMarginPlain;
+  const double rows = rows_estimate * margin + 16.0;
+  // Never more than the --max-memory bound allows (CheckMemory has passed the estimate itself).
+  const double cap = static_cast<double>(opt_.max_memory_bytes) / sizeof(double) /
+                     static_cast<double>(std::max<std::size_t>(1, table_.columns.size()));
+  const auto n = static_cast<std::size_t>(std::min(rows, cap));
+  for (auto& c : table_.columns) {
+    if (n > c.capacity()) c.reserve(n);
   }
+}
+
+// The table so far, or (file of known size) the whole file at the bytes per row seen so far,
+// must fit in opt_.max_memory_bytes. Only kept columns count (CsvReadOptions::columns).
+std::optional<Error> CsvParser::CheckMemory(std::optional<double> rows_estimate) const {
+  const double cells_per_row = static_cast<double>(table_.names.size());
+  const double rows = std::max(static_cast<double>(rows_), rows_estimate.value_or(0.0));
   const double bytes = rows * cells_per_row * sizeof(double);
   if (bytes <= static_cast<double>(opt_.max_memory_bytes)) return std::nullopt;
   char msg[200];
@@ -348,17 +398,38 @@ std::optional<Error> CsvParser::Header(std::string_view line) {
                         "the first line is numbers, not a header: a header row of column names is "
                         "required (e.g. time_s,rate_dps,temp_c)");
   }
-  table_.names = std::move(names);
-  table_.columns.assign(table_.names.size(), {});
+  header_ = std::move(names);
+  KeepColumns();
   have_header_ = true;
   return std::nullopt;
+}
+
+// The kept columns (CsvReadOptions::columns) and where each file column goes (slot_).
+void CsvParser::KeepColumns() {
+  slot_.assign(header_.size(), -1);
+  std::vector<bool> keep(header_.size(), !opt_.columns.has_value());
+  if (opt_.columns) {
+    bool any = false;
+    for (std::size_t j = 0; j < header_.size(); ++j) {
+      keep[j] = std::find(opt_.columns->begin(), opt_.columns->end(), header_[j]) != opt_.columns->end();
+      any = any || keep[j];
+    }
+    if (!any) keep[0] = true;  // one column, so that num_rows() counts the rows
+  }
+  for (std::size_t j = 0; j < header_.size(); ++j) {
+    if (!keep[j]) continue;
+    slot_[j] = static_cast<int>(table_.names.size());
+    table_.names.push_back(header_[j]);
+  }
+  table_.columns.assign(table_.names.size(), {});
+  if (table_.names.size() != header_.size()) table_.header = header_;
 }
 
 // Hot path: one data row, every field parsed in place.
 std::optional<Error> CsvParser::Row(std::string_view line) {
   const char* p = line.data();
   const char* const end = p + line.size();
-  const std::size_t ncols = table_.columns.size();
+  const std::size_t ncols = slot_.size();
   const char delim = opt_.delimiter;
   for (std::size_t j = 0; j < ncols; ++j) {
     while (p != end && IsBlank(*p)) ++p;
@@ -382,17 +453,17 @@ std::optional<Error> CsvParser::Row(std::string_view line) {
       return RowError(line);
     }
     if (opt_.reject_non_finite && !std::isfinite(v)) return RowError(line);
-    table_.columns[j].push_back(v);
+    if (slot_[j] >= 0) table_.columns[static_cast<std::size_t>(slot_[j])].push_back(v);
   }
+  ++rows_;
   return std::nullopt;
 }
 
 // Slow path: the row failed somewhere; find the first problem and describe it. Columns already
 // appended for this row are rolled back (the read stops anyway, but keep the table consistent).
 Error CsvParser::RowError(std::string_view line) {
-  const std::size_t rows = table_.columns.back().size();
-  for (auto& c : table_.columns) c.resize(rows);
-  const std::size_t ncols = table_.columns.size();
+  for (auto& c : table_.columns) c.resize(rows_);
+  const std::size_t ncols = header_.size();
   std::vector<std::string_view> cells;
   std::size_t pos = 0;
   while (true) {

@@ -22,6 +22,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -75,6 +76,9 @@ struct DataFlashReadOptions {
   // consecutive windows of this many microseconds (window k: TimeUS in [k w, (k + 1) w)).
   // 0: every row as logged (the default).
   std::uint64_t average_window_us = 0;
+  // Issue 24 (memory): set, the other IMU instances keep their TimeUS only (row counts stay
+  // right for messages; gyro, accel and T empty).
+  std::optional<int> imu_instance;
 };
 
 // Reads a whole DataFlash file (errors: cannot open -> kIo; malformed -> kInvalidInput,

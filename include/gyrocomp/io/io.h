@@ -10,6 +10,7 @@
 #pragma once
 
 #include <cstddef>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -22,9 +23,19 @@ struct Table {
   std::string source;                       // file name for messages ("<stdin>" for "-")
   std::vector<std::string> names;           // header, in file order
   std::vector<std::vector<double>> columns; // columns[j][i] = row i of column j
+  // The file's whole header, in file order, when only some of its columns were kept (ReadCsv
+  // with CsvReadOptions::columns); empty when `names` is the whole header. For messages: the
+  // columns a file has, and the column number of a kept column (FileColumn).
+  std::vector<std::string> header;
   std::size_t num_rows() const { return columns.empty() ? 0 : columns.front().size(); }
   // Index of the named column, or -1.
   int Find(const std::string& name) const;
+  // 1-based number of column j in the file (j + 1 unless columns were dropped on reading).
+  std::size_t FileColumn(std::size_t j) const;
+  // Every column name of the file: `header`, or `names` when it is empty.
+  const std::vector<std::string>& FileNames() const { return header.empty() ? names : header; }
+  // Drops column j (name and values); `header` is kept, so messages still see the file's columns.
+  void Remove(std::size_t j);
   // Appends a column (must have num_rows() entries unless the table is empty).
   void Add(std::string name, std::vector<double> values);
   // Add, or, when a column of that name exists (a command run on its own output), replaces it in
@@ -45,6 +56,13 @@ struct CsvReadOptions {
   // Memory the table may take, bytes (8 per cell). Past it the read stops with an error saying
   // how much the file needs ("needs N GB ...; at most M GB allowed (--max-memory)").
   std::size_t max_memory_bytes = std::size_t{8} << 30;
+  // The columns to keep, by name; nullopt (default): every column. With a list, the cells of
+  // the other columns are still parsed and checked (a bad cell anywhere is the same error, at
+  // the same line and column, as without it) but not stored, so the table takes 8 bytes per
+  // kept cell only. Names the header lacks are ignored (the caller reports what it misses). The
+  // kept columns stay in file order; Table::header holds the whole header. When no name matches,
+  // the first column is kept, so that num_rows() still counts the file's rows.
+  std::optional<std::vector<std::string>> columns;
 };
 
 // Reads `path` ("-" = stdin, plain or gzip). Errors: cannot open (kIo); empty file, header only,

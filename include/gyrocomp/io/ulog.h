@@ -101,6 +101,13 @@ struct ULogReadOptions {
   // in [k w, (k + 1) w)), timestamp included: one row per window with data. 0: every row as
   // logged (the default).
   std::uint64_t average_window_us = 0;
+  // Issue 24 (memory; a gyro command reads one gyro of a 1 GB log): false drops the rows of
+  // sensor_accel and sensor_baro (their subscriptions are still listed in `topics`, the series
+  // are absent as for a subscription without rows); `gyro_instance` set keeps, of the other
+  // sensor_gyro / sensor_combined instances, the timestamps only (their row counts and device
+  // ids stay right for messages; x, y, z and temperature are empty).
+  bool keep_accel_baro = true;
+  std::optional<int> gyro_instance;
   bool IsValid(std::string* error) const { (void)error; return true; }
 };
 

@@ -98,6 +98,9 @@ TEST_F(ReportCli, ValidateReportHasTheValidationSection) {
   EXPECT_TRUE(rows.at("residual slope vs T (deg/s per deg C)").is_number());
   EXPECT_TRUE(rows.at("residual slope vs dT/dt (deg/s per deg C/s)").is_number());
   EXPECT_TRUE(rows.count("samples with T outside the fitted range"));
+  // The prediction band's width and coverage (issue 23), as in the JSON.
+  EXPECT_DOUBLE_EQ(rows.at("90% band half-width RMS (deg/s)").get<double>(), v["band_half_width_rms_dps"].get<double>());
+  EXPECT_NE(rows.at("band coverage of the true drift").get<std::string>().find('%'), std::string::npos);
   // ADEV at tau >= 100 s, compensated beside raw, also drawn in the Allan chart.
   int adev_rows = 0;
   for (const auto& [name, value] : rows) adev_rows += name.rfind("ADEV at tau = ", 0) == 0;

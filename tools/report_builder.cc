@@ -213,6 +213,28 @@ nlohmann::json ModesJson(const PipelineResult& r, const std::vector<double>& hou
   return modes;
 }
 
+// The model's prediction band (issue 23, DriftModel::PredictBand) over the record, as block means
+// of its lower and upper edges on the same blocks as the prediction: model_lo_dps / model_hi_dps,
+// band_level. A model without a band (or a band that cannot be evaluated) adds nothing.
+void AddDriftBand(const DriftModel& m, const PipelineResult& r, const ReportContext& ctx, std::size_t points,
+                  nlohmann::json* drift) {
+  if (!m.band || ctx.temp_c.size() != r.num_samples || points == 0) return;
+  auto band = m.PredictBand({ctx.temp_c, r.fs_hz});
+  if (!band.ok() || band->lo.size() != r.num_samples) return;
+  const std::size_t n = r.num_samples;
+  std::vector<double> lo_mean, hi_mean;
+  for (std::size_t b = 0; b < points; ++b) {
+    const std::size_t lo = b * n / points, hi = (b + 1) * n / points;
+    double sl = 0, sh = 0;
+    for (std::size_t i = lo; i < hi; ++i) sl += band->lo[i], sh += band->hi[i];
+    lo_mean.push_back(sl / static_cast<double>(hi - lo));
+    hi_mean.push_back(sh / static_cast<double>(hi - lo));
+  }
+  (*drift)["model_lo_dps"] = lo_mean;
+  (*drift)["model_hi_dps"] = hi_mean;
+  (*drift)["band_level"] = band->level;
+}
+
 // Drift against temperature: block means (about 1500 points) of the drift feature and of the
 // model's prediction along the record.
 nlohmann::json DriftVsTemperatureJson(const PipelineResult& r, const ReportContext& ctx) {
@@ -235,20 +257,32 @@ nlohmann::json DriftVsTemperatureJson(const PipelineResult& r, const ReportConte
   if (r.drift_model) {
     drift["model_temp_c"] = t_mean;
     drift["model_dps"] = p_mean;
+    AddDriftBand(*r.drift_model, r, ctx, points, &drift);
   }
   return drift;
 }
 
-nlohmann::json DriftModelTable(const DriftFitSummary& s) {
+// The model's summary, with the expected drift error on the next run (the band's RMS standard
+// deviation over this record, DriftBandModel::expected_rms) and the terms the run left out.
+nlohmann::json DriftModelTable(const DriftModel& m) {
+  const DriftFitSummary& s = m.summary;
+  std::string left_out;
+  for (const ExcludedTerm& e : s.excluded_terms) left_out += (left_out.empty() ? "" : ", ") + e.term;
+  nlohmann::json expected = nullptr;
+  if (m.band) expected = Num(m.band->expected_rms);
   return {{"title", "Drift model"},
           {"columns", {"model", "inputs", "C", "sigma", "epsilon", "support vectors", "CV RMSE (deg/s)",
-                       "train RMSE (deg/s)", "T range (deg C)", "fit time (s)"}},
+                       "train RMSE (deg/s)", "expected next-run error RMS (deg/s)", "left out", "T range (deg C)",
+                       "fit time (s)"}},
           {"rows", {{DriftModelKindName(s.model), DriftInputSetName(s.inputs), Num(s.C), Num(s.sigma),
-                     Num(s.epsilon), s.num_support, Num(s.cv_rmse), Num(s.train_rmse),
+                     Num(s.epsilon), s.num_support, Num(s.cv_rmse), Num(s.train_rmse), expected,
+                     left_out.empty() ? "-" : left_out,
                      std::to_string(s.temp_min_c).substr(0, 6) + " .. " + std::to_string(s.temp_max_c).substr(0, 6),
                      Num(s.fit_time_s)}}},
           {"note", "C and sigma in the SVR's scaled units (standardised inputs by default). "
-                   "CV: blocked cross-validation on contiguous blocks."}};
+                   "Expected next-run error: RMS of the 90% prediction band's standard deviation over this record "
+                   "(parameter uncertainty under the measured noise, model-form spread, left-out dT/dt gain; "
+                   "docs/drift_model.md \"Prediction bands\"); empty when the model has no band."}};
 }
 
 // One table per comparison group (Section 4.3): denoising, drift models, serial vs parallel.
@@ -276,7 +310,7 @@ nlohmann::json TablesJson(const PipelineResult& r, const ReportContext& ctx) {
   tables.push_back({{"title", "Classification rule"},
                     {"columns", {"rule"}},
                     {"rows", {{r.classification_rule + (r.drift_mode_forced ? " (drift mode forced: see warnings)" : "")}}}});
-  if (r.drift_model) tables.push_back(DriftModelTable(r.drift_model->summary));
+  if (r.drift_model) tables.push_back(DriftModelTable(*r.drift_model));
   if (ctx.comparison) AddComparisonTables(*ctx.comparison, &tables);
   nlohmann::json timing_rows = nlohmann::json::array();
   for (const auto& [stage, seconds] : r.timings_s) timing_rows.push_back({stage, seconds});

@@ -88,7 +88,7 @@ int Run(SimulateArgs& a) {
   }
   const auto kind = ParseThermalProfileKind(a.profile);
   if (!kind)
-    return ReportError(kName, InvalidArgument("--profile " + a.profile + ": must be paper, soak, ramp, cycle, heat-cool or user"));
+    return ReportError(kName, InvalidArgument("--profile " + a.profile + ": must be paper, soak, ramp, cycle, heat-cool, stairs or user"));
   a.sim.profile.kind = *kind;
   a.sim.duration_s = a.duration_s;
   if (!a.drift_poly.empty()) {
@@ -150,8 +150,10 @@ Command Make(CLI::App& app) {
       "each held 1 h (14.25 h at 1 C/min); soak; ramp (room -> --ramp-end); cycle (room -> hot ->\n"
       "cold -> room, --cycles times: heating and cooling, for hysteresis); heat-cool (--room-hold at\n"
       "--cold, heat to --hot, --hold, cool to --cold, --hold: both directions over the whole range,\n"
-      "6.3 h at 1 C/min); user (--profile-csv FILE: columns time_s and chamber_temp_c or temp_c, one\n"
-      "row per breakpoint, linear in between).\n"
+      "6.3 h at 1 C/min); stairs (--room-hold at --cold, up in 2 x --step steps at --ramp-rate, down\n"
+      "in steps between those at half the rate, every plateau held --hold / 2: 11.5 h); user\n"
+      "(--profile-csv FILE: columns time_s and chamber_temp_c or temp_c, one row per breakpoint,\n"
+      "linear in between).\n"
       "Noise in datasheet units (IEEE 952); bias instability = flicker floor / 0.664, made of a sum of\n"
       "Gauss-Markov processes (docs/simulator.md). Same options and --seed: identical output.\n"
       "-o run.ulg writes a PX4 ULog instead: a board of --imus IMUs as sensor_gyro (rad/s) and sensor_accel\n"
@@ -167,7 +169,7 @@ Command Make(CLI::App& app) {
   sub->add_option("--ahrs-orientation", a->ahrs_orientation, ".bin: board rotation AHRS_ORIENTATION (0..43) applied to the logged IMU rows")
       ->check(CLI::Range(0, 43))->capture_default_str();
   AddOutputOption(sub, "--json", &a->json_path, "Write a summary of the run as JSON ('-' = stdout)");
-  sub->add_option("--profile", a->profile, "paper | soak | ramp | cycle | heat-cool | user")->capture_default_str();
+  sub->add_option("--profile", a->profile, "paper | soak | ramp | cycle | heat-cool | stairs | user")->capture_default_str();
   AddInputOption(sub, "--profile-csv", &a->profile_csv,
                  "Chamber schedule CSV (time_s, chamber_temp_c or temp_c): profile user");
   sub->add_option("--fs", o.fs_hz, "Sample rate, Hz")->check(CLI::PositiveNumber)->capture_default_str();

@@ -45,6 +45,16 @@ nlohmann::json ValidationReportTable(const std::vector<ValidationSection>& secti
   add("RMSE vs true drift (deg/s)", [](const DriftValidation& v) {
     return v.rmse_vs_true_drift ? Num(*v.rmse_vs_true_drift) : nlohmann::json("no truth column");
   });
+  // The prediction band (issue 23): its width and how much of the truth / the block means it held.
+  add("90% band half-width RMS (deg/s)", [](const DriftValidation& v) {
+    return v.band_half_width_rms ? Num(*v.band_half_width_rms) : nlohmann::json("no band in the model file");
+  });
+  add("band coverage of the true drift", [](const DriftValidation& v) {
+    return v.band_coverage_truth ? nlohmann::json(Percent(*v.band_coverage_truth)) : nlohmann::json("-");
+  });
+  add("band coverage of the rate's block means", [](const DriftValidation& v) {
+    return v.band_coverage_blocks ? nlohmann::json(Percent(*v.band_coverage_blocks)) : nlohmann::json("-");
+  });
   add("samples with T outside the fitted range", [](const DriftValidation& v) { return Percent(v.fraction_temp_outside); });
   add("samples with dT/dt outside the fitted range",
       [](const DriftValidation& v) { return Percent(v.fraction_dtemp_outside); });

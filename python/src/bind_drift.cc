@@ -40,8 +40,39 @@ py::dict FitSummaryDict(const DriftFitSummary& s) {
   d["best_cv_history"] = s.best_cv_history;
   d["fit_time_s"] = s.fit_time_s;
   d["brief_report"] = s.BriefReport();
+  // Issue 23: what the run identifies and what it supports.
+  py::list excluded;
+  for (const ExcludedTerm& e : s.excluded_terms) {
+    py::dict t;
+    t["term"] = e.term;
+    t["reason"] = e.reason;
+    t["would_identify"] = e.would_identify;
+    excluded.append(t);
+  }
+  d["excluded_terms"] = excluded;
+  d["data_support"] = s.data_support;
+  d["drift_span"] = s.drift_span;
+  d["selection_reason"] = s.selection_reason;
   return d;
 }
+
+namespace {
+
+// The band's description (DriftBandModel), or None for a model without one.
+py::object BandDict(const DriftModel& model) {
+  if (!model.band) return py::none();
+  const DriftBandModel& b = *model.band;
+  py::dict d;
+  d["level"] = b.level;
+  d["expected_rms"] = b.expected_rms;
+  d["model_form_rms"] = b.model_form_rms;
+  d["unidentified_rate_gain_rms"] = b.unidentified_rate_gain_rms;
+  d["noise"] = py::dict(py::arg("white") = b.noise.h0, py::arg("flicker") = b.noise.h_1,
+                        py::arg("random_walk") = b.noise.h_2);
+  return d;
+}
+
+}  // namespace
 
 DriftFitOptions ReadFitOptions(Kwargs& kw) {
   DriftFitOptions o;
@@ -100,6 +131,11 @@ void BindDrift(py::module_& m) {
       .def("to_json", &DriftModelToJson)
       .def_property_readonly("kind", [](const DriftModel& model) { return DriftModelKindName(model.kind); })
       .def_property_readonly("summary", [](const DriftModel& model) { return FitSummaryDict(model.summary); })
+      .def_property_readonly("band", &BandDict,
+                             "The prediction band's parts (issue 23): dict level, expected_rms (the expected drift "
+                             "error RMS on a next run like the calibration, target units), model_form_rms, "
+                             "unidentified_rate_gain_rms, noise (white, flicker, random_walk PSD); None for a "
+                             "model file written before the bands existed.")
       .def("__repr__", [](const DriftModel& model) { return "<gyrocomp.DriftModel " + model.summary.BriefReport() + ">"; });
 
   m.def(

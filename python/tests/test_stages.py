@@ -95,6 +95,14 @@ def test_drift_model_fit_predict_save_load(tmp_path):
     assert band["level"] == 0.9
     assert np.all(band["lo"] <= band["center"]) and np.all(band["hi"] >= band["center"])
     assert band["center"].tolist() == predicted.tolist()
+    # The band's parts and what the run supports, beside the band itself.
+    parts = again.band
+    assert parts["level"] == 0.9 and parts["expected_rms"] > 0.0
+    assert set(parts["noise"]) == {"white", "flicker", "random_walk"}
+    summary = gyrocomp.fit_drift_model(temp, target, fs).summary  # the default, auto
+    assert summary["drift_span"] > 0.0 and "Eq. I-0" in summary["data_support"]
+    # A single ramp identifies no dT/dt gain: left out, with the run that would identify it.
+    assert any(t["term"] == "dT/dt gain" and t["would_identify"] for t in summary["excluded_terms"])
     with pytest.raises(ValueError):
         gyrocomp.drift_model_from_json("{}")
     with pytest.raises((RuntimeError, ValueError)):

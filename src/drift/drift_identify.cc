@@ -214,13 +214,17 @@ namespace gyrocomp::drift_internal {
 CvPlan EnsureTrainablePlan(const CvPlan& plan, std::span<const double> temp, std::size_t coefficients, int folds,
                            std::string* note) {
   const std::size_t n = plan.fold_of.size();
+  // Distinct to 1e-3 of the run's range: repeated plateau means at one temperature count once,
+  // and so do the noisy readings of one hold (a tolerance relative to the training part's own
+  // range made a 1 h hold at -40 C hundreds of "distinct" temperatures, and a heating ramp's
+  // segment CV then extrapolated a cubic fitted on that hold alone: CV RMSE 2.5e9 deg/s).
+  const auto [lo, hi] = std::minmax_element(temp.begin(), temp.end());
+  const double tol = n == 0 ? 0.0 : 1e-3 * (*hi - *lo);
   for (int k = 0; k < plan.folds; ++k) {
     std::vector<double> train;
     for (std::size_t i = 0; i < n; ++i)
       if (plan.fold_of[i] != k) train.push_back(temp[i]);
     std::sort(train.begin(), train.end());
-    // Distinct to 1e-3 of the range: repeated plateau means at one temperature count once.
-    const double tol = 1e-3 * (train.empty() ? 0.0 : train.back() - train.front());
     std::size_t distinct = train.empty() ? 0 : 1;
     for (std::size_t i = 1; i < train.size(); ++i) distinct += train[i] - train[i - 1] > tol ? 1 : 0;
     if (train.size() >= 2 * coefficients && distinct >= coefficients) continue;

@@ -1,6 +1,7 @@
 // What a calibration run identifies (issue 23, drift_identify.cc Eqs. I-0..I-3): plateau tables
 // and few points, the dT/dt gain on heating-only and staircase runs, the excluded terms in the
 // model file.
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -114,6 +115,26 @@ TEST(DriftIdentify, RateGainLeftOutOnHeatingOnlyKeptOnStaircase) {
     EXPECT_TRUE(Excluded(c->summary, "memory", "Eq. I-3"));
     EXPECT_TRUE(Excluded(c->summary, "lag tau", "Eq. I-3"));
   }
+}
+
+// EnsureTrainablePlan counts distinct temperatures to 1e-3 of the run's range: a cold hold's noisy
+// readings are one temperature. A heating run whose sensor still heats at its end has two thermal
+// segments (the cold hold, the heating rest); leaving out the heating one leaves the hold alone,
+// and a cubic fitted on it extrapolated: the CV RMSE was 2.5e9 deg/s on a simulated run (and the
+// band's model-form part the cap, the drift's SD). The plan falls back to contiguous blocks.
+TEST(DriftIdentify, SegmentFoldLeavingOnlyANoisyHoldFallsBackToBlocks) {
+  const double fs = 0.2;
+  std::vector<double> heat = Lagged({{0, -40}, {3600, -40}, {9600, 60}, {10800, 60}}, fs);
+  std::mt19937 rng(7);
+  std::normal_distribution<double> temp_noise(0.0, 0.02);
+  for (double& t : heat) t += temp_noise(rng);
+  DriftFitOptions o;
+  o.auto_select.try_svr = false;
+  auto m = FitDriftModel({heat, fs}, Drift(heat, fs, 1), o);
+  ASSERT_TRUE(m.ok()) << m.error().message;
+  EXPECT_EQ(m->summary.cv_scheme, DriftCvScheme::kBlocks) << m->summary.data_support;
+  EXPECT_NE(m->summary.data_support.find("contiguous blocks instead"), std::string::npos) << m->summary.data_support;
+  EXPECT_LT(m->summary.cv_rmse, m->summary.drift_span) << m->summary.BriefReport();
 }
 
 // The excluded terms, the points note and the drift span are written into the model file's

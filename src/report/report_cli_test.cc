@@ -1,5 +1,6 @@
 // The report through the CLI (issue 11 sections 4 and 6): `validate --report` and the demo's
 // side-by-side table (console, JSON, report), with the not-applicable rule applied alike.
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -97,6 +98,9 @@ TEST_F(ReportCli, ValidateReportHasTheValidationSection) {
   EXPECT_TRUE(rows.at("residual slope vs T (deg/s per deg C)").is_number());
   EXPECT_TRUE(rows.at("residual slope vs dT/dt (deg/s per deg C/s)").is_number());
   EXPECT_TRUE(rows.count("samples with T outside the fitted range"));
+  // The prediction band's width and coverage (issue 23), as in the JSON.
+  EXPECT_DOUBLE_EQ(rows.at("90% band half-width RMS (deg/s)").get<double>(), v["band_half_width_rms_dps"].get<double>());
+  EXPECT_NE(rows.at("band coverage of the true drift").get<std::string>().find('%'), std::string::npos);
   // ADEV at tau >= 100 s, compensated beside raw, also drawn in the Allan chart.
   int adev_rows = 0;
   for (const auto& [name, value] : rows) adev_rows += name.rfind("ADEV at tau = ", 0) == 0;
@@ -153,6 +157,36 @@ TEST_F(ReportCli, ProcessMarksNotApplicableTermsAlike) {
   }
   EXPECT_TRUE(arw_na) << data["summary"].dump();
   EXPECT_NE(data["summary"]["note"].get<std::string>().find("After: ARW"), std::string::npos);
+}
+
+// `process --report`: the drift plot carries the model's 90% prediction band (issue 23) around
+// its prediction, and the drift-model table the expected next-run error.
+TEST_F(ReportCli, ProcessReportShowsTheDriftBand) {
+  std::string out;
+  ASSERT_EQ(Run("simulate --fs 2 --seed 5 --room-hold 1200 --hold 1200 --step 25 --ramp-rate 2 --thermal-lag 300 -o " +
+                dir_ + "/run.csv", &out), 0) << out;
+  ASSERT_EQ(Run("process -i " + dir_ + "/run.csv --report " + dir_ + "/p.html --model poly -q", &out), 0) << out;
+  const nlohmann::json data = ReportData(ReadText(dir_ + "/p.html"));
+  const nlohmann::json& d = data["drift"];
+  ASSERT_TRUE(d.contains("model_lo_dps") && d.contains("model_hi_dps")) << d.dump().substr(0, 400);
+  EXPECT_DOUBLE_EQ(d["band_level"].get<double>(), 0.9);
+  ASSERT_EQ(d["model_lo_dps"].size(), d["model_dps"].size());
+  double width = 0.0;
+  for (std::size_t i = 0; i < d["model_dps"].size(); ++i) {
+    const double lo = d["model_lo_dps"][i], mid = d["model_dps"][i], hi = d["model_hi_dps"][i];
+    EXPECT_LT(lo, mid) << i;
+    EXPECT_LT(mid, hi) << i;
+    width = std::max(width, hi - lo);
+  }
+  EXPECT_GT(width, 0.0);
+  const nlohmann::json* table = FindTable(data, "Drift model");
+  ASSERT_NE(table, nullptr);
+  const auto& cols = (*table)["columns"];
+  std::size_t k = 0;
+  while (k < cols.size() && cols[k] != "expected next-run error RMS (deg/s)") ++k;
+  ASSERT_LT(k, cols.size()) << cols.dump();
+  EXPECT_GT((*table)["rows"][0][k].get<double>(), 0.0) << (*table)["rows"].dump();
+  ExpectRendersInChromium(dir_ + "/p.html", dir_);
 }
 
 // The demo's side-by-side table: every row present, the drift rows finite for raw, the paper's

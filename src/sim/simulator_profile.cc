@@ -34,10 +34,11 @@ class ScheduleBuilder {
     s_.time_s.push_back(s_.time_s.back() + seconds);
     s_.temp_c.push_back(s_.temp_c.back());
   }
-  void RampTo(double temp_c) {
+  void RampTo(double temp_c) { RampTo(temp_c, rate_); }
+  void RampTo(double temp_c, double rate_c_per_s) {
     const double delta = std::abs(temp_c - s_.temp_c.back());
     if (delta == 0.0) return;
-    s_.time_s.push_back(s_.time_s.back() + delta / rate_);
+    s_.time_s.push_back(s_.time_s.back() + delta / rate_c_per_s);
     s_.temp_c.push_back(temp_c);
   }
   ThermalSchedule Take() {
@@ -72,6 +73,7 @@ std::optional<ThermalProfileKind> ParseThermalProfileKind(const std::string& nam
   if (name == "ramp") return ThermalProfileKind::kRamp;
   if (name == "cycle") return ThermalProfileKind::kCycle;
   if (name == "heat-cool") return ThermalProfileKind::kHeatCool;
+  if (name == "stairs") return ThermalProfileKind::kStairs;
   if (name == "user") return ThermalProfileKind::kUser;
   return std::nullopt;
 }
@@ -83,6 +85,7 @@ const char* ThermalProfileKindName(ThermalProfileKind kind) {
     case ThermalProfileKind::kRamp: return "ramp";
     case ThermalProfileKind::kCycle: return "cycle";
     case ThermalProfileKind::kHeatCool: return "heat-cool";
+    case ThermalProfileKind::kStairs: return "stairs";
     case ThermalProfileKind::kUser: return "user";
   }
   return "?";
@@ -176,6 +179,30 @@ Result<ThermalSchedule> MakeThermalSchedule(const ThermalProfileOptions& o) {
       b.Hold(o.hold_s);
       b.RampTo(o.cold_temp_c);
       b.Hold(o.hold_s);
+      return b.Take();
+    }
+    case ThermalProfileKind::kStairs: {
+      // Issue 23: a staircase up and one down, so that at every temperature the run holds and
+      // ramps (Eq. I-1: the dT/dt gain) in both directions (Eq. I-3: the memory). Heating: steps
+      // of 2 step_c from cold to hot at ramp_rate; cooling: steps of 2 step_c offset by step_c
+      // (plateaus between the heating ones) at ramp_rate / 2; every plateau held hold_s / 2.
+      // Two ramp rates and holds in both directions separate the gain (drift ~ dT/dt: zero on
+      // every hold, doubled on the fast ramps) from the memory (drift ~ the last direction:
+      // unchanged over a hold), which heat-cool's equal ramps and end holds do not.
+      ScheduleBuilder b(o.cold_temp_c, rate_c_per_s);
+      const double step = 2.0 * o.step_c, plateau_s = 0.5 * o.hold_s;
+      b.Hold(o.room_hold_s);
+      for (double t = o.cold_temp_c; t < o.hot_temp_c - 1e-9;) {
+        t = std::min(o.hot_temp_c, t + step);
+        b.RampTo(t);
+        b.Hold(plateau_s);
+      }
+      for (double t = o.hot_temp_c - o.step_c; o.hot_temp_c - o.cold_temp_c > o.step_c;) {
+        b.RampTo(std::max(o.cold_temp_c, t), 0.5 * rate_c_per_s);
+        b.Hold(plateau_s);
+        if (t <= o.cold_temp_c + 1e-9) break;
+        t -= step;
+      }
       return b.Take();
     }
     case ThermalProfileKind::kUser: {

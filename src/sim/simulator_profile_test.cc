@@ -1,4 +1,4 @@
-// Chamber profiles for calibration design (issue 23): heat-cool, the user's schedule (CSV).
+// Chamber profiles for calibration design (issue 23): heat-cool, stairs, the user's schedule (CSV).
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -24,6 +24,24 @@ TEST(SimulatorProfile, HeatCoolHeatsThenCoolsOverTheWholeRange) {
   EXPECT_DOUBLE_EQ(s->ChamberTempC(13200.0 + 3000.0), 10.0);  // cooling, half way
   EXPECT_DOUBLE_EQ(s->ChamberTempC(22800.0), -40.0);
   EXPECT_STREQ(ThermalProfileKindName(*ParseThermalProfileKind("heat-cool")), "heat-cool");
+}
+
+// stairs: cold soak; up in 20 C steps at 1 C/min to -20, 0, 20, 40, 60; down at 0.5 C/min to the
+// plateaus between them, 50, 30, 10, -10, -30, then -40; every plateau held 30 min: 11.5 h.
+TEST(SimulatorProfile, StairsHoldAndRampInBothDirectionsAtTwoRates) {
+  ThermalProfileOptions o;
+  o.kind = ThermalProfileKind::kStairs;
+  auto s = MakeThermalSchedule(o);
+  ASSERT_TRUE(s.ok()) << s.error().message;
+  const double up_s = 3600.0 + 5 * 1200.0 + 5 * 1800.0;  // soak, 5 ramps of 20 C at 1 C/min, 5 holds
+  EXPECT_DOUBLE_EQ(s->duration_s(), up_s + 1200.0 + 4 * 2400.0 + 1200.0 + 6 * 1800.0);  // 41,400 s
+  EXPECT_DOUBLE_EQ(s->ChamberTempC(3600.0 + 600.0), -30.0);               // heating at 1 C/min
+  EXPECT_DOUBLE_EQ(s->ChamberTempC(3600.0 + 1200.0 + 900.0), -20.0);      // first heating plateau
+  EXPECT_DOUBLE_EQ(s->ChamberTempC(up_s - 1.0), 60.0);                     // hot plateau
+  EXPECT_DOUBLE_EQ(s->ChamberTempC(up_s + 600.0), 55.0);                  // cooling at 0.5 C/min
+  EXPECT_DOUBLE_EQ(s->ChamberTempC(up_s + 1200.0 + 1800.0), 50.0);        // first cooling plateau
+  EXPECT_DOUBLE_EQ(s->ChamberTempC(s->duration_s()), -40.0);
+  EXPECT_STREQ(ThermalProfileKindName(*ParseThermalProfileKind("stairs")), "stairs");
 }
 
 // user: the given breakpoints, linear in between, held at the first before it.

@@ -35,9 +35,12 @@ enum class ThermalProfileKind {
   // Issue 23 (calibration design):
   kHeatCool,  // cold soak (room_hold_s at cold), heat to hot, hold, cool to cold, hold: both
               // directions over the whole range with holds at both ends (6.3 h at 1 C/min)
+  kStairs,    // cold soak, staircase up (steps of 2 step_c at ramp_rate), staircase down (offset
+              // by step_c, at ramp_rate / 2), plateaus held hold_s / 2: holds and two ramp rates in
+              // both directions (11.5 h with the defaults)
   kUser,      // the user's chamber schedule: user_time_s / user_temp_c (simulate --profile-csv)
 };
-// "paper" | "soak" | "ramp" | "cycle" | "heat-cool" | "user".
+// "paper" | "soak" | "ramp" | "cycle" | "heat-cool" | "stairs" | "user".
 std::optional<ThermalProfileKind> ParseThermalProfileKind(const std::string& name);
 const char* ThermalProfileKindName(ThermalProfileKind kind);
 

@@ -116,7 +116,8 @@
   }
 
   function drawDrift(d) {
-    section("Drift against temperature", "Points: the drift feature (decimated); line: the fitted drift model.");
+    section("Drift against temperature", "Points: the drift feature (decimated); line: the fitted drift model; " +
+            "dashed: its prediction band, where the drift of another run like this one is expected to lie.");
     const pts = d.temp_c.map((t, i) => [t, d.drift_dps[i]]).filter(p => p[0] !== null && p[1] !== null);
     pts.sort((a, b) => a[0] - b[0]);
     const tables = [[pts.map(p => p[0]), pts.map(p => p[1])]];
@@ -126,6 +127,15 @@
       const m = d.model_temp_c.map((t, i) => [t, d.model_dps[i]]).sort((a, b) => a[0] - b[0]);
       tables.push([m.map(p => p[0]), m.map(p => p[1])]);
       series.push({ label: "model", stroke: COLORS[0], width: 2, spanGaps: true, points: { show: false } });
+      if (d.model_lo_dps && d.model_hi_dps) {  // the prediction band (issue 23), dashed edges
+        const pct = Math.round(100 * (d.band_level || 0.9));
+        for (const [key, edge] of [["model_lo_dps", "lower"], ["model_hi_dps", "upper"]]) {
+          const e = d.model_temp_c.map((t, i) => [t, d[key][i]]).sort((a, b) => a[0] - b[0]);
+          tables.push([e.map(p => p[0]), e.map(p => p[1])]);
+          series.push({ label: `${pct}% band (${edge})`, stroke: COLORS[0], width: 1, dash: [6, 4], spanGaps: true,
+                        points: { show: false } });
+        }
+      }
     }
     chart({ width: width(), height: 360, scales: { x: { time: false } }, series,
             axes: [{ label: "temperature (deg C)" }, { label: "drift (deg/s)", size: 70 }] }, uPlot.join(tables));

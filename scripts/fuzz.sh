@@ -2,8 +2,8 @@
 # Builds the libFuzzer harnesses of fuzz/ (clang, ASan + UBSan) and runs each for SECONDS
 # (default 60) on a seed corpus made from tests/, ../shared/fieldlogs and a simulated log.
 #   scripts/fuzz.sh [SECONDS] [FUZZER...]      e.g. scripts/fuzz.sh 300 fuzz_csv
-# A crash leaves its input in build-fuzz/crashes/<fuzzer>/ and makes the script exit 1; turn it
-# into a regression test (src/io/io_fuzz_regression_test.cc; numeric harnesses: the stage's *_test.cc)
+# A crash leaves its input in build-fuzz/crashes/<fuzzer>/ and makes the script exit 1; keep it in
+# fuzz/regressions/<fuzzer>/ (replayed by every run) and turn it into a regression test (src/io/io_fuzz_regression_test.cc; numeric harnesses: the stage's *_test.cc)
 # before fixing it.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -92,7 +92,10 @@ for fz in "${fuzzers[@]}"; do
   crashes=$build/crashes/$fz
   mkdir -p "$corpus" "$crashes"
   echo "== $fz: $seconds s"
-  if ! "$build/$fz" "$corpus" "$seeds/${corpus_of[$fz]}" -max_total_time="$seconds" -rss_limit_mb=2048 \
+  # fuzz/regressions/<fuzzer>/: inputs that once crashed or broke the invariant, replayed first.
+  regressions=()
+  [ -d "fuzz/regressions/$fz" ] && regressions=("fuzz/regressions/$fz")
+  if ! "$build/$fz" "$corpus" "$seeds/${corpus_of[$fz]}" "${regressions[@]}" -max_total_time="$seconds" -rss_limit_mb=2048 \
       -max_len=65536 -timeout=10 -artifact_prefix="$crashes/" -print_final_stats=1 2>"$build/$fz.log"; then
     echo "$fz: FAILED, see $build/$fz.log and $crashes/" >&2
     tail -n 40 "$build/$fz.log" >&2

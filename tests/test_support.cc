@@ -4,9 +4,11 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <mutex>
 #include <random>
 #include <sstream>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <gtest/gtest.h>
 
@@ -59,15 +61,53 @@ std::map<std::string, std::vector<double>> ReadGoldenCsv(const std::string& path
   return out;
 }
 
+namespace {
+
+// Every directory MakeTempDir made in this process, removed at exit.
+class TempDirRegistry {
+ public:
+  static TempDirRegistry& Get() {
+    static TempDirRegistry registry;
+    return registry;
+  }
+  void Add(const std::string& path) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    paths_.push_back(path);
+  }
+  ~TempDirRegistry() {
+    if (::getpid() != owner_) return;  // a forked child that called exit(): the parent's dirs
+    for (const std::string& p : paths_) {
+      std::error_code ec;
+      std::filesystem::remove_all(p, ec);  // already gone (the test removed it): fine
+    }
+  }
+
+ private:
+  std::mutex mutex_;
+  std::vector<std::string> paths_;
+  pid_t owner_ = ::getpid();
+};
+
+}  // namespace
+
 std::string MakeTempDir(const std::string& prefix) {
   std::random_device rd;
   const auto base = std::filesystem::temp_directory_path();
+  TempDirRegistry& registry = TempDirRegistry::Get();  // constructed first, destroyed last
   for (int attempt = 0; attempt < 100; ++attempt) {
     auto p = base / (prefix + "_" + std::to_string(rd()));
-    if (std::filesystem::create_directory(p)) return p.string();
+    if (std::filesystem::create_directory(p)) {
+      registry.Add(p.string());
+      return p.string();
+    }
   }
   ADD_FAILURE() << "cannot create a temp dir";
   return base.string();
+}
+
+TempDir::~TempDir() {
+  std::error_code ec;
+  std::filesystem::remove_all(path_, ec);
 }
 
 int RunCommand(const std::string& command, std::string* output) {

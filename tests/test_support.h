@@ -25,8 +25,26 @@ nlohmann::json ReadJsonFile(const std::string& path);
 // Reads a plain numeric CSV with a header into name -> column. Aborts the test on error.
 std::map<std::string, std::vector<double>> ReadGoldenCsv(const std::string& path);
 
-// A fresh empty directory under the system temp dir for a test's files.
+// A fresh empty directory under the system temp dir for a test's files: <tmp>/<prefix>_<random>.
+// It is removed with everything in it when the test process exits (ctest runs each test in a
+// process of its own, so: when the test ends), whether the test removes it or not (issue 24:
+// hundreds of /tmp/allan_cli_*, /tmp/c_export_test_* were left behind).
 std::string MakeTempDir(const std::string& prefix);
+
+// The same, scoped: the directory is removed when the object goes out of scope (a test's body,
+// a fixture's member).
+class TempDir {
+ public:
+  explicit TempDir(const std::string& prefix) : path_(MakeTempDir(prefix)) {}
+  ~TempDir();
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  const std::string& path() const { return path_; }
+  std::string operator/(const std::string& name) const { return path_ + "/" + name; }
+
+ private:
+  std::string path_;
+};
 
 // Runs `command` with /bin/sh, returns its exit status; stdout+stderr captured into *output.
 int RunCommand(const std::string& command, std::string* output);

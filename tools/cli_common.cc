@@ -1,10 +1,13 @@
 #include "cli_common.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <sstream>
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -46,6 +49,22 @@ void AddLogOptions(CLI::App* app, LogOptions* o, bool input_required) {
                   "Memory the log may take when read or resampled, GB (refused with what it needs beyond)")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
+}
+
+CLI::Validator IntegerRange(std::int64_t lo, std::int64_t hi, const std::string& source) {
+  std::ostringstream range;
+  range << "[" << static_cast<double>(lo) << ", " << static_cast<double>(hi) << "]";
+  const std::string range_text = range.str();
+  return CLI::Validator(
+      [lo, hi, range_text, source](std::string& text) -> std::string {
+        char* end = nullptr;
+        errno = 0;
+        const long long v = std::strtoll(text.c_str(), &end, 10);
+        const bool integer = !text.empty() && end == text.c_str() + text.size() && errno == 0;
+        if (integer && v >= lo && v <= hi) return "";
+        return text + ": must be an integer in " + range_text + " (" + source + ")";
+      },
+      range_text, "gyrocomp-integer-range");
 }
 
 std::vector<std::string> SplitList(const std::string& text) {

@@ -11,6 +11,7 @@
 // its SIGINT / SIGTERM handler removes them.
 #pragma once
 
+#include <cstdint>
 #include <functional>
 #include <optional>
 #include <string>
@@ -118,6 +119,13 @@ void SetColumn(const std::string& command, Table* table, std::string name, std::
 // to learn: warns on stderr with the span and what the model then is.
 inline constexpr double kMinTemperatureSpanC = 1.0;
 void WarnIfTemperatureFlat(const std::string& command, const GyroLog& log);
+
+// A validator for an integer option that counts something (samples, frequencies, points, modes):
+// refused at parse time, before any work (exit 2), unless it is an integer in [lo, hi]; the
+// message names the range and what states it ("0: must be an integer in [1, 1e+09]
+// (BandwidthOptions::num_frequencies)"; CLI11 prefixes the option). Issue 24: `denoise
+// --bandwidth-segment 0` ran and exited 0.
+CLI::Validator IntegerRange(std::int64_t lo, std::int64_t hi, const std::string& source);
 
 // Splits "a,b,c" on commas, trimming spaces; empty items are dropped.
 std::vector<std::string> SplitList(const std::string& text);

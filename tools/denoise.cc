@@ -274,10 +274,16 @@ Command Make(CLI::App& app) {
   sub->add_flag("--bandwidth", a.bandwidth,
                 "Measure the -3 dB bandwidth and delay by adding test sines to a segment of the record")
       ->group(g);
+  // Issue 24: 0 ran the measurement on an all-zero background and exited 0. The floor is
+  // BandwidthOptions::num_samples's (>= 256; MeasureBandwidth's window is 80% of it, >= 128).
   sub->add_option("--bandwidth-segment", a.bandwidth_segment, "Samples of the record used as background")
+      ->check(IntegerRange(256, 1'000'000'000, "BandwidthOptions::num_samples"))
       ->group(g)
       ->capture_default_str();
+  // At least 2 (BandwidthOptions::num_frequencies); above 10000 the log-spaced frequencies,
+  // rounded to whole cycles, are duplicates dropped anyway.
   sub->add_option("--bandwidth-frequencies", a.bandwidth_frequencies, "Number of test frequencies")
+      ->check(IntegerRange(2, 10'000, "BandwidthOptions::num_frequencies"))
       ->group(g)
       ->capture_default_str();
   sub->add_option("--bandwidth-amplitude", a.bandwidth_amplitude,

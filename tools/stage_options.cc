@@ -6,6 +6,8 @@
 
 namespace gyrocomp::cli {
 
+// Integer counts are refused at parse time outside their range (IntegerRange, issue 24); the
+// ranges are the library's IsValid (named in each message).
 void AddPipelineOptions(CLI::App* app, PipelineCliOptions* c) {
   PipelineOptions& o = c->options;
   const char* g = "VMD";
@@ -28,7 +30,8 @@ void AddPipelineOptions(CLI::App* app, PipelineCliOptions* c) {
   app->add_option("--m", o.entropy.m, "Embedding dimension m")->group(g)->capture_default_str();
   app->add_option("--r", o.entropy.r_factor, "Tolerance r as a factor of each mode's SD")->group(g)->capture_default_str();
   app->add_option("--entropy-max-samples", o.entropy_max_samples,
-                  "Sample entropy on at most this many samples of each mode (middle window)")->group(g);
+                  "Sample entropy on at most this many samples of each mode (middle window)")
+      ->check(IntegerRange(100, 1'000'000'000'000, "PipelineOptions::entropy_max_samples"))->group(g);
 
   g = "Classification";
   app->add_option("--rule", c->rule, "drift/mixed/noise thresholds: standard (docs/classification.md) or paper (SE < 2 drift, > 4.2 noise)")
@@ -38,7 +41,8 @@ void AddPipelineOptions(CLI::App* app, PipelineCliOptions* c) {
 
   g = "WFLP";
   app->add_option("--wavelet", o.wflp.wavelet, "Wavelet (haar, dbN, symN, coifN)")->group(g)->capture_default_str();
-  app->add_option("--level", o.wflp.level, "Decomposition level")->group(g);
+  app->add_option("--level", o.wflp.level, "Decomposition level")
+      ->check(IntegerRange(0, 64, "WflpOptions::level"))->group(g);
   app->add_option("--extension", c->wavelet_extension, "Signal extension mode")->group(g)
       ->check(CLI::IsMember({"symmetric", "periodization", "periodic", "zero"}))->capture_default_str();
   app->add_option("--details", c->details, "Detail coefficients: threshold, keep or zero")->group(g)
@@ -54,7 +58,8 @@ void AddPipelineOptions(CLI::App* app, PipelineCliOptions* c) {
       ->check(CLI::IsMember({"auto", "cs-svr", "svr", "grid-svr", "poly", "hybrid"}))->capture_default_str();
   app->add_option("--inputs", c->inputs, "Model inputs: temp | temp,dtemp | temp,lag | temp,memory (not with auto)")->group(g)
       ->check(CLI::IsMember({"temp", "temp,dtemp", "temp,lag", "temp,memory"}))->capture_default_str();
-  app->add_option("--degree", o.drift.polynomial.degree, "Polynomial degree in temperature (poly)")->group(g)->capture_default_str();
+  app->add_option("--degree", o.drift.polynomial.degree, "Polynomial degree in temperature (poly)")
+      ->check(IntegerRange(1, 5, "PolynomialOptions::degree"))->group(g)->capture_default_str();
   app->add_option("--C", c->svr_C, "SVR C (svr)")->group(g);
   app->add_option("--gamma", c->svr_gamma, "SVR RBF gamma (svr)")->group(g);
   app->add_option("--sigma", c->svr_sigma, "SVR RBF sigma, gamma = 1/(2 sigma^2) (svr)")->group(g);
@@ -66,7 +71,8 @@ void AddPipelineOptions(CLI::App* app, PipelineCliOptions* c) {
   app->add_option("--generations", o.drift.search.cuckoo.max_generations, "Cuckoo-search generations")->group(g)->capture_default_str();
   app->add_option("--pa", o.drift.search.cuckoo.discovery_probability, "Cuckoo-search discovery probability")->group(g)->capture_default_str();
   app->add_option("--seed", o.drift.search.cuckoo.seed, "Cuckoo-search seed")->group(g)->capture_default_str();
-  app->add_option("--cv-folds", o.drift.cv_folds, "Contiguous blocks of the blocked cross-validation")->group(g)->capture_default_str();
+  app->add_option("--cv-folds", o.drift.cv_folds, "Contiguous blocks of the blocked cross-validation")
+      ->check(IntegerRange(2, 1'000'000, "DriftFitOptions::cv_folds"))->group(g)->capture_default_str();
   app->add_option("--train-period", o.drift.train_period_s, "Block-mean period of the SVR training copy, s")->group(g);
 
   g = "Allan";
@@ -74,7 +80,9 @@ void AddPipelineOptions(CLI::App* app, PipelineCliOptions* c) {
 
   g = "Bandwidth";
   app->add_flag("--no-bandwidth", c->no_bandwidth, "Skip the effective-bandwidth measurement")->group(g);
-  app->add_option("--bandwidth-segment", o.bandwidth_segment_samples, "Samples of the record used for it")->group(g)->capture_default_str();
+  app->add_option("--bandwidth-segment", o.bandwidth_segment_samples, "Samples of the record used for it")
+      ->check(IntegerRange(1024, 1'000'000'000, "PipelineOptions::bandwidth_segment_samples"))
+      ->group(g)->capture_default_str();
 }
 
 Status ResolvePipelineOptions(PipelineCliOptions* c) {

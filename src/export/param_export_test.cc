@@ -280,6 +280,47 @@ TEST(ThermalCubic, ProjectionOfACubicIsExact) {
   }
 }
 
+// Issue 24 (fuzz_numeric_drift): a model fitted on a temperature span of ~1e-303 C projected onto
+// infinite coefficients with a success status (c_k = fit coefficient / h^k, h^k underflowing).
+// Now a Status error naming the span; a narrow but representable span still projects.
+TEST(ThermalCubic, SpanTooNarrowForACubicIsAnErrorNamingIt) {
+  std::vector<double> temp_c, rate_dps;
+  for (int i = 0; i < 300; ++i) {
+    temp_c.push_back(1e-303 * i);
+    rate_dps.push_back(0.01 * i + 0.001 * std::sin(0.1 * i));
+  }
+  DriftFitOptions o;  // what the fuzzer's input fits: an RBF SVR (a polynomial refuses the span)
+  o.model = DriftModelKind::kSvr;
+  o.inputs = DriftInputSet::kTemp;
+  o.svr.C = 1.0;
+  o.svr.gamma = 1.0;
+  auto m = FitDriftModel(DriftInputs{temp_c, 1.0}, rate_dps, o);
+  ASSERT_TRUE(m.ok()) << m.error().message;
+  auto c = ProjectOntoCubic(*m);
+  ASSERT_FALSE(c.ok()) << "c3 = " << c->coeff[3];
+  EXPECT_EQ(c.error().kind, ErrorKind::kInvalidInput);
+  EXPECT_NE(c.error().message.find("temperature span 2.99e-301 C"), std::string::npos) << c.error().message;
+  EXPECT_NE(c.error().message.find("too narrow for a cubic"), std::string::npos) << c.error().message;
+  // The same through an explicit range on a well-fitted model.
+  const DriftModel exact = ExactCubicModels().front();
+  CubicProjectionOptions po;
+  po.temp_min_c = 0.0;
+  po.temp_max_c = 1e-303;
+  EXPECT_FALSE(ProjectOntoCubic(exact, po).ok());
+  // A range whose span overflows.
+  po.temp_min_c = -1e308;
+  po.temp_max_c = 1e308;
+  auto inf = ProjectOntoCubic(exact, po);
+  ASSERT_FALSE(inf.ok());
+  EXPECT_NE(inf.error().message.find("span is not a finite number"), std::string::npos) << inf.error().message;
+  // 1e-6 C: narrow, representable, finite coefficients.
+  po.temp_min_c = 20.0;
+  po.temp_max_c = 20.0 + 1e-6;
+  auto narrow = ProjectOntoCubic(exact, po);
+  ASSERT_TRUE(narrow.ok()) << narrow.error().message;
+  for (double v : narrow->coeff) EXPECT_TRUE(std::isfinite(v)) << v;
+}
+
 TEST(ParamExport, RefusesWhatTheFirmwareCannotUse) {
   const ThreeAxisCubics radps = ProjectRadps(ExactCubicModels());
   EXPECT_FALSE(WritePx4ThermalParams(radps, {}, {}).ok());  // no device id

@@ -129,6 +129,13 @@ Result<TemperatureCubic> ProjectOntoCubic(const DriftModel& model, const CubicPr
     s << "cubic projection: empty temperature range [" << cubic.temp_min_c << ", " << cubic.temp_max_c << "] C";
     return InvalidInput(s.str());
   }
+  const double span_c = cubic.temp_max_c - cubic.temp_min_c;
+  if (!std::isfinite(span_c)) {
+    std::ostringstream s;
+    s << "cubic projection: temperature range [" << cubic.temp_min_c << ", " << cubic.temp_max_c
+      << "] C: its span is not a finite number";
+    return InvalidInput(s.str());
+  }
   cubic.ref_temp_c = options.ref_temp_c.value_or(0.5 * (cubic.temp_min_c + cubic.temp_max_c));
   // Static curve: thermal state 0 (dT/dt = 0, the lag settled, no heating/cooling memory).
   const int n = options.grid_points;
@@ -148,6 +155,17 @@ Result<TemperatureCubic> ProjectOntoCubic(const DriftModel& model, const CubicPr
   }
   const Eigen::Vector4d c = a.colPivHouseholderQr().solve(y);
   for (int k = 0; k < 4; ++k) cubic.coeff[k] = c(k) / std::pow(h, k);
+  // c_k is the fit's coefficient in u = dT / h divided by h^k: on a span of ~1e-100 C or less
+  // (a model fitted on a constant temperature up to rounding) h^k underflows and c_k overflows.
+  // No firmware cubic can hold it: refused, naming the span (issue 24).
+  for (int k = 0; k < 4; ++k) {
+    if (!std::isfinite(cubic.coeff[k])) {
+      std::ostringstream s;
+      s << "cubic projection: temperature span " << span_c << " C ([" << cubic.temp_min_c << ", "
+        << cubic.temp_max_c << "] C) is too narrow for a cubic in temperature: c" << k << " is not finite";
+      return InvalidInput(s.str());
+    }
+  }
   return cubic;
 }
 

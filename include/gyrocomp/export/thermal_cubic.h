@@ -82,7 +82,8 @@ struct CubicProjectionOptions {
   bool IsValid(std::string* error) const;
 };
 
-// Errors: invalid options, an empty range (min >= max).
+// Errors: invalid options, an empty range (min >= max), a range whose span is not finite or so
+// narrow (~1e-100 C and below) that a coefficient c_k (target unit / C^k) is not finite.
 Result<TemperatureCubic> ProjectOntoCubic(const DriftModel& model,
                                           const CubicProjectionOptions& options = {});
 

@@ -217,7 +217,9 @@ Command Make(CLI::App& app) {
   sub->add_option("--entropy-max-samples", args->entropy_max_samples,
                   "Sample entropy on at most this many samples of each mode (middle window; default " +
                       (args->entropy_max_samples ? std::to_string(*args->entropy_max_samples) : std::string("all")) +
-                      ", as process)")->group(g);
+                      ", as process)")
+      ->check(IntegerRange(16, 1'000'000'000'000, "ClassifyVmdModes: entropy_max_samples"))
+      ->group(g);
   sub->add_flag("--entropy-all", args->entropy_all, "Sample entropy on every sample of each mode")->group(g);
   g = "Classification";
   sub->add_option("--rule", args->rule, "Thresholds: standard (docs/classification.md) or paper (2 / 4.2)")

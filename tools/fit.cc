@@ -316,13 +316,15 @@ Command Make(CLI::App& app) {
   sub->add_option("--pa", a->fit.search.cuckoo.discovery_probability, "Discovery probability pa")->group(s)->capture_default_str();
   sub->add_option("--seed", a->fit.search.cuckoo.seed, "Seed (the result depends on it only, not on threads)")
       ->group(s)->capture_default_str();
-  sub->add_option("--threads", a->fit.search.cuckoo.num_threads, "Threads evaluating parameter sets (default: all cores)")->group(s);
+  sub->add_option("--threads", a->fit.search.cuckoo.num_threads, "Threads evaluating parameter sets (default: all cores)")
+      ->check(IntegerRange(1, 4096, "CuckooSearchOptions::num_threads"))->group(s);
   sub->add_option("--C-min", a->fit.search.C.lower, "Lower bound of C")->group(s)->capture_default_str();
   sub->add_option("--C-max", a->fit.search.C.upper, "Upper bound of C")->group(s)->capture_default_str();
   sub->add_option("--sigma-min", a->fit.search.sigma.lower, "Lower bound of sigma")->group(s)->capture_default_str();
   sub->add_option("--sigma-max", a->fit.search.sigma.upper, "Upper bound of sigma")->group(s)->capture_default_str();
   sub->add_flag("--search-epsilon", a->search_epsilon, "cs-svr: also search epsilon in [0.001, 0.5]")->group(s);
-  sub->add_option("--grid-budget", a->fit.search.grid_budget, "grid-svr: parameter sets (default: cs-svr's budget)")->group(s);
+  sub->add_option("--grid-budget", a->fit.search.grid_budget, "grid-svr: parameter sets (default: cs-svr's budget)")
+      ->check(IntegerRange(4, 1'000'000'000, "SvrSearchOptions::grid_budget"))->group(s);
   sub->add_flag("--cv-all", a->cv_all,
                 "Score every held-out sample in the blocked CV, also those outside the other blocks' temperature range "
                 "(default: in-range only)")->group(s);
@@ -330,18 +332,22 @@ Command Make(CLI::App& app) {
                   "Cross-validation folds: blocks | segments (default: segments for auto and hybrid, blocks otherwise)")
       ->check(CLI::IsMember({"blocks", "segments"}))->group(s);
   sub->add_option("--auto-generations", a->fit.auto_select.search_generations,
-                  "auto: cuckoo-search generations of its cs-svr and hybrid candidates")->group(s)->capture_default_str();
+                  "auto: cuckoo-search generations of its cs-svr and hybrid candidates")
+      ->check(IntegerRange(1, 1'000'000, "DriftAutoOptions::search_generations"))->group(s)->capture_default_str();
   sub->add_flag("--keep-kernel", a->keep_kernel,
                 "hybrid: keep the kernel even when it does not beat the structured part by more than the "
                 "block-to-block spread of its CV gain (default: dropped then, and the model is its structured part)")
       ->group(s);
-  sub->add_option("--cv-folds", a->fit.cv_folds, "Contiguous blocks of the blocked cross-validation")->group(s)->capture_default_str();
+  sub->add_option("--cv-folds", a->fit.cv_folds, "Contiguous blocks of the blocked cross-validation")
+      ->check(IntegerRange(2, 1'000'000, "DriftFitOptions::cv_folds"))->group(s)->capture_default_str();
   const std::string d = "Data";
   sub->add_option("--train-period", a->fit.train_period_s, "Block-mean period of the SVR training copy, s (default automatic)")->group(d);
   sub->add_option("--max-train", a->fit.max_train_samples, "Automatic period: at most this many training samples")
+      ->check(IntegerRange(10, 1'000'000'000'000, "DriftFitOptions::max_train_samples"))
       ->group(d)->capture_default_str();
   sub->add_option("--dtemp-window", a->fit.rate.window_s, "Window of the dT/dt slope, s")->group(d)->capture_default_str();
-  sub->add_option("--degree", a->fit.polynomial.degree, "poly: degree in temperature (1..5)")->group(d)->capture_default_str();
+  sub->add_option("--degree", a->fit.polynomial.degree, "poly: degree in temperature (1..5)")
+      ->check(IntegerRange(1, 5, "PolynomialOptions::degree"))->group(d)->capture_default_str();
   sub->add_option("--noise-model", a->noise_model,
                   "poly: white (ordinary least squares, default) | allan (generalised least squares with white + "
                   "flicker + random walk fitted to the Allan variance of the OLS residual; helps only where the "
@@ -350,6 +356,7 @@ Command Make(CLI::App& app) {
   sub->add_option("--gls-block", a->fit.gls_block_s, "--noise-model allan: block-mean period of the GLS fit, s")
       ->group(d)->capture_default_str();
   sub->add_option("--dtemp-degree", a->fit.polynomial.dtemp_degree, "poly: degree in dT/dt (1..3) with --inputs temp,dtemp")
+      ->check(IntegerRange(1, 3, "PolynomialOptions::dtemp_degree"))
       ->group(d)->capture_default_str();
   AddOutputOption(sub, "-o,--output", &a->model_path, "Model file to write (JSON)")->required();
   AddOutputOption(sub, "--json", &a->json_path, "Write the fit summary as JSON to FILE ('-' = stdout)");

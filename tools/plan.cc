@@ -168,7 +168,8 @@ Command Make(CLI::App& app) {
       "  recommended, seeds.\n"
       "Example: gyrocomp plan --arw 0.3 --bias-instability 10 --thermal-lag 900 --dtemp-coeff 2");
   sub->add_option("--profiles", a->profiles, "Profiles to compare (paper, heat-cool, stairs, cycle, ramp, soak)")->capture_default_str();
-  sub->add_option("--seeds", a->seeds, "Noise seeds per profile")->capture_default_str();
+  sub->add_option("--seeds", a->seeds, "Noise seeds per profile")
+      ->check(IntegerRange(1, 50, "plan: noise seeds per profile"))->capture_default_str();
   sub->add_option("--fs", o.fs_hz, "Sample rate of the simulated runs, Hz")->check(CLI::PositiveNumber)->capture_default_str();
   AddOutputOption(sub, "--json", &a->json_path, "Write the comparison as JSON ('-' = stdout)");
   sub->add_option("--arw", o.noise.arw_deg_per_sqrt_h, "Angle random walk, deg/sqrt(h)")->capture_default_str();
@@ -181,7 +182,8 @@ Command Make(CLI::App& app) {
   sub->add_option("--thermal-lag", o.thermal_lag_s, "Sensor thermal time constant, s")->capture_default_str();
   sub->add_option("--hot", o.profile.hot_temp_c, "Hot extreme, deg C")->capture_default_str();
   sub->add_option("--cold", o.profile.cold_temp_c, "Cold extreme, deg C")->capture_default_str();
-  sub->add_option("--cycles", o.profile.num_cycles, "cycle: number of cycles")->capture_default_str();
+  sub->add_option("--cycles", o.profile.num_cycles, "cycle: number of cycles")
+      ->check(IntegerRange(1, 1000, "ThermalProfileOptions::num_cycles"))->capture_default_str();
   return {sub, [a] { return RunPlan(*a); }};
 }
 

@@ -188,7 +188,8 @@ Command Make(CLI::App& app) {
   sub->add_option("--soak-temp", p.soak_temp_c, "soak: temperature, deg C")->capture_default_str();
   sub->add_option("--soak-duration", p.soak_duration_s, "soak: duration, s")->capture_default_str();
   sub->add_option("--ramp-end", p.ramp_end_c, "ramp: end temperature, deg C")->capture_default_str();
-  sub->add_option("--cycles", p.num_cycles, "cycle: number of hot-cold-room cycles")->capture_default_str();
+  sub->add_option("--cycles", p.num_cycles, "cycle: number of hot-cold-room cycles")
+      ->check(IntegerRange(1, 1000, "ThermalProfileOptions::num_cycles"))->capture_default_str();
   sub->add_option("--thermal-lag", o.thermal_lag_s, "Sensor thermal time constant behind the chamber, s")
       ->capture_default_str();
   sub->add_option("--temp-noise", o.temp_noise_c, "Temperature reading noise (1 sigma), deg C")->capture_default_str();

@@ -153,13 +153,23 @@ Result<ClassificationResult> ClassifyVmdModes(const VmdResult& vmd, const Sample
   one.num_threads = 1;
   std::vector<std::optional<Result<SampleEntropyResult>>> se(K);
   std::atomic<std::size_t> next{0};
+  // SampleEntropyOptions::cancel (issue 24): SampleEntropy throws Cancelled on whichever thread
+  // runs it; a worker records it and stops, and it is thrown again here after the join.
+  std::atomic<bool> cancelled{false};
   auto worker = [&] {
-    for (std::size_t k; (k = next.fetch_add(1)) < K;) se[k] = SampleEntropy(MiddleWindow(vmd.modes[k], entropy_max_samples), one);
+    try {
+      for (std::size_t k; !cancelled && (k = next.fetch_add(1)) < K;) {
+        se[k] = SampleEntropy(MiddleWindow(vmd.modes[k], entropy_max_samples), one);
+      }
+    } catch (const Cancelled&) {
+      cancelled = true;
+    }
   };
   std::vector<std::thread> pool;
   for (int t = 1; t < std::min<int>(threads, static_cast<int>(K)); ++t) pool.emplace_back(worker);
   worker();
   for (auto& th : pool) th.join();
+  if (cancelled) throw Cancelled();
   std::vector<ModeFeature> features(K);
   for (std::size_t k = 0; k < K; ++k) {
     const Result<SampleEntropyResult>& r = *se[k];

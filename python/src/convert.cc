@@ -79,6 +79,7 @@ void LongCall::Wait(const std::function<void()>& work) {
   std::condition_variable cv;
   bool done = false;
   PyObject *type = nullptr, *value = nullptr, *traceback = nullptr;  // a signal handler's exception
+  if (caller_ != nullptr && caller_->cancelled()) stop_.Cancel();  // the library polls on entry
   {
     py::gil_scoped_release release;
     std::thread worker([&] {

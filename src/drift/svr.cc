@@ -47,9 +47,9 @@ void SilenceLibsvm() {
   std::call_once(once, [] { svm_set_print_string_function(&PrintOrStop); });
 }
 
-// svm_train with `cancel` polled as above; nullptr and *stopped when it was stopped. While a token is
-// attached, LeakSanitizer ignores this thread's allocations (they are LIBSVM's, and a stopped
-// fit leaks them by design), so the sanitizer suite can run the cancel tests.
+// svm_train with `cancel` polled as above; nullptr and *stopped when it was stopped. While a
+// token is attached, LeakSanitizer ignores this thread's allocations (they are LIBSVM's, and a
+// stopped fit leaks them by design), so the sanitizer suite can run the cancel tests.
 svm_model* TrainOrStop(const svm_problem& problem, const svm_parameter& param, const CancellationToken* cancel,
                        bool* stopped) {
   struct Attach {

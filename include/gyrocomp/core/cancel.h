@@ -12,9 +12,9 @@
 // and leave the call by throwing Cancelled from the hook. Not polled yet: the drift fits outside
 // the SVR search (polynomial candidates, thermal states; src/drift/drift_auto.cc, drift_fit.cc).
 // The CLI does not need the token: its signal handler removes the temporaries and exits
-// (tools/main.cc). Python sets it from a waiting loop (python/src/convert.h, LongCall). Those hooks run on
-// the calling thread between rounds of work, and the code around them releases everything by
-// RAII (worker pools join in their destructors), so unwinding from them is safe.
+// (tools/main.cc). Python sets it from a waiting loop (python/src/convert.h, LongCall). Those
+// hooks run on the calling thread between rounds of work, and the code around them releases
+// everything by RAII (worker pools join in their destructors), so unwinding from them is safe.
 #pragma once
 
 #include <atomic>

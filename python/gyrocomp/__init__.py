@@ -4,13 +4,16 @@ Every function takes numpy arrays (float64, used in place when contiguous) and o
 arguments named as the C++ Options fields, with the C++ defaults. Results are objects with named
 attributes (units in the names, as in C++) and ``to_dict()``. Bad input or options raise
 ``ValueError`` with the library's message; I/O and internal failures ``RuntimeError``. Long calls
-(vmd, fit_drift_model, run_parallel_model) release the GIL and accept ``progress(stage,
-fraction)`` and ``cancel=CancellationToken()``; Ctrl-C interrupts them at the next progress point.
+(vmd, sample_entropy, compute_allan, fit_drift_model, run_parallel_model) run with the GIL released,
+accept ``cancel=CancellationToken()`` (and vmd, fit_drift_model, run_parallel_model ``progress(stage,
+fraction)``), and stop within a fraction of a second on Ctrl-C (KeyboardInterrupt), on the token
+(gyrocomp.Cancelled) or on a Dask cancel (gyrocomp.dask.cancel_with_task).
 """
 
 import functools as _functools
 
 from . import _core
+from . import dask  # noqa: F401  (gyrocomp.dask.cancel_with_task; imports distributed only when used)
 from ._core import CancellationToken, Cancelled, DriftModel, load_drift_model, drift_model_from_json
 
 __version__ = _core.__version__

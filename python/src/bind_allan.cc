@@ -77,17 +77,20 @@ py::dict AllanDict(AllanResult&& r) {
 void BindAllan(py::module_& m) {
   m.def(
       "compute_allan",
-      [](const DoubleArray& rate_dps, double fs_hz, const py::kwargs& kwargs) {
+      [](const DoubleArray& rate_dps, double fs_hz, const CancellationToken* cancel, const py::kwargs& kwargs) {
         Kwargs kw(kwargs, "compute_allan");
-        const AllanOptions o = ReadAllanOptions(kw);
+        AllanOptions o = ReadAllanOptions(kw);
         kw.Done();
         const std::span<const double> y = AsSpan(rate_dps, "rate_dps");
-        Result<AllanResult> r = WithoutGil([&] { return ComputeAllan(y, fs_hz, o); });
+        LongCall call(cancel);
+        o.cancel = call.token();
+        Result<AllanResult> r = call.Run([&] { return ComputeAllan(y, fs_hz, o); });
         return AllanDict(Unwrap(std::move(r)));
       },
-      py::arg("rate_dps"), py::arg("fs_hz"),
+      py::arg("rate_dps"), py::arg("fs_hz"), py::kw_only(), py::arg("cancel") = nullptr,
       "Overlapping Allan deviation and noise terms (AllanOptions as keywords: taus, confidence, "
-      "arw_tau_s, rrw_tau_s, slope_tolerance, min_edf_for_terms).");
+      "arw_tau_s, rrw_tau_s, slope_tolerance, min_edf_for_terms); cancel: a CancellationToken. "
+      "Ctrl-C stops it (KeyboardInterrupt).");
 
   m.def(
       "compute_deviation",

@@ -145,14 +145,16 @@ void BindDrift(py::module_& m) {
         Kwargs kw(kwargs, "fit_drift_model");
         DriftFitOptions o = ReadFitOptions(kw);
         kw.Done();
-        const Hooks hooks(std::move(progress), cancel);
+        LongCall call(cancel);
+        o.search.cuckoo.cancel = o.svr.cancel = call.token();
+        const Hooks hooks(std::move(progress), call.token());
         const int generations = o.search.cuckoo.max_generations;
         o.search.cuckoo.on_generation = [&hooks, generations](int generation, double) {
           hooks.Poll("drift-fit (cuckoo search)", static_cast<double>(generation) / generations);
         };
         const DriftInputs inputs{AsSpan(temp_c, "temp_c"), fs_hz};
         const std::span<const double> target = AsSpan(target_dps, "target_dps");
-        return Unwrap(WithoutGil([&] { return FitDriftModel(inputs, target, o); }));
+        return Unwrap(call.Run([&] { return FitDriftModel(inputs, target, o); }));
       },
       py::arg("temp_c"), py::arg("target_dps"), py::arg("fs_hz"), py::kw_only(), py::arg("progress") = py::none(),
       py::arg("cancel") = nullptr,

@@ -73,18 +73,21 @@ void BindPipeline(py::module_& m) {
       [](const DoubleArray& rate_dps, const DoubleArray& temp_c, double fs_hz, std::optional<DoubleArray> known_rate_dps,
          py::object progress, const CancellationToken* cancel, const py::kwargs& kwargs) {
         Kwargs kw(kwargs, "run_parallel_model");
-        const PipelineOptions o = ReadPipelineOptions(kw);
+        PipelineOptions o = ReadPipelineOptions(kw);
         kw.Done();
         PipelineInput input;
         input.rate_dps = AsSpan(rate_dps, "rate_dps");
         input.temp_c = AsSpan(temp_c, "temp_c");
         input.fs_hz = fs_hz;
         if (known_rate_dps) input.known_rate_dps = AsSpan(*known_rate_dps, "known_rate_dps");
-        const Hooks hooks(std::move(progress), cancel);
+        LongCall call(cancel);
+        o.vmd.cancel = o.entropy.cancel = o.allan.cancel = call.token();
+        o.drift.search.cuckoo.cancel = o.drift.svr.cancel = call.token();
+        const Hooks hooks(std::move(progress), call.token());
         const ProgressCallback callback = [&hooks](const std::string& stage, double fraction) {
           hooks.Poll(stage, fraction);
         };
-        return ResultDict(Unwrap(WithoutGil([&] { return RunParallelModel(input, o, callback); })));
+        return ResultDict(Unwrap(call.Run([&] { return RunParallelModel(input, o, callback); })));
       },
       py::arg("rate_dps"), py::arg("temp_c"), py::arg("fs_hz"), py::kw_only(), py::arg("known_rate_dps") = py::none(),
       py::arg("progress") = py::none(), py::arg("cancel") = nullptr,

@@ -61,13 +61,15 @@ py::dict Vmd(const DoubleArray& signal, py::object progress, const CancellationT
   Kwargs kw(kwargs, "vmd");
   VmdOptions o = ReadVmdOptions(kw);
   kw.Done();
-  const Hooks hooks(std::move(progress), cancel);
+  LongCall call(cancel);
+  o.cancel = call.token();
+  const Hooks hooks(std::move(progress), call.token());
   const int max_iterations = o.max_iterations;
   o.on_iteration = [&hooks, max_iterations](int iteration, double) {
     hooks.Poll("vmd", static_cast<double>(iteration) / max_iterations);
   };
   const std::span<const double> x = AsSpan(signal, "signal");
-  VmdResult r = Unwrap(WithoutGil([&] { return DecomposeVmd(x, o); }));
+  VmdResult r = Unwrap(call.Run([&] { return DecomposeVmd(x, o); }));
   const VmdSummary& s = r.summary;
   py::dict d;
   d["modes"] = ToNumpy2d(r.modes);
@@ -111,7 +113,7 @@ void BindStages(py::module_& m) {
 
   m.def(
       "sample_entropy",
-      [](const DoubleArray& x, const py::kwargs& kwargs) {
+      [](const DoubleArray& x, const CancellationToken* cancel, const py::kwargs& kwargs) {
         Kwargs kw(kwargs, "sample_entropy");
         SampleEntropyOptions o;
         kw.Get("m", &o.m);
@@ -121,13 +123,17 @@ void BindStages(py::module_& m) {
         kw.Get("num_threads", &o.num_threads);
         kw.Done();
         const std::span<const double> s = AsSpan(x, "x");
-        SampleEntropyResult r = Unwrap(WithoutGil([&] { return SampleEntropy(s, o); }));
+        LongCall call(cancel);
+        o.cancel = call.token();
+        SampleEntropyResult r = Unwrap(call.Run([&] { return SampleEntropy(s, o); }));
         return py::dict(py::arg("sample_entropy") = r.defined ? py::cast(r.sample_entropy) : py::none(),
                         py::arg("defined") = r.defined, py::arg("m") = r.m, py::arg("r") = r.r, py::arg("n") = r.n,
                         py::arg("a_matches") = r.a_matches, py::arg("b_matches") = r.b_matches,
                         py::arg("elapsed_s") = r.elapsed_s, py::arg("brief_report") = r.BriefReport());
       },
-      py::arg("x"), "Sample entropy (SampleEntropyOptions as keywords: m, r_factor, r_absolute, ...).");
+      py::arg("x"), py::kw_only(), py::arg("cancel") = nullptr,
+      "Sample entropy (SampleEntropyOptions as keywords: m, r_factor, r_absolute, ...); cancel: a "
+      "CancellationToken. Ctrl-C stops it (KeyboardInterrupt).");
 
   m.def(
       "wavelet_denoise",

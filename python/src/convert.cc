@@ -1,6 +1,10 @@
 #include "convert.h"
 
+#include <chrono>
+#include <condition_variable>
 #include <cstring>
+#include <mutex>
+#include <thread>
 
 namespace gyrocomp::python {
 
@@ -65,9 +69,45 @@ void Kwargs::Done() const {
 
 void Hooks::Poll(const std::string& stage, double fraction) const {
   if (token_ != nullptr && token_->cancelled()) throw Cancelled();
+  if (progress_.is_none()) return;
   py::gil_scoped_acquire gil;
-  if (PyErr_CheckSignals() != 0) throw py::error_already_set();
-  if (!progress_.is_none()) progress_(stage, fraction);
+  progress_(stage, fraction);
+}
+
+void LongCall::Wait(const std::function<void()>& work) {
+  std::mutex mu;
+  std::condition_variable cv;
+  bool done = false;
+  PyObject *type = nullptr, *value = nullptr, *traceback = nullptr;  // a signal handler's exception
+  if (caller_ != nullptr && caller_->cancelled()) stop_.Cancel();  // the library polls on entry
+  {
+    py::gil_scoped_release release;
+    std::thread worker([&] {
+      work();
+      const std::lock_guard<std::mutex> lock(mu);
+      done = true;
+      cv.notify_all();
+    });
+    std::unique_lock<std::mutex> lock(mu);
+    while (!cv.wait_for(lock, std::chrono::milliseconds(kPollIntervalMs), [&] { return done; })) {
+      lock.unlock();
+      if (caller_ != nullptr && caller_->cancelled()) stop_.Cancel();
+      if (type == nullptr) {
+        const py::gil_scoped_acquire gil;
+        if (PyErr_CheckSignals() != 0) {
+          PyErr_Fetch(&type, &value, &traceback);
+          stop_.Cancel();
+        }
+      }
+      lock.lock();
+    }
+    lock.unlock();
+    worker.join();
+  }
+  if (type != nullptr) {
+    PyErr_Restore(type, value, traceback);
+    throw py::error_already_set();
+  }
 }
 
 }  // namespace gyrocomp::python

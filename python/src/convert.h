@@ -4,6 +4,8 @@
 #pragma once
 
 #include <cstdint>
+#include <exception>
+#include <functional>
 #include <optional>
 #include <set>
 #include <span>
@@ -77,9 +79,9 @@ class Kwargs {
   std::set<std::string> used_;
 };
 
-// progress(stage: str, fraction: float) and a CancellationToken, polled from the library's hooks.
-// Poll(): raises Cancelled when the token is set, runs Python's signal handlers (Ctrl-C ->
-// KeyboardInterrupt) and calls the progress callable; called with the GIL released.
+// progress(stage: str, fraction: float) and the token of a LongCall, polled from the library's
+// hooks on the LongCall's worker thread. Poll(): raises Cancelled when the token is set, then
+// calls the progress callable (with the GIL).
 class Hooks {
  public:
   Hooks(py::object progress, const CancellationToken* token) : progress_(std::move(progress)), token_(token) {}
@@ -90,7 +92,51 @@ class Hooks {
   const CancellationToken* token_;
 };
 
-// Runs fn with the GIL released; Cancelled becomes gyrocomp.Cancelled in Python.
+// A long call that Ctrl-C, the caller's CancellationToken or a Dask cancel (gyrocomp.dask) can
+// stop (issue 24). Run(fn) runs fn on a worker thread with the GIL released; the calling thread
+// waits in steps of kPollInterval and at each step (1) copies the caller's token into token(),
+// (2) takes the GIL and runs Python's signal handlers (PyErr_CheckSignals: Ctrl-C raises
+// KeyboardInterrupt; they run only on the main thread, elsewhere this is a no-op) and, when one
+// raised, sets token(). The library polls token() inside its loops (VmdOptions::cancel,
+// SampleEntropyOptions::cancel, CuckooSearchOptions::cancel, AllanOptions::cancel, and the hooks),
+// so the worker returns (by Cancelled) within the library's polling interval and is joined; then
+// the signal handler's exception (KeyboardInterrupt) is raised, else gyrocomp.Cancelled when the
+// caller's token stopped it, else fn's result or exception. Nothing outlives the call: the worker
+// is always joined, and the library writes no file.
+class LongCall {
+ public:
+  static constexpr int kPollIntervalMs = 20;
+  explicit LongCall(const CancellationToken* caller) : caller_(caller) {}
+  LongCall(const LongCall&) = delete;
+  LongCall& operator=(const LongCall&) = delete;
+  // The token to put into the library's options.
+  const CancellationToken* token() const { return &stop_; }
+
+  template <class F>
+  auto Run(F&& fn) {
+    std::optional<decltype(fn())> out;
+    std::exception_ptr error;
+    Wait([&] {
+      try {
+        out.emplace(fn());
+      } catch (...) {
+        error = std::current_exception();
+      }
+    });
+    if (error) std::rethrow_exception(error);
+    return std::move(*out);
+  }
+
+ private:
+  // Runs work (which never throws) on a worker thread and waits as above; raises the signal
+  // handler's exception (py::error_already_set) after the join.
+  void Wait(const std::function<void()>& work);
+
+  CancellationToken stop_;
+  const CancellationToken* caller_;
+};
+
+// Runs fn with the GIL released (short calls, no cancellation).
 template <class F>
 auto WithoutGil(F&& fn) {
   py::gil_scoped_release release;

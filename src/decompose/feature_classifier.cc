@@ -150,6 +150,8 @@ Result<ClassificationResult> ClassifyVmdModes(const VmdResult& vmd, const Sample
   SampleEntropyOptions one = se_options;
   one.num_threads = 1;
   std::vector<std::optional<Result<SampleEntropyResult>>> se(K);
+  // SampleEntropyOptions::cancel (issue 24): a Cancelled thrown on a worker reaches the caller
+  // after the join (ParallelFor).
   ParallelFor(K, threads, [&](std::size_t k) { se[k] = SampleEntropy(MiddleWindow(vmd.modes[k], entropy_max_samples), one); });
   std::vector<ModeFeature> features(K);
   for (std::size_t k = 0; k < K; ++k) {

@@ -93,8 +93,9 @@ RankedSeries RankValues(std::span<const double> x, std::vector<Item> order) {
 
 class PairCounter {
  public:
-  PairCounter(const double* x, const RankedSeries& ranked, int d, double r)
-      : x_(x), rank_of_(ranked.rank.data()), rank_bits_(ranked.rank_bits), d_(d), r_(r) {}
+  // cancel (nullptr: not polled): see Stop().
+  PairCounter(const double* x, const RankedSeries& ranked, int d, double r, const CancellationToken* cancel = nullptr)
+      : x_(x), rank_of_(ranked.rank.data()), rank_bits_(ranked.rank_bits), d_(d), r_(r), cancel_(cancel) {}
 
   // All templates sorted by coordinate 0, as a list of independent counting tasks whose sum
   // is the pair count: the recursion of Self unrolled `depth` levels (Self of 2^depth pieces
@@ -129,6 +130,12 @@ class PairCounter {
 
  private:
   double V(Item it, int c) const { return x_[(it & kIndex) + c]; }
+  // SampleEntropyOptions::cancel, polled where the recursion enters a subset of kCancelPollItems
+  // items or more and every kCancelPollItems steps of the sweeps: between two polls at most
+  // ~kCancelPollItems x (a few us) of work. Once set, every count returns early (partial counts:
+  // the caller checks the token and throws Cancelled).
+  bool Stop() const { return cancel_ != nullptr && cancel_->cancelled(); }
+  static constexpr std::size_t kCancelPollItems = 1u << 14;
   bool Close(double a, double b) const { return std::abs(a - b) < r_; }  // the brute predicate
   // fl(hi - lo) < r for hi >= lo.
   bool Within(double lo, double hi) const { return hi - lo < r_; }
@@ -163,6 +170,9 @@ class PairCounter {
     const int digit_bits = k.size() < kWideDigitsMin ? 8 : kDigitBits;
     const std::size_t digits = std::size_t{1} << digit_bits;
     for (int shift = 32; shift < 32 + rank_bits_; shift += digit_bits) {
+      // Cancelled: the keys are left part-sorted; every caller of a list this long polls the
+      // token again before it uses the order (Self, Cross, Sweep2) and returns early.
+      if (k.size() >= kCancelPollItems && Stop()) return;
       std::uint32_t counts[kDigits + 1];
       std::fill(counts, counts + digits + 1, 0u);
       for (std::size_t i = 0; i < k.size(); ++i) ++counts[((from[i] >> shift) & (digits - 1)) + 1];
@@ -192,7 +202,7 @@ class PairCounter {
 
   std::uint64_t Self(std::span<Item> s, int c, bool bi) {
     const std::size_t n = s.size();
-    if (n < 2) return 0;
+    if (n < 2 || (n >= kCancelPollItems && Stop())) return 0;
     if (c == d_) return AllPairs(s, bi);
     if (Within(V(s.front(), c), V(s.back(), c))) return WithinGroup(s, c, bi);
     if (n <= kBruteSelf) {
@@ -251,6 +261,7 @@ class PairCounter {
     std::size_t lo = 0;
     std::uint64_t ones = 0;  // label-1 items in the window
     for (std::size_t p = 0; p < s.size(); ++p) {
+      if (p % kCancelPollItems == kCancelPollItems - 1 && Stop()) return count;
       const double vp = V(s[p], c);
       while (!Within(V(s[lo], c), vp)) ones -= Label(s[lo++]);
       const std::uint64_t w = p - lo;
@@ -271,6 +282,7 @@ class PairCounter {
       keys_[i] = Key(rank_of_[(s[i] & kIndex) + c + 1], static_cast<std::uint32_t>(i));
     }
     SortKeys(keys_);
+    if (n >= kCancelPollItems && Stop()) return 0;
     values_.resize(n);
     for (std::size_t k = 0; k < n; ++k) values_[k] = V(s[static_cast<std::uint32_t>(keys_[k])], c + 1);
     pos_.resize(n);
@@ -298,6 +310,7 @@ class PairCounter {
     std::uint64_t count = 0;
     std::size_t w = 0;
     for (std::size_t p = 0; p < s.size(); ++p) {
+      if (p % kCancelPollItems == kCancelPollItems - 1 && Stop()) return count;
       const double vp = V(s[p], c);
       while (!Within(V(s[w], c), vp)) {
         counter.Remove(bi ? Label(s[w]) : 0, pos_[w]);
@@ -346,6 +359,7 @@ class PairCounter {
 
   std::uint64_t Cross(std::span<Item> l, std::span<Item> r, int c, bool bi) {
     if (l.empty() || r.empty()) return 0;
+    if (l.size() + r.size() >= kCancelPollItems && Stop()) return 0;
     // Trim: q in l can match only if it is within r of the smallest p; p only if within r of
     // the largest q.
     const double r0 = V(r.front(), c);
@@ -380,15 +394,20 @@ class PairCounter {
   int rank_bits_;                 // bits of the largest rank
   int d_;
   double r_;
+  const CancellationToken* cancel_;
   // Scratch reused across calls (Sweep2 runs only at the leaves of the recursion).
   std::vector<std::uint64_t> keys_, radix_tmp_, bits_;
   std::vector<double> values_;
   std::vector<std::uint32_t> pos_, lo_pos_, hi_pos_, tree_;
 };
 
-std::uint64_t CountBrute(std::span<const double> x, int d, double r, std::size_t templates) {
+// cancel: polled every 256 rows (templates^2 / 2 pair checks in all: the brute force is for
+// small N; 256 rows of 10^5 templates are ~25 ms).
+std::uint64_t CountBrute(std::span<const double> x, int d, double r, std::size_t templates,
+                         const CancellationToken* cancel) {
   std::uint64_t count = 0;
   for (std::size_t i = 0; i < templates; ++i) {
+    if (i % 256 == 0 && cancel != nullptr && cancel->cancelled()) return count;
     for (std::size_t j = i + 1; j < templates; ++j) {
       int l = 0;
       while (l < d && std::abs(x[i + l] - x[j + l]) < r) ++l;
@@ -428,17 +447,19 @@ bool FewTies(std::span<const double> x, std::span<const Item> order) {
 // Range counting: A (m + 1 coordinates, the long count) split into tasks, B (m coordinates) one
 // more task; `threads` workers take tasks in order (largest first), each with its own scratch.
 TemplateMatchCounts CountByRanges(std::span<const double> x, int m, double r, const RankedSeries& ranked,
-                                  std::vector<Item>& sorted, int threads) {
+                                  std::vector<Item>& sorted, int threads, const CancellationToken* cancel) {
   TemplateMatchCounts out;
   auto tasks = PairCounter(x.data(), ranked, m + 1, r).Tasks(sorted);
   std::vector<int> is_b(tasks.size(), 0);
-  tasks.push_back([&](PairCounter&) { return PairCounter(x.data(), ranked, m, r).CountSorted(sorted); });
+  tasks.push_back([&](PairCounter&) { return PairCounter(x.data(), ranked, m, r, cancel).CountSorted(sorted); });
   is_b.push_back(1);
   std::vector<std::uint64_t> results(tasks.size(), 0);
   std::atomic<std::size_t> next{0};
   auto worker = [&] {
-    PairCounter pc(x.data(), ranked, m + 1, r);
-    for (std::size_t t; (t = next.fetch_add(1)) < tasks.size();) results[t] = tasks[t](pc);
+    PairCounter pc(x.data(), ranked, m + 1, r, cancel);
+    for (std::size_t t; (t = next.fetch_add(1)) < tasks.size() && !(cancel != nullptr && cancel->cancelled());) {
+      results[t] = tasks[t](pc);
+    }
   };
   std::vector<std::thread> pool;
   for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
@@ -489,14 +510,17 @@ double PopulationSd(std::span<const double> x) {
   return std::sqrt(PairwiseSum(sq.data(), sq.size()) / x.size());
 }
 
-TemplateMatchCounts CountTemplateMatches(std::span<const double> x, int m, double r,
-                                         SampleEntropyAlgorithm algorithm, int num_threads) {
+namespace {
+
+TemplateMatchCounts CountTemplateMatchesPolling(std::span<const double> x, int m, double r,
+                                                SampleEntropyAlgorithm algorithm, int num_threads,
+                                                const CancellationToken* cancel) {
   TemplateMatchCounts out;
   if (m < 1 || x.size() < static_cast<std::size_t>(m) + 2) return out;
   const std::size_t templates = x.size() - m;  // the same N - m start points for m and m + 1
   if (algorithm == SampleEntropyAlgorithm::kBruteForce) {
-    out.b = CountBrute(x, m, r, templates);
-    out.a = CountBrute(x, m + 1, r, templates);
+    out.b = CountBrute(x, m, r, templates, cancel);
+    out.a = CountBrute(x, m + 1, r, templates, cancel);
     return out;
   }
   const int threads = num_threads > 0 ? num_threads
@@ -508,7 +532,7 @@ TemplateMatchCounts CountTemplateMatches(std::span<const double> x, int m, doubl
     const se_detail::WindowPlan plan = se_detail::PlanWindow(x, order, templates, m, r);
     if (algorithm == SampleEntropyAlgorithm::kSortedWindow ||
         plan.coordinate_checks <= kWindowChecksPerTemplate * templates) {
-      const se_detail::WindowCounts w = se_detail::CountWindowed(plan, threads);
+      const se_detail::WindowCounts w = se_detail::CountWindowed(plan, threads, std::nullopt, cancel);
       out.a = w.a;
       out.b = w.b;
       return out;
@@ -519,7 +543,19 @@ TemplateMatchCounts CountTemplateMatches(std::span<const double> x, int m, doubl
   for (Item i : order) {
     if (i < templates) sorted.push_back(i);
   }
-  return CountByRanges(x, m, r, RankValues(x, std::move(order)), sorted, threads);
+  return CountByRanges(x, m, r, RankValues(x, std::move(order)), sorted, threads, cancel);
+}
+
+}  // namespace
+
+TemplateMatchCounts CountTemplateMatches(std::span<const double> x, int m, double r,
+                                         SampleEntropyAlgorithm algorithm, int num_threads,
+                                         const CancellationToken* cancel) {
+  // Every counter stops early once `cancel` is set; the partial counts never leave: Cancelled is
+  // thrown here, on the calling thread, after the counting threads joined.
+  const TemplateMatchCounts out = CountTemplateMatchesPolling(x, m, r, algorithm, num_threads, cancel);
+  if (cancel != nullptr && cancel->cancelled()) throw Cancelled();
+  return out;
 }
 
 Result<SampleEntropyResult> SampleEntropy(std::span<const double> x, const SampleEntropyOptions& opt) {
@@ -560,7 +596,9 @@ Result<SampleEntropyResult> SampleEntropy(std::span<const double> x, const Sampl
     return InvalidArgument("sample entropy: tolerance r = r_factor x SD exceeds the double range");
   }
   res.n = x.size();
-  const TemplateMatchCounts counts = CountTemplateMatches(xs, opt.m, r, opt.algorithm, opt.num_threads.value_or(0));
+  if (opt.cancel != nullptr && opt.cancel->cancelled()) throw Cancelled();
+  const TemplateMatchCounts counts =
+      CountTemplateMatches(xs, opt.m, r, opt.algorithm, opt.num_threads.value_or(0), opt.cancel);
   res.a_matches = counts.a;
   res.b_matches = counts.b;
   res.defined = counts.b > 0;

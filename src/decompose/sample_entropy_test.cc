@@ -312,3 +312,119 @@ TEST(SampleEntropy, ThreadCountDoesNotChangeCounts) {
 
 }  // namespace
 }  // namespace gyrocomp
+
+// ---- cancellation (issue 24) ------------------------------------------------------------------
+
+#include <chrono>
+#include <cstdio>
+#include <thread>
+
+#include "gyrocomp/decompose/feature_classifier.h"
+
+namespace gyrocomp {
+namespace {
+
+std::vector<double> WhiteNoise(std::size_t n, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> g(0, 1);
+  std::vector<double> x(n);
+  for (double& v : x) v = g(rng);
+  return x;
+}
+
+// Runs SampleEntropy with a token that another thread sets `after`; true when it threw Cancelled.
+// The series and options are chosen so that the count takes many seconds: a result means the
+// counter did not poll the token. The latency is printed, not asserted.
+bool CancelledWhileCounting(const std::vector<double>& x, SampleEntropyOptions opt, const char* what) {
+  CancellationToken token;
+  opt.cancel = &token;
+  std::chrono::steady_clock::time_point set_at;
+  std::thread canceller([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    set_at = std::chrono::steady_clock::now();
+    token.Cancel();
+  });
+  bool cancelled = false;
+  try {
+    (void)SampleEntropy(x, opt);
+  } catch (const Cancelled&) {
+    cancelled = true;
+  }
+  const auto end = std::chrono::steady_clock::now();
+  canceller.join();
+  std::printf("  %s: %s %.4f s after the token was set\n", what, cancelled ? "cancelled" : "finished",
+              std::chrono::duration<double>(end - set_at).count());
+  return cancelled;
+}
+
+TEST(SampleEntropyCancel, ATokenSetBeforeTheCallThrowsCancelled) {
+  const std::vector<double> x = WhiteNoise(2000, 1);
+  CancellationToken token;
+  token.Cancel();
+  for (auto algo : {SampleEntropyAlgorithm::kFast, SampleEntropyAlgorithm::kRangeCount,
+                    SampleEntropyAlgorithm::kSortedWindow, SampleEntropyAlgorithm::kBruteForce}) {
+    SampleEntropyOptions opt;
+    opt.algorithm = algo;
+    opt.cancel = &token;
+    EXPECT_THROW((void)SampleEntropy(x, opt), Cancelled) << static_cast<int>(algo);
+    EXPECT_THROW((void)CountTemplateMatches(x, 2, 0.2, algo, 2, &token), Cancelled) << static_cast<int>(algo);
+  }
+}
+
+TEST(SampleEntropyCancel, AnUnsetTokenChangesNoCount) {
+  // Long enough for several cancellation chunks (2^16 templates) in every counter.
+  const std::vector<double> x = WhiteNoise(300000, 2);
+  const CancellationToken token;
+  for (auto algo : {SampleEntropyAlgorithm::kRangeCount, SampleEntropyAlgorithm::kSortedWindow}) {
+    for (int threads : {1, 2}) {
+      const double r = 0.2 * PopulationSd(x);
+      const auto plain = CountTemplateMatches(x, 2, r, algo, threads);
+      const auto polled = CountTemplateMatches(x, 2, r, algo, threads, &token);
+      EXPECT_EQ(plain.a, polled.a);
+      EXPECT_EQ(plain.b, polled.b);
+      EXPECT_GT(plain.a, 0u);
+    }
+  }
+}
+
+TEST(SampleEntropyCancel, EveryCounterStopsWhenTheTokenIsSetDuringTheCount) {
+  // The sorted window with r spanning every value: all N^2 / 2 pairs are candidates (10^11 here,
+  // minutes); range counting with m = 10 on 4 M samples of noise (seconds); the brute force on
+  // 10^5 samples (5 x 10^9 pairs, seconds). The token is set 50 ms after the call starts.
+  const std::vector<double> big = WhiteNoise(4000000, 3);
+  SampleEntropyOptions window;
+  window.algorithm = SampleEntropyAlgorithm::kSortedWindow;
+  window.r_absolute = 100.0;
+  window.num_threads = 2;
+  const std::vector<double> half(big.begin(), big.begin() + 500000);
+  EXPECT_TRUE(CancelledWhileCounting(half, window, "sorted window, N = 5e5, r > span"));
+  SampleEntropyOptions range;
+  range.algorithm = SampleEntropyAlgorithm::kRangeCount;
+  range.m = 10;
+  for (int threads : {1, 2}) {
+    range.num_threads = threads;
+    EXPECT_TRUE(CancelledWhileCounting(big, range, "range counting, N = 4e6, m = 10"));
+  }
+  SampleEntropyOptions brute;
+  brute.algorithm = SampleEntropyAlgorithm::kBruteForce;
+  const std::vector<double> small(big.begin(), big.begin() + 100000);
+  EXPECT_TRUE(CancelledWhileCounting(small, brute, "brute force, N = 1e5"));
+}
+
+TEST(SampleEntropyCancel, TheClassifierThrowsCancelledFromItsWorkerThreads) {
+  VmdResult vmd;
+  for (int k = 0; k < 4; ++k) {
+    vmd.modes.push_back(WhiteNoise(5000, 10 + k));
+    vmd.summary.center_frequency_hz.push_back(k + 1.0);
+    vmd.summary.center_frequency_cycles_per_sample.push_back((k + 1.0) / 100.0);
+  }
+  CancellationToken token;
+  token.Cancel();
+  SampleEntropyOptions se;
+  se.cancel = &token;
+  se.num_threads = 2;  // two modes at a time: the Cancelled of a worker thread must not terminate
+  EXPECT_THROW((void)ClassifyVmdModes(vmd, se), Cancelled);
+}
+
+}  // namespace
+}  // namespace gyrocomp

@@ -267,7 +267,29 @@ bool WindowPathSupported(WindowPath path) {
   return false;
 }
 
-WindowCounts CountWindowed(const WindowPlan& w, int num_threads, std::optional<WindowPath> path) {
+// The slice [k0, k1) in chunks of at most kCancelChunkPairs pairs / kCancelChunkTemplates
+// templates, `cancel` polled between them (the counts are integer sums: chunking changes nothing).
+static WindowCounts ChunkedSlice(SliceFn slice, const WindowPlan& w, std::size_t k0, std::size_t k1,
+                          const CancellationToken* cancel) {
+  if (cancel == nullptr) return slice(w, k0, k1);
+  WindowCounts out;
+  for (std::size_t k = k0; k < k1 && !cancel->cancelled();) {
+    std::size_t end = k;
+    std::uint64_t pairs = 0;
+    while (end < k1 && end - k < kCancelChunkTemplates && pairs < kCancelChunkPairs) {
+      pairs += (w.runs[end].same_end - end - 1) + (w.runs[end].next_end - w.runs[end].next_begin);
+      ++end;
+    }
+    const WindowCounts part = slice(w, k, end);
+    out.a += part.a;
+    out.b += part.b;
+    k = end;
+  }
+  return out;
+}
+
+WindowCounts CountWindowed(const WindowPlan& w, int num_threads, std::optional<WindowPath> path,
+                           const CancellationToken* cancel) {
   assert(num_threads >= 1 && (!path || WindowPathSupported(*path)));
   static const WindowPath best = BestWindowPath();
   const std::size_t n = w.runs.size();
@@ -284,9 +306,9 @@ WindowCounts CountWindowed(const WindowPlan& w, int num_threads, std::optional<W
   std::vector<WindowCounts> part(threads);
   std::vector<std::thread> pool;
   for (std::size_t t = 1; t < threads; ++t) {
-    pool.emplace_back([&, t] { part[t] = slice(w, bounds[t], bounds[t + 1]); });
+    pool.emplace_back([&, t] { part[t] = ChunkedSlice(slice, w, bounds[t], bounds[t + 1], cancel); });
   }
-  part[0] = slice(w, bounds[0], bounds[1]);
+  part[0] = ChunkedSlice(slice, w, bounds[0], bounds[1], cancel);
   for (auto& th : pool) th.join();
   WindowCounts out;
   for (const WindowCounts& p : part) {

@@ -26,12 +26,18 @@
 #include <span>
 #include <vector>
 
+#include "gyrocomp/core/cancel.h"
+
 namespace gyrocomp::se_detail {
 
 // Largest m the window counter handles (one compiled variant per m).
 constexpr int kWindowMaxM = 4;
 // Longest series it handles (32-bit ranks and counts per lane).
 constexpr std::size_t kWindowMaxSamples = std::size_t{1} << 29;
+// Cancellation chunks of CountWindowed: ~2^22 pairs x (m + 1) checks at ~0.03-0.05 ns each
+// (sample_entropy.cc kWindowChecksPerTemplate) is ~1 ms, far below the 0.1 s bound of issue 24.
+constexpr std::uint64_t kCancelChunkPairs = std::uint64_t{1} << 22;
+constexpr std::size_t kCancelChunkTemplates = std::size_t{1} << 16;
 
 // Start indices 0..x.size()-1 ordered by value (non-decreasing; equal values in any order).
 // An LSD radix sort of the values' order-preserving bit patterns (no NaN in x).
@@ -74,6 +80,10 @@ bool WindowPathSupported(WindowPath path);
 
 // A and B of sample entropy over `num_threads` >= 1 threads (the same counts for any number:
 // integer sums over fixed slices of the templates), on `path` (nullopt: the best the CPU has).
-WindowCounts CountWindowed(const WindowPlan& plan, int num_threads, std::optional<WindowPath> path = std::nullopt);
+// cancel (nullptr: not polled): each thread polls it between chunks of its slice (at most
+// kCancelChunkPairs candidate pairs or kCancelChunkTemplates templates); once set, the threads
+// stop early and the counts are partial: the caller checks the token after the call.
+WindowCounts CountWindowed(const WindowPlan& plan, int num_threads, std::optional<WindowPath> path = std::nullopt,
+                           const CancellationToken* cancel = nullptr);
 
 }  // namespace gyrocomp::se_detail

@@ -129,9 +129,12 @@ Result<SvrChoice> SearchSvrCuckoo(const Columns& x, std::span<const double> y, c
   const SvrSearchOptions& s = options.search;
   std::vector<SearchDimension> dims = {s.C, s.sigma};
   if (s.epsilon) dims.push_back(*s.epsilon);
+  // Every fit of the search and the final refit poll the search's token (issue 24).
+  SvrOptions base = options.svr;
+  if (s.cuckoo.cancel != nullptr) base.cancel = s.cuckoo.cancel;
   // Fitness: blocked CV RMSE (method.md section 4); a failed fit counts as +infinity.
   auto objective = [&](std::span<const double> p) {
-    auto r = CrossValidate(x, y, plan, make(PointOptions(options.svr, p)));
+    auto r = CrossValidate(x, y, plan, make(PointOptions(base, p)));
     return r.ok() ? *r : std::numeric_limits<double>::infinity();
   };
   auto found = CuckooSearch(objective, dims, s.cuckoo);
@@ -139,7 +142,7 @@ Result<SvrChoice> SearchSvrCuckoo(const Columns& x, std::span<const double> y, c
   if (!std::isfinite(found->best_value))
     return InternalError("cuckoo search: no parameter set could be fitted (every SVR fit failed)");
   SvrChoice choice;
-  choice.options = PointOptions(options.svr, found->best_x);
+  choice.options = PointOptions(base, found->best_x);
   choice.cv_rmse = found->best_value;
   choice.evaluations = found->evaluations;
   choice.generations = found->generations;

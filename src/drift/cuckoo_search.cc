@@ -91,10 +91,15 @@ std::vector<double> EvaluateInParallel(const SearchObjective& objective,
   std::vector<double> values(points.size(), std::numeric_limits<double>::infinity());
   const int workers = std::max(1, std::min<int>(num_threads, static_cast<int>(points.size())));
   std::atomic<std::size_t> next{0};
-  auto cancelled = [cancel] { return cancel != nullptr && cancel->cancelled(); };
+  std::atomic<bool> stopped{false};  // an objective threw Cancelled (e.g. SvrOptions::cancel)
+  auto cancelled = [&] { return stopped || (cancel != nullptr && cancel->cancelled()); };
   auto work = [&] {
-    for (std::size_t i = next++; i < points.size() && !cancelled(); i = next++)
-      values[i] = Sanitize(objective(points[i]));
+    try {
+      for (std::size_t i = next++; i < points.size() && !cancelled(); i = next++)
+        values[i] = Sanitize(objective(points[i]));
+    } catch (const Cancelled&) {  // not past a worker thread: thrown again below
+      stopped = true;
+    }
   };
   if (workers == 1) {
     work();

@@ -199,3 +199,103 @@ TEST(Svr, RejectsBadOptionsAndData) {
 
 }  // namespace
 }  // namespace gyrocomp
+
+// ---- cancellation (issue 24) ------------------------------------------------------------------
+
+#include <atomic>
+#include <chrono>
+#include <thread>
+
+#include "gyrocomp/drift/cuckoo_search.h"
+
+namespace gyrocomp {
+namespace {
+
+// A fit that LIBSVM needs seconds for (noisy targets, a narrow kernel, a large C and a tight
+// tolerance on 4,000 points: millions of solver iterations).
+struct SlowFit {
+  std::vector<std::vector<double>> x;
+  std::vector<double> y;
+  SvrOptions options;
+  SlowFit() {
+    std::mt19937 rng(7);
+    std::normal_distribution<double> g(0, 1);
+    x.assign(2, std::vector<double>(4000));
+    for (std::size_t i = 0; i < 4000; ++i) {
+      x[0][i] = g(rng);
+      x[1][i] = g(rng);
+      y.push_back(std::sin(3 * x[0][i]) + g(rng));
+    }
+    options.C = 1e5;
+    options.sigma = 0.05;
+    options.epsilon = 0.01;
+    options.tolerance = 1e-6;
+  }
+};
+
+TEST(SvrCancel, ATokenSetBeforeTheFitThrowsCancelled) {
+  SlowFit f;
+  CancellationToken token;
+  token.Cancel();
+  f.options.cancel = &token;
+  EXPECT_THROW((void)FitSvr(f.x, f.y, f.options), Cancelled);
+}
+
+TEST(SvrCancel, ATokenSetDuringTheFitStopsLibsvmsSolver) {
+  // FitSvr throws Cancelled only when the solver was stopped (a fit that ended is returned), so a
+  // model here means the print hook did not stop LIBSVM. The latency is printed, not asserted.
+  SlowFit f;
+  CancellationToken token;
+  f.options.cancel = &token;
+  std::chrono::steady_clock::time_point set_at;
+  std::thread canceller([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    set_at = std::chrono::steady_clock::now();
+    token.Cancel();
+  });
+  bool cancelled = false;
+  try {
+    (void)FitSvr(f.x, f.y, f.options);
+  } catch (const Cancelled&) {
+    cancelled = true;
+  }
+  const auto end = std::chrono::steady_clock::now();
+  canceller.join();
+  std::printf("  svm_train %s %.4f s after the token was set\n", cancelled ? "stopped" : "finished",
+              std::chrono::duration<double>(end - set_at).count());
+  EXPECT_TRUE(cancelled);
+  // LIBSVM's global print hook still works for the next fit, with and without a token.
+  SlowFit small;
+  small.x[0].resize(300);
+  small.x[1].resize(300);
+  small.y.resize(300);
+  small.options = SvrOptions{};
+  const CancellationToken unset;
+  const auto plain = FitSvr(small.x, small.y, small.options);
+  small.options.cancel = &unset;
+  const auto polled = FitSvr(small.x, small.y, small.options);
+  ASSERT_TRUE(plain.ok() && polled.ok());
+  EXPECT_EQ(plain->coefficients, polled->coefficients);
+  EXPECT_EQ(plain->intercept, polled->intercept);
+}
+
+TEST(SvrCancel, ACancelledFitOnAWorkerThreadReachesTheSearchsCaller) {
+  // Two evaluation threads; each objective sets the token and fits: FitSvr throws Cancelled on a
+  // worker thread, which must reach EvaluateInParallel's caller (not std::terminate).
+  SlowFit f;
+  CancellationToken token;
+  std::atomic<int> calls{0};
+  auto objective = [&](std::span<const double>) -> double {
+    ++calls;
+    token.Cancel();
+    SvrOptions o = f.options;
+    o.cancel = &token;
+    return FitSvr(f.x, f.y, o).ok() ? 1.0 : 2.0;
+  };
+  const std::vector<std::vector<double>> points(8, std::vector<double>{1.0});
+  EXPECT_THROW((void)EvaluateInParallel(objective, points, 2, nullptr), Cancelled);
+  EXPECT_GE(calls.load(), 1);
+}
+
+}  // namespace
+}  // namespace gyrocomp

@@ -3,14 +3,18 @@
 // owner of the process (the CLI's main, a Python interpreter) decides what sets the flag.
 //
 // Some long calls poll a token themselves (issue 24): VmdOptions::cancel (before every update),
-// CuckooSearchOptions::cancel (before every evaluation: no new parameter set starts, the running
-// ones finish) and AllanOptions::cancel (before every tau); they throw Cancelled on the calling
-// thread. Elsewhere callers poll it in the progress hooks they install (VmdOptions::on_iteration,
-// CuckooSearchOptions::on_generation, the pipeline's ProgressCallback) and leave the call by
-// throwing Cancelled from the hook. Not polled yet: inside sample entropy counting and inside
-// one LIBSVM fit. Those hooks run on
-// the calling thread between rounds of work, and the code around them releases everything by
-// RAII (worker pools join in their destructors), so unwinding from them is safe.
+// SampleEntropyOptions::cancel (inside the pair counting, every counting thread),
+// SvrOptions::cancel (inside LIBSVM's solver, from its print hook; svr.cc), CuckooSearchOptions::
+// cancel (before every evaluation, and passed to every SVR fit of the search and the refit) and
+// AllanOptions::cancel (before every tau); they throw Cancelled on the calling thread (worker
+// threads pass it there). Elsewhere callers poll it in the progress hooks they install
+// (VmdOptions::on_iteration, CuckooSearchOptions::on_generation, the pipeline's ProgressCallback)
+// and leave the call by throwing Cancelled from the hook. Not polled yet: the drift fits outside
+// the SVR search (polynomial candidates, thermal states; src/drift/drift_auto.cc, drift_fit.cc).
+// The CLI does not need the token: its signal handler removes the temporaries and exits
+// (tools/main.cc). Python sets it from a waiting loop (python/src/convert.h, LongCall). Those
+// hooks run on the calling thread between rounds of work, and the code around them releases
+// everything by RAII (worker pools join in their destructors), so unwinding from them is safe.
 #pragma once
 
 #include <atomic>

@@ -26,6 +26,7 @@
 #include <span>
 #include <string>
 
+#include "gyrocomp/core/cancel.h"
 #include "gyrocomp/core/status.h"
 
 namespace gyrocomp {
@@ -53,6 +54,11 @@ struct SampleEntropyOptions {
   // Worker threads of the fast algorithm; nullopt = automatic (hardware concurrency, at most 2).
   // The counts do not depend on it. >= 1 when set.
   std::optional<int> num_threads;
+  // Polled while the pairs are counted (issue 24), by every counting thread, at most ~2^16
+  // templates or ~2^22 candidate pairs apart (well under 0.1 s): once cancelled, the threads
+  // stop, join, and SampleEntropy throws Cancelled on the calling thread. nullptr: not polled.
+  // Not owned.
+  const CancellationToken* cancel = nullptr;
 
   bool IsValid(std::string* error) const;  // "SampleEntropyOptions::m = 0: must be in 1..10"
 };
@@ -81,11 +87,15 @@ struct TemplateMatchCounts {
   std::uint64_t b = 0;
 };
 // num_threads: workers for the fast algorithm (0 = automatic: hardware concurrency, at most 2).
+// cancel: polled as SampleEntropyOptions::cancel says; once it is set the counts are partial
+// (meaningless) and CountTemplateMatches throws Cancelled on the calling thread.
 TemplateMatchCounts CountTemplateMatches(std::span<const double> x, int m, double r,
-                                         SampleEntropyAlgorithm algorithm, int num_threads = 0);
+                                         SampleEntropyAlgorithm algorithm, int num_threads = 0,
+                                         const CancellationToken* cancel = nullptr);
 
 // Errors (kInvalidArgument / kInvalidInput): invalid options; a series shorter than m + 2; a
-// non-finite value; r = 0 (a constant series with a relative tolerance).
+// non-finite value; r = 0 (a constant series with a relative tolerance). Throws Cancelled when
+// options.cancel is set before the counts are complete.
 Result<SampleEntropyResult> SampleEntropy(std::span<const double> x,
                                           const SampleEntropyOptions& options = {});
 

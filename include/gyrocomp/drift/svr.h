@@ -22,6 +22,7 @@
 #include <string_view>
 #include <vector>
 
+#include "gyrocomp/core/cancel.h"
 #include "gyrocomp/core/status.h"
 
 namespace gyrocomp {
@@ -49,6 +50,11 @@ struct SvrOptions {
   // LIBSVM kernel cache (MB) and shrinking heuristic (LIBSVM defaults 100 MB, on).
   double cache_mb = 100.0;
   bool shrinking = true;
+  // Polled inside LIBSVM's solver (issue 24), every min(2 x samples, 1000) iterations (its
+  // progress print): once cancelled, FitSvr throws Cancelled on the calling thread. The solver's
+  // working arrays of that fit are not freed (LIBSVM has no way out but an exception: O(samples)
+  // doubles, once per cancel; docs/performance.md). nullptr: not polled. Not owned.
+  const CancellationToken* cancel = nullptr;
 
   // gamma actually used for `num_inputs` input columns (resolves sigma / the default).
   double ResolvedGamma(std::size_t num_inputs) const;

@@ -324,10 +324,13 @@ int Run(const DemoArgs& a) {
   std::filesystem::create_directories(a.out_dir, ec);
   if (ec) return ReportError(kName, IoError(a.out_dir + ": cannot create directory: " + ec.message()));
   // A failed run leaves no folder it created (issue 24): its temporaries are discarded first.
+  // Listed for the signal handler too (RemoveLiveTemporaryFiles: a Ctrl-C mid-run).
   struct RemoveCreatedFolder {
     std::string dir;
     bool armed;
+    int listed = armed ? ListCreatedFolder(dir) : -1;
     ~RemoveCreatedFolder() {
+      UnlistCreatedFolder(listed);
       if (!armed) return;
       Outputs().Discard();
       std::error_code ignored;

@@ -231,6 +231,28 @@ TEST_F(HostileNumbersCliTest, RefusedDemoLeavesNoFolderItCreated) {
   EXPECT_TRUE(fs::is_directory(dir_ + "/old"));
 }
 
+// A signal mid-run removes the --out folder `demo` created (soak, issue 24: it stayed, empty):
+// the signal handler's RemoveLiveTemporaryFiles removes listed folders once their temporaries are
+// gone. `demo --fs 50` runs for seconds; the signal is sent once the folder exists.
+TEST_F(HostileNumbersCliTest, SignalMidDemoLeavesNoFolderItCreated) {
+  std::string outdir = dir_ + "/demo-new";
+  std::vector<std::string> args = {cli_, "demo", "--fs", "50", "--quiet", "--out", outdir};
+  std::vector<char*> argv;
+  for (std::string& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  pid_t pid = 0;
+  ASSERT_EQ(posix_spawn(&pid, cli_.c_str(), nullptr, nullptr, argv.data(), environ), 0);
+  for (int i = 0; i < 1000 && !fs::exists(outdir); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  ASSERT_TRUE(fs::exists(outdir)) << "demo did not create its folder within 10 s";
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));  // into the work
+  ASSERT_EQ(::kill(pid, SIGINT), 0);
+  int status = 0;
+  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+  ASSERT_TRUE(WIFEXITED(status)) << "killed by signal " << WTERMSIG(status);
+  ASSERT_EQ(WEXITSTATUS(status), 130) << "demo finished before the signal: make it longer";
+  EXPECT_FALSE(fs::exists(outdir));
+}
+
 // ---- every numeric option of every subcommand ----------------------------------------------
 
 struct NumericOption {

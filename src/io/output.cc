@@ -33,23 +33,30 @@ struct TemporarySlot {
 static_assert(std::atomic<int>::is_always_lock_free, "signal handlers need lock-free slots");
 TemporarySlot g_slots[kMaxLiveTemporaries];
 
-// Lists `path` as live; returns the slot, or -1 when the table is full or the path too long.
-int ListTemporary(const std::string& path) {
+// Lists `path` as live in the first free of `n` slots; returns the slot, or -1 when the table is
+// full or the path too long.
+int ListIn(TemporarySlot* slots, int n, const std::string& path) {
   if (path.size() + 1 > kMaxTemporaryPathBytes) return -1;
-  for (int i = 0; i < kMaxLiveTemporaries; ++i) {
+  for (int i = 0; i < n; ++i) {
     int expected = kSlotFree;
-    if (g_slots[i].state.compare_exchange_strong(expected, kSlotFilling)) {
-      std::memcpy(g_slots[i].path, path.c_str(), path.size() + 1);
-      g_slots[i].state.store(kSlotLive);
+    if (slots[i].state.compare_exchange_strong(expected, kSlotFilling)) {
+      std::memcpy(slots[i].path, path.c_str(), path.size() + 1);
+      slots[i].state.store(kSlotLive);
       return i;
     }
   }
   return -1;
 }
 
+int ListTemporary(const std::string& path) { return ListIn(g_slots, kMaxLiveTemporaries, path); }
+
 void UnlistTemporary(int slot) {
   if (slot >= 0) g_slots[slot].state.store(kSlotFree);
 }
+
+// Folders created for outputs (ListCreatedFolder): few per process.
+constexpr int kMaxCreatedFolders = 8;
+TemporarySlot g_folder_slots[kMaxCreatedFolders];
 
 // ---- paths ---------------------------------------------------------------------------------
 constexpr std::size_t kChunkBytes = std::size_t{1} << 22;  // write in 4 MiB pieces
@@ -490,6 +497,15 @@ void RemoveLiveTemporaryFiles() noexcept {
   for (TemporarySlot& slot : g_slots) {
     if (slot.state.load() == kSlotLive) ::unlink(slot.path);
   }
+  for (TemporarySlot& slot : g_folder_slots) {
+    if (slot.state.load() == kSlotLive) ::rmdir(slot.path);  // fails, harmlessly, unless empty
+  }
+}
+
+int ListCreatedFolder(const std::string& path) { return ListIn(g_folder_slots, kMaxCreatedFolders, path); }
+
+void UnlistCreatedFolder(int handle) {
+  if (handle >= 0 && handle < kMaxCreatedFolders) g_folder_slots[handle].state.store(kSlotFree);
 }
 
 }  // namespace gyrocomp

@@ -94,6 +94,14 @@ class OutputSet {
 // Unlinks every temporary file of every live OutputSet of this process. Async-signal-safe (reads
 // a fixed table of lock-free slots, calls only unlink): meant for a program's SIGINT / SIGTERM
 // handler, which then calls _exit.
+// Then removes (rmdir: only when empty) every folder listed below, so a signal leaves no folder
+// a command created for its outputs either (issue 24: `demo --out` after Ctrl-C).
 void RemoveLiveTemporaryFiles() noexcept;
+
+// A folder a command created for its outputs, listed for RemoveLiveTemporaryFiles. Returns a
+// handle for UnlistCreatedFolder, or -1 (table full, path too long: then only the command's own
+// cleanup removes it).
+int ListCreatedFolder(const std::string& path);
+void UnlistCreatedFolder(int handle);
 
 }  // namespace gyrocomp

@@ -146,7 +146,7 @@ void BindDrift(py::module_& m) {
         DriftFitOptions o = ReadFitOptions(kw);
         kw.Done();
         LongCall call(cancel);
-        o.search.cuckoo.cancel = o.svr.cancel = call.token();
+        o.cancel = o.search.cuckoo.cancel = o.svr.cancel = call.token();
         const Hooks hooks(std::move(progress), call.token());
         const int generations = o.search.cuckoo.max_generations;
         o.search.cuckoo.on_generation = [&hooks, generations](int generation, double) {

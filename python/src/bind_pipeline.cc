@@ -82,7 +82,7 @@ void BindPipeline(py::module_& m) {
         if (known_rate_dps) input.known_rate_dps = AsSpan(*known_rate_dps, "known_rate_dps");
         LongCall call(cancel);
         o.vmd.cancel = o.entropy.cancel = o.allan.cancel = call.token();
-        o.drift.search.cuckoo.cancel = o.drift.svr.cancel = call.token();
+        o.drift.cancel = o.drift.search.cuckoo.cancel = o.drift.svr.cancel = call.token();
         const Hooks hooks(std::move(progress), call.token());
         const ProgressCallback callback = [&hooks](const std::string& stage, double fraction) {
           hooks.Poll(stage, fraction);

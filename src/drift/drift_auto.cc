@@ -26,6 +26,7 @@ std::string CandidateName(DriftModelKind kind, DriftInputSet inputs, const Drift
 // Poly CV score of the lag state with time constant tau_s on `plan`.
 double LagScore(const DriftInputs& inputs, std::span<const double> target, DriftFitOptions o, double tau_s,
                 const CvPlan& plan) {
+  ThrowIfCancelled(o.cancel);
   o.inputs = DriftInputSet::kTempAndLag;
   o.state.lag_tau_s = tau_s;
   auto d = PrepareFitData(inputs, target, o);
@@ -73,6 +74,7 @@ struct Candidate {
 // Fits one candidate with o.inputs / o.state set; records its score or why it failed.
 Candidate FitCandidate(const DriftInputs& inputs, std::span<const double> target, DriftModelKind kind,
                        const DriftFitOptions& o, const CvPlan& plan) {
+  ThrowIfCancelled(o.cancel);
   Candidate c{kind, o.inputs, std::nullopt, {CandidateName(kind, o.inputs, o), kind, o.inputs, kInf, ""}};
   auto d = PrepareFitData(inputs, target, o);
   if (!d.ok()) {

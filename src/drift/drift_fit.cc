@@ -201,6 +201,7 @@ PairedGain PairedFoldGain(std::span<const double> incumbent, std::span<const dou
 CvPlan GainTestPlan(std::size_t n, const DriftFitOptions& o) { return BlockPlan(n, o.cv_folds, /*in_range_only=*/true); }
 
 Result<FitData> PrepareFitData(const DriftInputs& inputs, std::span<const double> target, const DriftFitOptions& o) {
+  ThrowIfCancelled(o.cancel);
   FitData d;
   auto features = BuildFeatures(inputs, o.inputs, o.rate, o.state, /*causal=*/false);
   if (!features.ok()) return features.error();
@@ -240,6 +241,7 @@ CvPlan MakeCvPlan(const FitData& d, const DriftFitOptions& o, DriftModelKind kin
 
 Result<DriftModel> FitPrepared(const FitData& d, const DriftInputs& inputs, DriftModelKind kind,
                                const DriftFitOptions& o, const CvPlan& plan) {
+  ThrowIfCancelled(o.cancel);
   DriftModel model;
   model.kind = kind;
   model.inputs = o.inputs;
@@ -341,8 +343,13 @@ Status CheckFitArguments(const DriftInputs& inputs, std::span<const double> targ
 }  // namespace drift_internal
 
 Result<DriftModel> FitDriftModel(const DriftInputs& inputs, std::span<const double> target,
-                                 const DriftFitOptions& options) {
+                                 const DriftFitOptions& caller_options) {
   const auto t0 = std::chrono::steady_clock::now();
+  ThrowIfCancelled(caller_options.cancel);
+  // DriftFitOptions::cancel reaches the SVR search and fits unless they have their own token.
+  DriftFitOptions options = caller_options;
+  if (options.search.cuckoo.cancel == nullptr) options.search.cuckoo.cancel = options.cancel;
+  if (options.svr.cancel == nullptr) options.svr.cancel = options.cancel;
   if (Status st = drift_internal::CheckFitArguments(inputs, target, options); !st.ok()) return st.error();
   Result<DriftModel> model = Error{};
   if (options.model == DriftModelKind::kAuto || (options.inputs == DriftInputSet::kTempAndLag && options.fit_lag_tau)) {
@@ -354,6 +361,7 @@ Result<DriftModel> FitDriftModel(const DriftInputs& inputs, std::span<const doub
     model = drift_internal::FitPrepared(*data, inputs, options.model, options, plan);
   }
   if (!model.ok()) return model.error();
+  ThrowIfCancelled(options.cancel);
   if (options.band) {
     // The CV's training copy: PrepareFitData's automatic block period.
     const double n = static_cast<double>(target.size());

@@ -313,5 +313,34 @@ TEST(DriftModelSimulator, PolynomialRecoversInjectedDrift) {
   EXPECT_LT(rmse, 0.004);
 }
 
+// DriftFitOptions::cancel (issue 24): polled between a fit's steps and handed to the SVR search;
+// a cancelled fit throws Cancelled, it never returns a model.
+TEST(DriftModelCancel, ACancelledTokenStopsEveryKindOfFit) {
+  const std::vector<double> temp = ChamberTemp(1.0, 2.0);
+  std::vector<double> target(temp.size());
+  for (std::size_t i = 0; i < temp.size(); ++i) target[i] = 0.001 * temp[i] + 1e-5 * temp[i] * temp[i];
+  CancellationToken token;
+  token.Cancel();
+  for (DriftModelKind kind : {DriftModelKind::kAuto, DriftModelKind::kPolynomial, DriftModelKind::kCsSvr}) {
+    DriftFitOptions o;
+    o.model = kind;
+    o.cancel = &token;
+    EXPECT_THROW(FitDriftModel({temp, 1.0}, target, o), Cancelled) << static_cast<int>(kind);
+  }
+  // Set mid-search (after the first generation): the search, which has no token of its own,
+  // stops on DriftFitOptions::cancel.
+  CancellationToken later;
+  DriftFitOptions o;
+  o.model = DriftModelKind::kCsSvr;
+  o.cancel = &later;
+  int generations = 0;
+  o.search.cuckoo.on_generation = [&](int, double) {
+    ++generations;
+    later.Cancel();
+  };
+  EXPECT_THROW(FitDriftModel({temp, 1.0}, target, o), Cancelled);
+  EXPECT_EQ(generations, 1);
+}
+
 }  // namespace
 }  // namespace gyrocomp

@@ -9,8 +9,8 @@
 // AllanOptions::cancel (before every tau); they throw Cancelled on the calling thread (worker
 // threads pass it there). Elsewhere callers poll it in the progress hooks they install
 // (VmdOptions::on_iteration, CuckooSearchOptions::on_generation, the pipeline's ProgressCallback)
-// and leave the call by throwing Cancelled from the hook. Not polled yet: the drift fits outside
-// the SVR search (polynomial candidates, thermal states; src/drift/drift_auto.cc, drift_fit.cc).
+// and leave the call by throwing Cancelled from the hook. DriftFitOptions::cancel is polled
+// between the steps of a drift fit (each candidate, lag tau, feature build, model fit, band).
 // The CLI does not need the token: its signal handler removes the temporaries and exits
 // (tools/main.cc). Python sets it from a waiting loop (python/src/convert.h, LongCall). Those
 // hooks run on the calling thread between rounds of work, and the code around them releases
@@ -36,5 +36,11 @@ class CancellationToken {
 struct Cancelled : std::exception {
   const char* what() const noexcept override { return "cancelled"; }
 };
+
+// The poll of a long computation's options token: throws Cancelled once `token` (may be null)
+// was cancelled.
+inline void ThrowIfCancelled(const CancellationToken* token) {
+  if (token != nullptr && token->cancelled()) throw Cancelled();
+}
 
 }  // namespace gyrocomp

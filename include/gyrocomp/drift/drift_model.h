@@ -161,6 +161,11 @@ struct DriftFitOptions {
   // the searched models, whose C and gamma come from the search.
   SvrOptions svr;
   SvrSearchOptions search;
+  // Polled between the steps of a fit (issue 24: each candidate of auto, each lag tau tried, the
+  // feature building, each model's fit, the band); once cancelled, FitDriftModel throws
+  // Cancelled. Also handed to search.cuckoo.cancel and svr.cancel where those are null (the SVR
+  // fits stop inside LIBSVM). nullptr: not polled. Not owned.
+  const CancellationToken* cancel = nullptr;
   // hybrid: keep the kernel only when it is supported (Eq. H-1 in drift_fit.cc): over cv_folds
   // contiguous blocks (in-range scoring), its per-block CV gain over the structured part alone must
   // exceed the block-to-block spread of that gain, mean(g) > SD(g). Otherwise the kernel learnt

@@ -46,6 +46,11 @@ class TempDir {
   std::string path_;
 };
 
+// Writes `bytes` to `path` (plain, or gzip-compressed by zlib) and returns the path; a failed
+// write fails the test.
+std::string WriteFile(const std::string& path, const std::string& bytes);
+std::string WriteGzFile(const std::string& path, const std::string& bytes);
+
 // Runs `command` with /bin/sh, returns its exit status; stdout+stderr captured into *output.
 int RunCommand(const std::string& command, std::string* output);
 

@@ -33,18 +33,9 @@ class CsvColumnsTest : public ::testing::Test {
   void SetUp() override { dir_ = testing::MakeTempDir("gyrocomp_csv_columns_test"); }
   void TearDown() override { fs::remove_all(dir_); }
 
-  std::string Put(const std::string& name, const std::string& bytes) {
-    const std::string path = dir_ + "/" + name;
-    std::ofstream(path, std::ios::binary) << bytes;
-    return path;
-  }
+  std::string Put(const std::string& name, const std::string& bytes) { return testing::WriteFile(dir_ + "/" + name, bytes); }
   std::string PutGz(const std::string& name, const std::string& bytes) {
-    const std::string path = dir_ + "/" + name;
-    gzFile gz = gzopen(path.c_str(), "wb");
-    EXPECT_NE(gz, nullptr);
-    EXPECT_EQ(gzwrite(gz, bytes.data(), static_cast<unsigned>(bytes.size())), static_cast<int>(bytes.size()));
-    gzclose(gz);
-    return path;
+    return testing::WriteGzFile(dir_ + "/" + name, bytes);
   }
 
   std::string dir_;

@@ -29,19 +29,10 @@ class IoTest : public ::testing::Test {
   void TearDown() override { fs::remove_all(dir_); }
 
   // Writes raw bytes to dir_/name and returns the path.
-  std::string Put(const std::string& name, const std::string& bytes) {
-    const std::string path = dir_ + "/" + name;
-    std::ofstream(path, std::ios::binary) << bytes;
-    return path;
-  }
+  std::string Put(const std::string& name, const std::string& bytes) { return testing::WriteFile(dir_ + "/" + name, bytes); }
   // Writes `bytes` gzip-compressed.
   std::string PutGz(const std::string& name, const std::string& bytes) {
-    const std::string path = dir_ + "/" + name;
-    gzFile gz = gzopen(path.c_str(), "wb");
-    EXPECT_NE(gz, nullptr);
-    EXPECT_EQ(gzwrite(gz, bytes.data(), static_cast<unsigned>(bytes.size())), static_cast<int>(bytes.size()));
-    gzclose(gz);
-    return path;
+    return testing::WriteGzFile(dir_ + "/" + name, bytes);
   }
   std::vector<std::string> Files() const {
     std::vector<std::string> out;

@@ -1,6 +1,8 @@
 #include "test_support.h"
 
+#include <chrono>
 #include <cstdio>
+#include <thread>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -125,6 +127,29 @@ std::string WriteGzFile(const std::string& path, const std::string& bytes) {
   EXPECT_EQ(gzwrite(gz, bytes.data(), static_cast<unsigned>(bytes.size())), static_cast<int>(bytes.size()));
   EXPECT_EQ(gzclose(gz), Z_OK);
   return path;
+}
+
+bool CancelledWhileRunning(CancellationToken& token, const std::function<void()>& call, const std::string& what) {
+  std::chrono::steady_clock::time_point set_at;
+  std::thread canceller([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    set_at = std::chrono::steady_clock::now();
+    token.Cancel();
+  });
+  bool cancelled = false;
+  try {
+    call();
+  } catch (const Cancelled&) {
+    cancelled = true;
+  } catch (...) {
+    canceller.join();
+    throw;
+  }
+  const auto end = std::chrono::steady_clock::now();
+  canceller.join();
+  std::printf("  %s: %s %.4f s after the token was set\n", what.c_str(), cancelled ? "cancelled" : "finished",
+              std::chrono::duration<double>(end - set_at).count());
+  return cancelled;
 }
 
 int RunCommand(const std::string& command, std::string* output) {

@@ -2,11 +2,14 @@
 // and small readers for them that do not depend on gyrocomp's own CSV reader.
 #pragma once
 
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
+
+#include "gyrocomp/core/cancel.h"
 
 namespace gyrocomp::testing {
 
@@ -50,6 +53,11 @@ class TempDir {
 // write fails the test.
 std::string WriteFile(const std::string& path, const std::string& bytes);
 std::string WriteGzFile(const std::string& path, const std::string& bytes);
+
+// Runs `call` while another thread cancels `token` 50 ms in; true when `call` threw Cancelled
+// (anything else propagates). The time from the cancel to the end of `call` is printed after
+// `what` (printed, never asserted: tests do not assert on time).
+bool CancelledWhileRunning(CancellationToken& token, const std::function<void()>& call, const std::string& what);
 
 // Runs `command` with /bin/sh, returns its exit status; stdout+stderr captured into *output.
 int RunCommand(const std::string& command, std::string* output);

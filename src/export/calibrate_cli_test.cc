@@ -16,7 +16,7 @@
 
 #include "gyrocomp/export/thermal_cubic.h"
 #include "gyrocomp/sim/simulator.h"
-#include "qgc_params_test_util.h"
+#include "param_files_test_util.h"
 #include "test_support.h"
 
 namespace gyrocomp {
@@ -29,7 +29,7 @@ std::string ReadAll(const std::string& path) {
   return std::string((std::istreambuf_iterator<char>(f)), {});
 }
 
-// QGroundControl (qgc_params_test_util.h): names <= 16 characters (MAVLink param_id), TYPE 6
+// QGroundControl (param_files_test_util.h): names <= 16 characters (MAVLink param_id), TYPE 6
 // (INT32) for IDs and enables, 9 (REAL32) otherwise.
 std::map<std::string, std::string> ReadQgc(const std::string& text) {
   const testing::QgcFile file = testing::ReadQgcFile(text);
@@ -40,20 +40,6 @@ std::map<std::string, std::string> ReadQgc(const std::string& text) {
     const bool integer = name.ends_with("_ID") || name.ends_with("_ENABLE");
     EXPECT_EQ(param.type, integer ? "6" : "9") << name;
     p[name] = param.value;
-  }
-  return p;
-}
-
-std::map<std::string, float> ReadMissionPlanner(const std::string& text) {
-  std::map<std::string, float> p;
-  std::istringstream in(text);
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.empty() || line[0] == '#') continue;
-    const auto comma = line.find(',');
-    EXPECT_NE(comma, std::string::npos) << line;
-    EXPECT_LE(comma, 16u) << line;
-    p[line.substr(0, comma)] = std::stof(line.substr(comma + 1));
   }
   return p;
 }
@@ -165,7 +151,7 @@ TEST_F(CalibrateCli, ArduPilotFileIsRelativeToTheBootOffsetAndIgnoresBoardRotati
     std::string out;
     const std::string file = dir_ + "/tc" + std::to_string(r) + ".param", json = dir_ + "/cal" + std::to_string(r) + ".json";
     ASSERT_EQ(Run("calibrate -i " + log + " --format ardupilot -o " + file + " --json " + json, &out), 0) << out;
-    params[r] = ReadMissionPlanner(ReadAll(file));
+    params[r] = testing::ReadMissionPlannerFile(ReadAll(file));
     jsons[r] = testing::ReadJsonFile(json);
   }
   const auto& p = params[0];

@@ -14,7 +14,7 @@
 #include "gyrocomp/export/cubic_score.h"
 #include "gyrocomp/export/thermal_cubic.h"
 #include "gyrocomp/io/ulog.h"
-#include "qgc_params_test_util.h"
+#include "param_files_test_util.h"
 #include "test_support.h"
 
 namespace gyrocomp {

@@ -11,7 +11,7 @@
 #include <gtest/gtest.h>
 
 #include "export_test_models.h"
-#include "qgc_params_test_util.h"
+#include "param_files_test_util.h"
 #include "gyrocomp/export/causal_drift.h"
 
 namespace gyrocomp {
@@ -37,7 +37,7 @@ void Px4Offsets(const Px4GyroCal& c, float measured_temp, float offset[3]) {
     offset[i] = c.x0[i] + c.x1[i] * delta_temp + c.x2[i] * delta_temp_2 + c.x3[i] * delta_temp_3;
 }
 
-// QGroundControl file (qgc_params_test_util.h): sys 1, comp 1; name -> (value, type).
+// QGroundControl file (param_files_test_util.h): sys 1, comp 1; name -> (value, type).
 std::map<std::string, std::pair<std::string, int>> ParseQgc(const std::string& text) {
   std::map<std::string, std::pair<std::string, int>> out;
   for (const auto& [name, param] : testing::ReadQgcFile(text).params) {
@@ -344,18 +344,6 @@ TEST(ParamExport, RefusesWhatTheFirmwareCannotUse) {
 namespace gyrocomp {
 namespace {
 
-std::map<std::string, float> ReadApFile(const std::string& text) {
-  std::map<std::string, float> p;
-  std::istringstream in(text);
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.empty() || line[0] == '#') continue;
-    const auto comma = line.find(',');
-    p[line.substr(0, comma)] = std::stof(line.substr(comma + 1));
-  }
-  return p;
-}
-
 TEST(ArduPilotExport, WholeImuFileOwnsEveryCoefficientOfItsImus) {
   const auto models = ExactCubicModels();
   const ThreeAxisCubics radps = ProjectRadps(models);
@@ -365,7 +353,7 @@ TEST(ArduPilotExport, WholeImuFileOwnsEveryCoefficientOfItsImus) {
   ArduPilotTcalImu imu1{1, radps, accel, ""}, imu2{2, std::nullopt, std::nullopt, "temperature span 0.4 C < 10 C"};
   auto text = WriteArduPilotTcalFile({imu1, imu2}, {"test"});
   ASSERT_TRUE(text.ok()) << text.error().message;
-  const auto p = ReadApFile(*text);
+  const auto p = testing::ReadMissionPlannerFile(*text);
   EXPECT_EQ(p.size(), 21u + 19u);  // IMU 1: ENABLE, TMIN, TMAX, 18; IMU 2: ENABLE, 18 zeros
   EXPECT_EQ(p.at("INS_TCAL1_ENABLE"), 1.0f);
   EXPECT_EQ(p.at("INS_TCAL2_ENABLE"), 0.0f);

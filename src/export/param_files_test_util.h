@@ -1,6 +1,9 @@
-// Test-only reader of QGroundControl parameter files (what `export --format px4` and `calibrate
-// --format px4` write), shared by the export tests: '#' comment lines, then one parameter per line
-// "sys<TAB>comp<TAB>NAME<TAB>VALUE<TAB>TYPE" (QGroundControl's ParameterManager file format).
+// Test-only readers of the parameter files `export` and `calibrate` write, shared by the export
+// tests:
+// - QGroundControl (--format px4): '#' comment lines, then one parameter per line
+//   "sys<TAB>comp<TAB>NAME<TAB>VALUE<TAB>TYPE" (QGroundControl's ParameterManager file format);
+// - Mission Planner (--format ardupilot): '#' comment lines, then "NAME,VALUE", names of at most
+//   16 characters (ArduPilot's AP_MAX_NAME_SIZE).
 #pragma once
 
 #include <map>
@@ -39,6 +42,21 @@ inline QgcFile ReadQgcFile(const std::string& text) {
     out.params[f[2]] = QgcParam{f[0], f[1], f[3], f[4]};
   }
   return out;
+}
+
+inline std::map<std::string, float> ReadMissionPlannerFile(const std::string& text) {
+  std::map<std::string, float> p;
+  std::istringstream in(text);
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    const auto comma = line.find(',');
+    EXPECT_NE(comma, std::string::npos) << line;
+    EXPECT_LE(comma, 16u) << line;
+    if (comma == std::string::npos) continue;
+    p[line.substr(0, comma)] = std::stof(line.substr(comma + 1));
+  }
+  return p;
 }
 
 }  // namespace gyrocomp::testing

@@ -720,11 +720,18 @@ Status CombineRuns(const CalibrateArgs& a, LogFormat format, std::vector<Sensor>
     }
     if (!s.reason.empty()) continue;
     for (std::size_t k = 0; k < s.cubics.size(); ++k) {
-      // auto: one weighting for the axis over all runs, from their combined expected errors.
+      // auto: one weighting for the axis over all runs, from their combined expected errors; a
+      // run given twice (the same values) is one run's noise, counted once.
       std::vector<StaticWeightChoice> choices;
-      for (const Sensor* r : runs)
-        if (r->weight_choices[k]) choices.push_back(*r->weight_choices[k]);
-      if (a.static_weight == "auto" && choices.size() == runs.size()) {
+      bool all = true;
+      for (std::size_t r = 0; r < runs.size(); ++r) {
+        all &= runs[r]->weight_choices[k].has_value();
+        bool repeat = false;
+        for (std::size_t q = 0; q < r; ++q)
+          repeat |= runs[q]->values[k] == runs[r]->values[k] && runs[q]->temp_c == runs[r]->temp_c;
+        if (runs[r]->weight_choices[k] && !repeat) choices.push_back(*runs[r]->weight_choices[k]);
+      }
+      if (a.static_weight == "auto" && all) {
         s.weight_choices[k] = CombineStaticWeightChoices(choices);
         s.weights[k] = StaticWeightName(s.weight_choices[k]->chosen);
       }

@@ -128,9 +128,11 @@ MeanSquares Condition(const Eigen::MatrixXd& l, const Eigen::Matrix4d& cov, cons
   return m;
 }
 
-StaticEstimatorError ErrorOf(MeanSquares m) {
+// `m.gain`: the mean square of the rate shape (per unit gain), C/s^2.
+StaticEstimatorError ErrorOf(MeanSquares m, double gain) {
   StaticEstimatorError e;
-  e.rate_gain_rms = std::sqrt(std::max(0.0, m.gain));
+  e.rate_shape_rms = std::sqrt(std::max(0.0, m.gain));
+  e.rate_gain_rms = gain * e.rate_shape_rms;
   e.noise_rms = std::sqrt(std::max(0.0, m.noise));
   e.total_rms = std::hypot(e.rate_gain_rms, e.noise_rms);
   return e;
@@ -184,10 +186,11 @@ Result<StaticWeightChoice> ChooseStaticWeight(const DriftModel& model, const Dri
   // estimator's variance is that of the model with the gain, minus SE^2 (L r)(L r)'), so the
   // band's figure would count SE^2 twice more. A model file keeps only the band's G: then that.
   const DriftFitSummary& fs = model.summary;
-  c.rate_gain_rms = model.band->unidentified_rate_gain_rms;
+  c.rate_gain_rms = c.band_gain_rms = model.band->unidentified_rate_gain_rms;
   std::string gain_source = "the band's G = sqrt(g^2 + SE^2)";
   if (fs.unidentified_rate_gain && fs.unidentified_rate_gain_se) {
     const double g = *fs.unidentified_rate_gain, se = *fs.unidentified_rate_gain_se;
+    c.gain = g, c.gain_se = se;
     c.rate_gain_rms = std::min(c.rate_gain_rms, std::sqrt(std::max(0.0, g * g - se * se)));
     gain_source = "sqrt(max(0, g^2 - SE^2)), g " + Short(g) + " +- " + Short(se);
   }
@@ -196,12 +199,12 @@ Result<StaticWeightChoice> ChooseStaticWeight(const DriftModel& model, const Dri
   const double block_s = std::max(1.0 / run.fs_hz, std::min(o.red_block_s, duration_s / 20.0));
   for (auto [l, out] : {std::pair{&est->time, &c.time}, std::pair{&est->temperature, &c.temperature}}) {
     const Eigen::Matrix4d cov = NoiseCovariance(*l, model.band->noise, run.fs_hz, block_s, duration_s);
-    const MeanSquares s = Condition(*l, cov, r, c.rate_gain_rms, steady_x, steady_r);
-    const MeanSquares w = Condition(*l, cov, r, c.rate_gain_rms, warm_x, warm_r);
+    const MeanSquares s = Condition(*l, cov, r, 1.0, steady_x, steady_r);
+    const MeanSquares w = Condition(*l, cov, r, 1.0, warm_x, warm_r);
     MeanSquares m = s;
     if (condition == CubicCondition::kWarmUp) m = w;
     if (condition == CubicCondition::kBoth) m = {0.5 * (s.gain + w.gain), 0.5 * (s.noise + w.noise)};
-    *out = ErrorOf(m);
+    *out = ErrorOf(m, c.rate_gain_rms);
     if (!std::isfinite(out->total_rms)) return InvalidInput("static weight: non-finite expected error");
   }
   Decide(&c, "; left-out dT/dt gain " + Short(c.rate_gain_rms) + " per C/s (" + gain_source + ")");
@@ -213,16 +216,29 @@ StaticWeightChoice CombineStaticWeightChoices(const std::vector<StaticWeightChoi
   if (per_run.empty()) return c;
   const auto k = static_cast<double>(per_run.size());
   MeanSquares t, p;
-  double g2 = 0.0;
+  double g2 = 0.0, g_sum = 0.0, se2 = 0.0, band2 = 0.0;
+  bool all_gains = true;
   for (const StaticWeightChoice& r : per_run) {
-    t.gain += r.time.rate_gain_rms * r.time.rate_gain_rms / k, t.noise += r.time.noise_rms * r.time.noise_rms / (k * k);
-    p.gain += r.temperature.rate_gain_rms * r.temperature.rate_gain_rms / k;
+    t.gain += r.time.rate_shape_rms * r.time.rate_shape_rms / k, t.noise += r.time.noise_rms * r.time.noise_rms / (k * k);
+    p.gain += r.temperature.rate_shape_rms * r.temperature.rate_shape_rms / k;
     p.noise += r.temperature.noise_rms * r.temperature.noise_rms / (k * k);
     g2 += r.rate_gain_rms * r.rate_gain_rms / k;
+    band2 += r.band_gain_rms * r.band_gain_rms / k;
+    all_gains &= r.gain && r.gain_se;
+    if (r.gain && r.gain_se) g_sum += *r.gain, se2 += *r.gain_se * *r.gain_se / (k * k);
   }
-  c.time = ErrorOf(t), c.temperature = ErrorOf(p);
+  std::string source = "the runs' mean squared gain";
+  if (all_gains) {
+    const double g = g_sum / k;
+    c.gain = g, c.gain_se = std::sqrt(se2);
+    g2 = std::min(band2, std::max(0.0, g * g - se2));
+    source = "the runs' mean gain " + Short(g) + " +- " + Short(std::sqrt(se2)) + ", sqrt(max(0, g^2 - SE^2))";
+  }
   c.rate_gain_rms = std::sqrt(g2);
-  Decide(&c, "; " + std::to_string(per_run.size()) + " runs averaged (noise / runs, the gain part common)");
+  c.band_gain_rms = std::sqrt(band2);
+  c.time = ErrorOf(t, c.rate_gain_rms), c.temperature = ErrorOf(p, c.rate_gain_rms);
+  Decide(&c, "; " + std::to_string(per_run.size()) + " runs averaged: noise / runs, left-out dT/dt gain " +
+                 Short(c.rate_gain_rms) + " per C/s (" + source + ")");
   return c;
 }
 

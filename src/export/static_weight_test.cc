@@ -2,6 +2,7 @@
 #include "gyrocomp/export/static_weight.h"
 
 #include <cmath>
+#include <optional>
 #include <random>
 #include <vector>
 
@@ -141,11 +142,22 @@ TEST(StaticWeight, NoisePartMatchesMonteCarloOnWhiteNoise) {
 
 // Several runs: the noise parts fall with the runs, the gain part does not; a choice that is
 // time on one run can turn to temperature on three.
+StaticEstimatorError Estimator(double shape_c_per_s, double noise, double gain) {
+  StaticEstimatorError e;
+  e.rate_shape_rms = shape_c_per_s, e.rate_gain_rms = gain * shape_c_per_s, e.noise_rms = noise;
+  e.total_rms = std::hypot(e.rate_gain_rms, noise);
+  return e;
+}
+StaticWeightChoice OneRun(double gain, std::optional<double> g = {}, std::optional<double> se = {}) {
+  StaticWeightChoice c;
+  c.time = Estimator(1.0e-4, 2.0e-4, gain);
+  c.temperature = Estimator(0.3e-4, 2.4e-4, gain);
+  c.rate_gain_rms = gain, c.band_gain_rms = 10.0, c.gain = g, c.gain_se = se;
+  return c;
+}
+
 TEST(StaticWeight, CombinedRunsWeighTheGainMore) {
-  StaticWeightChoice one;
-  one.time = {1.0e-4, 2.0e-4, std::hypot(1.0e-4, 2.0e-4)};
-  one.temperature = {0.3e-4, 2.4e-4, std::hypot(0.3e-4, 2.4e-4)};
-  one.rate_gain_rms = 1.0;
+  const StaticWeightChoice one = OneRun(1.0);
   ASSERT_LT(one.time.total_rms, one.temperature.total_rms);
   const StaticWeightChoice single = CombineStaticWeightChoices({one});
   EXPECT_EQ(single.chosen, StaticWeight::kTime);
@@ -153,6 +165,21 @@ TEST(StaticWeight, CombinedRunsWeighTheGainMore) {
   EXPECT_EQ(three.chosen, StaticWeight::kTemperature) << three.reason;
   EXPECT_NEAR(three.time.noise_rms, 2.0e-4 / std::sqrt(3.0), 1e-12);
   EXPECT_NEAR(three.time.rate_gain_rms, 1.0e-4, 1e-12);
+}
+
+// With the runs' gains and SEs the gain is estimated from all runs: gains that agree add up,
+// gains that disagree (noise) cancel.
+TEST(StaticWeight, CombinedRunsEstimateOneGain) {
+  const double g1 = std::sqrt(1.0 - 0.25);  // each run: sqrt(g^2 - SE^2) of g 1, SE 0.5
+  const StaticWeightChoice agree =
+      CombineStaticWeightChoices({OneRun(g1, 1.0, 0.5), OneRun(g1, 1.0, 0.5), OneRun(g1, 1.0, 0.5)});
+  EXPECT_NEAR(*agree.gain, 1.0, 1e-12);
+  EXPECT_NEAR(agree.rate_gain_rms, std::sqrt(1.0 - 0.25 / 3.0), 1e-12);
+  EXPECT_EQ(agree.chosen, StaticWeight::kTemperature) << agree.reason;
+  const StaticWeightChoice disagree =
+      CombineStaticWeightChoices({OneRun(g1, 1.0, 0.5), OneRun(g1, -1.0, 0.5), OneRun(g1, 1.0, 0.5)});
+  EXPECT_NEAR(disagree.rate_gain_rms, std::sqrt(1.0 / 9.0 - 0.25 / 3.0), 1e-12);
+  EXPECT_EQ(disagree.chosen, StaticWeight::kTime) << disagree.reason;
 }
 
 TEST(StaticWeight, BadInputsAreErrors) {

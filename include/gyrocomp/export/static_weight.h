@@ -43,7 +43,9 @@ const char* StaticWeightName(StaticWeight weight);
 
 // One estimator's expected next-run error, model target unit, RMS over the condition(s).
 struct StaticEstimatorError {
-  double rate_gain_rms = 0.0;  // the left-out dT/dt gain's part
+  double rate_gain_rms = 0.0;  // the left-out dT/dt gain's part: the gain x rate_shape_rms
+  // RMS of what the estimator makes of the run's dT/dt less the next run's dT/dt, C/s (constant removed)
+  double rate_shape_rms = 0.0;
   double noise_rms = 0.0;      // the run's noise through the estimator
   double total_rms = 0.0;      // sqrt(rate_gain_rms^2 + noise_rms^2)
 };
@@ -51,7 +53,11 @@ struct StaticEstimatorError {
 struct StaticWeightChoice {
   StaticWeight chosen = StaticWeight::kTime;  // kTime or kTemperature
   StaticEstimatorError time, temperature;
-  double rate_gain_rms = 0.0;  // G of Eq. B-4 used (model unit per C/s; 0: no left-out gain)
+  double rate_gain_rms = 0.0;  // the gain used (model unit per C/s; 0: no left-out gain)
+  // Eq. I-1's left-out gain and its SE when the model has them (a fit in memory; a model file
+  // keeps only the band's G), and the band's G (the cap).
+  std::optional<double> gain, gain_se;
+  double band_gain_rms = 0.0;
   std::string reason;          // one line: which and why
 };
 
@@ -71,9 +77,11 @@ Result<StaticWeightChoice> ChooseStaticWeight(const DriftModel& model, const Dri
                                               double temp_max_c, CubicCondition condition,
                                               const StaticWeightOptions& options = {});
 
-// Several calibration runs of one board, their cubics averaged: the gain part is common to the
-// runs (the same board; its mean square over the runs), the noise parts independent (their mean
-// square / runs). Chooses as ChooseStaticWeight. `per_run` non-empty.
+// Several calibration runs of one board, their cubics averaged: the gain is common to the runs
+// (the same board): estimated from all of them, g = the mean of the runs' gains, SE^2 = the mean
+// of their SE^2 / runs, g^2 - SE^2 as above (capped by the runs' mean band G^2; without the
+// runs' g and SE, the mean of their squared gains), times the RMS of the runs' rate shapes; the
+// noise parts independent (their mean square / runs). Chooses as ChooseStaticWeight.
 StaticWeightChoice CombineStaticWeightChoices(const std::vector<StaticWeightChoice>& per_run);
 
 }  // namespace gyrocomp

@@ -231,7 +231,8 @@ std::vector<std::string> ParamComments(const ExportArgs& a, const std::vector<Ax
       "Rates: the models predict deg/s (the log's unit was converted to deg/s when it was read);",
       "  exported in rad/s = deg/s x pi/180. Temperatures in deg C, clamped to [TMIN, TMAX].",
       "Each axis's model projected by least squares onto a cubic in T over [TMIN, TMAX]",
-      "  (uniform temperature grid, dT/dt = 0); cost = RMS(full model - cubic) in deg/s:"};
+      "  (uniform temperature grid, dT/dt = 0), or, where its static curve says temperature (--static-weight),",
+      "  the -i run's static curve with each temperature alike; cost = RMS(full model - cubic) in deg/s:"};
   static constexpr const char* kAxis[3] = {"x", "y", "z"};
   for (std::size_t k = 0; k < axes.size(); ++k) {
     std::ostringstream s;

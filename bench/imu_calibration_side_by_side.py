@@ -24,9 +24,10 @@ and accel axis on the held-out runs: the residual the firmware leaves, value - o
 calc_thermal_offsets_3D, float32, T clamped to [TMIN, TMAX]; ArduPilot correct_sensor relative to
 INS_GYRn_CALTEMP / INS_ACCn_CALTEMP = the run's boot temperature, float32, clamped), as 10 s block
 means with their mean removed (the constant is the boot offset calibration's), RMS in deg/s and
-m/s^2. Rows: no correction, each script, gyrocomp (PX4 file also with --optimise-for warm-up /
-both, with --static-weight time: the model's own time-weighted curve, and with --runs K on 2..K
-calibration runs of the board, `calibrate -i` repeated), and the true static curve (the simulator's bias cubic, the best a static cubic can do
+m/s^2. Rows: no correction, each script, gyrocomp (its default, --static-weight auto; the PX4
+file also with --optimise-for warm-up / both, with --static-weight time: the model's own
+time-weighted curve, and temperature: each temperature alike; and with --runs K on 2..K
+calibration runs of the board, `calibrate -i` repeated, auto / temperature / time), and the true static curve (the simulator's bias cubic, the best a static cubic can do
 against its own static part). Printed: mean over seeds and axes, the seed spread (SD of the
 per-seed means), per-axis win counts of gyrocomp against each script and the RMS ratios.
 Figures and the scripts' commits: docs/export.md, "Side by side with the autopilots' scripts".
@@ -45,6 +46,7 @@ DEFAULT_POLY = [0.02, 1.5e-3, 1.2e-5, -2.0e-7]  # simulator.h BiasModelOptions::
 ACCEL_POLY = [0.02, 1.5e-3, 1.0e-5, -1.0e-7]    # simulator.h AccelAxisOptions::bias_poly_m_s2
 AXIS_SCALE = [1.0, -0.7, 0.5]                     # BoardAxisDriftScale(imu 0, axis)
 RAD = math.pi / 180.0
+WEIGHT_SUFFIXES = ("", ", temperature", ", time")  # --runs rows: auto (the default), then the two fixed ones
 # Held-out runs (name -> simulate arguments). warm-up: power-on self-heating from room temperature,
 # 20 -> 50 C at 3 C/min behind the same 120 s lag, then steady (the condition a vehicle meets each boot).
 PROFILES = {
@@ -209,7 +211,7 @@ def main():
                 sets = {}
                 for fmt, log in (("px4", cal_ulg), ("ardupilot", cal_bin)):
                     for extra in ([], ["--optimise-for", "warm-up"], ["--optimise-for", "both"],
-                                  ["--static-weight", "time"]):
+                                  ["--static-weight", "time"], ["--static-weight", "temperature"]):
                         if fmt == "ardupilot" and extra:
                             continue
                         out = os.path.join(tmp, "gc_" + fmt)
@@ -223,7 +225,7 @@ def main():
                 for k in range(1, args.runs):
                     extra_cal.append(os.path.join(tmp, "cal%d.ulg" % k))
                     simulate(gc, extra_cal[-1], 100 * seed + 1000 * k, args.fs, structure)
-                    for weight in ("temperature", "time"):
+                    for weight in ("auto", "temperature", "time"):
                         cmd = [gc, "calibrate", "--format", "px4", "-o", os.path.join(tmp, "gc_runs"),
                                "--static-weight", weight]
                         for f in [cal_ulg] + extra_cal:
@@ -231,7 +233,7 @@ def main():
                         rc, msg = run(cmd)
                         if rc != 0:
                             sys.exit("calibrate failed: " + msg)
-                        name = "gyrocomp -> px4 (%d runs%s)" % (k + 1, "" if weight == "temperature" else ", time")
+                        name = "gyrocomp -> px4 (%d runs%s)" % (k + 1, "" if weight == "auto" else ", " + weight)
                         sets[name] = ("px4", read_params(os.path.join(tmp, "gc_runs")))
                 p, why = try_px4_script(args, cal_ulg, tmp)
                 if p is None:
@@ -263,8 +265,8 @@ def main():
         print("  %s skipped: %s" % (why_name, why))
     order = ["no correction", "PX4 script", "tempcal_IMU", "gyrocomp -> px4", "gyrocomp -> ardupilot",
              "gyrocomp -> px4 (--optimise-for warm-up)", "gyrocomp -> px4 (--optimise-for both)",
-             "gyrocomp -> px4 (--static-weight time)"] + \
-        ["gyrocomp -> px4 (%d runs%s)" % (k, w) for k in range(2, args.runs + 1) for w in ("", ", time")] + \
+             "gyrocomp -> px4 (--static-weight time)", "gyrocomp -> px4 (--static-weight temperature)"] + \
+        ["gyrocomp -> px4 (%d runs%s)" % (k, w) for k in range(2, args.runs + 1) for w in WEIGHT_SUFFIXES] + \
         ["true static curve"]
     names = [n for n in order if any(k[3] == n for k in rows)]
     for sensor in ("gyro", "accel"):
@@ -280,7 +282,7 @@ def main():
                     cells.append("%.3g +- %.2g" % (np.mean(per_seed), np.std(per_seed)))
                 print("| %s | %s | %s |" % (structure, n, " | ".join(cells)))
         multi = [(sc, "gyrocomp -> px4 (%d runs%s)" % (k, w)) for sc in ("PX4 script", "tempcal_IMU")
-                 for k in range(2, args.runs + 1) for w in ("", ", time")]
+                 for k in range(2, args.runs + 1) for w in WEIGHT_SUFFIXES]
         for structure in structures:
             for script, mine in [("PX4 script", "gyrocomp -> px4"), ("tempcal_IMU", "gyrocomp -> ardupilot")] + multi:
                 cells = []
@@ -294,6 +296,23 @@ def main():
                             run_name, wins, 3 * len(a), ratio, np.mean([x.mean() for x in t]) / np.mean([x.mean() for x in b])))
                 if cells:
                     print("  %s %s, %s vs %s: %s" % (structure, sensor, mine, script, "; ".join(cells)))
+        # Done-when 3: the mean over the held-out heating and cooling runs, against the true curve's
+        # and each script's; and the worst ratio in the scripts' own (heating) direction.
+        for structure in structures:
+            def hc(n, run_names=("heating", "cooling")):
+                v = [rows.get((structure, sensor, r, n)) for r in run_names]
+                return None if any(x is None for x in v) else np.mean([np.mean([x.mean() for x in a]) for a in v])
+            true_hc = hc("true static curve")
+            for n in names:
+                if not n.startswith("gyrocomp -> px4") or "optimise" in n or hc(n) is None:
+                    continue
+                parts = ["mean(heating, cooling) / true curve's %.3f" % (hc(n) / true_hc)]
+                for script in ("PX4 script", "tempcal_IMU"):
+                    if hc(script) is not None:
+                        parts.append("/ %s %.3f (true / script %.3f; heating alone %.3f)" % (
+                            script, hc(n) / hc(script), true_hc / hc(script),
+                            hc(n, ("heating",)) / hc(script, ("heating",))))
+                print("  %s %s, %s: %s" % (structure, sensor, n, ", ".join(parts)))
 
 
 if __name__ == "__main__":

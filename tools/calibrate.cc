@@ -30,6 +30,7 @@
 #include "gyrocomp/export/cubic_score.h"
 #include "gyrocomp/export/param_export.h"
 #include "gyrocomp/export/static_cubic.h"
+#include "gyrocomp/export/static_weight.h"
 #include "gyrocomp/export/thermal_cubic.h"
 #include "gyrocomp/io/flight_log.h"
 #include "gyrocomp/report/report.h"
@@ -56,9 +57,10 @@ struct CalibrateArgs {
   std::size_t min_rows = 60;  // after the block means
   std::string optimise_for = "steady";  // CubicCondition of the exported cubic
   // How the static curve is estimated: "temperature" (each temperature alike: the run's data,
-  // the model's dynamic part removed, in equal-width temperature bins; static_cubic.h) or "time"
-  // (the fitted model's own curve at state 0, fitted on every sample).
-  std::string static_weight = "temperature";
+  // the model's dynamic part removed, in equal-width temperature bins; static_cubic.h), "time"
+  // (the fitted model's own curve at state 0, fitted on every sample) or "auto" (per axis, the
+  // one with the lower expected next-run error; static_weight.h).
+  std::string static_weight = "auto";
 };
 
 // One sensor instance of the log, in its sensor frame and firmware unit.
@@ -77,6 +79,13 @@ struct Sensor {
   int slot = -1;       // PX4 slot / ArduPilot IMU n
   std::vector<DriftModel> models;
   std::vector<TemperatureCubic> cubics;  // firmware unit, constant handled as the file needs
+  // Both candidates of --static-weight (firmware unit, as `cubics`; the temperature one only
+  // when computed), the weighting each axis's exported cubic has, and --static-weight auto's
+  // comparison (nullopt: not auto, or no band; then weight_reason says why).
+  std::vector<TemperatureCubic> cubics_time, cubics_temperature;
+  std::vector<std::string> weights;
+  std::vector<std::optional<StaticWeightChoice>> weight_choices;
+  std::string weight_reason;
   std::vector<double> cost_rms;          // projection cost on the run, firmware unit
   // RMS over the range of cubic - full model at state 0 (steady) and along the run's warm-up
   // state (warm-up), firmware unit: what the exported cubic loses in each condition.
@@ -281,15 +290,35 @@ void Calibrate(Sensor* s, const CalibrateArgs& a, std::optional<std::pair<double
       s->reason = "projection of " + s->cols[k] + " failed: " + c.error().message;
       return;
     }
-    if (a.static_weight == "temperature") {
-      if (Status st = StaticByTemperature(*m, inputs, y, po, &*c); !st.ok()) {
+    TemperatureCubic by_temp = *c;
+    if (a.static_weight != "time") {
+      if (Status st = StaticByTemperature(*m, inputs, y, po, &by_temp); !st.ok()) {
         s->reason = "static curve of " + s->cols[k] + ": " + st.error().message;
         return;
       }
     }
+    s->weights.push_back(a.static_weight);
+    s->weight_choices.emplace_back(std::nullopt);
+    if (a.static_weight == "auto") {
+      Result<StaticWeightChoice> ch = ChooseStaticWeight(*m, inputs, po.temp_min_c.value(), po.temp_max_c.value(), po.condition);
+      if (ch.ok()) {
+        s->weights.back() = StaticWeightName(ch->chosen);
+        s->weight_choices.back() = *ch;
+      } else {
+        s->weights.back() = "temperature";  // the robust one when the run gives no evidence
+        s->weight_reason = "auto fell back to temperature: " + ch.error().message;
+      }
+    }
+    const auto firmware = [&](const TemperatureCubic& model_unit) {
+      TemperatureCubic fw = model_unit.Scaled(1.0 / s->to_model);
+      if (a.format == "px4" && s->type != "gyro") fw.coeff[0] = 0.0;  // the script subtracts the median
+      return fw;
+    };
+    s->cubics_time.push_back(firmware(*c));
+    s->cubics_temperature.push_back(firmware(by_temp));
+    if (s->weights.back() == "temperature") *c = by_temp;
     Result<CubicProjectionCost> cost = MeasureCubicProjectionCost(*m, *c, inputs);
-    TemperatureCubic fw = c->Scaled(1.0 / s->to_model);
-    if (a.format == "px4" && s->type != "gyro") fw.coeff[0] = 0.0;  // the script subtracts the median
+    TemperatureCubic fw = firmware(*c);
     s->cost_rms.push_back(cost.ok() ? cost->rms / s->to_model : NAN);
     const auto [steady, warm_up] = ConditionErrors(*m, *c, *warm);
     s->steady_rms.push_back(steady / s->to_model);
@@ -397,6 +426,23 @@ std::string ExpectedText(const Sensor& s, bool warm_up) {
   return t;
 }
 
+// "static weight temperature time time (auto: expected error time 1e-4/..., temperature ...)".
+std::string WeightText(const Sensor& s) {
+  std::string t = "static weight";
+  for (const std::string& w : s.weights) t += " " + w;
+  bool any = false;
+  std::string time = "time", temp = "temperature";
+  for (const auto& c : s.weight_choices) {
+    if (!c) continue;
+    time += (any ? "/" : " ") + Num(c->time.total_rms / s.to_model);
+    temp += (any ? "/" : " ") + Num(c->temperature.total_rms / s.to_model);
+    any = true;
+  }
+  if (any) t += " (auto, expected error " + time + ", " + temp + " " + s.unit + ")";
+  if (!s.weight_reason.empty()) t += " (" + s.weight_reason + ")";
+  return t;
+}
+
 std::string ValidationText(const Sensor::Validation& v) {
   if (!v.reason.empty()) return "validation: not scored, " + v.reason;
   std::string t = "validation run (" + std::to_string(v.rows) + " rows): RMS raw / cubic / full model";
@@ -417,7 +463,8 @@ std::vector<std::string> Comments(const CalibrateArgs& a, const std::vector<Sens
       "block means at " + Num(a.fit_rate_hz) + " Hz, its curve projected onto the firmware's cubic over the",
       "sensor's range, optimised for: " + a.optimise_for + " (steady: dT/dt = 0; warm-up: the state the run had while heating;",
       "both: their mean); static curve weighted by: " + a.static_weight + " (temperature: each temperature alike,",
-      "the run's data with the model's dynamic part removed, 2000 bins; time: the model's own curve).",
+      "the run's data with the model's dynamic part removed, 2000 bins; time: the model's own curve; auto: per",
+      "axis the one with the lower expected next-run error of the estimator, docs/export.md).",
       "Units: gyro rad/s, accel m/s^2, baro Pa; sensor frame. Per sensor: model, projection cost",
       "(RMS full model - cubic on this run, firmware unit) and, per axis, the expected next-run error of the",
       "exported cubic: RMS of sqrt((cubic - model)^2 + sd^2), sd the model's prediction band / z (docs/export.md),",
@@ -434,6 +481,7 @@ std::vector<std::string> Comments(const CalibrateArgs& a, const std::vector<Sens
     for (double v : s.cost_rms) l << " " << Num(v);
     c.push_back(l.str());
     c.push_back("    expected error " + ExpectedText(s, false) + "; " + ExpectedText(s, true));
+    c.push_back("    " + WeightText(s));
     if (s.validation) c.push_back("    " + ValidationText(*s.validation));
   }
   return c;
@@ -507,6 +555,23 @@ nlohmann::json ExpectedJson(const CalibrateArgs& a, const Sensor& s) {
   return j;
 }
 
+nlohmann::json EstimatorJson(const StaticEstimatorError& e, double to_model) {
+  return {{"total_rms", e.total_rms / to_model}, {"rate_gain_rms", e.rate_gain_rms / to_model},
+          {"noise_rms", e.noise_rms / to_model}};
+}
+
+// --static-weight auto's comparison for axis k (firmware unit), or null with the reason.
+nlohmann::json WeightChoiceJson(const Sensor& s, std::size_t k) {
+  const auto& c = s.weight_choices[k];
+  if (!c) return s.weight_reason.empty() ? nlohmann::json(nullptr) : nlohmann::json({{"reason", s.weight_reason}});
+  return {{"chosen", StaticWeightName(c->chosen)}, {"time", EstimatorJson(c->time, s.to_model)},
+          {"temperature", EstimatorJson(c->temperature, s.to_model)},
+          {"unidentified_rate_gain_rms", c->rate_gain_rms / s.to_model}, {"reason", c->reason},
+          {"note", "expected next-run RMS error of each estimator of the static cubic (constant removed): the left-out "
+                   "dT/dt gain G (Eq. B-4) times what the estimator makes of the run's dT/dt, and the run's noise "
+                   "(the band's Eq. G-0) through the estimator; over the --optimise-for conditions"}};
+}
+
 nlohmann::json ValidationJson(const Sensor::Validation& v) {
   if (!v.reason.empty()) return {{"status", "not scored"}, {"reason", v.reason}};
   return {{"status", "scored"}, {"rows", v.rows}, {"temp_min_c", v.temp_min_c}, {"temp_max_c", v.temp_max_c},
@@ -533,7 +598,8 @@ nlohmann::json SensorJson(const CalibrateArgs& a, const Sensor& s) {
     axes.push_back({{"col", s.cols[k]}, {"kind", DriftModelKindName(s.models[k].kind)},
                     {"cubic", {{"ref_temp_c", c.ref_temp_c}, {"temp_min_c", c.temp_min_c}, {"temp_max_c", c.temp_max_c},
                                {"coeff", c.coeff}}},
-                    {"projection_cost_rms", s.cost_rms[k]}, {"fit_rmse", s.models[k].summary.train_rmse / s.to_model}});
+                    {"projection_cost_rms", s.cost_rms[k]}, {"fit_rmse", s.models[k].summary.train_rmse / s.to_model},
+                    {"static_weight", s.weights[k]}, {"static_weight_choice", WeightChoiceJson(s, k)}});
   }
   j["axes"] = axes;
   j["expected_error"] = ExpectedJson(a, s);
@@ -574,6 +640,7 @@ void PrintTable(const std::vector<Sensor>& all) {
     t << s.unit << "\n";
     t << "                  expected next-run error of the cubic: " << ExpectedText(s, false) << "; "
       << ExpectedText(s, true) << " " << s.unit << "\n";
+    t << "                  " << WeightText(s) << "\n";
   }
   bool any_validation = false;
   for (const Sensor& s : all) any_validation |= s.validation.has_value();
@@ -643,7 +710,8 @@ Status CombineRuns(const CalibrateArgs& a, LogFormat format, std::vector<Sensor>
     runs.insert(runs.begin(), &s);
     for (Sensor* r : runs) {  // again over the common range (the block means are kept: n = 1)
       r->models.clear(), r->cubics.clear(), r->cost_rms.clear(), r->steady_rms.clear(), r->warm_up_rms.clear();
-      r->expected.clear();
+      r->expected.clear(), r->cubics_time.clear(), r->cubics_temperature.clear(), r->weights.clear();
+      r->weight_choices.clear();
       Calibrate(r, a, std::pair{lo, hi});
       if (!r->reason.empty()) {
         s.reason = r->reason;
@@ -651,12 +719,29 @@ Status CombineRuns(const CalibrateArgs& a, LogFormat format, std::vector<Sensor>
       }
     }
     if (!s.reason.empty()) continue;
-    for (std::size_t k = 0; k < s.cubics.size(); ++k)
+    for (std::size_t k = 0; k < s.cubics.size(); ++k) {
+      // auto: one weighting for the axis over all runs, from their combined expected errors; a
+      // run given twice (the same values) is one run's noise, counted once.
+      std::vector<StaticWeightChoice> choices;
+      bool all = true;
+      for (std::size_t r = 0; r < runs.size(); ++r) {
+        all &= runs[r]->weight_choices[k].has_value();
+        bool repeat = false;
+        for (std::size_t q = 0; q < r; ++q)
+          repeat |= runs[q]->values[k] == runs[r]->values[k] && runs[q]->temp_c == runs[r]->temp_c;
+        if (runs[r]->weight_choices[k] && !repeat) choices.push_back(*runs[r]->weight_choices[k]);
+      }
+      if (a.static_weight == "auto" && all) {
+        s.weight_choices[k] = CombineStaticWeightChoices(choices);
+        s.weights[k] = StaticWeightName(s.weight_choices[k]->chosen);
+      }
       for (std::size_t j = 0; j < 4; ++j) {
         double sum = 0.0;
-        for (const Sensor* r : runs) sum += r->cubics[k].coeff[j];
+        for (const Sensor* r : runs)
+          sum += (s.weights[k] == "time" ? r->cubics_time[k] : r->cubics_temperature[k]).coeff[j];
         s.cubics[k].coeff[j] = sum / static_cast<double>(runs.size());
       }
+    }
     s.runs_combined = static_cast<int>(runs.size());
   }
   return Status::Ok();
@@ -737,10 +822,11 @@ Command Make(CLI::App& app) {
       ->check(CLI::IsMember({"steady", "warm-up", "both"}))
       ->capture_default_str();
   sub->add_option("--static-weight", a->static_weight,
-                  "How the static curve is estimated: temperature (each temperature alike: the run's data with the "
-                  "model's dynamic part removed, in 2000 equal temperature bins, as PX4's script bins) | time (the "
-                  "fitted model's curve, every sample alike)")
-      ->check(CLI::IsMember({"temperature", "time"}))
+                  "How the static curve is estimated: auto (per axis, the one of the two below with the lower "
+                  "expected next-run error: a left-out dT/dt gain against the holds' information) | temperature (each "
+                  "temperature alike: the run's data with the model's dynamic part removed, in 2000 equal temperature "
+                  "bins, as PX4's script bins) | time (the fitted model's curve, every sample alike)")
+      ->check(CLI::IsMember({"auto", "temperature", "time"}))
       ->capture_default_str();
   sub->add_option("--min-span", a->min_span_c, "Smallest temperature span calibrated, deg C (ArduPilot's TEMP_RANGE_MIN)")
       ->capture_default_str();

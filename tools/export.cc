@@ -19,6 +19,8 @@
 #include "gyrocomp/export/c_export.h"
 #include "gyrocomp/export/cubic_score.h"
 #include "gyrocomp/export/param_export.h"
+#include "gyrocomp/export/static_cubic.h"
+#include "gyrocomp/export/static_weight.h"
 #include "gyrocomp/export/thermal_cubic.h"
 #include "result_json.h"
 
@@ -39,6 +41,10 @@ struct ExportArgs {
   std::string c_unit = "dps";
   LogOptions log;               // optional calibration run (-i): projection cost
   std::string validation_path;  // optional validation run, same columns
+  // px4 / ardupilot: how the static curve is estimated (static_weight.h): auto (per axis, the
+  // estimator with the lower expected next-run error; needs -i, else time), temperature (each
+  // temperature of the -i run alike; needs -i), time (the model's own curve).
+  std::string static_weight = "auto";
 };
 
 // Every -m file holds one or more axes (model file v2: one model per rate column); the axes are
@@ -74,7 +80,27 @@ struct AxisCost {
   // heating of the -i run; nullopt with the reason for a model without a band.
   std::optional<CubicExpectedError> expected;
   std::string expected_reason;
+  // The static curve's estimator (time | temperature) and, for auto, both expected errors or why
+  // auto fell back to time.
+  std::string weight = "time";
+  std::optional<StaticWeightChoice> weight_choice;
+  std::string weight_reason;
 };
+
+nlohmann::json WeightJson(const AxisCost& c) {
+  nlohmann::json j = {{"static_weight", c.weight}};
+  if (!c.weight_reason.empty()) j["reason"] = c.weight_reason;
+  if (c.weight_choice) {
+    auto e = [](const StaticEstimatorError& x) {
+      return nlohmann::json{{"total_rms_dps", x.total_rms}, {"rate_gain_rms_dps", x.rate_gain_rms}, {"noise_rms_dps", x.noise_rms}};
+    };
+    j["time"] = e(c.weight_choice->time);
+    j["temperature"] = e(c.weight_choice->temperature);
+    j["unidentified_rate_gain_rms"] = c.weight_choice->rate_gain_rms;
+    j["reason"] = c.weight_choice->reason;
+  }
+  return j;
+}
 
 nlohmann::json ConditionJson(const CubicConditionError& e) {
   return {{"total_rms_dps", e.total_rms}, {"total_rms_rad_s", e.total_rms * kRadPerDeg},
@@ -100,10 +126,57 @@ Result<GyroLog> ReadRun(const LogOptions& options) {
   Result<LogSpec> spec = ToLogSpec(options);
   if (!spec.ok()) return spec.error();
   spec->temp_required = true;
-  spec->keep_cols.emplace();  // only the log (issue 24: memory)
+  spec->keep_cols.emplace();  // only the log: time, rates, temperature (issue 24: memory)
   Result<LoadedLog> loaded = LoadLog(kName, options, *spec);
   if (!loaded.ok()) return loaded.error();
   return std::move(loaded->log);
+}
+
+// The -i run's values of the axis `k` of `n` models: its column named as the model's rate
+// column, else the k-th rate column when the run has one per model; nullptr: none.
+const std::vector<double>* RunValues(const GyroLog& run, const AxisDriftModel& x, std::size_t k, std::size_t n) {
+  for (std::size_t i = 0; i < run.axis_names.size(); ++i)
+    if (run.axis_names[i] == x.model.rate_col) return &run.rate_dps[i];
+  return run.rate_dps.size() == n ? &run.rate_dps[k] : nullptr;
+}
+
+// --static-weight: the model's own curve (time, `c->cubic_dps` as projected), the -i run's
+// static curve with each temperature alike (temperature), or per axis the one with the lower
+// expected next-run error (auto; time without -i).
+Status ChooseWeight(const ExportArgs& a, const AxisDriftModel& x, std::size_t k, std::size_t n,
+                    const std::optional<GyroLog>& cal, const CubicProjectionOptions& po, AxisCost* c) {
+  if (a.static_weight == "time") return Status::Ok();
+  if (!cal) {
+    if (a.static_weight == "temperature")
+      return InvalidArgument("--static-weight temperature needs the calibration run (-i CAL, the model's columns)");
+    c->weight_reason = "auto without a calibration run (-i): the model's own curve";
+    return Status::Ok();
+  }
+  const std::vector<double>* y = RunValues(*cal, x, k, n);
+  if (!y) {
+    const std::string why = "-i has no column " + x.model.rate_col + " (and not one rate column per model)";
+    if (a.static_weight == "temperature") return InvalidInput(why);
+    c->weight_reason = "auto: " + why + "; the model's own curve";
+    return Status::Ok();
+  }
+  const DriftInputs in{cal->temp_c, cal->fs_hz};
+  StaticCubicOptions so;
+  so.temp_min_c = c->cubic_dps.temp_min_c, so.temp_max_c = c->cubic_dps.temp_max_c, so.ref_temp_c = c->cubic_dps.ref_temp_c;
+  Result<TemperatureCubic> by_temp = FitStaticCubicByTemperature(x.model, in, *y, so);
+  if (!by_temp.ok()) return by_temp.error();
+  if (a.static_weight == "temperature") {
+    c->cubic_dps = *by_temp, c->weight = "temperature";
+    return Status::Ok();
+  }
+  Result<StaticWeightChoice> ch = ChooseStaticWeight(x.model, in, *po.temp_min_c, *po.temp_max_c, CubicCondition::kSteady);
+  if (!ch.ok()) {
+    c->weight_reason = "auto fell back to the model's own curve: " + ch.error().message;
+    return Status::Ok();
+  }
+  c->weight_choice = *ch;
+  c->weight = StaticWeightName(ch->chosen);
+  if (ch->chosen == StaticWeight::kTemperature) c->cubic_dps = *by_temp;
+  return Status::Ok();
 }
 
 // Projects every axis onto one shared range and measures the cost on the runs given.
@@ -134,6 +207,7 @@ Result<std::vector<AxisCost>> ProjectAxes(const ExportArgs& a, const std::vector
     auto cubic = ProjectOntoCubic(x.model, po);
     if (!cubic.ok()) return cubic.error();
     c.cubic_dps = *cubic;
+    if (Status st = ChooseWeight(a, x, out.size(), axes.size(), cal, po, &c); !st.ok()) return st.error();
     std::optional<DriftInputs> run;
     if (cal) run = DriftInputs{cal->temp_c, cal->fs_hz};
     auto expected = ExpectedCubicError(x.model, c.cubic_dps, run);
@@ -157,7 +231,8 @@ std::vector<std::string> ParamComments(const ExportArgs& a, const std::vector<Ax
       "Rates: the models predict deg/s (the log's unit was converted to deg/s when it was read);",
       "  exported in rad/s = deg/s x pi/180. Temperatures in deg C, clamped to [TMIN, TMAX].",
       "Each axis's model projected by least squares onto a cubic in T over [TMIN, TMAX]",
-      "  (uniform temperature grid, dT/dt = 0); cost = RMS(full model - cubic) in deg/s:"};
+      "  (uniform temperature grid, dT/dt = 0), or, where its static curve says temperature (--static-weight),",
+      "  the -i run's static curve with each temperature alike; cost = RMS(full model - cubic) in deg/s:"};
   static constexpr const char* kAxis[3] = {"x", "y", "z"};
   for (std::size_t k = 0; k < axes.size(); ++k) {
     std::ostringstream s;
@@ -178,6 +253,11 @@ std::vector<std::string> ParamComments(const ExportArgs& a, const std::vector<Ax
       else e << "n/a (give the calibration run with -i)";
     }
     c.push_back(e.str());
+    std::ostringstream w;
+    w << "     static curve: " << costs[k].weight;
+    if (costs[k].weight_choice) w << " (auto: " << costs[k].weight_choice->reason << ")";
+    else if (!costs[k].weight_reason.empty()) w << " (" << costs[k].weight_reason << ")";
+    c.push_back(w.str());
   }
   return c;
 }
@@ -223,7 +303,7 @@ int RunParams(const ExportArgs& a, const std::vector<AxisDriftModel>& axes, cons
                   {"cubic_dps", {{"ref_temp_c", c.ref_temp_c}, {"coeff", c.coeff}}},
                   {"cost_calibration", CostJson((*costs)[k].calibration)},
                   {"cost_validation", CostJson((*costs)[k].validation)},
-                  {"expected_error", ExpectedJson((*costs)[k])}});
+                  {"expected_error", ExpectedJson((*costs)[k])}, {"static_weight", WeightJson((*costs)[k])}});
   }
   (*j)["axes"] = ax;
   (*j)["temp_min_c"] = radps[0].temp_min_c;
@@ -305,6 +385,12 @@ Command Make(CLI::App& app) {
   sub->add_option("--c-unit", a->c_unit, "c: unit of rate_in/rate_out, dps or rads")->capture_default_str();
   AddLogOptions(sub, &a->log, /*input_required=*/false);
   AddInputOption(sub, "--validation", &a->validation_path, "px4/ardupilot: a validation run (same columns as -i) for the cost");
+  sub->add_option("--static-weight", a->static_weight,
+                  "px4/ardupilot: the static curve exported: auto (per axis, the estimator below with the lower expected "
+                  "next-run error; time without -i) | temperature (the -i run, each temperature alike, the model's dynamic "
+                  "part removed) | time (the model's own curve)")
+      ->check(CLI::IsMember({"auto", "temperature", "time"}))
+      ->capture_default_str();
   return {sub, [a] { return Run(*a); }};
 }
 

@@ -225,6 +225,44 @@ TEST_F(CalibrateValidationCli, SeveralRunsOfOneBoardAverageTheirCubics) {
   EXPECT_FALSE(fs::exists(dir_ + "/x.params"));
 }
 
+// --static-weight auto (the default): each axis's exported cubic is the one the JSON says was
+// chosen, i.e. equal to that axis's cubic under --static-weight time or temperature, and the
+// choice is the estimator with the lower expected error; the header and the console say it.
+TEST_F(CalibrateValidationCli, AutoStaticWeightExportsTheChosenEstimatorPerAxis) {
+  const std::string a = Simulate("a.ulg", 61, "--room-temp 10 --ramp-end 60");
+  std::string out;
+  std::map<std::string, nlohmann::json> j;
+  for (const char* w : {"", "time", "temperature"}) {
+    const std::string weight = w, name = "w_" + weight;
+    ASSERT_EQ(Run("calibrate -i " + a + " --format px4 -o " + dir_ + "/" + name + ".params --json " + dir_ + "/" + name +
+                      ".json" + (weight.empty() ? "" : " --static-weight " + weight), &out), 0) << out;
+    j[w] = testing::ReadJsonFile(dir_ + "/" + name + ".json");
+    if (!*w) {
+      EXPECT_NE(out.find("static weight"), std::string::npos) << out;
+      EXPECT_NE(ReadAll(dir_ + "/" + name + ".params").find("static weight"), std::string::npos);
+    }
+  }
+  EXPECT_EQ(j[""]["static_weight"], "auto");
+  int axes = 0;
+  for (std::size_t i = 0; i < j[""]["sensors"].size(); ++i) {
+    if (j[""]["sensors"][i]["status"] != "calibrated") continue;
+    for (std::size_t k = 0; k < j[""]["sensors"][i]["axes"].size(); ++k) {
+      const nlohmann::json& ax = j[""]["sensors"][i]["axes"][k];
+      const std::string chosen = ax["static_weight"];
+      ASSERT_TRUE(chosen == "time" || chosen == "temperature") << chosen;
+      const nlohmann::json& c = ax["static_weight_choice"];
+      ASSERT_TRUE(c.is_object()) << ax.dump();
+      EXPECT_EQ(c["chosen"], chosen);
+      const double t = c["time"]["total_rms"].get<double>(), p = c["temperature"]["total_rms"].get<double>();
+      EXPECT_EQ(chosen, p < t ? "temperature" : "time") << t << " " << p;
+      EXPECT_EQ(ax["cubic"]["coeff"], j[chosen]["sensors"][i]["axes"][k]["cubic"]["coeff"]) << ax["col"];
+      EXPECT_EQ(j[chosen]["sensors"][i]["axes"][k]["static_weight"], chosen);
+      ++axes;
+    }
+  }
+  EXPECT_GE(axes, 12);  // 2 IMUs x gyro + accel x 3 axes (and the baro)
+}
+
 // export: the header and the JSON carry each axis's expected error, the library's numbers.
 TEST_F(CalibrateValidationCli, ExportCarriesTheLibrarysExpectedError) {
   const SimulatedRun run = export_test::ChamberRun(41);

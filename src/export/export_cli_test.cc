@@ -1,7 +1,9 @@
 // `gyrocomp export` end to end (cli.md contract: files, JSON, one-line errors with exit 2).
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 #include <gtest/gtest.h>
@@ -62,6 +64,44 @@ TEST_F(ExportCli, Px4FileAndCostOnTheCalibrationRun) {
     EXPECT_NEAR(j["axes"][a]["cost_calibration"]["rms_dps"].get<double>(), cost->rms, 1e-12);
     EXPECT_TRUE(j["axes"][a]["cost_validation"].is_null());
   }
+}
+
+// --static-weight (default auto): with -i each axis's cubic is the time or the temperature one,
+// as the JSON says, and equal to that option's cubic; without -i auto is the model's own curve,
+// and temperature is an error (exit 2, no file).
+TEST_F(ExportCli, StaticWeightAutoExportsTheChosenCubicPerAxis) {
+  std::string out;
+  std::map<std::string, nlohmann::json> j;
+  for (const std::string w : {"auto", "time", "temperature"}) {
+    ASSERT_EQ(Run("export" + Models() + " --format px4 --device-id 7 -i " + dir_ + "/cal.csv --static-weight " + w +
+                      " -o " + dir_ + "/" + w + ".params --json " + dir_ + "/" + w + ".json", &out), 0) << out;
+    j[w] = testing::ReadJsonFile(dir_ + "/" + w + ".json");
+  }
+  for (int a = 0; a < 3; ++a) {
+    const nlohmann::json& x = j["auto"]["axes"][a];
+    const std::string chosen = x["static_weight"]["static_weight"];
+    ASSERT_TRUE(chosen == "time" || chosen == "temperature") << x.dump();
+    EXPECT_EQ(x["cubic_dps"]["coeff"], j[chosen]["axes"][a]["cubic_dps"]["coeff"]) << a;
+    EXPECT_EQ(j["temperature"]["axes"][a]["static_weight"]["static_weight"], "temperature");
+    EXPECT_NE(j["time"]["axes"][a]["cubic_dps"]["coeff"], j["temperature"]["axes"][a]["cubic_dps"]["coeff"]) << a;
+    if (x["static_weight"].contains("time")) {  // models with a band: both expected errors
+      const double t = x["static_weight"]["time"]["total_rms_dps"].get<double>();
+      const double p = x["static_weight"]["temperature"]["total_rms_dps"].get<double>();
+      EXPECT_EQ(chosen, p < t ? "temperature" : "time");
+    }
+  }
+  ASSERT_EQ(Run("export" + Models() + " --format px4 --device-id 7 -o " + dir_ + "/n.params --json " + dir_ + "/n.json",
+                &out), 0) << out;
+  const nlohmann::json n = testing::ReadJsonFile(dir_ + "/n.json");
+  for (int a = 0; a < 3; ++a) {
+    EXPECT_EQ(n["axes"][a]["static_weight"]["static_weight"], "time");
+    EXPECT_NE(n["axes"][a]["static_weight"]["reason"].get<std::string>().find("without a calibration run"), std::string::npos);
+  }
+  EXPECT_EQ(Run("export" + Models() + " --format px4 --device-id 7 --static-weight temperature -o " + dir_ + "/x.params",
+                &out), 2) << out;
+  EXPECT_NE(out.find("needs the calibration run"), std::string::npos) << out;
+  EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1) << out;
+  EXPECT_FALSE(std::filesystem::exists(dir_ + "/x.params"));
 }
 
 // Model file schema 2: one file holding the three axes (fit --rate-col gx,gy,gz) is enough, and

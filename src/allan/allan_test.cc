@@ -10,7 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "gyrocomp/sim/simulator.h"  // NormalGenerator: portable, seeded Gaussian noise
-#include "cli_fixture.h"
+#include "fixtures.h"
 #include "test_support.h"
 
 namespace gyrocomp {

@@ -10,7 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "gyrocomp/allan/deviations.h"
-#include "cli_fixture.h"
+#include "fixtures.h"
 #include "test_support.h"
 
 namespace gyrocomp {

@@ -12,7 +12,7 @@
 
 #include "gyrocomp/io/gyro_log.h"
 #include "gyrocomp/sim/simulator.h"
-#include "cli_fixture.h"
+#include "fixtures.h"
 #include "test_support.h"
 
 namespace gyrocomp {

@@ -12,7 +12,7 @@
 
 #include <gtest/gtest.h>
 
-#include "cli_fixture.h"
+#include "fixtures.h"
 #include "test_support.h"
 #include "denoise_numeric_edges.h"
 

@@ -14,7 +14,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "cli_fixture.h"
+#include "fixtures.h"
 #include "test_support.h"
 
 namespace gyrocomp {

@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include "bag_test_util.h"
+#include "fixtures.h"
 
 namespace gyrocomp {
 namespace {
@@ -88,11 +89,14 @@ TEST(Rosbag2SampleTest, TalkerBagsListAsTheirMetadataSays) {
   }
 }
 
-class Rosbag2Test : public testing::BagFileTest {};
+class Rosbag2Test : public testing::FileTest {
+ protected:
+  Rosbag2Test() : FileTest("gyrocomp_bag_test") {}
+};
 
 TEST_F(Rosbag2Test, DamagedSqliteIsRefusedOnOneLine) {
   // The sqlite3 magic, then garbage: sqlite itself refuses it.
-  const std::string path = Write("bad.db3", std::string("SQLite format 3\0", 16) + std::string(5000, '\x5a'));
+  const std::string path = Put("bad.db3", std::string("SQLite format 3\0", 16) + std::string(5000, '\x5a'));
   Result<BagImuTable> r = ReadBagImu(path, {});
   ASSERT_FALSE(r.ok());
   EXPECT_NE(r.error().message.find(path + ": "), std::string::npos) << r.error().message;

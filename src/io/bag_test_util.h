@@ -1,11 +1,10 @@
 // Test-only pieces shared by the ROS bag reader tests (cdr_test, mcap_test, rosbag1_test,
 // bag_test): little-endian bytes, the simulated IMU messages the hand-built bags hold and the
-// check that a table read back holds them, and a fixture with a folder for the files.
+// check that a table read back holds them.
 #pragma once
 
 #include <algorithm>
 #include <cstdint>
-#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -59,14 +58,5 @@ inline void ExpectSamples(const BagImuTable& t, int n) {
     EXPECT_EQ(t.table.columns[7][i], 20.0 + std::min(nearest, (n - 1) / 10 * 10)) << i;
   }
 }
-
-// A fresh folder per test for the files it writes.
-class BagFileTest : public ::testing::Test {
- protected:
-  void SetUp() override { dir_ = MakeTempDir("gyrocomp_bag_test"); }
-  void TearDown() override { std::filesystem::remove_all(dir_); }
-  std::string Write(const std::string& name, const std::string& bytes) { return WriteFile(dir_ + "/" + name, bytes); }
-  std::string dir_;
-};
 
 }  // namespace gyrocomp::testing

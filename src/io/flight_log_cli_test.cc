@@ -11,7 +11,7 @@
 
 #include "gyrocomp/core/units.h"
 #include "gyrocomp/io/io.h"
-#include "cli_fixture.h"
+#include "fixtures.h"
 #include "test_support.h"
 
 namespace gyrocomp {

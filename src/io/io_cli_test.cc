@@ -10,7 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "gyrocomp/io/io.h"
-#include "cli_fixture.h"
+#include "fixtures.h"
 #include "test_support.h"
 
 namespace gyrocomp {
@@ -21,9 +21,6 @@ namespace fs = std::filesystem;
 class IoCliTest : public testing::CliTest {
  protected:
   IoCliTest() : CliTest("gyrocomp_io_cli_test") {}
-  std::string Put(const std::string& name, const std::string& bytes) {
-    return testing::WriteFile(dir_ + "/" + name, bytes);
-  }
   std::vector<std::string> OutputsIn() const {
     std::vector<std::string> out;
     for (const auto& e : fs::directory_iterator(dir_)) {
@@ -91,7 +88,7 @@ TEST_F(IoCliTest, GoodLogPlainGzipAndStdin) {
   ASSERT_TRUE(curve.ok()) << curve.error().message;  // our own output reads back
   fs::remove(dir_ + "/out.json");
 
-  const std::string gz = testing::WriteGzFile(dir_ + "/log.csv.gz", body);
+  const std::string gz = PutGz("log.csv.gz", body);
   ASSERT_EQ(Allan(gz, "", &out), 0) << out;
   EXPECT_EQ(testing::ReadJsonFile(dir_ + "/out.json")["n_samples"], 500);
 

@@ -15,6 +15,7 @@
 #include <gtest/gtest.h>
 
 #include "bag_test_util.h"
+#include "fixtures.h"
 #include "gyrocomp/io/bag.h"
 #include "gyrocomp/io/cdr.h"
 
@@ -128,9 +129,10 @@ std::string ImuRecords(int n, bool big_endian = false, int first = 0) {
   return r;
 }
 
-class McapTest : public testing::BagFileTest {
+class McapTest : public testing::FileTest {
  protected:
-  Result<BagImuTable> Read(const std::string& bytes, BagReadOptions o = {}) { return ReadBagImu(Write("x.mcap", bytes), o); }
+  McapTest() : FileTest("gyrocomp_bag_test") {}
+  Result<BagImuTable> Read(const std::string& bytes, BagReadOptions o = {}) { return ReadBagImu(Put("x.mcap", bytes), o); }
   void ExpectRefused(const std::string& bytes, const std::string& what, BagReadOptions o = {}) {
     Result<BagImuTable> r = Read(bytes, o);
     ASSERT_FALSE(r.ok()) << what;
@@ -254,7 +256,7 @@ TEST_F(McapTest, Rosbag2FileCompressedZstdIsReadDirectly) {
   // a stream may be written), alone and in a bag folder.
   const std::string mcap = McapFile(ChunkRec(ImuRecords(100), {"lz4", {}, {}}));
   const std::string half = mcap.substr(0, 1000);
-  const std::string file = Write("imu.mcap.zstd", Zstd(half) + Zstd(mcap.substr(1000)));
+  const std::string file = Put("imu.mcap.zstd", Zstd(half) + Zstd(mcap.substr(1000)));
   EXPECT_EQ(DetectBagFormat(file), BagFormat::kMcap);
   Result<BagImuTable> r = ReadBagImu(file, {});
   ASSERT_TRUE(r.ok()) << r.error().message;
@@ -267,7 +269,7 @@ TEST_F(McapTest, Rosbag2FileCompressedZstdIsReadDirectly) {
   ASSERT_TRUE(r.ok()) << r.error().message;
   ExpectSamples(*r, 100);
   // rosbag2's talker .db3, compressed: the same listing as the plain file.
-  const std::string db3 = Write("talker.db3.zstd", Zstd(testing::ReadFile(BagsDir() + "/rosbag2/talker_db3/talker.db3")));
+  const std::string db3 = Put("talker.db3.zstd", Zstd(testing::ReadFile(BagsDir() + "/rosbag2/talker_db3/talker.db3")));
   EXPECT_EQ(DetectBagFormat(db3), BagFormat::kRos2Sqlite);
   Result<BagListing> plain = ListBag(BagsDir() + "/rosbag2/talker_db3/talker.db3");
   Result<BagListing> packed = ListBag(db3);
@@ -285,7 +287,7 @@ TEST_F(McapTest, Rosbag2FileCompressedZstdIsReadDirectly) {
 TEST_F(McapTest, HostileZstdFilesAreRefusedOnOneLine) {
   const std::string z = Zstd(McapFile(ChunkRec(ImuRecords(100), {"", {}, {}})));
   auto refused = [&](const std::string& bytes, const std::string& what, BagReadOptions o = {}) {
-    Result<BagImuTable> r = ReadBagImu(Write("bad.mcap.zstd", bytes), o);
+    Result<BagImuTable> r = ReadBagImu(Put("bad.mcap.zstd", bytes), o);
     ASSERT_FALSE(r.ok()) << what;
     EXPECT_NE(r.error().message.find(what), std::string::npos) << r.error().message;
     EXPECT_EQ(r.error().message.find('\n'), std::string::npos) << r.error().message;

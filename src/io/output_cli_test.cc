@@ -19,7 +19,7 @@
 #include <gtest/gtest.h>
 
 #include "gyrocomp/io/io.h"
-#include "cli_fixture.h"
+#include "fixtures.h"
 #include "test_support.h"
 
 namespace gyrocomp {

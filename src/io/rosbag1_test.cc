@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include "bag_test_util.h"
+#include "fixtures.h"
 #include "gyrocomp/io/bag.h"
 #include "gyrocomp/io/cdr.h"
 
@@ -22,7 +23,10 @@ using testing::ExpectSamples;
 using testing::Le;
 using testing::Sample;
 
-class Ros1BagTest : public testing::BagFileTest {};
+class Ros1BagTest : public testing::FileTest {
+ protected:
+  Ros1BagTest() : FileTest("gyrocomp_bag_test") {}
+};
 
 // ---- ROS 1 bag v2.0 built record by record (wiki.ros.org/Bags/Format/2.0) ----
 
@@ -97,17 +101,17 @@ std::string Ros1Bag(int n, const std::string& compression, std::optional<std::ui
 TEST_F(Ros1BagTest, Ros1BagsNoneAndBz2ReadTheSameRowsAndRefuseDamage) {
   for (const std::string compression : {"none", "bz2"}) {
     SCOPED_TRACE(compression);
-    Result<BagImuTable> r = ReadBagImu(Write("x.bag", Ros1Bag(120, compression)), {});
+    Result<BagImuTable> r = ReadBagImu(Put("x.bag", Ros1Bag(120, compression)), {});
     ASSERT_TRUE(r.ok()) << r.error().message;
     EXPECT_EQ(r->format, BagFormat::kRos1);
     ExpectSamples(*r, 120);
   }
   const std::string good = Ros1Bag(120, "bz2");
   // The chunk record starts after the version line (13) and the 4096-byte bag header record.
-  Result<BagImuTable> r = ReadBagImu(Write("cut.bag", good.substr(0, good.size() - 10)), {});
+  Result<BagImuTable> r = ReadBagImu(Put("cut.bag", good.substr(0, good.size() - 10)), {});
   ASSERT_FALSE(r.ok());
   EXPECT_NE(r.error().message.find("byte 4109: truncated record"), std::string::npos) << r.error().message;
-  r = ReadBagImu(Write("bomb.bag", Ros1Bag(120, "bz2", 1000u)), {});
+  r = ReadBagImu(Put("bomb.bag", Ros1Bag(120, "bz2", 1000u)), {});
   ASSERT_FALSE(r.ok());
   EXPECT_NE(r.error().message.find("byte 4109: chunk: bz2: the data decompresses to more than the 1000 bytes"), std::string::npos)
       << r.error().message;
@@ -143,7 +147,7 @@ TEST_F(Ros1BagTest, Ros1IndexCountsAreAHintCappedByTheFileSize) {
   EXPECT_EQ(hostile.expected.at("/imu0"), lying.size() / 45);
   // Either way the rows are the messages, not the hint.
   for (const std::string& bag : {with_index, lying}) {
-    Result<BagImuTable> r = ReadBagImu(Write("indexed.bag", bag), {});
+    Result<BagImuTable> r = ReadBagImu(Put("indexed.bag", bag), {});
     ASSERT_TRUE(r.ok()) << r.error().message;
     ExpectSamples(*r, 120);
   }

@@ -7,7 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "gyrocomp/io/io.h"
-#include "cli_fixture.h"
+#include "fixtures.h"
 #include "test_support.h"
 
 namespace gyrocomp {

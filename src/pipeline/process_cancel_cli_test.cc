@@ -13,7 +13,7 @@
 
 #include <gtest/gtest.h>
 
-#include "cli_fixture.h"
+#include "fixtures.h"
 #include "test_support.h"
 
 namespace gyrocomp {

@@ -1,6 +1,7 @@
-// End-to-end tests of the built gyrocomp CLI: the fixture every *_cli_test.cc derives from (skip
-// with the reason when the CLI is not built, a fresh folder per test) and the ways they run it
-// (through /bin/sh with the output captured, or started in the background to be signalled).
+// Test fixtures: FileTest (a fresh folder per test for the files it writes) and CliTest, the
+// fixture of the built CLI's end-to-end tests (every *_cli_test.cc: skipped with the reason when
+// the CLI is not built), with the ways they run it (through /bin/sh with the output captured, or
+// started in the background to be signalled).
 #pragma once
 
 #include <sys/types.h>
@@ -11,7 +12,27 @@
 
 #include <gtest/gtest.h>
 
+#include "test_support.h"
+
 namespace gyrocomp::testing {
+
+// Fixture of tests that write files: a fresh folder dir_ (<tmp>/<dir_prefix>_<random>) per test,
+// removed after it; Put / PutGz write a file there (plain / gzip) and return its path.
+class FileTest : public ::testing::Test {
+ protected:
+  explicit FileTest(std::string dir_prefix) : dir_prefix_(std::move(dir_prefix)) {}
+  void SetUp() override { dir_ = MakeTempDir(dir_prefix_); }
+  void TearDown() override;
+  std::string Put(const std::string& name, const std::string& bytes) const { return WriteFile(dir_ + "/" + name, bytes); }
+  std::string PutGz(const std::string& name, const std::string& bytes) const {
+    return WriteGzFile(dir_ + "/" + name, bytes);
+  }
+
+  std::string dir_;
+
+ private:
+  std::string dir_prefix_;
+};
 
 // Why an end-to-end test cannot run, "the gyrocomp CLI is not built (GYROCOMP_BUILD_CLI=OFF)",
 // or "" when CliPath() names a built binary.
@@ -35,24 +56,20 @@ pid_t StartCli(const std::vector<std::string>& args);
 int SignalAndWait(pid_t pid, int sig, const std::string& what);
 
 // Fixture of the CLI's end-to-end tests: skips the test (with CliSkipReason) when the CLI is not
-// built, else gives it cli_ (the binary) and dir_ (a fresh folder <tmp>/<dir_prefix>_<random>,
-// removed after the test). A derived SetUp calls CliTest::SetUp() first and returns when
+// built, else gives it cli_ (the binary) and, as every FileTest, dir_ (a fresh folder removed
+// after the test) and Put / PutGz. A derived SetUp calls CliTest::SetUp() first and returns when
 // IsSkipped().
-class CliTest : public ::testing::Test {
+class CliTest : public FileTest {
  protected:
-  explicit CliTest(std::string dir_prefix) : dir_prefix_(std::move(dir_prefix)) {}
+  explicit CliTest(std::string dir_prefix) : FileTest(std::move(dir_prefix)) {}
   void SetUp() override;
-  void TearDown() override;
 
   int Run(const std::string& args, std::string* output) const { return RunCli(args, output); }
   void ExpectRefused(const std::string& args, const std::vector<std::string>& what) const {
     ExpectCliRefused(args, what);
   }
 
-  std::string cli_, dir_;
-
- private:
-  std::string dir_prefix_;
+  std::string cli_;
 };
 
 }  // namespace gyrocomp::testing

@@ -1,4 +1,4 @@
-#include "cli_fixture.h"
+#include "fixtures.h"
 
 #include <signal.h>
 #include <spawn.h>
@@ -66,14 +66,14 @@ int SignalAndWait(pid_t pid, int sig, const std::string& what) {
   return WEXITSTATUS(status);
 }
 
+void FileTest::TearDown() {
+  if (!dir_.empty()) std::filesystem::remove_all(dir_);
+}
+
 void CliTest::SetUp() {
   if (const std::string why = CliSkipReason(); !why.empty()) GTEST_SKIP() << why;
   cli_ = CliPath();
-  dir_ = MakeTempDir(dir_prefix_);
-}
-
-void CliTest::TearDown() {
-  if (!dir_.empty()) std::filesystem::remove_all(dir_);
+  FileTest::SetUp();
 }
 
 }  // namespace gyrocomp::testing

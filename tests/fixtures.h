@@ -23,7 +23,9 @@ class FileTest : public ::testing::Test {
   explicit FileTest(std::string dir_prefix) : dir_prefix_(std::move(dir_prefix)) {}
   void SetUp() override { dir_ = MakeTempDir(dir_prefix_); }
   void TearDown() override;
-  std::string Put(const std::string& name, const std::string& bytes) const { return WriteFile(dir_ + "/" + name, bytes); }
+  std::string Put(const std::string& name, const std::string& bytes) const {
+    return WriteFile(dir_ + "/" + name, bytes);
+  }
   std::string PutGz(const std::string& name, const std::string& bytes) const {
     return WriteGzFile(dir_ + "/" + name, bytes);
   }

@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <optional>
 
+#include "gyrocomp/io/bag.h"
 #include "gyrocomp/io/flight_log.h"
 #include "gyrocomp/io/gyro_log.h"
 #include "gyrocomp/io/io.h"
@@ -59,6 +60,18 @@ void ReadFlightLog(const std::string& path) {
     Result<LogTableRead> read = ReadLogTable(path, spec);
     if (read) (void)LoadGyroLog(read->table, read->spec);
   }
+}
+
+void ReadBag(const std::string& path) {
+  BagReadOptions options;
+  options.max_chunk_bytes = std::uint64_t{16} << 20;
+  options.max_decompressed_file_bytes = std::uint64_t{16} << 20;  // .zstd files: a bomb stops at 16 MiB
+  (void)ListBag(path, options);
+  (void)ReadBagImu(path, options);
+  options.time = BagTimeSource::kReceive;
+  options.topic = "/imu0";
+  (void)ReadBagImu(path, options);
+  ReadFlightLog(path);
 }
 
 }  // namespace gyrocomp::fuzz

@@ -28,4 +28,10 @@ void ReadAndLoad(const std::string& path);
 // bytes, instance choice: none, 0, 1) and, when it reads, LoadGyroLog on the table.
 void ReadFlightLog(const std::string& path);
 
+// What every -i command does with a ROS bag at `path` (MCAP, ROS 1, rosbag2 sqlite3, or a whole
+// zstd-compressed one), chunks and .zstd files bounded at 16 MiB: the topic listing (every record
+// visited), the IMU table by header stamp and, for topic /imu0, by receive time; then
+// ReadFlightLog (ReadLogTable + LoadGyroLog). Shared by fuzz_mcap, fuzz_rosbag1, fuzz_ros2_sqlite.
+void ReadBag(const std::string& path);
+
 }  // namespace gyrocomp::fuzz

@@ -54,6 +54,9 @@ class TempDir {
 std::string WriteFile(const std::string& path, const std::string& bytes);
 std::string WriteGzFile(const std::string& path, const std::string& bytes);
 
+// The bytes of the file at `path`, "" when it cannot be read.
+std::string ReadFile(const std::string& path);
+
 // Runs `call` while another thread cancels `token` 50 ms in; true when `call` threw Cancelled
 // (anything else propagates). The time from the cancel to the end of `call` is printed after
 // `what` (printed, never asserted: tests do not assert on time).

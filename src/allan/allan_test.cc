@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "gyrocomp/sim/simulator.h"  // NormalGenerator: portable, seeded Gaussian noise
+#include "fixtures.h"
 #include "test_support.h"
 
 namespace gyrocomp {
@@ -468,21 +469,17 @@ TEST(AllanErrors, BadInputAndOptions) {
 
 // ---- the CLI, end to end ----------------------------------------------------------------------
 
-std::string Cli() {
-  const std::string cli = testing::CliPath();
-  return !cli.empty() && std::ifstream(cli).good() ? cli : std::string();
-}
+class AllanCli : public testing::CliTest {
+ protected:
+  AllanCli() : CliTest("allan_cli") {}
+};
 
-TEST(AllanCli, GoldenFileJsonKeysAndCurveCsv) {
-  const std::string cli = Cli();
-  if (cli.empty()) GTEST_SKIP() << "the gyrocomp CLI is not built (GYROCOMP_BUILD_CLI=OFF)";
-  const std::string dir = testing::MakeTempDir("allan_cli");
+TEST_F(AllanCli, GoldenFileJsonKeysAndCurveCsv) {
   std::string out;
-  const int rc = testing::RunCommand(cli + " allan -i " + testing::GoldenPath("allan/rate.csv") + " --json " + dir +
-                                         "/a.json -o " + dir + "/a.csv",
-                                     &out);
+  const int rc = Run(
+      "allan -i " + testing::GoldenPath("allan/rate.csv") + " --json " + dir_ + "/a.json -o " + dir_ + "/a.csv", &out);
   ASSERT_EQ(rc, 0) << out;
-  const auto j = testing::ReadJsonFile(dir + "/a.json");
+  const auto j = testing::ReadJsonFile(dir_ + "/a.json");
   // cli.md keys.
   for (const char* key : {"fs_hz", "n_samples", "tau_s", "adev_dps", "adev_error_dps", "n_clusters", "arw_deg_per_sqrt_h",
                           "adev_min_deg_per_h", "tau_at_min_s", "bias_instability_deg_per_h", "rrw_deg_per_h_per_sqrt_h"}) {
@@ -495,27 +492,24 @@ TEST(AllanCli, GoldenFileJsonKeysAndCurveCsv) {
   ASSERT_EQ(adev.size(), gold.size());
   // Same 1e-9 bar as the library test: the JSON keeps full precision.
   for (std::size_t k = 0; k < adev.size(); ++k) EXPECT_NEAR(adev[k], gold[k], 1e-9 * gold[k]);
-  const auto csv = testing::ReadGoldenCsv(dir + "/a.csv");
+  const auto csv = testing::ReadGoldenCsv(dir_ + "/a.csv");
   ASSERT_TRUE(csv.count("tau_s") && csv.count("adev_dps") && csv.count("adev_lo_dps") && csv.count("edf"));
   EXPECT_EQ(csv.at("adev_dps"), adev);  // shortest round-trip formatting on both sides
 }
 
-TEST(AllanCli, SeveralAxesAndBadInput) {
-  const std::string cli = Cli();
-  if (cli.empty()) GTEST_SKIP() << "the gyrocomp CLI is not built (GYROCOMP_BUILD_CLI=OFF)";
-  const std::string dir = testing::MakeTempDir("allan_cli");
+TEST_F(AllanCli, SeveralAxesAndBadInput) {
   {
-    std::ofstream f(dir + "/xy.csv");
+    std::ofstream f(dir_ + "/xy.csv");
     f << "t_s,gx_dps,gy_dps\n";
     const auto x = WhiteNoise(2000, 0.1, 1), y = WhiteNoise(2000, 0.3, 2);
     for (std::size_t i = 0; i < x.size(); ++i) f << i * 0.01 << "," << x[i] << "," << y[i] << "\n";
   }
   std::string out;
-  int rc = testing::RunCommand(cli + " allan -i " + dir + "/xy.csv --time-col t_s --rate-col gx_dps,gy_dps --taus decade --json " +
-                                   dir + "/xy.json -o " + dir + "/xy_adev.csv",
-                               &out);
+  int rc = Run("allan -i " + dir_ + "/xy.csv --time-col t_s --rate-col gx_dps,gy_dps --taus decade --json " + dir_ +
+                   "/xy.json -o " + dir_ + "/xy_adev.csv",
+               &out);
   ASSERT_EQ(rc, 0) << out;
-  const auto j = testing::ReadJsonFile(dir + "/xy.json");
+  const auto j = testing::ReadJsonFile(dir_ + "/xy.json");
   ASSERT_TRUE(j.contains("axes"));
   ASSERT_TRUE(j["axes"].contains("gx_dps") && j["axes"].contains("gy_dps"));
   // Decade grid, m <= 999 (tau = m / fs, fs from the 6-digit timestamps: 1e-9 relative).
@@ -523,20 +517,20 @@ TEST(AllanCli, SeveralAxesAndBadInput) {
   const std::vector<double> expected = {0.01, 0.02, 0.04, 0.1, 0.2, 0.4, 1.0, 2.0, 4.0};
   ASSERT_EQ(taus.size(), expected.size());
   for (std::size_t k = 0; k < taus.size(); ++k) EXPECT_NEAR(taus[k], expected[k], 1e-9 * expected[k]);
-  const auto csv = testing::ReadGoldenCsv(dir + "/xy_adev.csv");
+  const auto csv = testing::ReadGoldenCsv(dir_ + "/xy_adev.csv");
   EXPECT_TRUE(csv.count("gx_dps_adev_dps") && csv.count("gy_dps_adev_dps"));
 
   // A non-numeric cell: exit 2, one line naming file, line and column, no output files.
   {
-    std::ofstream f(dir + "/bad.csv");
+    std::ofstream f(dir_ + "/bad.csv");
     f << "time_s,rate_dps\n0,1\n0.01,2\n0.02,x\n0.03,4\n";
   }
-  rc = testing::RunCommand(cli + " allan -i " + dir + "/bad.csv --json " + dir + "/bad.json -o " + dir + "/bad_adev.csv", &out);
+  rc = Run("allan -i " + dir_ + "/bad.csv --json " + dir_ + "/bad.json -o " + dir_ + "/bad_adev.csv", &out);
   EXPECT_EQ(rc, 2) << out;
   EXPECT_NE(out.find("bad.csv:4:2"), std::string::npos) << out;
-  EXPECT_FALSE(std::ifstream(dir + "/bad.json").good());
-  EXPECT_FALSE(std::ifstream(dir + "/bad_adev.csv").good());
-  rc = testing::RunCommand(cli + " allan -i " + dir + "/xy.csv --time-col t_s --rate-col gx_dps --taus fortnightly", &out);
+  EXPECT_FALSE(std::ifstream(dir_ + "/bad.json").good());
+  EXPECT_FALSE(std::ifstream(dir_ + "/bad_adev.csv").good());
+  rc = Run("allan -i " + dir_ + "/xy.csv --time-col t_s --rate-col gx_dps --taus fortnightly", &out);
   EXPECT_EQ(rc, 2) << out;
   EXPECT_NE(out.find("--taus fortnightly"), std::string::npos) << out;
 }

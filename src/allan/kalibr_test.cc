@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "gyrocomp/allan/deviations.h"
+#include "fixtures.h"
 #include "test_support.h"
 
 namespace gyrocomp {
@@ -87,22 +88,19 @@ TEST(Kalibr, RandomWalkUpperBoundWithoutAPlusHalfRegion) {
   EXPECT_NE(k.error().message.find("'g'"), std::string::npos);
 }
 
-std::string Cli() {
-  const std::string cli = testing::CliPath();
-  return !cli.empty() && std::ifstream(cli).good() ? cli : std::string();
-}
+class AllanCliKinds : public testing::CliTest {
+ protected:
+  AllanCliKinds() : CliTest("allan_kinds_cli") {}
+};
 
-TEST(AllanCliKinds, DeviationJsonAndKalibrFileFromTheGoldenInput) {
-  const std::string cli = Cli();
-  if (cli.empty()) GTEST_SKIP() << "the gyrocomp CLI is not built (GYROCOMP_BUILD_CLI=OFF)";
-  const std::string dir = testing::MakeTempDir("allan_kinds_cli");
+TEST_F(AllanCliKinds, DeviationJsonAndKalibrFileFromTheGoldenInput) {
   const std::string input = testing::GoldenPath("allan_kinds/rate.csv");
   std::string out;
-  const int rc = testing::RunCommand(cli + " allan -i " + input + " --deviation mdev --json " + dir + "/m.json -o " +
-                                         dir + "/m.csv --kalibr-yaml " + dir + "/imu.yaml --rostopic /imu0",
-                                     &out);
+  const int rc = Run("allan -i " + input + " --deviation mdev --json " + dir_ + "/m.json -o " + dir_ +
+                         "/m.csv --kalibr-yaml " + dir_ + "/imu.yaml --rostopic /imu0",
+                     &out);
   ASSERT_EQ(rc, 0) << out;
-  const auto j = testing::ReadJsonFile(dir + "/m.json");
+  const auto j = testing::ReadJsonFile(dir_ + "/m.json");
   // The contract's keys stay; the chosen curve is added with its interval arrays.
   for (const char* key : {"tau_s", "adev_dps", "arw_deg_per_sqrt_h", "adev_min_deg_per_h", "adev_min_at_longest_tau",
                           "adev_min_usable_deg_per_h", "min_edf", "mdev_tau_s", "mdev_dps", "mdev_lo_dps",
@@ -114,22 +112,20 @@ TEST(AllanCliKinds, DeviationJsonAndKalibrFileFromTheGoldenInput) {
   const auto gold = golden["mdev"]["dev_dps"].get<std::vector<double>>();
   ASSERT_EQ(mdev.size(), gold.size());
   for (std::size_t k = 0; k < gold.size(); ++k) EXPECT_NEAR(mdev[k], gold[k], 1e-9 * gold[k]);
-  const auto csv = testing::ReadGoldenCsv(dir + "/m.csv");
+  const auto csv = testing::ReadGoldenCsv(dir_ + "/m.csv");
   ASSERT_TRUE(csv.count("mdev_dps"));
   EXPECT_EQ(csv.at("mdev_dps"), mdev);
   // The Kalibr file agrees with the JSON's ARW through the documented conversion.
-  std::ifstream f(dir + "/imu.yaml");
-  std::stringstream yaml;
-  yaml << f.rdbuf();
+  const std::string yaml = testing::ReadFile(dir_ + "/imu.yaml");
   const double arw = j["arw_deg_per_sqrt_h"].get<double>();
-  EXPECT_NEAR(YamlValue(yaml.str(), "gyroscope_noise_density"), arw / 60.0 * M_PI / 180.0, 1e-12 * arw);
-  EXPECT_EQ(YamlValue(yaml.str(), "update_rate"), 10.0);
+  EXPECT_NEAR(YamlValue(yaml, "gyroscope_noise_density"), arw / 60.0 * M_PI / 180.0, 1e-12 * arw);
+  EXPECT_EQ(YamlValue(yaml, "update_rate"), 10.0);
 
   // Bad kind: exit 2, one line naming the option, no output.
-  const int bad = testing::RunCommand(cli + " allan -i " + input + " --deviation oadev --json " + dir + "/bad.json", &out);
+  const int bad = Run("allan -i " + input + " --deviation oadev --json " + dir_ + "/bad.json", &out);
   EXPECT_EQ(bad, 2) << out;
   EXPECT_NE(out.find("--deviation oadev"), std::string::npos) << out;
-  EXPECT_FALSE(std::ifstream(dir + "/bad.json").good());
+  EXPECT_FALSE(std::ifstream(dir_ + "/bad.json").good());
 }
 
 }  // namespace

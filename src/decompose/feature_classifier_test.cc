@@ -12,6 +12,7 @@
 
 #include "gyrocomp/io/gyro_log.h"
 #include "gyrocomp/sim/simulator.h"
+#include "fixtures.h"
 #include "test_support.h"
 
 namespace gyrocomp {
@@ -204,16 +205,18 @@ TEST(FeatureClassifier, AdisRecordBiasWanderIsMixedNotDrift) {
 
 // ---- the CLI (cli.md): decompose and entropy ----------------------------------------------------
 
-TEST(FeatureClassifierCli, DecomposeReproducesTheGoldenRunAndWritesModes) {
-  const std::string cli = testing::CliPath();
-  if (cli.empty()) GTEST_SKIP() << "CLI not built";
-  const std::string dir = testing::MakeTempDir("decompose_cli");
+class FeatureClassifierCli : public testing::CliTest {
+ protected:
+  FeatureClassifierCli() : CliTest("decompose_cli") {}
+};
+
+TEST_F(FeatureClassifierCli, DecomposeReproducesTheGoldenRunAndWritesModes) {
   std::string out;
-  const int rc = testing::RunCommand(cli + " decompose -i " + testing::GoldenPath("vmd/gyro_like_K6.input.csv") +
-                                         " --rate-col x --fs 1 --modes 6 -o " + dir + "/m.csv --json " + dir + "/m.json",
-                                     &out);
+  const int rc = Run("decompose -i " + testing::GoldenPath("vmd/gyro_like_K6.input.csv") +
+                         " --rate-col x --fs 1 --modes 6 -o " + dir_ + "/m.csv --json " + dir_ + "/m.json",
+                     &out);
   ASSERT_EQ(rc, 0) << out;
-  const auto j = testing::ReadJsonFile(dir + "/m.json");
+  const auto j = testing::ReadJsonFile(dir_ + "/m.json");
   const auto golden = testing::ReadJsonFile(testing::GoldenPath("vmd/gyro_like_K6.json"));
   EXPECT_EQ(j.at("iterations"), golden.at("iterations"));
   EXPECT_EQ(j.at("converged"), true);
@@ -230,7 +233,7 @@ TEST(FeatureClassifierCli, DecomposeReproducesTheGoldenRunAndWritesModes) {
     EXPECT_TRUE(c == "drift" || c == "mixed" || c == "noise") << c;
   }
   EXPECT_EQ(j.at("modes")[0].at("class"), "drift");
-  const auto modes = testing::ReadGoldenCsv(dir + "/m.csv");
+  const auto modes = testing::ReadGoldenCsv(dir_ + "/m.csv");
   ASSERT_EQ(modes.size(), 6u);
   const auto golden_modes = testing::ReadGoldenCsv(testing::GoldenPath("vmd/gyro_like_K6.modes.csv"));
   for (int k = 1; k <= 6; ++k) {
@@ -241,58 +244,50 @@ TEST(FeatureClassifierCli, DecomposeReproducesTheGoldenRunAndWritesModes) {
   }
 }
 
-TEST(FeatureClassifierCli, BadInputExitsTwoWithoutOutput) {
-  const std::string cli = testing::CliPath();
-  if (cli.empty()) GTEST_SKIP() << "CLI not built";
-  const std::string dir = testing::MakeTempDir("decompose_cli_bad");
-  {
-    std::FILE* f = std::fopen((dir + "/bad.csv").c_str(), "w");
-    std::fputs("time_s,rate_dps\n0,1\n0.01,2\n0.02,abc\n0.03,4\n", f);
-    std::fclose(f);
-  }
+TEST_F(FeatureClassifierCli, BadInputExitsTwoWithoutOutput) {
+  testing::WriteFile(dir_ + "/bad.csv", "time_s,rate_dps\n0,1\n0.01,2\n0.02,abc\n0.03,4\n");
   std::string out;
-  int rc = testing::RunCommand(cli + " decompose -i " + dir + "/bad.csv --json " + dir + "/o.json -o " + dir + "/o.csv", &out);
+  int rc = Run("decompose -i " + dir_ + "/bad.csv --json " + dir_ + "/o.json -o " + dir_ + "/o.csv", &out);
   EXPECT_EQ(rc, 2) << out;
   EXPECT_NE(out.find("bad.csv:4"), std::string::npos) << out;  // file:line named
-  EXPECT_FALSE(std::ifstream(dir + "/o.json").good());
-  EXPECT_FALSE(std::ifstream(dir + "/o.csv").good());
-  rc = testing::RunCommand(cli + " decompose -i " + dir + "/none.csv --json " + dir + "/o.json", &out);
+  EXPECT_FALSE(std::ifstream(dir_ + "/o.json").good());
+  EXPECT_FALSE(std::ifstream(dir_ + "/o.csv").good());
+  rc = Run("decompose -i " + dir_ + "/none.csv --json " + dir_ + "/o.json", &out);
   EXPECT_NE(rc, 0);
-  rc = testing::RunCommand(cli + " decompose -i " + testing::GoldenPath("vmd/gyro_like_K6.input.csv") +
-                               " --rate-col x --fs 1 --alpha -3 --json " + dir + "/o.json", &out);
+  rc = Run("decompose -i " + testing::GoldenPath("vmd/gyro_like_K6.input.csv") +
+               " --rate-col x --fs 1 --alpha -3 --json " + dir_ + "/o.json",
+           &out);
   EXPECT_EQ(rc, 2) << out;
   EXPECT_NE(out.find("alpha"), std::string::npos) << out;
-  rc = testing::RunCommand(cli + " entropy -i " + dir + "/bad.csv --col rate_dps --json " + dir + "/e.json", &out);
+  rc = Run("entropy -i " + dir_ + "/bad.csv --col rate_dps --json " + dir_ + "/e.json", &out);
   EXPECT_EQ(rc, 2) << out;
-  rc = testing::RunCommand(cli + " entropy -i " + testing::GoldenPath("sample_entropy/signals.csv") +
-                               " --col nope --json " + dir + "/e.json", &out);
+  rc = Run("entropy -i " + testing::GoldenPath("sample_entropy/signals.csv") + " --col nope --json " + dir_ + "/e.json",
+           &out);
   EXPECT_EQ(rc, 2) << out;
   EXPECT_NE(out.find("nope"), std::string::npos) << out;
-  EXPECT_FALSE(std::ifstream(dir + "/e.json").good());
+  EXPECT_FALSE(std::ifstream(dir_ + "/e.json").good());
 }
 
-TEST(FeatureClassifierCli, EntropyMatchesTheGoldenValue) {
-  const std::string cli = testing::CliPath();
-  if (cli.empty()) GTEST_SKIP() << "CLI not built";
-  const std::string dir = testing::MakeTempDir("entropy_cli");
+TEST_F(FeatureClassifierCli, EntropyMatchesTheGoldenValue) {
   const auto golden = testing::ReadJsonFile(testing::GoldenPath("sample_entropy/sample_entropy.json"));
   for (const auto& c : golden.at("cases")) {
     if (c.at("signal") != "ar1" || c.at("m") != 2 || c.at("r_factor") != 0.2) continue;
     std::string out;
-    const int rc = testing::RunCommand(cli + " entropy -i " + testing::GoldenPath("sample_entropy/signals.csv") +
-                                           " --col ar1 --m 2 --r 0.2 --json " + dir + "/e.json", &out);
+    const int rc = Run("entropy -i " + testing::GoldenPath("sample_entropy/signals.csv") +
+                           " --col ar1 --m 2 --r 0.2 --json " + dir_ + "/e.json",
+                       &out);
     ASSERT_EQ(rc, 0) << out;
-    const auto j = testing::ReadJsonFile(dir + "/e.json");
+    const auto j = testing::ReadJsonFile(dir_ + "/e.json");
     EXPECT_NEAR(j.at("sample_entropy").get<double>(), c.at("sample_entropy").get<double>(), 1e-12);
     EXPECT_EQ(j.at("m"), 2);
     EXPECT_NEAR(j.at("r").get<double>(), c.at("r").get<double>(), 1e-14);
     EXPECT_EQ(j.at("n"), 2000);
     // --r-abs with the same tolerance gives the same value.
-    const int rc2 = testing::RunCommand(cli + " entropy -i " + testing::GoldenPath("sample_entropy/signals.csv") +
-                                            " --col ar1 --r-abs " + std::to_string(c.at("r").get<double>() * (1 + 1e-12)) +
-                                            " --json " + dir + "/e2.json", &out);
+    const int rc2 = Run("entropy -i " + testing::GoldenPath("sample_entropy/signals.csv") + " --col ar1 --r-abs " +
+                            std::to_string(c.at("r").get<double>() * (1 + 1e-12)) + " --json " + dir_ + "/e2.json",
+                        &out);
     ASSERT_EQ(rc2, 0) << out;
-    EXPECT_NEAR(testing::ReadJsonFile(dir + "/e2.json").at("sample_entropy").get<double>(),
+    EXPECT_NEAR(testing::ReadJsonFile(dir_ + "/e2.json").at("sample_entropy").get<double>(),
                 c.at("sample_entropy").get<double>(), 1e-12);
   }
 }

@@ -1,4 +1,4 @@
-// Window counters of the two-coordinate sweep of sample entropy (sample_entropy.cc): a set of
+// Window counters of the two-coordinate sweep of sample entropy (sample_entropy_ranges.cc): a set of
 // positions 0..n-1 per label (0 or 1) with Insert / Remove and Count(label, lo, hi) = members in
 // [lo, hi). Internal to src/decompose/.
 #pragma once

@@ -124,7 +124,7 @@ WindowPath BestWindowPath() {
 // Dense ranks of the values (equal values, equal ranks); for every sample i, the run of ranks
 // [lo, lo + len) that match x[i] (two pointers over the distinct values with the brute-force
 // predicate: u_q - u_lo < r, u_hi - u_q >= r); and the group of every value: the distinct values
-// cut greedily into maximal runs whose first and last values are within r (sample_entropy.cc,
+// cut greedily into maximal runs whose first and last values are within r (sample_entropy_ranges.cc,
 // Groups: two groups apart never match). Returns the groups; sets w.rank, run_lo, run_len, narrow.
 std::vector<std::uint32_t> RankRunsAndGroups(std::span<const double> x, std::span<const std::uint32_t> order,
                                              double r, WindowPlan& w) {

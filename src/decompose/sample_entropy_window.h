@@ -5,7 +5,7 @@
 //   - strip: templates sorted by their first value x[i]; the later ones within r of template k
 //     form one run [k + 1, hi_k) (rounding is monotone, so fl(y_j - y_k) < r holds on a prefix);
 //   - cells: the values cut into groups along their sorted order (maximal runs of span < r: two
-//     values two groups apart never match, sample_entropy.cc Groups) give template i the cell
+//     values two groups apart never match, sample_entropy_ranges.cc Groups) give template i the cell
 //     (group of x[i], group of x[i+1]). A matching pair lies in the same or adjacent cells, so with
 //     the templates sorted by cell, the candidates after template k form two runs: cells (a, b)
 //     and (a, b + 1), then (a + 1, b - 1) .. (a + 1, b + 1). Best for noise-like series (~300

@@ -35,6 +35,18 @@ std::vector<double> Tone(std::size_t n, double cycles_per_sample, double amplitu
 
 // ---- golden vectors (vmdpy) ---------------------------------------------------------------
 
+// The options of a golden run: its "params" (K, alpha, tau, tol, DC, max_iterations).
+VmdOptions GoldenOptions(const nlohmann::json& p) {
+  VmdOptions opt;
+  opt.num_modes = p.at("K").get<int>();
+  opt.alpha = p.at("alpha").get<double>();
+  opt.tau = p.at("tau").get<double>();
+  opt.tol = p.at("tol").get<double>();
+  opt.dc = p.at("DC").get<int>() != 0;
+  opt.max_iterations = p.at("max_iterations").get<int>();
+  return opt;
+}
+
 class VmdGolden : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(VmdGolden, MatchesVmdpy) {
@@ -44,15 +56,9 @@ TEST_P(VmdGolden, MatchesVmdpy) {
   const auto modes = ReadGoldenCsv(GoldenPath("vmd/" + name + ".modes.csv"));
   const auto& p = meta.at("params");
 
-  VmdOptions opt;
-  opt.num_modes = p.at("K").get<int>();
-  opt.alpha = p.at("alpha").get<double>();
-  opt.tau = p.at("tau").get<double>();
-  opt.tol = p.at("tol").get<double>();
-  opt.dc = p.at("DC").get<int>() != 0;
+  VmdOptions opt = GoldenOptions(p);
   ASSERT_EQ(p.at("init").get<int>(), 1);
   opt.init = VmdInit::kUniform;
-  opt.max_iterations = p.at("max_iterations").get<int>();
   for (int threads : {1, 2}) {
     SCOPED_TRACE("threads = " + std::to_string(threads));
     opt.num_threads = threads;
@@ -170,13 +176,7 @@ TEST(Vmd, InPlaceUpdatesAndTheirRerunGiveTheSameBits) {
     SCOPED_TRACE(name);
     const auto meta = ReadJsonFile(GoldenPath(std::string("vmd/") + name + ".json"));
     const auto input = ReadGoldenCsv(GoldenPath(std::string("vmd/") + name + ".input.csv")).at("x");
-    VmdOptions opt;
-    const auto& p = meta.at("params");
-    opt.num_modes = p.at("K").get<int>();
-    opt.alpha = p.at("alpha").get<double>();
-    opt.tau = p.at("tau").get<double>();
-    opt.tol = p.at("tol").get<double>();
-    opt.max_iterations = p.at("max_iterations").get<int>();
+    VmdOptions opt = GoldenOptions(meta.at("params"));  // DC = 0 in these three
     std::vector<int> reported;
     opt.on_iteration = [&](int n, double) { reported.push_back(n); };
     int reruns = 0;
@@ -281,17 +281,6 @@ TEST(Vmd, ShortRecordsFollowTheReferenceIterationByDefault) {
 // floating-point operation of the algorithm; the absolute tolerance (squared signal units) is
 // scaled by the square of that power. So a signal scaled by 2^e with tol scaled by 2^(2e) must
 // give the same iteration count and exactly the scaled modes and the same centre frequencies.
-
-VmdOptions GoldenOptions(const nlohmann::json& p) {
-  VmdOptions opt;
-  opt.num_modes = p.at("K").get<int>();
-  opt.alpha = p.at("alpha").get<double>();
-  opt.tau = p.at("tau").get<double>();
-  opt.tol = p.at("tol").get<double>();
-  opt.dc = p.at("DC").get<int>() != 0;
-  opt.max_iterations = p.at("max_iterations").get<int>();
-  return opt;
-}
 
 TEST(VmdExtremeValues, ScaledGoldenInputGivesExactlyScaledModesAndTheGoldenIterationCount) {
   const auto meta = ReadJsonFile(GoldenPath("vmd/gyro_like_K6.json"));

@@ -141,10 +141,7 @@ std::string FlpSummary::BriefReport() const {
 Result<FlpResult> RunFlp(std::span<const double> x, const FlpOptions& options) {
   Result<FlpFilter> created = FlpFilter::Create(options);
   if (!created.ok()) return created.error();
-  if (x.empty()) return InvalidInput("FLP: empty signal");
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    if (!std::isfinite(x[i])) return InvalidInput("FLP: sample " + std::to_string(i) + " is not finite");
-  }
+  if (std::optional<Error> bad = denoise_internal::SignalError(x, "FLP")) return *bad;
   // Near the ends of the double range the prediction and its error overflow: filter a
   // power-of-two scaled copy (normalising_scale.h; ordinary records are not touched).
   if (const double scale = denoise_internal::NormalisingScale(x); scale != 1.0) {

@@ -1,14 +1,28 @@
-// Power-of-two normalisation for the denoisers on records near the ends of the double range
-// (issue 24, found by fuzz_numeric_stages: +-1.8e308 alternating gave NaN / -inf with a success
-// status). Internal to src/denoise/.
+// What the denoisers (FLP, WFLP, wavelet denoising) accept, and the power-of-two normalisation
+// of records near the ends of the double range (issue 24, found by fuzz_numeric_stages:
+// +-1.8e308 alternating gave NaN / -inf with a success status). Internal to src/denoise/.
 #pragma once
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <span>
+#include <string>
 #include <vector>
 
+#include "gyrocomp/core/status.h"
+
 namespace gyrocomp::denoise_internal {
+
+// The input checks of every denoiser, named by `denoiser` ("FLP: empty signal", "FLP: sample 7
+// is not finite"); nullopt when x can be denoised.
+inline std::optional<Error> SignalError(std::span<const double> x, const std::string& denoiser) {
+  if (x.empty()) return InvalidInput(denoiser + ": empty signal");
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    if (!std::isfinite(x[i])) return InvalidInput(denoiser + ": sample " + std::to_string(i) + " is not finite");
+  }
+  return std::nullopt;
+}
 
 // A power of two that brings max |x| into [1, 2) when it is beyond 2^+-500, else 1. Multiplying
 // by a power of two is exact, so records of ordinary magnitude are not touched at all and the

@@ -181,10 +181,7 @@ Status ThresholdDetails(WaveletDecomposition* d, ThresholdRule rule, ThresholdMo
 Result<WaveletDenoiseResult> RunWaveletDenoise(std::span<const double> x, const WaveletDenoiseOptions& options) {
   std::string why;
   if (!options.IsValid(&why)) return InvalidArgument(why);
-  if (x.empty()) return InvalidInput("wavelet denoising: empty signal");
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    if (!std::isfinite(x[i])) return InvalidInput("wavelet denoising: sample " + std::to_string(i) + " is not finite");
-  }
+  if (std::optional<Error> bad = denoise_internal::SignalError(x, "wavelet denoising")) return *bad;
   if (const double scale = denoise_internal::NormalisingScale(x); scale != 1.0) {
     WaveletDenoiseOptions o = options;
     if (o.noise_sigma) *o.noise_sigma *= scale;

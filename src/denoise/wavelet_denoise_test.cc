@@ -12,6 +12,7 @@
 
 #include <gtest/gtest.h>
 
+#include "fixtures.h"
 #include "test_support.h"
 #include "denoise_numeric_edges.h"
 
@@ -157,18 +158,20 @@ TEST(WaveletDenoise, ErrorsAreReturned) {
 
 // ---- gyrocomp denoise (end to end) ------------------------------------------------------------
 
-TEST(DenoiseCli, GoldenRuleThroughTheCommandLine) {
-  const std::string cli = testing::CliPath();
-  if (cli.empty()) GTEST_SKIP() << "the CLI is not built (GYROCOMP_BUILD_CLI=OFF)";
-  const std::string dir = testing::MakeTempDir("denoise_cli");
+class DenoiseCli : public testing::CliTest {
+ protected:
+  DenoiseCli() : CliTest("denoise_cli") {}
+};
+
+TEST_F(DenoiseCli, GoldenRuleThroughTheCommandLine) {
   std::string out;
-  const int rc = testing::RunCommand(cli + " denoise -i " + GoldenPath("wavelet/input.csv") +
-                                         " --fs 1 --rate-col x --method wavelet --wavelet db4 --level 4"
-                                         " --threshold universal --threshold-mode soft -o " + dir + "/out.csv --json " +
-                                         dir + "/out.json",
-                                     &out);
+  const int rc = Run("denoise -i " + GoldenPath("wavelet/input.csv") +
+                         " --fs 1 --rate-col x --method wavelet --wavelet db4 --level 4"
+                         " --threshold universal --threshold-mode soft -o " +
+                         dir_ + "/out.csv --json " + dir_ + "/out.json",
+                     &out);
   ASSERT_EQ(rc, 0) << out;
-  const auto table = ReadGoldenCsv(dir + "/out.csv");
+  const auto table = ReadGoldenCsv(dir_ + "/out.csv");
   ASSERT_TRUE(table.count("x") && table.count("denoised_dps")) << "columns: input plus denoised_dps";
   const nlohmann::json golden = ReadJsonFile(GoldenPath("wavelet/wavedec.json"));
   const std::vector<double> expected = golden["cases"][0]["universal_soft"]["denoised"];
@@ -176,37 +179,26 @@ TEST(DenoiseCli, GoldenRuleThroughTheCommandLine) {
   ASSERT_EQ(table.at("denoised_dps").size(), expected.size());
   // The CSV holds shortest round-trip doubles, so the 1e-10 library bound applies unchanged.
   for (std::size_t i = 0; i < expected.size(); ++i) EXPECT_NEAR(table.at("denoised_dps")[i], expected[i], 1e-10);
-  const nlohmann::json j = ReadJsonFile(dir + "/out.json");
+  const nlohmann::json j = ReadJsonFile(dir_ + "/out.json");
   EXPECT_EQ(j["method"], "wavelet");
   EXPECT_TRUE(j.contains("arw_before_deg_per_sqrt_h") && j.contains("arw_after_deg_per_sqrt_h"));
-  std::filesystem::remove_all(dir);
 }
 
-TEST(DenoiseCli, BadInputExitsTwoWithoutOutput) {
-  const std::string cli = testing::CliPath();
-  if (cli.empty()) GTEST_SKIP() << "the CLI is not built (GYROCOMP_BUILD_CLI=OFF)";
-  const std::string dir = testing::MakeTempDir("denoise_cli_bad");
-  {
-    std::FILE* f = std::fopen((dir + "/bad.csv").c_str(), "w");
-    ASSERT_NE(f, nullptr);
-    std::fputs("time_s,rate_dps\n0,1\n0.01,abc\n0.02,3\n", f);
-    std::fclose(f);
-  }
+TEST_F(DenoiseCli, BadInputExitsTwoWithoutOutput) {
+  testing::WriteFile(dir_ + "/bad.csv", "time_s,rate_dps\n0,1\n0.01,abc\n0.02,3\n");
   std::string out;
-  int rc = testing::RunCommand(cli + " denoise -i " + dir + "/bad.csv --method flp -o " + dir + "/o.csv", &out);
+  int rc = Run("denoise -i " + dir_ + "/bad.csv --method flp -o " + dir_ + "/o.csv", &out);
   EXPECT_EQ(rc, 2) << out;
   EXPECT_NE(out.find("bad.csv:3"), std::string::npos) << out;
-  EXPECT_FALSE(std::filesystem::exists(dir + "/o.csv"));
-  rc = testing::RunCommand(cli + " denoise -i " + GoldenPath("wavelet/input.csv") +
-                               " --fs 1 --rate-col x --method wflp --level 12 -o " + dir + "/o.csv",
-                           &out);
+  EXPECT_FALSE(std::filesystem::exists(dir_ + "/o.csv"));
+  rc = Run("denoise -i " + GoldenPath("wavelet/input.csv") + " --fs 1 --rate-col x --method wflp --level 12 -o " +
+               dir_ + "/o.csv",
+           &out);
   EXPECT_EQ(rc, 2) << out;
   EXPECT_NE(out.find("deepest level is 7"), std::string::npos) << out;
-  EXPECT_FALSE(std::filesystem::exists(dir + "/o.csv"));
-  rc = testing::RunCommand(cli + " denoise -i " + GoldenPath("wavelet/input.csv") + " --fs 1 --rate-col x --method median",
-                           &out);
+  EXPECT_FALSE(std::filesystem::exists(dir_ + "/o.csv"));
+  rc = Run("denoise -i " + GoldenPath("wavelet/input.csv") + " --fs 1 --rate-col x --method median", &out);
   EXPECT_EQ(rc, 2) << out;
-  std::filesystem::remove_all(dir);
 }
 
 // Issue 24 (fuzz_numeric_stages): see denoise_numeric_edges.h.

@@ -53,10 +53,7 @@ std::string WflpSummary::BriefReport() const {
 Result<WflpResult> RunWflp(std::span<const double> x, const WflpOptions& options) {
   std::string why;
   if (!options.IsValid(&why)) return InvalidArgument(why);
-  if (x.empty()) return InvalidInput("WFLP: empty signal");
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    if (!std::isfinite(x[i])) return InvalidInput("WFLP: sample " + std::to_string(i) + " is not finite");
-  }
+  if (std::optional<Error> bad = denoise_internal::SignalError(x, "WFLP")) return *bad;
   // Near the ends of the double range: a power-of-two scaled copy (normalising_scale.h).
   if (const double scale = denoise_internal::NormalisingScale(x); scale != 1.0) {
     WflpOptions o = options;

@@ -1,10 +1,13 @@
 // WFLP: structure (what happens to each band), scale invariance, long-run stability.
 #include "gyrocomp/denoise/wflp.h"
+#include "gyrocomp/denoise/flp.h"
+#include "gyrocomp/denoise/wavelet_denoise.h"
 #include "denoise_numeric_edges.h"
 
 #include <cmath>
 #include <limits>
 #include <random>
+#include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -125,6 +128,24 @@ TEST(Wflp, InvalidOptions) {
 TEST(NumericEdges, WflpDenoiseNearTheEndsOfTheDoubleRange) {
   testing::ExpectDenoiseScaleFreeNearTheEndsOfTheDoubleRange(
       [](const std::vector<double>& x) { return WflpDenoise(x, WflpOptions{}); });
+}
+
+// The input checks the three denoisers share (normalising_scale.h SignalError): an empty or a
+// non-finite signal is bad input, named by the denoiser and the sample.
+TEST(Denoisers, EmptyOrNonFiniteSignalIsRefusedNamingTheDenoiserAndTheSample) {
+  const std::vector<double> empty;
+  std::vector<double> nan(200, 1.0);
+  nan[7] = std::numeric_limits<double>::quiet_NaN();
+  const auto expect = [](const Error& e, const std::string& message) {
+    EXPECT_EQ(e.kind, ErrorKind::kInvalidInput) << e.message;
+    EXPECT_EQ(e.message, message);
+  };
+  expect(RunFlp(empty, {}).error(), "FLP: empty signal");
+  expect(RunFlp(nan, {}).error(), "FLP: sample 7 is not finite");
+  expect(RunWflp(empty, {}).error(), "WFLP: empty signal");
+  expect(RunWflp(nan, {}).error(), "WFLP: sample 7 is not finite");
+  expect(RunWaveletDenoise(empty, {}).error(), "wavelet denoising: empty signal");
+  expect(RunWaveletDenoise(nan, {}).error(), "wavelet denoising: sample 7 is not finite");
 }
 
 }  // namespace

@@ -14,6 +14,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "fixtures.h"
 #include "test_support.h"
 
 namespace gyrocomp {
@@ -29,11 +30,8 @@ constexpr std::size_t kRows = 60 * 200;
 class BagCliTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    cli_ = testing::CliPath();
-    if (cli_.empty() || !fs::exists(cli_)) {
-      skip_ = "the gyrocomp CLI is not built";
-      return;
-    }
+    skip_ = testing::CliSkipReason();
+    if (!skip_.empty()) return;
     std::string out;
     if (testing::RunCommand(std::string(kPython) + " -c 'import rosbag, roslz4, sensor_msgs.msg, numpy'", &out) != 0) {
       skip_ = "python3-rosbag, python3-roslz4 or python3-sensor-msgs is not installed (scripts/install-deps.sh): " + out;
@@ -57,21 +55,13 @@ class BagCliTest : public ::testing::Test {
     std::replace(s.begin(), s.end(), '/', '_');
     return s;
   }
-  int Run(const std::string& args, std::string* out) { return testing::RunCommand(cli_ + " " + args, out); }
-  std::string Get(const std::string& path) {
-    std::ifstream in(path);
-    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  int Run(const std::string& args, std::string* out) { return testing::RunCli(args, out); }
+  void ExpectRefused(const std::string& args, const std::vector<std::string>& what) {
+    testing::ExpectCliRefused(args, what);
   }
-  void ExpectRefused(const std::string& args, const std::string& what) {
-    SCOPED_TRACE(args);
-    std::string out;
-    EXPECT_EQ(Run(args, &out), 2) << out;
-    EXPECT_NE(out.find(what), std::string::npos) << "'" << what << "' missing from: " << out;
-    EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1) << "not one line: " << out;
-  }
-  static std::string cli_, dir_, skip_;
+  static std::string dir_, skip_;
 };
-std::string BagCliTest::cli_, BagCliTest::dir_, BagCliTest::skip_;
+std::string BagCliTest::dir_, BagCliTest::skip_;
 
 // Exact equality: both sides hold 17-significant-digit text of the same doubles.
 void ExpectColumnsEqual(const std::map<std::string, std::vector<double>>& got,
@@ -167,7 +157,9 @@ TEST_F(BagCliTest, AllanIsIdenticalInEveryFormatAndEqualsTheCsvExtract) {
     if (first.is_null()) first = j;
     EXPECT_EQ(j, first);
     for (const char* k : {"k_", "o_", "v_"}) {
-      EXPECT_EQ(WithoutSource(Get(P(k + f + ".yaml"))), WithoutSource(Get(P(std::string(k) + "csv.yaml")))) << k;
+      EXPECT_EQ(WithoutSource(testing::ReadFile(P(k + f + ".yaml"))),
+                WithoutSource(testing::ReadFile(P(std::string(k) + "csv.yaml"))))
+          << k;
     }
   }
   // The accelerometer figures are the Kalibr file's (the largest axis).
@@ -175,7 +167,9 @@ TEST_F(BagCliTest, AllanIsIdenticalInEveryFormatAndEqualsTheCsvExtract) {
   for (const auto& [name, axis] : first["accel_axes"].items()) {
     largest = std::max(largest, axis["noise_density_m_s2_per_sqrt_hz"].get<double>());
   }
-  EXPECT_NE(Get(P("k_imu.mcap.yaml")).find("accelerometer_noise_density: " + nlohmann::json(largest).dump()), std::string::npos);
+  EXPECT_NE(
+      testing::ReadFile(P("k_imu.mcap.yaml")).find("accelerometer_noise_density: " + nlohmann::json(largest).dump()),
+      std::string::npos);
 }
 
 TEST_F(BagCliTest, InspectListsTopicsAndHostileInputIsOneLineExit2) {
@@ -191,16 +185,17 @@ TEST_F(BagCliTest, InspectListsTopicsAndHostileInputIsOneLineExit2) {
     }
   }
   ExpectRefused("allan -i '" + P("imu.mcap") + "' --topic /imu0/temperature",
-                "topic /imu0/temperature has type sensor_msgs/msg/Temperature, not sensor_msgs/Imu");
-  ExpectRefused("allan -i '" + P("imu.bag") + "' --topic /nope", "no sensor_msgs/Imu topic /nope in the bag; IMU topics: /imu0");
+                {"topic /imu0/temperature has type sensor_msgs/msg/Temperature, not sensor_msgs/Imu"});
+  ExpectRefused("allan -i '" + P("imu.bag") + "' --topic /nope",
+                {"no sensor_msgs/Imu topic /nope in the bag; IMU topics: /imu0"});
   // A truncated copy: cut in the middle of a chunk.
-  const std::string bytes = Get(P("imu_zstd.mcap"));
+  const std::string bytes = testing::ReadFile(P("imu_zstd.mcap"));
   std::ofstream(P("cut.mcap"), std::ios::binary) << bytes.substr(0, bytes.size() / 2);
-  ExpectRefused("allan -i '" + P("cut.mcap") + "' --json '" + P("cut.json") + "'", "runs past the end of the file");
+  ExpectRefused("allan -i '" + P("cut.mcap") + "' --json '" + P("cut.json") + "'", {"runs past the end of the file"});
   EXPECT_FALSE(fs::exists(P("cut.json")));
-  const std::string bag = Get(P("imu_bz2.bag"));
+  const std::string bag = testing::ReadFile(P("imu_bz2.bag"));
   std::ofstream(P("cut.bag"), std::ios::binary) << bag.substr(0, bag.size() / 2);
-  ExpectRefused("convert -i '" + P("cut.bag") + "' -o '" + P("cut.csv") + "'", "truncated record");
+  ExpectRefused("convert -i '" + P("cut.bag") + "' -o '" + P("cut.csv") + "'", {"truncated record"});
   EXPECT_FALSE(fs::exists(P("cut.csv")));
 }
 

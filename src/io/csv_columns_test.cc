@@ -21,6 +21,7 @@
 #include "gyrocomp/io/flight_log.h"
 #include "gyrocomp/io/gyro_log.h"
 #include "gyrocomp/io/ulog.h"
+#include "fixtures.h"
 #include "test_support.h"
 
 namespace gyrocomp {
@@ -28,17 +29,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class CsvColumnsTest : public ::testing::Test {
+class CsvColumnsTest : public testing::FileTest {
  protected:
-  void SetUp() override { dir_ = testing::MakeTempDir("gyrocomp_csv_columns_test"); }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  std::string Put(const std::string& name, const std::string& bytes) { return testing::WriteFile(dir_ + "/" + name, bytes); }
-  std::string PutGz(const std::string& name, const std::string& bytes) {
-    return testing::WriteGzFile(dir_ + "/" + name, bytes);
-  }
-
-  std::string dir_;
+  CsvColumnsTest() : FileTest("gyrocomp_csv_columns_test") {}
 };
 
 CsvReadOptions Keep(std::vector<std::string> names) {

@@ -11,6 +11,7 @@
 
 #include "gyrocomp/core/units.h"
 #include "gyrocomp/io/io.h"
+#include "fixtures.h"
 #include "test_support.h"
 
 namespace gyrocomp {
@@ -18,18 +19,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class FlightLogCliTest : public ::testing::Test {
+class FlightLogCliTest : public testing::CliTest {
  protected:
-  void SetUp() override {
-    cli_ = testing::CliPath();
-    if (cli_.empty() || !fs::exists(cli_)) GTEST_SKIP() << "the gyrocomp CLI is not built (GYROCOMP_BUILD_CLI=OFF)";
-    dir_ = testing::MakeTempDir("gyrocomp_flight_log_cli_test");
-  }
-  void TearDown() override {
-    if (!dir_.empty()) fs::remove_all(dir_);
-  }
-  int Run(const std::string& args, std::string* out) { return testing::RunCommand(cli_ + " " + args, out); }
-  std::string cli_, dir_;
+  FlightLogCliTest() : CliTest("gyrocomp_flight_log_cli_test") {}
 };
 
 std::string Fixture(const std::string& name) { return std::string(GYROCOMP_FIELDLOGS_DIR) + "/" + name; }

@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "gyrocomp/io/io.h"
+#include "fixtures.h"
 #include "test_support.h"
 
 namespace gyrocomp {
@@ -21,16 +22,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class HostileInputCliTest : public ::testing::Test {
+class HostileInputCliTest : public testing::CliTest {
  protected:
-  void SetUp() override {
-    cli_ = testing::CliPath();
-    if (cli_.empty() || !fs::exists(cli_)) GTEST_SKIP() << "the gyrocomp CLI is not built";
-    dir_ = testing::MakeTempDir("gyrocomp_hostile_input_test");
-  }
-  void TearDown() override {
-    if (!dir_.empty()) fs::remove_all(dir_);
-  }
+  HostileInputCliTest() : CliTest("gyrocomp_hostile_input_test") {}
   // A 2000-row log at 100 Hz: rate = scale * (deterministic +-1 pattern), temperature ramp, and
   // `bad` written in place of the cell (row `bad_row`, column `bad_col`) when non-empty.
   std::string Log(const std::string& name, double scale, const std::string& bad = "", int bad_row = -1,
@@ -48,28 +42,16 @@ class HostileInputCliTest : public ::testing::Test {
     }
     return path;
   }
-  int Run(const std::string& args, std::string* out) { return testing::RunCommand(cli_ + " " + args, out); }
-  void ExpectRefused(const std::string& args, const std::string& what) {
-    SCOPED_TRACE(args);
-    std::string out;
-    EXPECT_EQ(Run(args, &out), 2) << out;
-    EXPECT_NE(out.find(what), std::string::npos) << "'" << what << "' missing from: " << out;
-    EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1) << "not one line: " << out;
-  }
-  std::string Get(const std::string& path) const {
-    std::ifstream in(path);
-    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-  }
-  std::string cli_, dir_;
 };
 
 TEST_F(HostileInputCliTest, ExtremeValuesAreRefusedWithFileLineColumnAndValue) {
   const std::string big = Log("big.csv", 1e300);
-  ExpectRefused("allan -i '" + big + "' --json -", big + ":2:2: rate rate_dps = -1e+300 is beyond any gyroscope");
+  ExpectRefused("allan -i '" + big + "' --json -", {big + ":2:2: rate rate_dps = -1e+300 is beyond any gyroscope"});
   const std::string alt = Log("alt.csv", 1.0, "1e308", 10, 1);
-  ExpectRefused("denoise -i '" + alt + "' --method wflp -o '" + dir_ + "/d.csv'", alt + ":12:2: rate rate_dps = 1e+308");
+  ExpectRefused("denoise -i '" + alt + "' --method wflp -o '" + dir_ + "/d.csv'",
+                {alt + ":12:2: rate rate_dps = 1e+308"});
   const std::string hot = Log("hot.csv", 0.1, "1e300", 100, 2);
-  ExpectRefused("allan -i '" + hot + "' --json -", hot + ":102:3: temperature temp_c = 1e+300 C is outside");
+  ExpectRefused("allan -i '" + hot + "' --json -", {hot + ":102:3: temperature temp_c = 1e+300 C is outside"});
   EXPECT_FALSE(fs::exists(dir_ + "/d.csv"));
 }
 
@@ -95,8 +77,8 @@ TEST_F(HostileInputCliTest, TinyValuesAreComputedNotZeroedOrNaN) {
 TEST_F(HostileInputCliTest, RecordNear1eMinus302IsRefusedWithTheReasonNotASegfault) {
   const std::string in = Log("tiny302.csv", 3.249723276931597e-302);
   const std::string tol = "--vmd-stop relative";
-  ExpectRefused("decompose -i '" + in + "' -o '" + dir_ + "/m.csv' --json '" + dir_ + "/m.json'", tol);
-  ExpectRefused("process -i '" + in + "' -o '" + dir_ + "/p.csv' --json '" + dir_ + "/p.json'", tol);
+  ExpectRefused("decompose -i '" + in + "' -o '" + dir_ + "/m.csv' --json '" + dir_ + "/m.json'", {tol});
+  ExpectRefused("process -i '" + in + "' -o '" + dir_ + "/p.csv' --json '" + dir_ + "/p.json'", {tol});
   for (const auto& entry : fs::directory_iterator(dir_)) {
     EXPECT_EQ(entry.path().filename().string(), "tiny302.csv") << "left behind: " << entry.path();
   }
@@ -107,12 +89,12 @@ TEST_F(HostileInputCliTest, RecordNear1eMinus302IsRefusedWithTheReasonNotASegfau
 
 TEST_F(HostileInputCliTest, OptionsAtTheEdgesAreRefusedBeforeAllocating) {
   const std::string log = Log("log.csv", 1.0);
-  ExpectRefused("allan -i '" + log + "' --fs 1e-300 --json -", "--fs: 1e-300: must be in [1e-06, 1e+09]");
-  ExpectRefused("allan -i '" + log + "' --fs 1e308 --json -", "--fs: 1e308: must be in [1e-06, 1e+09]");
-  ExpectRefused("allan -i '" + log + "' --resample 1e9 --json -", "needs");
-  ExpectRefused("allan -i '" + log + "' --resample 1e9 --json -", "(--max-memory)");
-  ExpectRefused("allan -i '" + log + "' --max-memory 0.00001 --json -", "at most 1e-05 GB allowed (--max-memory)");
-  ExpectRefused("allan -i /dev/zero --json -", "/dev/zero:1:1: line longer than");
+  ExpectRefused("allan -i '" + log + "' --fs 1e-300 --json -", {"--fs: 1e-300: must be in [1e-06, 1e+09]"});
+  ExpectRefused("allan -i '" + log + "' --fs 1e308 --json -", {"--fs: 1e308: must be in [1e-06, 1e+09]"});
+  ExpectRefused("allan -i '" + log + "' --resample 1e9 --json -", {"needs"});
+  ExpectRefused("allan -i '" + log + "' --resample 1e9 --json -", {"(--max-memory)"});
+  ExpectRefused("allan -i '" + log + "' --max-memory 0.00001 --json -", {"at most 1e-05 GB allowed (--max-memory)"});
+  ExpectRefused("allan -i /dev/zero --json -", {"/dev/zero:1:1: line longer than"});
   std::string out;
   for (const char* seed : {"-1", "18446744073709551616", "1e3", "''"}) {
     EXPECT_EQ(Run("simulate --duration 10 -o '" + dir_ + "/s.csv' --seed " + seed, &out), 2) << seed << ": " << out;
@@ -130,8 +112,9 @@ TEST_F(HostileInputCliTest, ModelValuesAreBoundedAtLoad) {
   ASSERT_TRUE(j["axes"][0]["structured"]["terms"].size() > 1) << j.dump();
   j["axes"][0]["structured"]["terms"][1]["coefficient"] = 1e308;
   std::ofstream(dir_ + "/huge.json") << j.dump(1);
-  ExpectRefused("apply -i '" + sim + "' -m '" + dir_ + "/huge.json' -o '" + dir_ + "/a.csv'",
-                "axes[0]: field 'structured.terms[].coefficient' = 1e+308: must be a finite number of magnitude <= 1e100");
+  ExpectRefused(
+      "apply -i '" + sim + "' -m '" + dir_ + "/huge.json' -o '" + dir_ + "/a.csv'",
+      {"axes[0]: field 'structured.terms[].coefficient' = 1e+308: must be a finite number of magnitude <= 1e100"});
   EXPECT_FALSE(fs::exists(dir_ + "/a.csv"));
 }
 
@@ -143,8 +126,8 @@ TEST_F(HostileInputCliTest, FitTwiceGivesByteIdenticalModelFiles) {
     SCOPED_TRACE(model);
     ASSERT_EQ(Run("fit -i '" + sim + "' --model " + model + " -o '" + dir_ + "/a.json'", &out), 0) << out;
     ASSERT_EQ(Run("fit -i '" + sim + "' --model " + model + " -o '" + dir_ + "/b.json'", &out), 0) << out;
-    EXPECT_EQ(Get(dir_ + "/a.json"), Get(dir_ + "/b.json"));
-    EXPECT_EQ(Get(dir_ + "/a.json").find("fit_time_s"), std::string::npos);
+    EXPECT_EQ(testing::ReadFile(dir_ + "/a.json"), testing::ReadFile(dir_ + "/b.json"));
+    EXPECT_EQ(testing::ReadFile(dir_ + "/a.json").find("fit_time_s"), std::string::npos);
   }
 }
 

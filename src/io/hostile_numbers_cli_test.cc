@@ -4,9 +4,7 @@
 // a size limit and every number in it is bounded, a constant rate has ARW 0 and a figure that
 // cannot be computed is null with a reason, and a link to /dev/stdout is written through.
 #include <signal.h>
-#include <spawn.h>
 #include <sys/stat.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -25,6 +23,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "fixtures.h"
 #include "test_support.h"
 
 namespace gyrocomp {
@@ -32,16 +31,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class HostileNumbersCliTest : public ::testing::Test {
+class HostileNumbersCliTest : public testing::CliTest {
  protected:
-  void SetUp() override {
-    cli_ = testing::CliPath();
-    if (cli_.empty() || !fs::exists(cli_)) GTEST_SKIP() << "the gyrocomp CLI is not built";
-    dir_ = testing::MakeTempDir("gyrocomp_hostile_numbers_test");
-  }
-  void TearDown() override {
-    if (!dir_.empty()) fs::remove_all(dir_);
-  }
+  HostileNumbersCliTest() : CliTest("gyrocomp_hostile_numbers_test") {}
   // A 2000-row log at 100 Hz: rate = `rate(i)`, temperature ramp.
   template <typename F>
   std::string Log(const std::string& name, F rate) {
@@ -58,21 +50,12 @@ class HostileNumbersCliTest : public ::testing::Test {
   std::string NoisyLog() {
     return Log("noisy.csv", [](int i) { return (((i * 7919) % 101) - 50) / 50.0; });
   }
-  int Run(const std::string& args, std::string* out) { return testing::RunCommand(cli_ + " " + args, out); }
-  void ExpectRefused(const std::string& args, const std::vector<std::string>& what) {
-    SCOPED_TRACE(args);
-    std::string out;
-    EXPECT_EQ(Run(args, &out), 2) << out;
-    for (const std::string& w : what) EXPECT_NE(out.find(w), std::string::npos) << "'" << w << "' missing from: " << out;
-    EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1) << "not one line: " << out;
-  }
   // Only `keep` is left in the folder (no output, no temporary).
   void ExpectOnly(const std::set<std::string>& keep) {
     for (const auto& entry : fs::directory_iterator(dir_)) {
       EXPECT_TRUE(keep.count(entry.path().filename().string())) << "left behind: " << entry.path();
     }
   }
-  std::string cli_, dir_;
 };
 
 // Issue 24: `fit --model svr --gamma 1e300` (also --epsilon, --C) exited 0 with a model that
@@ -201,22 +184,11 @@ TEST_F(HostileNumbersCliTest, SignalStopsALongFitAndLeavesNothing) {
   fs::create_directory(outdir);
   for (const int sig : {SIGINT, SIGTERM}) {
     const std::string model = outdir + "/m.json", json = outdir + "/fit.json";
-    std::vector<std::string> args = {cli_, "fit", "-i", sim, "--model", "cs-svr", "--nests", "25", "--generations", "50",
-                                     "-o", model, "--json", json};
-    std::vector<char*> argv;
-    for (std::string& a : args) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    pid_t pid = 0;
-    ASSERT_EQ(posix_spawn(&pid, cli_.c_str(), nullptr, nullptr, argv.data(), environ), 0);
+    const pid_t pid = testing::StartCli(
+        {"fit", "-i", sim, "--model", "cs-svr", "--nests", "25", "--generations", "50", "-o", model, "--json", json});
+    ASSERT_GT(pid, 0);
     std::this_thread::sleep_for(std::chrono::milliseconds(1500));  // into the search
-    const auto sent = std::chrono::steady_clock::now();
-    ASSERT_EQ(::kill(pid, sig), 0);
-    int status = 0;
-    ASSERT_EQ(::waitpid(pid, &status, 0), pid);
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - sent).count();
-    std::printf("signal %d: exited %.3f s after it\n", sig, seconds);
-    ASSERT_TRUE(WIFEXITED(status)) << "killed by signal " << WTERMSIG(status);
-    EXPECT_EQ(WEXITSTATUS(status), 128 + sig);
+    EXPECT_EQ(testing::SignalAndWait(pid, sig, "fit --model cs-svr"), 128 + sig);
     for (const auto& entry : fs::directory_iterator(outdir)) ADD_FAILURE() << "left behind: " << entry.path();
   }
 }
@@ -236,20 +208,12 @@ TEST_F(HostileNumbersCliTest, RefusedDemoLeavesNoFolderItCreated) {
 // gone. `demo --fs 50` runs for seconds; the signal is sent once the folder exists.
 TEST_F(HostileNumbersCliTest, SignalMidDemoLeavesNoFolderItCreated) {
   std::string outdir = dir_ + "/demo-new";
-  std::vector<std::string> args = {cli_, "demo", "--fs", "50", "--quiet", "--out", outdir};
-  std::vector<char*> argv;
-  for (std::string& a : args) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  pid_t pid = 0;
-  ASSERT_EQ(posix_spawn(&pid, cli_.c_str(), nullptr, nullptr, argv.data(), environ), 0);
+  const pid_t pid = testing::StartCli({"demo", "--fs", "50", "--quiet", "--out", outdir});
+  ASSERT_GT(pid, 0);
   for (int i = 0; i < 1000 && !fs::exists(outdir); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
   ASSERT_TRUE(fs::exists(outdir)) << "demo did not create its folder within 10 s";
   std::this_thread::sleep_for(std::chrono::milliseconds(300));  // into the work
-  ASSERT_EQ(::kill(pid, SIGINT), 0);
-  int status = 0;
-  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
-  ASSERT_TRUE(WIFEXITED(status)) << "killed by signal " << WTERMSIG(status);
-  ASSERT_EQ(WEXITSTATUS(status), 130) << "demo finished before the signal: make it longer";
+  ASSERT_EQ(testing::SignalAndWait(pid, SIGINT, "demo"), 130) << "demo finished before the signal: make it longer";
   EXPECT_FALSE(fs::exists(outdir));
 }
 

@@ -2,17 +2,15 @@
 // input gives exit status 2, ONE line on stderr "gyrocomp <cmd>: error: <file>:<line>:<col>: ...",
 // and no output file (not even a temporary one). Uses `allan` (the first -i command of issue 2)
 // as the carrier; the reading code is shared by every subcommand.
-#include <zlib.h>
-
 #include <algorithm>
 #include <filesystem>
-#include <fstream>
 #include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
 
 #include "gyrocomp/io/io.h"
+#include "fixtures.h"
 #include "test_support.h"
 
 namespace gyrocomp {
@@ -20,21 +18,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class IoCliTest : public ::testing::Test {
+class IoCliTest : public testing::CliTest {
  protected:
-  void SetUp() override {
-    cli_ = testing::CliPath();
-    if (cli_.empty() || !fs::exists(cli_)) GTEST_SKIP() << "the gyrocomp CLI is not built (GYROCOMP_BUILD_CLI=OFF)";
-    dir_ = testing::MakeTempDir("gyrocomp_io_cli_test");
-  }
-  void TearDown() override {
-    if (!dir_.empty()) fs::remove_all(dir_);
-  }
-  std::string Put(const std::string& name, const std::string& bytes) {
-    const std::string path = dir_ + "/" + name;
-    std::ofstream(path, std::ios::binary) << bytes;
-    return path;
-  }
+  IoCliTest() : CliTest("gyrocomp_io_cli_test") {}
   std::vector<std::string> OutputsIn() const {
     std::vector<std::string> out;
     for (const auto& e : fs::directory_iterator(dir_)) {
@@ -45,9 +31,8 @@ class IoCliTest : public ::testing::Test {
   }
   // Runs `allan` on `input` (with `extra` options) writing out.json and out_adev.csv.
   int Allan(const std::string& input, const std::string& extra, std::string* output) {
-    return testing::RunCommand(cli_ + " allan -i '" + input + "' " + extra + " --json '" + dir_ +
-                                   "/out.json' -o '" + dir_ + "/out_adev.csv'",
-                               output);
+    return Run("allan -i '" + input + "' " + extra + " --json '" + dir_ + "/out.json' -o '" + dir_ + "/out_adev.csv'",
+               output);
   }
   void ExpectRejected(const std::string& name, const std::string& bytes, const std::string& where,
                       const std::string& what, const std::string& extra = "") {
@@ -61,9 +46,6 @@ class IoCliTest : public ::testing::Test {
     EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1) << "not one line: " << out;
     EXPECT_TRUE(OutputsIn().empty()) << "output file left behind after an error";
   }
-
-  std::string cli_;
-  std::string dir_;
 };
 
 std::string GoodLog(int rows) {
@@ -106,11 +88,7 @@ TEST_F(IoCliTest, GoodLogPlainGzipAndStdin) {
   ASSERT_TRUE(curve.ok()) << curve.error().message;  // our own output reads back
   fs::remove(dir_ + "/out.json");
 
-  const std::string gz = dir_ + "/log.csv.gz";
-  gzFile f = gzopen(gz.c_str(), "wb");
-  ASSERT_NE(f, nullptr);
-  gzwrite(f, body.data(), static_cast<unsigned>(body.size()));
-  gzclose(f);
+  const std::string gz = PutGz("log.csv.gz", body);
   ASSERT_EQ(Allan(gz, "", &out), 0) << out;
   EXPECT_EQ(testing::ReadJsonFile(dir_ + "/out.json")["n_samples"], 500);
 

@@ -16,6 +16,7 @@
 
 #include <gtest/gtest.h>
 
+#include "fixtures.h"
 #include "test_support.h"
 
 namespace gyrocomp {
@@ -23,17 +24,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class IoTest : public ::testing::Test {
+class IoTest : public testing::FileTest {
  protected:
-  void SetUp() override { dir_ = testing::MakeTempDir("gyrocomp_io_test"); }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  // Writes raw bytes to dir_/name and returns the path.
-  std::string Put(const std::string& name, const std::string& bytes) { return testing::WriteFile(dir_ + "/" + name, bytes); }
-  // Writes `bytes` gzip-compressed.
-  std::string PutGz(const std::string& name, const std::string& bytes) {
-    return testing::WriteGzFile(dir_ + "/" + name, bytes);
-  }
+  IoTest() : FileTest("gyrocomp_io_test") {}
   std::vector<std::string> Files() const {
     std::vector<std::string> out;
     for (const auto& e : fs::directory_iterator(dir_)) out.push_back(e.path().filename().string());
@@ -54,8 +47,6 @@ class IoTest : public ::testing::Test {
     }
     EXPECT_EQ(t.error().message.find('\n'), std::string::npos) << "error message must be one line";
   }
-
-  std::string dir_;
 };
 
 TEST_F(IoTest, ReadsSimpleTable) {

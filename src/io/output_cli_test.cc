@@ -5,7 +5,6 @@
 #include <fcntl.h>
 #include <signal.h>
 #include <sys/stat.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -20,6 +19,7 @@
 #include <gtest/gtest.h>
 
 #include "gyrocomp/io/io.h"
+#include "fixtures.h"
 #include "test_support.h"
 
 namespace gyrocomp {
@@ -36,23 +36,15 @@ std::string GoodLog(int rows) {
   return s;
 }
 
-class OutputCliTest : public ::testing::Test {
+class OutputCliTest : public testing::CliTest {
  protected:
+  OutputCliTest() : CliTest("gyrocomp_output_cli_test") {}
   void SetUp() override {
-    cli_ = testing::CliPath();
-    if (cli_.empty() || !fs::exists(cli_)) GTEST_SKIP() << "the gyrocomp CLI is not built";
-    dir_ = testing::MakeTempDir("gyrocomp_output_cli_test");
+    CliTest::SetUp();
+    if (IsSkipped()) return;
     in_ = dir_ + "/in.csv";
     std::ofstream(in_) << GoodLog(400);
   }
-  void TearDown() override {
-    if (!dir_.empty()) fs::remove_all(dir_);
-  }
-  std::string Get(const std::string& path) const {
-    std::ifstream in(path);
-    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-  }
-  int Run(const std::string& args, std::string* out) { return testing::RunCommand(cli_ + " " + args, out); }
   std::vector<std::string> Temporaries() const {
     std::vector<std::string> out;
     for (const auto& e : fs::directory_iterator(dir_)) {
@@ -61,11 +53,11 @@ class OutputCliTest : public ::testing::Test {
     }
     return out;
   }
-  std::string cli_, dir_, in_;
+  std::string in_;
 };
 
 TEST_F(OutputCliTest, AnOutputNamingAnInputIsRefusedBeforeAnyWork) {
-  const std::string original = Get(in_);
+  const std::string original = testing::ReadFile(in_);
   fs::create_symlink("in.csv", dir_ + "/soft.csv");
   fs::create_hard_link(in_, dir_ + "/hard.csv");
   std::string out;
@@ -76,7 +68,7 @@ TEST_F(OutputCliTest, AnOutputNamingAnInputIsRefusedBeforeAnyWork) {
     EXPECT_NE(out.find("is the same file as input '" + in_ + "'"), std::string::npos) << out;
     EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1) << out;
   }
-  EXPECT_EQ(Get(in_), original);
+  EXPECT_EQ(testing::ReadFile(in_), original);
   EXPECT_FALSE(fs::exists(dir_ + "/x.csv"));
   EXPECT_TRUE(Temporaries().empty());
 
@@ -84,19 +76,19 @@ TEST_F(OutputCliTest, AnOutputNamingAnInputIsRefusedBeforeAnyWork) {
   const std::string sim = dir_ + "/sim.csv", model = dir_ + "/m.json";
   ASSERT_EQ(Run("simulate --fs 1 -o '" + sim + "'", &out), 0) << out;
   ASSERT_EQ(Run("fit -i '" + sim + "' --model poly --degree 1 -o '" + model + "'", &out), 0) << out;
-  const std::string model_text = Get(model);
+  const std::string model_text = testing::ReadFile(model);
   EXPECT_EQ(Run("apply -i '" + sim + "' -m '" + model + "' -o '" + model + "'", &out), 2) << out;
   EXPECT_NE(out.find("same file as input"), std::string::npos) << out;
-  EXPECT_EQ(Get(model), model_text);
+  EXPECT_EQ(testing::ReadFile(model), model_text);
   // export: every one of its several -m files is an input too.
   EXPECT_EQ(Run("export -m '" + model + "' -m '" + model + "' -m '" + model + "' --format px4 --device-id 5 -o '" +
                     model + "'", &out), 2) << out;
   EXPECT_NE(out.find("same file as input"), std::string::npos) << out;
-  EXPECT_EQ(Get(model), model_text);
+  EXPECT_EQ(testing::ReadFile(model), model_text);
   // validate: its model file is an input, its --json an output.
   EXPECT_EQ(Run("validate -i '" + sim + "' -m '" + model + "' --json '" + model + "'", &out), 2) << out;
   EXPECT_NE(out.find("same file as input"), std::string::npos) << out;
-  EXPECT_EQ(Get(model), model_text);
+  EXPECT_EQ(testing::ReadFile(model), model_text);
 }
 
 TEST_F(OutputCliTest, AnEmptyOutputNameIsRefused) {
@@ -121,7 +113,7 @@ TEST_F(OutputCliTest, FifoAndDevNullAreWrittenThroughNeverReplaced) {
   const std::string fifo = dir_ + "/adev.fifo";
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
   std::string got;
-  std::thread reader([&] { got = Get(fifo); });
+  std::thread reader([&] { got = testing::ReadFile(fifo); });
   std::string out;
   EXPECT_EQ(Run("allan -i '" + in_ + "' -o '" + fifo + "' --json /dev/null", &out), 0) << out;
   reader.join();
@@ -154,25 +146,19 @@ TEST_F(OutputCliTest, NonUtf8FileNamesAreEscapedInJson) {
   fs::copy_file(in_, odd);
   std::string out;
   ASSERT_EQ(Run("allan -i '" + odd + "' --json '" + dir_ + "/o.json'", &out), 0) << out;
-  const std::string text = Get(dir_ + "/o.json");
+  const std::string text = testing::ReadFile(dir_ + "/o.json");
   EXPECT_NE(text.find("in\\\\xff\\\\xfe.csv"), std::string::npos) << text.substr(0, 400);
 }
 
 // Starts `args` with input from a FIFO we hold open (so the command is mid-run, blocked reading,
 // for as long as the test wants), waits for its temporaries, sends `sig`; returns the exit status.
-int InterruptMidRun(const std::string& cli, const std::string& dir, int sig, std::vector<std::string> args,
+int InterruptMidRun(const std::string& dir, int sig, std::vector<std::string> args,
                     const std::function<std::vector<std::string>()>& temporaries) {
   const std::string fifo = dir + "/in.fifo";
   if (::mkfifo(fifo.c_str(), 0600) != 0) return -1;
-  args.insert(args.begin(), {cli, "process", "-q", "-i", fifo});
-  const pid_t pid = ::fork();
-  if (pid == 0) {
-    std::vector<char*> argv;
-    for (std::string& a : args) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    ::execv(cli.c_str(), argv.data());
-    _exit(127);
-  }
+  args.insert(args.begin(), {"process", "-q", "-i", fifo});
+  const pid_t pid = testing::StartCli(args);
+  if (pid < 0) return -1;
   const int writer = ::open(fifo.c_str(), O_WRONLY);  // the child is reading from here on
   const std::string head = "time_s,rate_dps,temp_c\n0,0.1,25\n";
   (void)!::write(writer, head.data(), head.size());
@@ -180,20 +166,18 @@ int InterruptMidRun(const std::string& cli, const std::string& dir, int sig, std
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
   const std::size_t live = temporaries().size();
-  ::kill(pid, sig);
-  int status = 0;
-  ::waitpid(pid, &status, 0);
+  const int code = testing::SignalAndWait(pid, sig, "process reading a FIFO");
   ::close(writer);
   if (live != 3) return -2;  // the temporaries never appeared: nothing was tested
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -3;
+  return code < 0 ? -3 : code;
 }
 
 TEST_F(OutputCliTest, SigintAndSigtermRemoveTemporariesAndExit128PlusSignal) {
   for (int sig : {SIGINT, SIGTERM}) {
     SCOPED_TRACE(sig);
-    const int code = InterruptMidRun(
-        cli_, dir_, sig, {"-o", dir_ + "/p.csv", "--json", dir_ + "/p.json", "--report", dir_ + "/p.html"},
-        [this] { return Temporaries(); });
+    const int code =
+        InterruptMidRun(dir_, sig, {"-o", dir_ + "/p.csv", "--json", dir_ + "/p.json", "--report", dir_ + "/p.html"},
+                        [this] { return Temporaries(); });
     EXPECT_EQ(code, 128 + sig);
     EXPECT_TRUE(Temporaries().empty());
     EXPECT_FALSE(fs::exists(dir_ + "/p.csv"));

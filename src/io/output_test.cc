@@ -20,6 +20,7 @@
 
 #include <gtest/gtest.h>
 
+#include "fixtures.h"
 #include "test_support.h"
 
 namespace gyrocomp {
@@ -27,16 +28,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class OutputSetTest : public ::testing::Test {
+class OutputSetTest : public testing::FileTest {
  protected:
-  void SetUp() override { dir_ = testing::MakeTempDir("gyrocomp_output_test"); }
-  void TearDown() override { fs::remove_all(dir_); }
+  OutputSetTest() : FileTest("gyrocomp_output_test") {}
   std::string P(const std::string& name) const { return dir_ + "/" + name; }
-  void Put(const std::string& name, const std::string& text) const { std::ofstream(P(name)) << text; }
-  std::string Get(const std::string& path) const {
-    std::ifstream in(path);
-    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-  }
   // Names in the folder (temporaries included: they start with '.').
   std::vector<std::string> Names() const {
     std::vector<std::string> out;
@@ -44,7 +39,6 @@ class OutputSetTest : public ::testing::Test {
     std::sort(out.begin(), out.end());
     return out;
   }
-  std::string dir_;
 };
 
 TEST_F(OutputSetTest, RefusesAnOutputThatIsAnInputBySameNameSymlinkOrHardLink) {
@@ -65,7 +59,7 @@ TEST_F(OutputSetTest, RefusesAnOutputThatIsAnInputBySameNameSymlinkOrHardLink) {
   OutputSet out;
   out.AddInput(P("soft.csv"));
   EXPECT_FALSE(out.Declare(P("in.csv")).ok());
-  EXPECT_EQ(Get(P("in.csv")), "a\n1\n");
+  EXPECT_EQ(testing::ReadFile(P("in.csv")), "a\n1\n");
   EXPECT_EQ(Names(), (std::vector<std::string>{"hard.csv", "in.csv", "soft.csv"}));
 }
 
@@ -90,19 +84,19 @@ TEST_F(OutputSetTest, ReplacesASymlinksTargetAndKeepsTheLink) {
   ASSERT_TRUE(out.Commit().ok());
   EXPECT_TRUE(fs::is_symlink(P("link.csv")));
   EXPECT_EQ(fs::read_symlink(P("link.csv")), "target.csv");
-  EXPECT_EQ(Get(P("target.csv")), "new\n");
+  EXPECT_EQ(testing::ReadFile(P("target.csv")), "new\n");
   EXPECT_EQ(fs::status(P("target.csv")).permissions() & fs::perms::all, fs::perms(0640));  // mode kept
   // A dangling link: its target is created.
   fs::create_symlink("later.csv", P("dangling.csv"));
   ASSERT_TRUE(WriteTextAtomic(P("dangling.csv"), "x\n").ok());
   EXPECT_TRUE(fs::is_symlink(P("dangling.csv")));
-  EXPECT_EQ(Get(P("later.csv")), "x\n");
+  EXPECT_EQ(testing::ReadFile(P("later.csv")), "x\n");
 }
 
 TEST_F(OutputSetTest, WritesThroughAFifoAndDevNullWithoutReplacingThem) {
   ASSERT_EQ(::mkfifo(P("fifo").c_str(), 0600), 0);
   std::string got;
-  std::thread reader([&] { got = Get(P("fifo")); });  // opening blocks until the writer comes
+  std::thread reader([&] { got = testing::ReadFile(P("fifo")); });  // opening blocks until the writer comes
   OutputSet out;
   ASSERT_TRUE(out.Declare(P("fifo")).ok());
   ASSERT_TRUE(out.Declare("/dev/null").ok());
@@ -138,11 +132,11 @@ TEST_F(OutputSetTest, NothingAppearsUntilCommitAndAnUncommittedSetLeavesNothing)
     ASSERT_FALSE(s.ok());
     EXPECT_EQ(s.error().kind, ErrorKind::kIo);
     ASSERT_TRUE(out.StageText(P("keep.csv"), "new\n").ok());
-    EXPECT_EQ(Get(P("keep.csv")), "old\n");  // staged, not yet visible
+    EXPECT_EQ(testing::ReadFile(P("keep.csv")), "old\n");  // staged, not yet visible
     EXPECT_EQ(Names().size(), 3u);           // keep.csv + two temporaries
   }
   EXPECT_EQ(Names(), std::vector<std::string>{"keep.csv"});
-  EXPECT_EQ(Get(P("keep.csv")), "old\n");
+  EXPECT_EQ(testing::ReadFile(P("keep.csv")), "old\n");
 }
 
 TEST_F(OutputSetTest, CommitWritesEveryStagedFileAndSkipsUnstagedOnes) {
@@ -157,7 +151,7 @@ TEST_F(OutputSetTest, CommitWritesEveryStagedFileAndSkipsUnstagedOnes) {
   EXPECT_FALSE(out.StageText(P("b.json"), "{}\n").ok());  // one Stage per destination
   ASSERT_TRUE(out.Commit().ok());
   EXPECT_EQ(Names(), (std::vector<std::string>{"a.csv", "b.json"}));
-  EXPECT_EQ(Get(P("a.csv")), "x\n1.5\n-2\n");
+  EXPECT_EQ(testing::ReadFile(P("a.csv")), "x\n1.5\n-2\n");
 }
 
 TEST_F(OutputSetTest, RefusesNonFiniteNumbersNamingColumnAndLine) {
@@ -210,7 +204,7 @@ TEST_F(OutputSetTest, LargeTablesFormattedInPartsGiveTheRowByRowBytes) {
       expected += "\n";
     }
     ASSERT_TRUE(WriteCsvAtomic(P("big.csv"), t).ok());
-    EXPECT_TRUE(Get(P("big.csv")) == expected);
+    EXPECT_TRUE(testing::ReadFile(P("big.csv")) == expected);
   }
 }
 

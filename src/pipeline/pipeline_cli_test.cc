@@ -7,36 +7,35 @@
 #include <nlohmann/json.hpp>
 
 #include "gyrocomp/io/io.h"
+#include "fixtures.h"
 #include "test_support.h"
 
 namespace gyrocomp {
 namespace {
 
-class PipelineCli : public ::testing::Test {
+class PipelineCli : public testing::CliTest {
  protected:
+  PipelineCli() : CliTest("gyrocomp_pipeline_cli") {}
   void SetUp() override {
-    cli_ = testing::CliPath();
-    if (cli_.empty()) GTEST_SKIP() << "the CLI is not built (GYROCOMP_BUILD_CLI=OFF)";
-    dir_ = testing::MakeTempDir("gyrocomp_pipeline_cli");
+    CliTest::SetUp();
+    if (IsSkipped()) return;
     // A short chamber run: 2 Hz, 20-minute holds, 25 C steps (about 3.3 h, 24k samples).
-    const std::string sim = cli_ + " simulate --fs 2 --seed 5 --room-hold 1200 --hold 1200 --step 25"
-                            " --ramp-rate 2 --thermal-lag 300 -o " + dir_ + "/run.csv";
     std::string out;
-    ASSERT_EQ(testing::RunCommand(sim, &out), 0) << out;
-  }
-  void TearDown() override {
-    if (!dir_.empty()) std::filesystem::remove_all(dir_);
+    const std::string sim =
+        "simulate --fs 2 --seed 5 --room-hold 1200 --hold 1200 --step 25"
+        " --ramp-rate 2 --thermal-lag 300 -o " +
+        dir_ + "/run.csv";
+    ASSERT_EQ(Run(sim, &out), 0) << out;
   }
   // Small cuckoo-search budget: the default budget is benchmarked, not tested.
   std::string Fast() const { return " --nests 6 --generations 3 --bandwidth-segment 4096 -q"; }
-  std::string cli_, dir_;
 };
 
 TEST_F(PipelineCli, ProcessWritesTheContractsColumnsJsonAndReport) {
   std::string out;
-  const std::string cmd = cli_ + " process -i " + dir_ + "/run.csv -o " + dir_ + "/out.csv --json " + dir_ +
+  const std::string cmd = "process -i " + dir_ + "/run.csv -o " + dir_ + "/out.csv --json " + dir_ +
                           "/out.json --report " + dir_ + "/report.html" + Fast();
-  ASSERT_EQ(testing::RunCommand(cmd, &out), 0) << out;
+  ASSERT_EQ(Run(cmd, &out), 0) << out;
   Result<Table> table = ReadCsv(dir_ + "/out.csv");
   ASSERT_TRUE(table.ok()) << table.error().message;
   for (const char* col : {"time_s", "rate_dps", "temp_c", "compensated_dps", "drift_feature_dps",
@@ -75,8 +74,7 @@ TEST_F(PipelineCli, ProcessWritesTheContractsColumnsJsonAndReport) {
   EXPECT_TRUE(j["timings_s"].contains("vmd"));
   EXPECT_EQ(j["parameters"]["drift_model"]["nests"], 6);  // parameters recorded
 
-  std::ifstream html(dir_ + "/report.html");
-  const std::string text((std::istreambuf_iterator<char>(html)), std::istreambuf_iterator<char>());
+  const std::string text = testing::ReadFile(dir_ + "/report.html");
   EXPECT_NE(text.find("report-data"), std::string::npos);
 }
 
@@ -84,37 +82,32 @@ TEST_F(PipelineCli, OutputIsTheSameFromAFileAndFromStdinWithAnyThreadCount) {
   // From a file, the input table is dropped during the pipeline and read again for the output
   // CSV; from stdin it is kept. Both, and one thread against the default, give the same bytes.
   std::string out;
-  const std::string base = " process -o " + dir_ + "/";
-  ASSERT_EQ(testing::RunCommand(cli_ + base + "file.csv -i " + dir_ + "/run.csv" + Fast(), &out), 0) << out;
-  ASSERT_EQ(testing::RunCommand(cli_ + base + "stdin.csv -i - --threads 1" + Fast() + " < " + dir_ + "/run.csv", &out), 0)
-      << out;
-  auto slurp = [](const std::string& path) {
-    std::ifstream f(path, std::ios::binary);
-    return std::string((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
-  };
-  const std::string from_file = slurp(dir_ + "/file.csv");
+  const std::string base = "process -o " + dir_ + "/";
+  ASSERT_EQ(Run(base + "file.csv -i " + dir_ + "/run.csv" + Fast(), &out), 0) << out;
+  ASSERT_EQ(Run(base + "stdin.csv -i - --threads 1" + Fast() + " < " + dir_ + "/run.csv", &out), 0) << out;
+  const std::string from_file = testing::ReadFile(dir_ + "/file.csv");
   EXPECT_GT(from_file.size(), 1000u);
-  EXPECT_EQ(from_file, slurp(dir_ + "/stdin.csv"));
+  EXPECT_EQ(from_file, testing::ReadFile(dir_ + "/stdin.csv"));
   EXPECT_EQ(from_file.substr(0, from_file.find('\n')),
             "time_s,rate_dps,temp_c,chamber_temp_c,sensor_temp_c,true_rate_dps,true_drift_dps,true_noise_dps,"
             "compensated_dps,drift_feature_dps,mixed_feature_dps,noise_feature_dps,mixed_denoised_dps,"
             "predicted_drift_dps");
-  EXPECT_EQ(testing::RunCommand(cli_ + base + "x.csv -i " + dir_ + "/run.csv --threads 0" + Fast(), &out), 2) << out;
+  EXPECT_EQ(Run(base + "x.csv -i " + dir_ + "/run.csv --threads 0" + Fast(), &out), 2) << out;
 }
 
 TEST_F(PipelineCli, ProcessWithoutTemperatureIsBadInputAndLeavesNoOutput) {
   const std::string path = dir_ + "/notemp.csv";
   std::ofstream(path) << "time_s,rate_dps\n0,0.1\n0.5,0.2\n1,0.1\n";
   std::string out;
-  EXPECT_EQ(testing::RunCommand(cli_ + " process -i " + path + " -o " + dir_ + "/o.csv -q", &out), 2) << out;
+  EXPECT_EQ(Run("process -i " + path + " -o " + dir_ + "/o.csv -q", &out), 2) << out;
   EXPECT_NE(out.find("temp_c"), std::string::npos) << out;
   EXPECT_FALSE(std::filesystem::exists(dir_ + "/o.csv"));
 }
 
 TEST_F(PipelineCli, CompareUsesTheTruthColumns) {
   std::string out;
-  const std::string cmd = cli_ + " compare -i " + dir_ + "/run.csv --no-grid --json " + dir_ + "/cmp.json" + Fast();
-  ASSERT_EQ(testing::RunCommand(cmd, &out), 0) << out;
+  const std::string cmd = "compare -i " + dir_ + "/run.csv --no-grid --json " + dir_ + "/cmp.json" + Fast();
+  ASSERT_EQ(Run(cmd, &out), 0) << out;
   EXPECT_NE(out.find("WFLP"), std::string::npos) << out;
   const nlohmann::json j = testing::ReadJsonFile(dir_ + "/cmp.json");
   ASSERT_TRUE(j.contains("rows"));

@@ -2,9 +2,6 @@
 // at 100 Hz) exits 130 / 143 and leaves nothing in the output folder. The time from the signal
 // to the exit is printed, not asserted (tests never assert on time; the goal is 0.5 s).
 #include <signal.h>
-#include <spawn.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <chrono>
 #include <cmath>
@@ -13,30 +10,20 @@
 #include <random>
 #include <string>
 #include <thread>
-#include <vector>
 
 #include <gtest/gtest.h>
 
+#include "fixtures.h"
 #include "test_support.h"
-
-extern char** environ;
 
 namespace gyrocomp {
 namespace {
 
 namespace fs = std::filesystem;
 
-class ProcessCancelCliTest : public ::testing::Test {
+class ProcessCancelCliTest : public testing::CliTest {
  protected:
-  void SetUp() override {
-    cli_ = testing::CliPath();
-    if (cli_.empty() || !fs::exists(cli_)) GTEST_SKIP() << "the gyrocomp CLI is not built";
-    dir_ = testing::MakeTempDir("gyrocomp_process_cancel_test");
-  }
-  void TearDown() override {
-    if (!dir_.empty()) fs::remove_all(dir_);
-  }
-  std::string cli_, dir_;
+  ProcessCancelCliTest() : CliTest("gyrocomp_process_cancel_test") {}
 };
 
 // time_s, rate_dps, temp_c: white noise on a slow drift over a -40..60 C staircase-like swing.
@@ -62,22 +49,11 @@ TEST_F(ProcessCancelCliTest, SignalStopsProcessOn5MSamplesAndLeavesNothing) {
   // After 6 s the record is read and the VMD runs (it takes ~25 s); the handler removes the
   // outputs' temporaries wherever the work is.
   for (const int sig : {SIGINT, SIGTERM}) {
-    std::vector<std::string> args = {cli_, "process", "-i", input, "-o", outdir + "/out.csv",
-                                     "--json", outdir + "/out.json", "--report", outdir + "/report.html", "-q"};
-    std::vector<char*> argv;
-    for (std::string& a : args) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    pid_t pid = 0;
-    ASSERT_EQ(posix_spawn(&pid, cli_.c_str(), nullptr, nullptr, argv.data(), environ), 0);
+    const pid_t pid = testing::StartCli({"process", "-i", input, "-o", outdir + "/out.csv", "--json",
+                                         outdir + "/out.json", "--report", outdir + "/report.html", "-q"});
+    ASSERT_GT(pid, 0);
     std::this_thread::sleep_for(std::chrono::seconds(6));
-    const auto sent = std::chrono::steady_clock::now();
-    ASSERT_EQ(::kill(pid, sig), 0);
-    int status = 0;
-    ASSERT_EQ(::waitpid(pid, &status, 0), pid);
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - sent).count();
-    std::printf("process, 5 M samples, signal %d: exited %.3f s after it\n", sig, seconds);
-    ASSERT_TRUE(WIFEXITED(status)) << "killed by signal " << WTERMSIG(status);
-    EXPECT_EQ(WEXITSTATUS(status), 128 + sig);
+    EXPECT_EQ(testing::SignalAndWait(pid, sig, "process, 5 M samples"), 128 + sig);
     for (const auto& entry : fs::directory_iterator(outdir)) ADD_FAILURE() << "left behind: " << entry.path();
   }
 }

@@ -5,23 +5,16 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <string>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "fixtures.h"
 #include "test_support.h"
 
 namespace gyrocomp {
 namespace {
-
-std::string ReadText(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
 
 // The report's data block (report.h schema), parsed back.
 nlohmann::json ReportData(const std::string& html) {
@@ -57,18 +50,9 @@ void ExpectRendersInChromium(const std::string& path, const std::string& dir) {
   EXPECT_EQ(output.find("Uncaught"), std::string::npos) << output.substr(0, 4000);
 }
 
-class ReportCli : public ::testing::Test {
+class ReportCli : public testing::CliTest {
  protected:
-  void SetUp() override {
-    cli_ = testing::CliPath();
-    if (cli_.empty()) GTEST_SKIP() << "the CLI is not built (GYROCOMP_BUILD_CLI=OFF)";
-    dir_ = testing::MakeTempDir("gyrocomp_report_cli");
-  }
-  void TearDown() override {
-    if (!dir_.empty()) std::filesystem::remove_all(dir_);
-  }
-  int Run(const std::string& args, std::string* out) { return testing::RunCommand(cli_ + " " + args, out); }
-  std::string cli_, dir_;
+  ReportCli() : CliTest("gyrocomp_report_cli") {}
 };
 
 // A poly model fitted on a short cooling staircase, validated on a heating ramp of another seed.
@@ -82,7 +66,7 @@ TEST_F(ReportCli, ValidateReportHasTheValidationSection) {
   const std::string report = dir_ + "/v.html";
   ASSERT_EQ(Run("validate -m " + dir_ + "/m.json -i " + dir_ + "/heat.csv --json " + dir_ + "/v.json --report " + report,
                 &out), 0) << out;
-  const std::string html = ReadText(report);
+  const std::string html = testing::ReadFile(report);
   ASSERT_EQ(html.rfind("<!DOCTYPE html>", 0), 0u);
   const nlohmann::json data = ReportData(html);
   ASSERT_TRUE(data.is_object());
@@ -150,7 +134,7 @@ TEST_F(ReportCli, ProcessMarksNotApplicableTermsAlike) {
   EXPECT_FALSE(j["before"].contains("arw_not_applicable"));
   EXPECT_TRUE(j["after"]["arw_deg_per_sqrt_h"].is_null());
   EXPECT_NE(j["after"]["arw_not_applicable"].get<std::string>().find("1/(2 bandwidth)"), std::string::npos);
-  const nlohmann::json data = ReportData(ReadText(dir_ + "/p.html"));
+  const nlohmann::json data = ReportData(testing::ReadFile(dir_ + "/p.html"));
   bool arw_na = false;
   for (const auto& r : data["summary"]["rows"]) {
     if (r[0].get<std::string>().rfind("ARW", 0) == 0) arw_na = r[1].is_number() && r[2] == "not applicable";
@@ -166,7 +150,7 @@ TEST_F(ReportCli, ProcessReportShowsTheDriftBand) {
   ASSERT_EQ(Run("simulate --fs 2 --seed 5 --room-hold 1200 --hold 1200 --step 25 --ramp-rate 2 --thermal-lag 300 -o " +
                 dir_ + "/run.csv", &out), 0) << out;
   ASSERT_EQ(Run("process -i " + dir_ + "/run.csv --report " + dir_ + "/p.html --model poly -q", &out), 0) << out;
-  const nlohmann::json data = ReportData(ReadText(dir_ + "/p.html"));
+  const nlohmann::json data = ReportData(testing::ReadFile(dir_ + "/p.html"));
   const nlohmann::json& d = data["drift"];
   ASSERT_TRUE(d.contains("model_lo_dps") && d.contains("model_hi_dps")) << d.dump().substr(0, 400);
   EXPECT_DOUBLE_EQ(d["band_level"].get<double>(), 0.9);
@@ -239,7 +223,7 @@ TEST_F(ReportCli, DemoTableRowsPresentAndFinite) {
   EXPECT_TRUE(j["before"]["arw_deg_per_sqrt_h"].is_number());
   // The report has the side-by-side and held-out tables, "not applicable" in the same cells.
   const std::string report = dir_ + "/demo/report.html";
-  const nlohmann::json data = ReportData(ReadText(report));
+  const nlohmann::json data = ReportData(testing::ReadFile(report));
   const nlohmann::json* side = &data["summary"];  // the headline table
   ASSERT_EQ((*side)["title"].get<std::string>().rfind("Side by side", 0), 0u);
   EXPECT_NE(FindTable(data, "Before and after"), nullptr);

@@ -1,0 +1,62 @@
+// Test-only pieces shared by the ROS bag reader tests (cdr_test, mcap_test, rosbag1_test,
+// bag_test): little-endian bytes, the simulated IMU messages the hand-built bags hold and the
+// check that a table read back holds them.
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "gyrocomp/io/bag.h"
+#include "gyrocomp/io/cdr.h"
+#include "test_support.h"
+
+namespace gyrocomp::testing {
+
+// tests/bags: rosbag2's own test bags (tests/bags/README.md) and make_imu_bags.py.
+inline std::string BagsDir() { return std::string(GYROCOMP_FIELDLOGS_DIR) + "/../bags"; }
+
+// Appends the n low bytes of v, least significant first.
+inline void Le(std::string* s, std::uint64_t v, int n) {
+  for (int i = 0; i < n; ++i) s->push_back(static_cast<char>((v >> (8 * i)) & 0xff));
+}
+
+// IMU message i of the simulated topic /imu0: stamps 5 ms apart from 1.7e9 s, small rates
+// around k rad/s on axis k, gravity on z.
+inline ImuMessage Sample(int i) {
+  ImuMessage m;
+  const std::int64_t ns = 1700000000000000000 + static_cast<std::int64_t>(i) * 5000000;
+  m.stamp_sec = ns / 1000000000;
+  m.stamp_nanosec = static_cast<std::uint32_t>(ns % 1000000000);
+  for (int k = 0; k < 3; ++k) {
+    m.angular_velocity_rad_s[k] = 1e-3 * (i % 7 - 3) + k;
+    m.linear_acceleration_m_s2[k] = 9.81 * (k == 2) + 1e-2 * (i % 5 - 2);
+  }
+  return m;
+}
+
+// The table read back holds Sample(0 .. n-1) exactly, each with the temperature of the nearest
+// temperature message (one every 10th IMU message, 20 + i C).
+inline void ExpectSamples(const BagImuTable& t, int n) {
+  ASSERT_EQ(t.table.num_rows(), static_cast<std::size_t>(n));
+  ASSERT_EQ(t.table.names, (std::vector<std::string>{"time_s", "x_rad_s", "y_rad_s", "z_rad_s", "x_m_s2", "y_m_s2",
+                                                      "z_m_s2", "temp_c"}));
+  for (int i = 0; i < n; ++i) {
+    const ImuMessage m = Sample(i);
+    // Whole seconds plus the fraction (what the reader computes from the integer stamp).
+    const std::int64_t ns = m.StampNs();
+    EXPECT_EQ(t.table.columns[0][i], static_cast<double>(ns / 1000000000) + static_cast<double>(ns % 1000000000) / 1e9) << i;
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_EQ(t.table.columns[1 + k][i], m.angular_velocity_rad_s[k]) << i;
+      EXPECT_EQ(t.table.columns[4 + k][i], m.linear_acceleration_m_s2[k]) << i;
+    }
+    // Nearest temperature (every 10th stamp; ties go to the earlier one).
+    const int nearest = (i % 10 <= 5) ? i / 10 * 10 : i / 10 * 10 + 10;
+    EXPECT_EQ(t.table.columns[7][i], 20.0 + std::min(nearest, (n - 1) / 10 * 10)) << i;
+  }
+}
+
+}  // namespace gyrocomp::testing

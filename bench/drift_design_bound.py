@@ -320,9 +320,9 @@ def plan_check(run, structs, block, seeds_plan=(1, 2, 3), many=30):
     over the two runs; db ~ N(0, C)): E MS = B + tr(MC), Var MS = 4 g'Cg + 2 tr((MC)^2), so a
     k-seed RMS has relative SD ~ 0.5 sqrt(Var MS / k) / E MS. Also the measured k-seed RMS on
     seeds 1-3 (plan's) and on seeds 1..many."""
-    print("| structure | profile | form | expected RMS (mdps) | 1-sigma of a 3-seed RMS | seeds for +-10% "
+    print("| structure | profile | form | expected RMS (mdps) | of which model-form bias | 1-sigma of a 3-seed RMS | seeds for +-10%% "
           "| measured RMS, seeds 1-3 | measured RMS, seeds 1-%d |" % many)
-    print("|---|---|---|---|---|---|---|---|")
+    print("|---|---|---|---|---|---|---|---|---|")
     for sk in structs:
         sname, sflags = STRUCTS[sk]
         lag, w = struct_params(sflags)
@@ -357,7 +357,7 @@ def plan_check(run, structs, block, seeds_plan=(1, 2, 3), many=30):
                     beta = ols(oracle_design(cal, lag, w)[:, k], cal["rate"])
                     ms.append(np.mean([np.mean((held[d]["xo"][:, k] @ beta - held[d]["drift"]) ** 2)
                                        for d in ("heat", "cool")]))
-                print(f"| {sk} | {pname} | {form} | {1e3 * math.sqrt(mean):.2f} | {100 * rel1 / math.sqrt(3):.0f}% | "
+                print(f"| {sk} | {pname} | {form} | {1e3 * math.sqrt(mean):.2f} | {1e3 * math.sqrt(B):.2f} | {100 * rel1 / math.sqrt(3):.0f}% | "
                       f"{math.ceil((rel1 / 0.1) ** 2)} | {1e3 * math.sqrt(np.mean(ms[:3])):.2f} | "
                       f"{1e3 * math.sqrt(np.mean(ms)):.2f} |")
                 sys.stdout.flush()

@@ -211,8 +211,8 @@ Result<ThermalSchedule> MakeThermalSchedule(const ThermalProfileOptions& o) {
       // Issue 23, docs/drift_model.md "What any estimator can reach": the calibration run's slow
       // (flicker, random-walk) noise is what limits the next run's error; every reversal of the
       // temperature decorrelates the drift's shape from it, so four full-range cycles in the time
-      // of the paper's one sweep leave the least of it (bench/drift_design_bound.py: 0.63-0.83x of
-      // poly(T, dT/dt) on the paper run for an estimator of the true form, stairs 0.74-0.97x).
+      // of the paper's one sweep leave the least of it (bench/drift_design_bound.py: 0.56-0.95x of
+      // poly(T, dT/dt) on the paper run for OLS of the true form, stairs 0.68-1.04x).
       // Two rates each way (fast up / slow down, then the reverse) separate a dT/dt gain from a
       // heating/cooling memory, as stairs does (Eq. I-1).
       ScheduleBuilder b(o.cold_temp_c, rate_c_per_s);

@@ -10,8 +10,10 @@ the true width w. Given T, r and w (which no real estimator has), that is LINEAR
 coefficients: the "oracle" fits them by ordinary least squares on the calibration run's 1 Hz
 output (true rate 0), so its only error on another run is the calibration run's noise projected on
 the coefficients. Nothing that has to estimate T, r or w, or choose the form, does better except
-by weighting: GLS with the exact noise covariance (the best linear unbiased estimator) is printed
-too. The reference: poly(T, dT/dt) (cubic in the MEASURED temperature + a gain on its centred
+by weighting (GLS with the exact noise covariance, the best linear unbiased estimator, is printed
+too) or by dropping terms (biased: every subset, cubic / + gain / + memory / full, is printed).
+The constant's floor, sqrt(1 / 1'S^-1 1), is the error of the best estimate of the bias offset
+alone when every other coefficient is known: no estimator of any form gets under it. The reference: poly(T, dT/dt) (cubic in the MEASURED temperature + a gain on its centred
 300 s least-squares slope, gyrocomp's batch rate, src/drift/temperature_rate.cc) fitted on the
 paper's cooling run of the same structure and seed, the issue's yardstick.
 Held-out runs (bench/drift_band_coverage.py's two-direction mode): a heating ramp (-40 -> 60 C,
@@ -26,6 +28,9 @@ E[RMSE^2] = bias^2 + trace(Xh Cr Xh') / n_h, bias = its noise-free fit's held-ou
 
 Usage: /usr/bin/python3 bench/drift_design_bound.py [--build build] [--seeds 1,2,3,4,5,6]
        [--structs A,B,C,E] [--profiles paper,stairs,...] [--no-analytic]
+       /usr/bin/python3 bench/drift_design_bound.py --plan-check [--structs ...]
+           (the expected value and 3-seed scatter of `gyrocomp plan`'s simulated figure)
+Prints the table of docs/drift_model.md "What any estimator can reach: the design bound".
 Only numpy and `gyrocomp simulate`.
 """
 import argparse
@@ -53,7 +58,8 @@ def staircase_csv(path, cold=-40.0, hot=60.0, soak_s=3600.0, up=(20.0, 40.0), do
                   rates_up=(2.0, 0.5), rates_down=(0.5, 2.0), plateau_s=1800.0, end_hold_s=3600.0):
     """A two-direction staircase with two ramp rates each way: cold soak, up in steps alternating
     `up` sizes at alternating `rates_up` (C/min), plateaus of plateau_s, a hot hold, then down
-    likewise; the plateaus of the way down lie between those of the way up."""
+    likewise (defaults: up -40, -20, 20, 40, 60 C at 2 / 0.5 / 2 / 0.5 C/min; down 40, 0, -20,
+    -40 C at 0.5 / 2 / 0.5 / 2 C/min; 10.2 h)."""
     t, u = [0.0, soak_s], [cold, cold]
 
     def ramp(to, rate):

@@ -49,7 +49,7 @@ struct Outcome {
   // Relative standard error of simulated() from the seed-to-seed scatter of the per-seed mean
   // squares (delta method: SE(sqrt m) / sqrt m = SE(m) / (2 m)); NaN with one seed. The simulated
   // error of one run is mostly the calibration run's slow noise projected on the drift's constant
-  // (bench/drift_design_bound.py: 1 sigma about 40% for 3 seeds), so a predicted / simulated
+  // (bench/drift_design_bound.py --plan-check: 1 sigma 8-33% for 3 seeds), so a predicted / simulated
   // ratio is only checked where this SE is small.
   double simulated_rel_se() const {
     const std::size_t k = simulated_ms_per_seed.size();
@@ -196,7 +196,7 @@ Command Make(CLI::App& app) {
       "family, fit the default model, and on a heating ramp and the paper's cooling staircase (other seeds)\n"
       "compare the band's predicted RMS error with the simulated one against the true drift; the simulated\n"
       "figure's own standard error over the seeds is printed (one run's error is mostly the calibration\n"
-      "run's slow noise on the drift's constant: about 40% for 3 seeds; ~30 seeds for 10%).\n"
+      "run's slow noise on the drift's constant: up to a third for 3 seeds; 20-30 seeds for 10%).\n"
       "Recommends the lowest predicted error (the shortest profile within 10% of it).\n"
       "JSON: profiles[] (profile, hours, models, left_out, predicted_rms_heating/_cooling, simulated_rms_...),\n"
       "  simulated_rms_rel_se (null with one seed), recommended, seeds.\n"

@@ -88,7 +88,7 @@ int Run(SimulateArgs& a) {
   }
   const auto kind = ParseThermalProfileKind(a.profile);
   if (!kind)
-    return ReportError(kName, InvalidArgument("--profile " + a.profile + ": must be paper, soak, ramp, cycle, heat-cool, stairs or user"));
+    return ReportError(kName, InvalidArgument("--profile " + a.profile + ": must be paper, soak, ramp, cycle, heat-cool, stairs, rate-cycles or user"));
   a.sim.profile.kind = *kind;
   a.sim.duration_s = a.duration_s;
   if (!a.drift_poly.empty()) {
@@ -151,7 +151,9 @@ Command Make(CLI::App& app) {
       "cold -> room, --cycles times: heating and cooling, for hysteresis); heat-cool (--room-hold at\n"
       "--cold, heat to --hot, --hold, cool to --cold, --hold: both directions over the whole range,\n"
       "6.3 h at 1 C/min); stairs (--room-hold at --cold, up in 2 x --step steps at --ramp-rate, down\n"
-      "in steps between those at half the rate, every plateau held --hold / 2: 11.5 h); user\n"
+      "in steps between those at half the rate, every plateau held --hold / 2: 11.5 h); rate-cycles\n"
+      "(--room-hold / 2 at --cold, 4 x (heat to --hot, --hold / 3, cool to --cold, --hold / 3), heating\n"
+      "at 2, 1, 2, 1 x --ramp-rate and cooling at 1, 2, 1, 2 x: 13.2 h); user\n"
       "(--profile-csv FILE: columns time_s and chamber_temp_c or temp_c, one row per breakpoint,\n"
       "linear in between).\n"
       "Noise in datasheet units (IEEE 952); bias instability = flicker floor / 0.664, made of a sum of\n"
@@ -169,7 +171,7 @@ Command Make(CLI::App& app) {
   sub->add_option("--ahrs-orientation", a->ahrs_orientation, ".bin: board rotation AHRS_ORIENTATION (0..43) applied to the logged IMU rows")
       ->check(CLI::Range(0, 43))->capture_default_str();
   AddOutputOption(sub, "--json", &a->json_path, "Write a summary of the run as JSON ('-' = stdout)");
-  sub->add_option("--profile", a->profile, "paper | soak | ramp | cycle | heat-cool | stairs | user")->capture_default_str();
+  sub->add_option("--profile", a->profile, "paper | soak | ramp | cycle | heat-cool | stairs | rate-cycles | user")->capture_default_str();
   AddInputOption(sub, "--profile-csv", &a->profile_csv,
                  "Chamber schedule CSV (time_s, chamber_temp_c or temp_c): profile user");
   sub->add_option("--fs", o.fs_hz, "Sample rate, Hz")->check(CLI::PositiveNumber)->capture_default_str();

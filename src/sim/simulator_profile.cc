@@ -74,6 +74,7 @@ std::optional<ThermalProfileKind> ParseThermalProfileKind(const std::string& nam
   if (name == "cycle") return ThermalProfileKind::kCycle;
   if (name == "heat-cool") return ThermalProfileKind::kHeatCool;
   if (name == "stairs") return ThermalProfileKind::kStairs;
+  if (name == "rate-cycles") return ThermalProfileKind::kRateCycles;
   if (name == "user") return ThermalProfileKind::kUser;
   return std::nullopt;
 }
@@ -86,6 +87,7 @@ const char* ThermalProfileKindName(ThermalProfileKind kind) {
     case ThermalProfileKind::kCycle: return "cycle";
     case ThermalProfileKind::kHeatCool: return "heat-cool";
     case ThermalProfileKind::kStairs: return "stairs";
+    case ThermalProfileKind::kRateCycles: return "rate-cycles";
     case ThermalProfileKind::kUser: return "user";
   }
   return "?";
@@ -202,6 +204,25 @@ Result<ThermalSchedule> MakeThermalSchedule(const ThermalProfileOptions& o) {
         b.Hold(plateau_s);
         if (t <= o.cold_temp_c + 1e-9) break;
         t -= step;
+      }
+      return b.Take();
+    }
+    case ThermalProfileKind::kRateCycles: {
+      // Issue 23, docs/drift_model.md "What any estimator can reach": the calibration run's slow
+      // (flicker, random-walk) noise is what limits the next run's error; every reversal of the
+      // temperature decorrelates the drift's shape from it, so four full-range cycles in the time
+      // of the paper's one sweep leave the least of it (bench/drift_design_bound.py: 0.56-0.95x of
+      // poly(T, dT/dt) on the paper run for OLS of the true form, stairs 0.68-1.04x).
+      // Two rates each way (fast up / slow down, then the reverse) separate a dT/dt gain from a
+      // heating/cooling memory, as stairs does (Eq. I-1).
+      ScheduleBuilder b(o.cold_temp_c, rate_c_per_s);
+      b.Hold(0.5 * o.room_hold_s);
+      for (int c = 0; c < 4; ++c) {
+        const double up = c % 2 == 0 ? 2.0 : 1.0, down = c % 2 == 0 ? 1.0 : 2.0;
+        b.RampTo(o.hot_temp_c, up * rate_c_per_s);
+        b.Hold(o.hold_s / 3.0);
+        b.RampTo(o.cold_temp_c, down * rate_c_per_s);
+        b.Hold(o.hold_s / 3.0);
       }
       return b.Take();
     }

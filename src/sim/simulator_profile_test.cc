@@ -44,6 +44,25 @@ TEST(SimulatorProfile, StairsHoldAndRampInBothDirectionsAtTwoRates) {
   EXPECT_STREQ(ThermalProfileKindName(*ParseThermalProfileKind("stairs")), "stairs");
 }
 
+// rate-cycles: 30 min at -40 C; 4 x (to 60 C, 20 min, to -40 C, 20 min), heating at 2 / 1 / 2 / 1
+// C/min and cooling at 1 / 2 / 1 / 2 C/min: 47,400 s.
+TEST(SimulatorProfile, RateCyclesReverseFourTimesAtTwoRatesEachWay) {
+  ThermalProfileOptions o;
+  o.kind = ThermalProfileKind::kRateCycles;
+  auto s = MakeThermalSchedule(o);
+  ASSERT_TRUE(s.ok()) << s.error().message;
+  const double slow_fast = 3000.0 + 1200.0 + 6000.0 + 1200.0;  // up at 2 C/min, hold, down at 1, hold
+  EXPECT_DOUBLE_EQ(s->duration_s(), 1800.0 + 4 * slow_fast);
+  EXPECT_DOUBLE_EQ(s->ChamberTempC(1800.0), -40.0);
+  EXPECT_DOUBLE_EQ(s->ChamberTempC(1800.0 + 1500.0), 10.0);                 // cycle 1: heating at 2 C/min
+  EXPECT_DOUBLE_EQ(s->ChamberTempC(1800.0 + 4200.0 + 3000.0), 10.0);        // cycle 1: cooling at 1 C/min
+  EXPECT_DOUBLE_EQ(s->ChamberTempC(1800.0 + slow_fast + 3000.0), 10.0);     // cycle 2: heating at 1 C/min
+  EXPECT_DOUBLE_EQ(s->ChamberTempC(1800.0 + slow_fast + 7200.0 + 1500.0), 10.0);  // cycle 2: cooling at 2
+  EXPECT_DOUBLE_EQ(s->ChamberTempC(1800.0 + slow_fast + 6500.0), 60.0);     // cycle 2: hot hold
+  EXPECT_DOUBLE_EQ(s->ChamberTempC(s->duration_s()), -40.0);
+  EXPECT_STREQ(ThermalProfileKindName(*ParseThermalProfileKind("rate-cycles")), "rate-cycles");
+}
+
 // user: the given breakpoints, linear in between, held at the first before it.
 TEST(SimulatorProfile, UserScheduleIsFollowedAndCheckedAsGiven) {
   ThermalProfileOptions o;
@@ -88,6 +107,30 @@ TEST(SimulatorProfile, SimulateProfileCsv) {
   EXPECT_EQ(testing::RunCommand(cli + " simulate --profile-csv " + dir + "/bad.csv -o " + dir + "/b.csv", &out), 2);
   EXPECT_NE(out.find("bad.csv:4"), std::string::npos) << out;
   EXPECT_FALSE(std::filesystem::exists(dir + "/b.csv"));
+  std::filesystem::remove_all(dir);
+}
+
+// plan: the simulated figure carries its standard error over the seeds (null with one seed), and
+// rate-cycles is a profile it compares.
+TEST(SimulatorProfile, PlanReportsTheSimulatedErrorsStandardError) {
+  const std::string cli = testing::CliPath();
+  if (cli.empty()) GTEST_SKIP() << "the gyrocomp CLI is not built (GYROCOMP_BUILD_CLI=OFF)";
+  const std::string dir = testing::MakeTempDir("sim_plan_se_test");
+  std::string out;
+  ASSERT_EQ(testing::RunCommand(cli + " plan --profiles ramp --seeds 3 --fs 0.2 --json " + dir + "/p.json", &out), 0)
+      << out;
+  EXPECT_NE(out.find("simulated: 1 SE (seeds)"), std::string::npos) << out;
+  nlohmann::json j = testing::ReadJsonFile(dir + "/p.json");
+  ASSERT_EQ(j["profiles"].size(), 1u);
+  const double se = j["profiles"][0]["simulated_rms_rel_se"].get<double>();
+  EXPECT_GT(se, 0.0);
+  EXPECT_LT(se, 1.0);
+  ASSERT_EQ(testing::RunCommand(cli + " plan --profiles ramp --seeds 1 --fs 0.2 --json " + dir + "/q.json", &out), 0)
+      << out;
+  j = testing::ReadJsonFile(dir + "/q.json");
+  EXPECT_TRUE(j["profiles"][0]["simulated_rms_rel_se"].is_null());
+  EXPECT_EQ(testing::RunCommand(cli + " plan --profiles nosuch --seeds 1", &out), 2) << out;
+  EXPECT_NE(out.find("rate-cycles"), std::string::npos) << out;
   std::filesystem::remove_all(dir);
 }
 

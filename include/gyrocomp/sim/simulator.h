@@ -38,9 +38,13 @@ enum class ThermalProfileKind {
   kStairs,    // cold soak, staircase up (steps of 2 step_c at ramp_rate), staircase down (offset
               // by step_c, at ramp_rate / 2), plateaus held hold_s / 2: holds and two ramp rates in
               // both directions (11.5 h with the defaults)
+  kRateCycles,  // cold soak (room_hold_s / 2 at cold), 4 full-range cycles cold -> hot -> cold
+                // with hold_s / 3 at both ends; cycles 1 and 3 heat at 2 ramp_rate and cool at
+                // ramp_rate, 2 and 4 the reverse: many reversals and two rates each way (13.2 h);
+                // the design of docs/drift_model.md "What any estimator can reach"
   kUser,      // the user's chamber schedule: user_time_s / user_temp_c (simulate --profile-csv)
 };
-// "paper" | "soak" | "ramp" | "cycle" | "heat-cool" | "stairs" | "user".
+// "paper" | "soak" | "ramp" | "cycle" | "heat-cool" | "stairs" | "rate-cycles" | "user".
 std::optional<ThermalProfileKind> ParseThermalProfileKind(const std::string& name);
 const char* ThermalProfileKindName(ThermalProfileKind kind);
 

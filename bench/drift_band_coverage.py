@@ -7,7 +7,7 @@ direction and one in the same direction (other seeds: independent noise), and re
 coverage of the true drift, its half-width and the realised RMSE from `apply --json`.
 
 Usage: G=build/gyrocomp D=bandcov SEEDS="1 2 3 4 5 6" FS=1 /usr/bin/python3 bench/drift_band_coverage.py [-v]
-Options (environment): TWO_DIRECTION=1 adds the heat-cool and stairs calibrations, ONLY=<profile>
+Options (environment): TWO_DIRECTION=1 adds the heat-cool, stairs and rate-cycles calibrations, ONLY=<profile>
 keeps one calibration profile, STRUCTS="A B C E" keeps those structures.
 Prints per-run rows (with -v) and the summary tables of docs/drift_model.md "Prediction bands".
 """
@@ -41,6 +41,7 @@ PROFILES = {
 if os.environ.get("TWO_DIRECTION"):
     PROFILES["heat-cool"] = ("--profile heat-cool", HEAT, COOL)
     PROFILES["stairs"] = ("--profile stairs", HEAT, COOL)
+    PROFILES["rate-cycles"] = ("--profile rate-cycles", HEAT, COOL)
 if os.environ.get("ONLY"):  # e.g. ONLY=heat-cool or ONLY=stairs (with TWO_DIRECTION=1)
     PROFILES = {k: v for k, v in PROFILES.items() if k == os.environ["ONLY"]}
 if os.environ.get("STRUCTS"):  # e.g. STRUCTS="A B C E": the structures whose names start so

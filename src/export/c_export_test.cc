@@ -131,7 +131,8 @@ double SvrSumRounding(const DriftModel& dm, double t, double q) {
 std::vector<double> InputConditioning(const DriftModel& m, const std::vector<double>& temp, double dt, double ulps) {
   const double u0 = 1.0 / (1 << 24), u = ulps * u0;
   const double tau = m.state.causal_rate_tau_s;
-  const double gain = m.inputs == DriftInputSet::kTempAndRate ? std::sqrt(dt / (4.0 * tau * tau * tau))
+  const double gain = m.inputs == DriftInputSet::kTempAndRate || m.inputs == DriftInputSet::kTempRateAndMemory
+                          ? std::sqrt(dt / (4.0 * tau * tau * tau))
                       : m.inputs == DriftInputSet::kTempAndLag ? 1.0
                                                                : 0.0;
   // The lag coefficient a = 1 - exp(-dt/tau) is held in float to u b / a relative (a = 1 - b is
@@ -148,12 +149,14 @@ std::vector<double> InputConditioning(const DriftModel& m, const std::vector<dou
     const double q = ev.Step(dt, temp[i]);
     const double q_lo = ev_lo.Step(dt, temp[i]), q_hi = ev_hi.Step(dt, temp[i]);
     const double t = m.EffectiveTemp(temp[i]);
-    const double base = m.PredictAt(t, q);
+    const double mem = ev.memory();  // temp,dtemp,memory: the second state (0 for the others)
+    const double base = m.PredictAt(t, q, mem);
     const double dq = u * std::abs(q) + 6.0 * u0 * std::abs(temp[i]) * gain;
-    double worst = std::max(std::abs(m.PredictAt(t, q_lo) - base), std::abs(m.PredictAt(t, q_hi) - base));
+    double worst = std::max(std::abs(m.PredictAt(t, q_lo, ev_lo.memory()) - base),
+                            std::abs(m.PredictAt(t, q_hi, ev_hi.memory()) - base));
     for (double st : {-1.0, 1.0})
       for (double sr : {-1.0, 1.0})
-        worst = std::max(worst, std::abs(m.PredictAt(t * (1 + st * u), q + sr * dq) - base));
+        worst = std::max(worst, std::abs(m.PredictAt(t * (1 + st * u), q + sr * dq, mem * (1 + sr * u)) - base));
     out[i] = worst + SvrSumRounding(m, t, q);
   }
   return out;
@@ -172,8 +175,8 @@ SimulatedRun HeldOut(std::uint64_t seed, double fs_hz = 1.0) {
   return run;
 }
 
-// Seven axes, seven structures: poly and SVR on (T, dT/dt); poly degree 5 on T with the clamp
-// policy; SVR on T; poly on (T, lag) and (T, memory); a hybrid (the poly on (T, dT/dt) plus the
+// Eight axes, eight structures: poly and SVR on (T, dT/dt); poly degree 5 on T with the clamp
+// policy; SVR on T; poly on (T, lag), (T, memory) and (T, dT/dt, memory) (issue 23); a hybrid (the poly on (T, dT/dt) plus the
 // SVR on (T, dT/dt) as its kernel). Double: within 1e-12 of each axis's drift span; float: within
 // 1e-5 of it plus the model's own conditioning (issue 12).
 TEST_F(GeneratedCTest, AgreesWithTheLibraryCausalPrediction) {
@@ -193,6 +196,7 @@ TEST_F(GeneratedCTest, AgreesWithTheLibraryCausalPrediction) {
         {"svr", export_test::Fit(cal, DriftModelKind::kSvr, DriftInputSet::kTemp)},
         {"poly-lag", export_test::Fit(cal, DriftModelKind::kPolynomial, DriftInputSet::kTempAndLag)},
         {"poly-memory", export_test::Fit(cal, DriftModelKind::kPolynomial, DriftInputSet::kTempAndMemory)},
+        {"poly-rate-memory", export_test::Fit(cal, DriftModelKind::kPolynomial, DriftInputSet::kTempRateAndMemory)},
         {"hybrid-rate", hybrid}};
     // Every 4 s: the states (tau 75 s and more) are resolved as well, at a quarter of the cost.
     const double dt = 4.0;

@@ -145,7 +145,7 @@ std::vector<double> BlockFoldRmse(const DriftInputs& inputs, std::span<const dou
 // poly(temp, lag) on noise and doubled the held-out error (docs/notes/issue-11-s2.md).
 std::size_t ChooseStructured(const DriftInputs& inputs, std::span<const double> target, const DriftFitOptions& o,
                              std::vector<Candidate>* all, std::string* reason) {
-  std::vector<Candidate>& c = *all;  // order: temp, temp+dtemp, temp+lag, temp+memory
+  std::vector<Candidate>& c = *all;  // order: temp, temp+dtemp, temp+dtemp+memory, temp+lag, temp+memory
   std::size_t best = c[1].model ? 1 : 0;
   std::vector<double> incumbent = BlockFoldRmse(inputs, target, c[best], o);
   std::ostringstream why;
@@ -194,6 +194,7 @@ struct Support {
   bool states = true;         // Eq. I-0: a state coefficient fits the points
   bool kernels = true;        // Eq. I-0: enough points for a kernel
   bool memory = false;        // Eq. I-3
+  bool two_states = false;    // Eq. I-0: one more coefficient than a one-state candidate
   TermTest rate;              // Eq. I-1
   std::string description;    // data_support
 };
@@ -204,6 +205,7 @@ Support AssessSupport(const DriftInputs& inputs, std::span<const double> target,
   const std::size_t max_coef = MaxCoefficients(points);
   s.degree = std::min<int>(o.polynomial.degree, std::max<int>(1, static_cast<int>(max_coef) - 1));
   s.states = max_coef >= static_cast<std::size_t>(s.degree + 1 + o.polynomial.dtemp_degree);
+  s.two_states = max_coef >= static_cast<std::size_t>(s.degree + 2 + o.polynomial.dtemp_degree);
   s.kernels = points >= kMinKernelPoints;
   s.memory = MemoryIdentifiable(inputs, o);
   std::ostringstream d;
@@ -288,9 +290,23 @@ Result<DriftModel> FitAuto(const DriftInputs& inputs, std::span<const double> ta
   c.polynomial.degree = sup.degree;
   const bool memory = sup.memory;
   // Structured candidates: the polynomial with each thermal state the run identifies.
-  for (DriftInputSet in : {DriftInputSet::kTemp, DriftInputSet::kTempAndRate, DriftInputSet::kTempAndLag,
-                           DriftInputSet::kTempAndMemory}) {
+  // Order = the order of Eq. H-1's challenges (ChooseStructured): the two-state model first, as
+  // it nests the baseline poly(T, dT/dt) (one more term), then the lag and the memory alone.
+  for (DriftInputSet in : {DriftInputSet::kTemp, DriftInputSet::kTempAndRate, DriftInputSet::kTempRateAndMemory,
+                           DriftInputSet::kTempAndLag, DriftInputSet::kTempAndMemory}) {
     c.inputs = in;
+    // poly(T, dT/dt, memory) (issue 23): a unit with a die gain and a hysteresis together needs
+    // both states; with one, the gain absorbs the hysteresis on a two-rate run. Fitted only when
+    // Eq. I-1 keeps the gain AND Eq. I-3 allows a memory, and one more coefficient fits Eq. I-0.
+    if (in == DriftInputSet::kTempRateAndMemory) {
+      const char* why = !sup.states || !sup.two_states ? "left out: too few points for two states (Eq. I-0)"
+                        : !sup.rate.identified ? "left out: the run does not identify the dT/dt gain (Eq. I-1)"
+                        : !memory ? "skipped: the run does not both heat and cool over enough of its range (Eq. I-3)"
+                                  : nullptr;
+      all.push_back(why ? Skipped(DriftModelKind::kPolynomial, in, c, why)
+                        : FitCandidate(inputs, target, DriftModelKind::kPolynomial, c, plan));
+      continue;
+    }
     if (in != DriftInputSet::kTemp && !sup.states) {
       all.push_back(Skipped(DriftModelKind::kPolynomial, in, c, "left out: too few points (Eq. I-0)"));
       continue;
@@ -357,7 +373,7 @@ Result<DriftModel> FitAuto(const DriftInputs& inputs, std::span<const double> ta
     excluded.push_back({"kernel", all.back().model->summary.kernel_decision,
                         "a longer run whose blocks share the residual structure (Eq. H-1)"});
   if (!sup.rate.identified && std::isfinite(sup.rate.gain) && std::isfinite(sup.rate.gain_se) &&
-      model.inputs != DriftInputSet::kTempAndRate) {
+      model.inputs != DriftInputSet::kTempAndRate && model.inputs != DriftInputSet::kTempRateAndMemory) {
     model.summary.unidentified_rate_gain = sup.rate.gain;
     model.summary.unidentified_rate_gain_se = sup.rate.gain_se;
     model.summary.calibration_rate_vs_temp = sup.rate.rate_vs_temp;

@@ -146,5 +146,29 @@ TEST(DriftTwoState, ModelFileRoundTripAndCausalEvaluator) {
   EXPECT_NE(refused.error().message.find("powers outside"), std::string::npos) << refused.error().message;
 }
 
+// auto (docs/drift_model.md "Selection that predicts the next run", rule 1): the two-state
+// candidate is fitted when Eq. I-1 keeps the gain and Eq. I-3 allows a memory, and replaces
+// poly(T, dT/dt) when it passes Eq. H-1; on the paper's cooling staircase (Eq. I-3 fails) it is
+// skipped, and the selection reason says so.
+TEST(DriftTwoState, AutoChoosesItOnATwoRateStaircaseAndSkipsItOnTheCoolingRun) {
+  DriftFitOptions o;
+  o.auto_select.try_svr = false;  // the structured choice only
+  const SimulatedRun stairs = SimRun(ThermalProfileKind::kStairs, 1);
+  auto m = FitDriftModel({stairs.temp_c, stairs.fs_hz}, stairs.rate_dps, o);
+  ASSERT_TRUE(m.ok()) << m.error().message;
+  EXPECT_EQ(m->inputs, DriftInputSet::kTempRateAndMemory) << m->summary.selection_reason;
+  EXPECT_NE(m->summary.selection_reason.find("auto chose poly(temp,dtemp,memory)"), std::string::npos)
+      << m->summary.selection_reason;
+  EXPECT_NE(m->summary.selection_reason.find("poly(temp,dtemp,memory) gains"), std::string::npos);
+  const SimulatedRun paper = SimRun(ThermalProfileKind::kPaper, 1);
+  auto p = FitDriftModel({paper.temp_c, paper.fs_hz}, paper.rate_dps, o);
+  ASSERT_TRUE(p.ok()) << p.error().message;
+  EXPECT_NE(p->inputs, DriftInputSet::kTempRateAndMemory);
+  bool skipped = false;
+  for (const DriftCandidateScore& c : p->summary.candidates)
+    if (c.inputs == DriftInputSet::kTempRateAndMemory) skipped = !std::isfinite(c.cv_rmse) && c.note.find("Eq. I-3") != std::string::npos;
+  EXPECT_TRUE(skipped) << p->summary.selection_reason;
+}
+
 }  // namespace
 }  // namespace gyrocomp

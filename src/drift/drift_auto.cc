@@ -297,8 +297,8 @@ Result<DriftModel> FitAuto(const DriftInputs& inputs, std::span<const double> ta
   c.polynomial.degree = sup.degree;
   const bool memory = sup.memory;
   // Structured candidates: the polynomial with each thermal state the run identifies.
-  // Order = the order of Eq. H-1's challenges (ChooseStructured): the two-state model first, as
-  // it nests the baseline poly(T, dT/dt) (one more term), then the lag and the memory alone.
+  // Order as ChooseStructured reads it: temp, temp+dtemp, then the two-state model (the baseline
+  // when fitted: it nests poly(T, dT/dt)), then the lag and the memory alone (its challengers).
   for (DriftInputSet in : {DriftInputSet::kTemp, DriftInputSet::kTempAndRate, DriftInputSet::kTempRateAndMemory,
                            DriftInputSet::kTempAndLag, DriftInputSet::kTempAndMemory}) {
     c.inputs = in;

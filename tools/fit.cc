@@ -284,8 +284,10 @@ Command Make(CLI::App& app) {
                   "Model: auto (compares the others on left-out thermal segments) | poly | svr | grid-svr | cs-svr "
                   "(the paper) | hybrid (poly + CS-SVR on its residual)")
       ->check(CLI::IsMember({"auto", "cs-svr", "svr", "grid-svr", "poly", "hybrid"}))->capture_default_str();
-  sub->add_option("--inputs", a->inputs, "Model inputs (not with auto): temp | temp,dtemp | temp,lag | temp,memory")
-      ->check(CLI::IsMember({"temp", "temp,dtemp", "temp,lag", "temp,memory"}))->capture_default_str();
+  sub->add_option("--inputs", a->inputs,
+                  "Model inputs (not with auto): temp | temp,dtemp | temp,lag | temp,memory | temp,dtemp,memory")
+      ->check(CLI::IsMember({"temp", "temp,dtemp", "temp,lag", "temp,memory", "temp,dtemp,memory"}))
+      ->capture_default_str();
   sub->add_option("--lag-tau", a->lag_tau_s, "temp,lag: time constant of the lag state, s (default: fitted)");
   sub->add_option("--out-of-range", a->out_of_range,
                   "Temperature outside the fitted range: extrapolate | clamp (stored in the model file)")

@@ -44,15 +44,21 @@ namespace {
 
 constexpr double kZ90 = 1.6448536269514722;  // standard normal 95th percentile: two-sided 90%
 
-// Terms of the structured polynomial at one raw (T, state) pair.
-Eigen::VectorXd TermRow(const PolynomialModel& p, double temp_c, double state) {
+// Terms of the structured polynomial at one raw (T, state[, memory]) (Eq. B-1's a_i; the
+// memory column of temp,dtemp,memory is one more term).
+Eigen::VectorXd TermRow(const PolynomialModel& p, double temp_c, double state, double memory) {
   const double t = (temp_c - p.input_scaler.offset[0]) / p.input_scaler.scale[0];
   const double r = p.input_scaler.offset.size() > 1 ? (state - p.input_scaler.offset[1]) / p.input_scaler.scale[1] : 0.0;
+  const double m = p.input_scaler.offset.size() > 2 ? (memory - p.input_scaler.offset[2]) / p.input_scaler.scale[2] : 0.0;
   Eigen::VectorXd a(static_cast<Eigen::Index>(p.terms.size()));
   for (std::size_t k = 0; k < p.terms.size(); ++k)
-    a(static_cast<Eigen::Index>(k)) = std::pow(t, p.terms[k].temp_power) * std::pow(r, p.terms[k].dtemp_power);
+    a(static_cast<Eigen::Index>(k)) = std::pow(t, p.terms[k].temp_power) * std::pow(r, p.terms[k].dtemp_power) *
+                                      std::pow(m, p.terms[k].memory_power);
   return a;
 }
+
+// Column j of sample i, 0 when the record has no such column.
+double Col(const Columns& x, std::size_t j, std::size_t i) { return x.size() > j ? x[j][i] : 0.0; }
 
 // The residual's noise model (Eq. G-1), or white noise of the residual's variance when the
 // record is too short for an Allan fit.
@@ -84,7 +90,7 @@ Result<Eigen::MatrixXd> ParameterCovariance(const DriftModel& m, const DriftInpu
   const auto pn = static_cast<Eigen::Index>(p.terms.size());
   Eigen::MatrixXd a(static_cast<Eigen::Index>(n), pn);
   for (std::size_t i = 0; i < n; ++i)
-    a.row(static_cast<Eigen::Index>(i)) = TermRow(p, d->xd[0][i], d->xd.size() > 1 ? d->xd[1][i] : 0.0).transpose();
+    a.row(static_cast<Eigen::Index>(i)) = TermRow(p, d->xd[0][i], Col(d->xd, 1, i), Col(d->xd, 2, i)).transpose();
   const double duration_s = static_cast<double>(target.size()) / inputs.fs_hz;
   const double f_floor_hz = 1.0 / (2.0 * 3.14159265358979323846 * o.noise_psd.max_tau_fraction * duration_s);
   const std::vector<double> r = BlockMeanAutocovariance(psd, n, d->train_period_s, f_floor_hz);  // Eq. G-2, floored
@@ -122,7 +128,7 @@ Status AttachBand(const DriftInputs& inputs, std::span<const double> target, con
     auto features = BuildFeatures(inputs, m->inputs, m->rate, m->state, /*causal=*/false);
     if (!features.ok()) return features.error();
     for (std::size_t i = 0; i < target.size(); ++i) {
-      const Eigen::VectorXd a = TermRow(*m->structured, (*features)[0][i], features->size() > 1 ? (*features)[1][i] : 0.0);
+      const Eigen::VectorXd a = TermRow(*m->structured, (*features)[0][i], Col(*features, 1, i), Col(*features, 2, i));
       param_var += a.dot(cov * a) / static_cast<double>(target.size());
     }
   }
@@ -204,7 +210,7 @@ Result<DriftBand> DriftModel::PredictBand(const DriftInputs& in, bool causal) co
     }
     if (features) {
       const Eigen::VectorXd a = drift_internal::TermRow(*structured, EffectiveTemp((*features)[0][i]),
-                                                        features->size() > 1 ? (*features)[1][i] : 0.0);
+                                                        drift_internal::Col(*features, 1, i), drift_internal::Col(*features, 2, i));
       var += a.dot(cov * a);
     }
     const double half = z * std::sqrt(std::max(0.0, var));

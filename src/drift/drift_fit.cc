@@ -51,7 +51,7 @@ MakeFitPredict HybridFitPredict(const PolynomialOptions& p) {
 void FoldIntercept(PolynomialModel* poly, SvrModel* svr) {
   const double constant = svr->target_offset + svr->target_scale * svr->intercept;
   for (PolynomialTerm& t : poly->terms)
-    if (t.temp_power == 0 && t.dtemp_power == 0) t.coefficient += constant;
+    if (t.temp_power == 0 && t.dtemp_power == 0 && t.memory_power == 0) t.coefficient += constant;
   svr->target_offset = 0.0;
   svr->intercept = 0.0;
 }

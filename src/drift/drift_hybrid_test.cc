@@ -252,12 +252,13 @@ TEST(DriftModelAuto, ExplainsItsChoiceAndSkipsWhatTheRunCannotIdentify) {
   auto a = FitDriftModel({temp, fs_hz}, y, o);
   ASSERT_TRUE(a.ok()) << a.error().message;
   EXPECT_NE(a->kind, DriftModelKind::kAuto);
-  EXPECT_EQ(a->summary.candidates.size(), 7u);
+  EXPECT_EQ(a->summary.candidates.size(), 8u);  // + poly(temp,dtemp,memory) (issue 23)
   EXPECT_NE(a->summary.selection_reason.find("auto chose"), std::string::npos);
   EXPECT_NE(a->summary.identifiability.find("NOT identifiable"), std::string::npos) << a->summary.identifiability;
   for (const DriftCandidateScore& c : a->summary.candidates)
     if (c.kind == DriftModelKind::kCsSvr || c.kind == DriftModelKind::kHybrid ||
-        c.inputs == DriftInputSet::kTempAndMemory || c.inputs == DriftInputSet::kTempAndLag) {
+        c.inputs == DriftInputSet::kTempAndMemory || c.inputs == DriftInputSet::kTempAndLag ||
+        c.inputs == DriftInputSet::kTempRateAndMemory) {
       EXPECT_FALSE(std::isfinite(c.cv_rmse)) << c.name;
       EXPECT_FALSE(c.note.empty()) << c.name;
     }

@@ -212,6 +212,11 @@ Result<Columns> BuildFeatures(const DriftInputs& inputs, DriftInputSet set, cons
     if (!r.ok()) return r.error();
     x.push_back(std::move(*r));
   }
+  if (HasSecondMemoryState(set)) {  // temp,dtemp,memory: the memory of Eq. TS-3 as column 2
+    auto m = ComputeThermalState(inputs.temp_c, inputs.fs_hz, DriftInputSet::kTempAndMemory, rate, state, true);
+    if (!m.ok()) return m.error();
+    x.push_back(std::move(*m));
+  }
   return x;
 }
 
@@ -236,12 +241,12 @@ double DriftModel::EffectiveTemp(double temp_c) const {
   return temp_c;
 }
 
-double DriftModel::PredictAt(double temp_c, double state) const {
+double DriftModel::PredictAt(double temp_c, double state, double memory) const {
   const double t = EffectiveTemp(temp_c);
   double f = 0.0;
-  if (structured) f += structured->PredictOne(t, state);
+  if (structured) f += structured->PredictOne(t, state, memory);
   if (kernel) {
-    const double x[2] = {t, state};
+    const double x[3] = {t, state, memory};
     f += kernel->PredictOne(std::span<const double>(x, kernel->num_inputs));
   }
   return f;

@@ -78,6 +78,7 @@ const char* StateType(DriftInputSet in) {
     case DriftInputSet::kTempAndRate: return "rate";
     case DriftInputSet::kTempAndLag: return "lag";
     case DriftInputSet::kTempAndMemory: return "memory";
+    case DriftInputSet::kTempRateAndMemory: return "rate+memory";
   }
   return "none";
 }
@@ -106,6 +107,17 @@ json ThermalStateJson(const DriftModel& m) {
       j["update"] = "r from the rate update (L1, L2, tau_r); if |r| > deadband: m += min(1, |r| dt / width) "
                     "(sign(r) - m); s = m; m = 0 at the first sample";
       break;
+    case DriftInputSet::kTempRateAndMemory:  // issue 23: both states, Eqs. TS-1 and TS-3
+      j["memory_column"] = kMemoryColumnName;
+      j["batch"] = "s: centred least-squares slope over window_s (apply default); m: always causal";
+      j["window_s"] = m.rate.window_s;
+      j["causal_rate_tau_s"] = m.state.causal_rate_tau_s;
+      j["memory_width_c"] = m.state.memory_width_c;
+      j["memory_deadband_c_per_s"] = m.state.memory_deadband_c_per_s;
+      j["update"] = "a = 1 - exp(-dt/tau_r); L1 += a (T - L1); L2 += a (L1 - L2); r = (L1 - L2) / d, "
+                    "d = dt / (exp(dt/tau_r) - 1); s = r; if |r| > deadband: m += min(1, |r| dt / width) "
+                    "(sign(r) - m); L1 = L2 = T, m = 0 at the first sample";
+      break;
   }
   return j;
 }
@@ -118,6 +130,7 @@ json AxisJson(const DriftModel& m) {
   j["kind"] = DriftModelKindName(m.kind);
   j["inputs"] = m.inputs == DriftInputSet::kTemp ? json::array({"temp_c"})
                                                  : json::array({"temp_c", ThermalStateColumnName(m.inputs)});
+  if (HasSecondMemoryState(m.inputs)) j["inputs"].push_back(kMemoryColumnName);
   j["thermal_state"] = ThermalStateJson(m);
   j["out_of_range"] = {{"policy", OutOfRangePolicyName(m.out_of_range)},
                        {"temp_min_c", m.summary.temp_min_c},
@@ -127,11 +140,18 @@ json AxisJson(const DriftModel& m) {
   j["structured"] = json();
   if (const auto& p = m.structured) {
     json terms = json::array();
-    for (const PolynomialTerm& t : p->terms)
+    for (const PolynomialTerm& t : p->terms) {
       terms.push_back({{"temp_power", t.temp_power}, {"dtemp_power", t.dtemp_power}, {"coefficient", t.coefficient}});
+      if (t.memory_power) terms.back()["memory_power"] = t.memory_power;  // optional (issue 23)
+    }
+    const bool mem = HasSecondMemoryState(m.inputs);
     j["structured"] = {{"type", "polynomial"},
-                       {"variables", "t = (temp_c - input_offset[0]) / input_scale[0], "
-                                     "r = (state - input_offset[1]) / input_scale[1]; sum coefficient t^temp_power r^dtemp_power"},
+                       {"variables", mem ? "t = (temp_c - input_offset[0]) / input_scale[0], "
+                                           "r = (state - input_offset[1]) / input_scale[1], "
+                                           "m = (memory - input_offset[2]) / input_scale[2]; "
+                                           "sum coefficient t^temp_power r^dtemp_power m^memory_power (memory_power absent: 0)"
+                                         : "t = (temp_c - input_offset[0]) / input_scale[0], "
+                                           "r = (state - input_offset[1]) / input_scale[1]; sum coefficient t^temp_power r^dtemp_power"},
                        {"input_offset", p->input_scaler.offset},
                        {"input_scale", p->input_scaler.scale},
                        {"terms", terms}};
@@ -198,15 +218,17 @@ std::size_t ReadInputsV2(Reader& r, const json& axis, DriftModel* m) {
   const json* inputs = r.Get(axis, "inputs", "inputs");
   if (!inputs) return 0;
   for (DriftInputSet in : {DriftInputSet::kTemp, DriftInputSet::kTempAndRate, DriftInputSet::kTempAndLag,
-                           DriftInputSet::kTempAndMemory}) {
-    const json want = in == DriftInputSet::kTemp ? json::array({"temp_c"})
-                                                 : json::array({"temp_c", ThermalStateColumnName(in)});
+                           DriftInputSet::kTempAndMemory, DriftInputSet::kTempRateAndMemory}) {
+    json want = in == DriftInputSet::kTemp ? json::array({"temp_c"})
+                                           : json::array({"temp_c", ThermalStateColumnName(in)});
+    if (HasSecondMemoryState(in)) want.push_back(kMemoryColumnName);
     if (*inputs == want) {
       m->inputs = in;
-      return in == DriftInputSet::kTemp ? 1 : 2;
+      return want.size();
     }
   }
-  r.Fail("field 'inputs' must be [\"temp_c\"] or [\"temp_c\", \"dtemp_c_per_s\" | \"lag_excess_c\" | \"memory\"]");
+  r.Fail("field 'inputs' must be [\"temp_c\"], [\"temp_c\", \"dtemp_c_per_s\" | \"lag_excess_c\" | \"memory\"] or "
+         "[\"temp_c\", \"dtemp_c_per_s\", \"memory\"]");
   return 0;
 }
 
@@ -219,7 +241,9 @@ void ReadThermalState(Reader& r, const json& ts, DriftModel* m) {
   } else if (m->inputs == DriftInputSet::kTempAndLag) {
     m->state.lag_tau_s = r.Number(ts, "lag_tau_s", "thermal_state.lag_tau_s");
     m->summary.lag_tau_s = m->state.lag_tau_s;
-  } else if (m->inputs == DriftInputSet::kTempAndMemory) {
+  } else if (m->inputs == DriftInputSet::kTempAndMemory || m->inputs == DriftInputSet::kTempRateAndMemory) {
+    if (m->inputs == DriftInputSet::kTempRateAndMemory)
+      m->rate.window_s = r.Number(ts, "window_s", "thermal_state.window_s");
     m->state.causal_rate_tau_s = r.Number(ts, "causal_rate_tau_s", "thermal_state.causal_rate_tau_s");
     m->state.memory_width_c = r.Number(ts, "memory_width_c", "thermal_state.memory_width_c");
     m->state.memory_deadband_c_per_s = r.Number(ts, "memory_deadband_c_per_s", "thermal_state.memory_deadband_c_per_s");

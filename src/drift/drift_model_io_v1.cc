@@ -99,8 +99,12 @@ PolynomialModel ReadPolynomialModel(Reader& r, const json& model, const AffineSc
       term.temp_power = static_cast<int>(r.Integer(t, "temp_power", path + ".terms[].temp_power"));
       term.dtemp_power = static_cast<int>(r.Integer(t, "dtemp_power", path + ".terms[].dtemp_power"));
       term.coefficient = r.Number(t, "coefficient", path + ".terms[].coefficient");
+      // Optional (issue 23): the memory of temp,dtemp,memory, linear, with 3 inputs only.
+      if (r.ok() && t.is_object() && t.contains("memory_power"))
+        term.memory_power = static_cast<int>(r.Integer(t, "memory_power", path + ".terms[].memory_power"));
       if (r.ok() && (term.temp_power < 0 || term.temp_power > 5 || term.dtemp_power < 0 ||
-                     term.dtemp_power > 3 || (term.dtemp_power > 0 && num_inputs < 2)))
+                     term.dtemp_power > 3 || (term.dtemp_power > 0 && num_inputs < 2) || term.memory_power < 0 ||
+                     term.memory_power > 1 || (term.memory_power > 0 && num_inputs < 3)))
         r.Fail("a term in '" + path + ".terms' has powers outside the model's inputs and degrees");
       p.terms.push_back(term);
     }

@@ -7,19 +7,24 @@
 
 namespace gyrocomp {
 
-double PolynomialModel::PredictOne(double temp_c, double state) const {
+double PolynomialModel::PredictOne(double temp_c, double state, double memory) const {
   const double t = (temp_c - input_scaler.offset[0]) / input_scaler.scale[0];
   const double r = input_scaler.offset.size() > 1 ? (state - input_scaler.offset[1]) / input_scaler.scale[1] : 0.0;
+  const double m = input_scaler.offset.size() > 2 ? (memory - input_scaler.offset[2]) / input_scaler.scale[2] : 0.0;
   double f = 0.0;
-  for (const PolynomialTerm& term : terms)
-    f += term.coefficient * std::pow(t, term.temp_power) * std::pow(r, term.dtemp_power);
+  for (const PolynomialTerm& term : terms) {
+    double v = term.coefficient * std::pow(t, term.temp_power) * std::pow(r, term.dtemp_power);
+    if (term.memory_power) v *= std::pow(m, term.memory_power);  // temp,dtemp,memory only
+    f += v;
+  }
   return f;
 }
 
 std::vector<double> PolynomialModel::Predict(const std::vector<std::vector<double>>& inputs) const {
   const std::size_t n = inputs.empty() ? 0 : inputs[0].size();
   std::vector<double> out(n, 0.0);
-  for (std::size_t i = 0; i < n; ++i) out[i] = PredictOne(inputs[0][i], inputs.size() > 1 ? inputs[1][i] : 0.0);
+  for (std::size_t i = 0; i < n; ++i)
+    out[i] = PredictOne(inputs[0][i], inputs.size() > 1 ? inputs[1][i] : 0.0, inputs.size() > 2 ? inputs[2][i] : 0.0);
   return out;
 }
 
@@ -34,10 +39,12 @@ Result<PolynomialModel> PolynomialTerms(const Columns& x, std::size_t n, const P
   if (!options.IsValid(&why)) return InvalidArgument(why);
   PolynomialModel model;
   model.input_scaler = AffineScaler::Standardize(x);
-  // Terms: t^0 .. t^degree, then r^1 .. r^dtemp_degree when dT/dt is an input.
-  for (int p = 0; p <= options.degree; ++p) model.terms.push_back({p, 0, 0.0});
+  // Terms: t^0 .. t^degree, then r^1 .. r^dtemp_degree when dT/dt is an input, then m (linear)
+  // when the memory is a second state (temp,dtemp,memory).
+  for (int p = 0; p <= options.degree; ++p) model.terms.push_back({p, 0, 0.0, 0});
   if (x.size() > 1)
-    for (int q = 1; q <= options.dtemp_degree; ++q) model.terms.push_back({0, q, 0.0});
+    for (int q = 1; q <= options.dtemp_degree; ++q) model.terms.push_back({0, q, 0.0, 0});
+  if (x.size() > 2) model.terms.push_back({0, 0, 0.0, 1});
   const std::size_t m = model.terms.size();
   if (n < m)
     return InvalidInput("polynomial fit: " + std::to_string(m) + " coefficients need at least " +
@@ -46,9 +53,11 @@ Result<PolynomialModel> PolynomialTerms(const Columns& x, std::size_t n, const P
   for (std::size_t i = 0; i < n; ++i) {
     const double t = (x[0][i] - model.input_scaler.offset[0]) / model.input_scaler.scale[0];
     const double r = x.size() > 1 ? (x[1][i] - model.input_scaler.offset[1]) / model.input_scaler.scale[1] : 0.0;
+    const double mm = x.size() > 2 ? (x[2][i] - model.input_scaler.offset[2]) / model.input_scaler.scale[2] : 0.0;
     for (std::size_t k = 0; k < m; ++k)
-      (*a)(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(k)) =
-          std::pow(t, model.terms[k].temp_power) * std::pow(r, model.terms[k].dtemp_power);
+      (*a)(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(k)) = std::pow(t, model.terms[k].temp_power) *
+                                                                          std::pow(r, model.terms[k].dtemp_power) *
+                                                                          std::pow(mm, model.terms[k].memory_power);
   }
   return model;
 }

@@ -30,6 +30,7 @@ std::optional<DriftInputSet> ParseDriftInputSet(std::string_view name) {
   if (name == "temp,dtemp") return DriftInputSet::kTempAndRate;
   if (name == "temp,lag") return DriftInputSet::kTempAndLag;
   if (name == "temp,memory") return DriftInputSet::kTempAndMemory;
+  if (name == "temp,dtemp,memory") return DriftInputSet::kTempRateAndMemory;
   return std::nullopt;
 }
 
@@ -39,6 +40,7 @@ const char* DriftInputSetName(DriftInputSet inputs) {
     case DriftInputSet::kTempAndRate: return "temp,dtemp";
     case DriftInputSet::kTempAndLag: return "temp,lag";
     case DriftInputSet::kTempAndMemory: return "temp,memory";
+    case DriftInputSet::kTempRateAndMemory: return "temp,dtemp,memory";
   }
   return "?";
 }
@@ -46,7 +48,8 @@ const char* DriftInputSetName(DriftInputSet inputs) {
 const char* ThermalStateColumnName(DriftInputSet inputs) {
   switch (inputs) {
     case DriftInputSet::kTemp: return "";
-    case DriftInputSet::kTempAndRate: return "dtemp_c_per_s";
+    case DriftInputSet::kTempAndRate:
+    case DriftInputSet::kTempRateAndMemory: return "dtemp_c_per_s";
     case DriftInputSet::kTempAndLag: return "lag_excess_c";
     case DriftInputSet::kTempAndMemory: return "memory";
   }
@@ -67,7 +70,7 @@ double ThermalStateEvaluator::Step(double dt_s, double temp_c) {
     started_ = true;
     l1_ = l2_ = lag_ = temp_c;
     memory_ = 0.0;
-    return inputs_ == DriftInputSet::kTempAndMemory ? memory_ : 0.0;
+    return inputs_ == DriftInputSet::kTempAndMemory ? memory_ : 0.0;  // the rate starts at 0 too
   }
   switch (inputs_) {
     case DriftInputSet::kTemp: return 0.0;
@@ -76,7 +79,8 @@ double ThermalStateEvaluator::Step(double dt_s, double temp_c) {
       return temp_c - lag_;
     }
     case DriftInputSet::kTempAndRate:
-    case DriftInputSet::kTempAndMemory: {
+    case DriftInputSet::kTempAndMemory:
+    case DriftInputSet::kTempRateAndMemory: {
       const double tau = options_.causal_rate_tau_s;
       const double a = LagGain(dt_s, tau);
       l1_ += a * (temp_c - l1_);  // Eq. TS-1
@@ -90,7 +94,7 @@ double ThermalStateEvaluator::Step(double dt_s, double temp_c) {
         const double k = std::min(1.0, std::abs(r) * dt_s / options_.memory_width_c);
         memory_ += k * ((r > 0.0 ? 1.0 : -1.0) - memory_);
       }
-      return memory_;
+      return inputs_ == DriftInputSet::kTempRateAndMemory ? r : memory_;
     }
   }
   return 0.0;
@@ -113,7 +117,8 @@ Result<std::vector<double>> ComputeThermalState(std::span<const double> temp_c, 
                           ": must be in [-273.15, 1000] C");
     }
   }
-  if (inputs == DriftInputSet::kTempAndRate && !causal) return TemperatureRate(temp_c, fs_hz, rate);
+  if ((inputs == DriftInputSet::kTempAndRate || inputs == DriftInputSet::kTempRateAndMemory) && !causal)
+    return TemperatureRate(temp_c, fs_hz, rate);
   std::string why;
   if (!options.IsValid(&why)) return InvalidArgument(why);
   if (!(fs_hz > 0.0) || !std::isfinite(fs_hz))

@@ -41,12 +41,19 @@ TEST(ThermalState, BatchEqualsStepAndEvaluatorEqualsCausalPredict) {
     temp[i] = 20.0 + 30.0 * std::sin(t / 900.0) + 0.01 * std::sin(7.0 * t);
     y[i] = 1e-3 * temp[i] + 2e-4 * std::cos(t / 900.0);
   }
-  for (DriftInputSet in : {DriftInputSet::kTempAndRate, DriftInputSet::kTempAndLag, DriftInputSet::kTempAndMemory}) {
+  for (DriftInputSet in : {DriftInputSet::kTempAndRate, DriftInputSet::kTempAndLag, DriftInputSet::kTempAndMemory,
+                           DriftInputSet::kTempRateAndMemory}) {
     ThermalStateOptions o;
     auto batch = ComputeThermalState(temp, fs_hz, in, {}, o, true);
     ASSERT_TRUE(batch.ok());
+    auto memory = ComputeThermalState(temp, fs_hz, DriftInputSet::kTempAndMemory, {}, o, true);
+    ASSERT_TRUE(memory.ok());
     ThermalStateEvaluator ev(in, o);
-    for (std::size_t i = 0; i < temp.size(); ++i) ASSERT_EQ((*batch)[i], ev.Step(1.0 / fs_hz, temp[i])) << i;
+    for (std::size_t i = 0; i < temp.size(); ++i) {
+      ASSERT_EQ((*batch)[i], ev.Step(1.0 / fs_hz, temp[i])) << i;
+      // temp,dtemp,memory: its second state is the memory of Eq. TS-3, from the same lags.
+      if (HasSecondMemoryState(in)) ASSERT_EQ((*memory)[i], ev.memory()) << i;
+    }
 
     DriftFitOptions f;
     f.model = DriftModelKind::kHybrid;

@@ -34,8 +34,10 @@ bool IsCIdentifier(const std::string& s) {
   return true;
 }
 
-bool UsesRate(const DriftModel& m) {
-  return m.inputs == DriftInputSet::kTempAndRate || m.inputs == DriftInputSet::kTempAndMemory;
+bool UsesRate(const DriftModel& m) { return UsesCausalRate(m.inputs); }
+// Eq. TS-3 carried in state->mem: as the state (temp,memory) or as the second state (temp,dtemp,memory).
+bool UsesMemory(const DriftModel& m) {
+  return m.inputs == DriftInputSet::kTempAndMemory || HasSecondMemoryState(m.inputs);
 }
 bool UsesState(const DriftModel& m) { return m.inputs != DriftInputSet::kTemp; }
 bool IsSvr(const DriftModel& m) { return m.kernel.has_value(); }
@@ -63,15 +65,19 @@ Status CheckFinite(const AxisDriftModel& a) {
   return Status::Ok();
 }
 
-// "static P_real <p>_aK_eval(P_real temp_c, P_real dtemp)" for a polynomial model.
+// "static P_real <p>_aK_poly(P_real temp_c, P_real dtemp, P_real mem)" for a polynomial model
+// (mem: the second state of temp,dtemp,memory; unused otherwise).
 void EmitPolynomial(std::ostringstream& s, const Names& n, int k, const PolynomialModel& m, bool rate) {
   int max_t = 0, max_r = 0;
+  bool any_m = false;
   for (const auto& t : m.terms) {
     max_t = std::max(max_t, t.temp_power);
     max_r = std::max(max_r, t.dtemp_power);
+    any_m = any_m || t.memory_power > 0;
   }
   const std::string a = n.p + "_a" + std::to_string(k);
-  s << "static " << n.real << " " << a << "_poly(" << n.real << " temp_c, " << n.real << " dtemp) {\n";
+  s << "static " << n.real << " " << a << "_poly(" << n.real << " temp_c, " << n.real << " dtemp, " << n.real
+    << " mem) {\n";
   s << "  " << n.real << " tp[" << max_t + 1 << "], rp[" << max_r + 1 << "];\n  " << n.real << " f = "
     << n.R(0.0) << ";\n  int i;\n";
   s << "  const " << n.real << " t = (temp_c - " << n.R(m.input_scaler.offset[0]) << ") / "
@@ -81,12 +87,19 @@ void EmitPolynomial(std::ostringstream& s, const Names& n, int k, const Polynomi
       << n.R(m.input_scaler.scale[1]) << ";\n";
   else
     s << "  const " << n.real << " r = " << n.R(0.0) << ";\n  (void)dtemp;\n";
+  if (any_m && m.input_scaler.offset.size() > 2)  // PolynomialModel::PredictOne's m
+    s << "  const " << n.real << " m = (mem - " << n.R(m.input_scaler.offset[2]) << ") / "
+      << n.R(m.input_scaler.scale[2]) << ";\n";
+  else
+    s << "  (void)mem;\n";
   s << "  tp[0] = " << n.R(1.0) << ";\n  rp[0] = " << n.R(1.0) << ";\n";
   s << "  for (i = 1; i <= " << max_t << "; ++i) tp[i] = tp[i - 1] * t;\n";
   s << "  for (i = 1; i <= " << max_r << "; ++i) rp[i] = rp[i - 1] * r;\n";
   // sum_k c_k t^p_k r^q_k, in the library's order.
-  for (const auto& t : m.terms)
-    s << "  f += " << n.R(t.coefficient) << " * tp[" << t.temp_power << "] * rp[" << t.dtemp_power << "];\n";
+  for (const auto& t : m.terms) {
+    s << "  f += " << n.R(t.coefficient) << " * tp[" << t.temp_power << "] * rp[" << t.dtemp_power << "]";
+    s << (t.memory_power > 0 && any_m && m.input_scaler.offset.size() > 2 ? " * m;\n" : ";\n");
+  }
   s << "  return f;\n}\n\n";
 }
 
@@ -101,13 +114,18 @@ void EmitSvr(std::ostringstream& s, const Names& n, int k, const SvrModel& m) {
     for (std::size_t i = 0; i < nsv; ++i) s << (i % 4 ? " " : "\n  ") << Num(m.coefficients[i]) << ",";
     s << "\n};\n\n";
   }
-  s << "static " << n.real << " " << a << "_svr(" << n.real << " temp_c, " << n.real << " dtemp) {\n";
+  s << "static " << n.real << " " << a << "_svr(" << n.real << " temp_c, " << n.real << " dtemp, " << n.real
+    << " mem) {\n";
   s << "  " << n.real << " z[" << nin << "];\n  " << n.real << " f = " << n.R(m.intercept) << ";\n";
   s << "  z[0] = (temp_c - " << n.R(m.input_scaler.offset[0]) << ") / " << n.R(m.input_scaler.scale[0]) << ";\n";
   if (nin > 1)
     s << "  z[1] = (dtemp - " << n.R(m.input_scaler.offset[1]) << ") / " << n.R(m.input_scaler.scale[1]) << ";\n";
   else
     s << "  (void)dtemp;\n";
+  if (nin > 2)
+    s << "  z[2] = (mem - " << n.R(m.input_scaler.offset[2]) << ") / " << n.R(m.input_scaler.scale[2]) << ";\n";
+  else
+    s << "  (void)mem;\n";
   if (nsv > 0) {
     // Compensated (Kahan) sum: the terms cancel (|sum| << sum |terms|), which float alone would
     // not survive (docs/export.md). Do not compile with -ffast-math: it removes the compensation.
@@ -194,14 +212,26 @@ void EmitPrelude(std::ostringstream& s, const std::vector<AxisDriftModel>& axes,
 // The axis's model function: structured part + kernel part (DriftModel::PredictAt's order).
 void EmitAxisEval(std::ostringstream& s, const Names& n, int k, const DriftModel& m) {
   const std::string a = n.p + "_a" + std::to_string(k);
-  s << "static " << n.real << " " << a << "_eval(" << n.real << " temp_c, " << n.real << " state) {\n";
+  s << "static " << n.real << " " << a << "_eval(" << n.real << " temp_c, " << n.real << " state, " << n.real
+    << " mem) {\n";
   s << "  " << n.real << " f = " << n.R(0.0) << ";\n";
-  if (m.structured) s << "  f += " << a << "_poly(temp_c, state);\n";
-  if (m.kernel) s << "  f += " << a << "_svr(temp_c, state);\n";
+  if (m.structured) s << "  f += " << a << "_poly(temp_c, state, mem);\n";
+  if (m.kernel) s << "  f += " << a << "_svr(temp_c, state, mem);\n";
   s << "  return f;\n}\n\n";
 }
 
-// The thermal state of axis k after this sample (ThermalStateEvaluator::Step), into `st`.
+// Eq. TS-3 on the rate r of Eq. TS-1 (ThermalStateEvaluator::Step), into state->mem[k].
+void EmitMemoryUpdate(std::ostringstream& s, const Names& n, const std::string& K, const ThermalStateOptions& o) {
+  s << "  if (!state->initialized) {\n    state->mem[" << K << "] = " << n.R(0.0)
+    << ";\n  } else if ((r < " << n.R(0.0) << " ? -r : r) > " << n.R(o.memory_deadband_c_per_s) << ") {\n"
+    << "    " << n.real << " g = (r < " << n.R(0.0) << " ? -r : r) * dt_s / " << n.R(o.memory_width_c) << ";\n"
+    << "    if (g > " << n.R(1.0) << ") g = " << n.R(1.0) << ";\n"
+    << "    state->mem[" << K << "] += g * ((r > " << n.R(0.0) << " ? " << n.R(1.0) << " : " << n.R(-1.0)
+    << ") - state->mem[" << K << "]);\n  }\n";
+}
+
+// The thermal state of axis k after this sample (ThermalStateEvaluator::Step), into `st` (and
+// the second state of temp,dtemp,memory into `mt`; 0 otherwise).
 void EmitState(std::ostringstream& s, const Names& n, std::size_t k, const DriftModel& m) {
   const ThermalStateOptions& o = m.state;
   const std::string K = std::to_string(k);
@@ -220,14 +250,17 @@ void EmitState(std::ostringstream& s, const Names& n, std::size_t k, const Drift
         << "], state->initialized, dt_s, temp_c, " << n.R(o.lag_tau_s) << ");\n";
       break;
     case DriftInputSet::kTempAndMemory:  // Eq. TS-3 on the rate of Eq. TS-1
-      s << "  r = " << rate_call << ";\n  if (!state->initialized) {\n    state->mem[" << K << "] = " << n.R(0.0)
-        << ";\n  } else if ((r < " << n.R(0.0) << " ? -r : r) > " << n.R(o.memory_deadband_c_per_s) << ") {\n"
-        << "    " << n.real << " g = (r < " << n.R(0.0) << " ? -r : r) * dt_s / " << n.R(o.memory_width_c) << ";\n"
-        << "    if (g > " << n.R(1.0) << ") g = " << n.R(1.0) << ";\n"
-        << "    state->mem[" << K << "] += g * ((r > " << n.R(0.0) << " ? " << n.R(1.0) << " : " << n.R(-1.0)
-        << ") - state->mem[" << K << "]);\n  }\n  st = state->mem[" << K << "];\n";
+      s << "  r = " << rate_call << ";\n";
+      EmitMemoryUpdate(s, n, K, o);
+      s << "  st = state->mem[" << K << "];\n";
+      break;
+    case DriftInputSet::kTempRateAndMemory:  // both: s = r (Eq. TS-1), mt = m (Eq. TS-3)
+      s << "  r = " << rate_call << ";\n";
+      EmitMemoryUpdate(s, n, K, o);
+      s << "  st = r;\n  mt = state->mem[" << K << "];\n";
       break;
   }
+  if (!HasSecondMemoryState(m.inputs)) s << "  mt = " << n.R(0.0) << ";\n";
 }
 
 void EmitStep(std::ostringstream& s, const std::vector<AxisDriftModel>& axes, const CExportOptions& o, const Names& n) {
@@ -240,9 +273,9 @@ void EmitStep(std::ostringstream& s, const std::vector<AxisDriftModel>& axes, co
   bool any_state = false, any_memory = false;
   for (const auto& a : axes) {
     any_state = any_state || UsesState(a.model);
-    any_memory = any_memory || a.model.inputs == DriftInputSet::kTempAndMemory;
+    any_memory = any_memory || UsesMemory(a.model);
   }
-  s << "  " << n.real << " t, st;\n";
+  s << "  " << n.real << " t, st, mt;\n";
   if (any_memory) s << "  " << n.real << " r;\n";
   if (!any_state) s << "  (void)dt_s;\n";
   for (std::size_t k = 0; k < axes.size(); ++k) {
@@ -254,7 +287,7 @@ void EmitStep(std::ostringstream& s, const std::vector<AxisDriftModel>& axes, co
     if (m.out_of_range == OutOfRangePolicy::kClamp)  // DriftModel::EffectiveTemp; the state is never clamped
       s << "  if (t < " << n.R(m.temp_min_c()) << ") t = " << n.R(m.temp_min_c()) << ";\n  else if (t > "
         << n.R(m.temp_max_c()) << ") t = " << n.R(m.temp_max_c()) << ";\n";
-    s << "  state->drift[" << k << "] = " << n.R(o.output_scale) << " * " << n.p << "_a" << k << "_eval(t, st);\n";
+    s << "  state->drift[" << k << "] = " << n.R(o.output_scale) << " * " << n.p << "_a" << k << "_eval(t, st, mt);\n";
     s << "  rate_out[" << k << "] = rate_in[" << k << "] - state->drift[" << k << "];\n";
   }
   s << "  state->initialized = 1;\n}\n";

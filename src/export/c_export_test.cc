@@ -101,12 +101,12 @@ class GeneratedCTest : public ::testing::Test {
 // arg u; expf 1 ulp; the product with coef; Kahan's addition), so the sum is off by at most
 // u target_scale sum_j |coef_j| K_j (4 + (2 n + 3) arg_j). Where the terms cancel this exceeds
 // 1e-5 of the span: the conditioning of the expansion, not an error of the generated code.
-double SvrSumRounding(const DriftModel& dm, double t, double q) {
+double SvrSumRounding(const DriftModel& dm, double t, double q, double mem = 0.0) {
   if (!dm.kernel) return 0.0;
   const SvrModel* m = &*dm.kernel;
   const double u = 1.0 / (1 << 24);
-  const double x[2] = {t, q};
-  double z[2];
+  const double x[3] = {t, q, mem};
+  double z[3];
   for (std::size_t j = 0; j < m->num_inputs; ++j) z[j] = (x[j] - m->input_scaler.offset[j]) / m->input_scaler.scale[j];
   double sum = 0.0;
   for (std::size_t i = 0; i < m->num_support(); ++i) {
@@ -131,7 +131,8 @@ double SvrSumRounding(const DriftModel& dm, double t, double q) {
 std::vector<double> InputConditioning(const DriftModel& m, const std::vector<double>& temp, double dt, double ulps) {
   const double u0 = 1.0 / (1 << 24), u = ulps * u0;
   const double tau = m.state.causal_rate_tau_s;
-  const double gain = m.inputs == DriftInputSet::kTempAndRate ? std::sqrt(dt / (4.0 * tau * tau * tau))
+  const double gain = m.inputs == DriftInputSet::kTempAndRate || m.inputs == DriftInputSet::kTempRateAndMemory
+                          ? std::sqrt(dt / (4.0 * tau * tau * tau))
                       : m.inputs == DriftInputSet::kTempAndLag ? 1.0
                                                                : 0.0;
   // The lag coefficient a = 1 - exp(-dt/tau) is held in float to u b / a relative (a = 1 - b is
@@ -148,13 +149,15 @@ std::vector<double> InputConditioning(const DriftModel& m, const std::vector<dou
     const double q = ev.Step(dt, temp[i]);
     const double q_lo = ev_lo.Step(dt, temp[i]), q_hi = ev_hi.Step(dt, temp[i]);
     const double t = m.EffectiveTemp(temp[i]);
-    const double base = m.PredictAt(t, q);
+    const double mem = ev.memory();  // temp,dtemp,memory: the second state (0 for the others)
+    const double base = m.PredictAt(t, q, mem);
     const double dq = u * std::abs(q) + 6.0 * u0 * std::abs(temp[i]) * gain;
-    double worst = std::max(std::abs(m.PredictAt(t, q_lo) - base), std::abs(m.PredictAt(t, q_hi) - base));
+    double worst = std::max(std::abs(m.PredictAt(t, q_lo, ev_lo.memory()) - base),
+                            std::abs(m.PredictAt(t, q_hi, ev_hi.memory()) - base));
     for (double st : {-1.0, 1.0})
       for (double sr : {-1.0, 1.0})
-        worst = std::max(worst, std::abs(m.PredictAt(t * (1 + st * u), q + sr * dq) - base));
-    out[i] = worst + SvrSumRounding(m, t, q);
+        worst = std::max(worst, std::abs(m.PredictAt(t * (1 + st * u), q + sr * dq, mem * (1 + sr * u)) - base));
+    out[i] = worst + SvrSumRounding(m, t, q, mem);
   }
   return out;
 }
@@ -172,8 +175,9 @@ SimulatedRun HeldOut(std::uint64_t seed, double fs_hz = 1.0) {
   return run;
 }
 
-// Seven axes, seven structures: poly and SVR on (T, dT/dt); poly degree 5 on T with the clamp
-// policy; SVR on T; poly on (T, lag) and (T, memory); a hybrid (the poly on (T, dT/dt) plus the
+// Nine axes, nine structures: poly and SVR on (T, dT/dt); poly degree 5 on T with the clamp
+// policy; SVR on T; poly on (T, lag), (T, memory) and (T, dT/dt, memory) and SVR on (T, dT/dt,
+// memory) (issue 23); a hybrid (the poly on (T, dT/dt) plus the
 // SVR on (T, dT/dt) as its kernel). Double: within 1e-12 of each axis's drift span; float: within
 // 1e-5 of it plus the model's own conditioning (issue 12).
 TEST_F(GeneratedCTest, AgreesWithTheLibraryCausalPrediction) {
@@ -193,6 +197,8 @@ TEST_F(GeneratedCTest, AgreesWithTheLibraryCausalPrediction) {
         {"svr", export_test::Fit(cal, DriftModelKind::kSvr, DriftInputSet::kTemp)},
         {"poly-lag", export_test::Fit(cal, DriftModelKind::kPolynomial, DriftInputSet::kTempAndLag)},
         {"poly-memory", export_test::Fit(cal, DriftModelKind::kPolynomial, DriftInputSet::kTempAndMemory)},
+        {"poly-rate-memory", export_test::Fit(cal, DriftModelKind::kPolynomial, DriftInputSet::kTempRateAndMemory)},
+        {"svr-rate-memory", export_test::Fit(cal, DriftModelKind::kSvr, DriftInputSet::kTempRateAndMemory, 3, 0.7, 30.0)},
         {"hybrid-rate", hybrid}};
     // Every 4 s: the states (tau 75 s and more) are resolved as well, at a quarter of the cost.
     const double dt = 4.0;
@@ -313,6 +319,43 @@ TEST_F(GeneratedCTest, RadPerSecondBuildAgreesWithApplyCausal) {
   const double tol = 1e-12 * Span(applied["predicted_drift_dps"]);
   double worst = 0.0;
   for (std::size_t i = 0; i < got.size(); ++i) worst = std::max(worst, std::abs(got[i][0] / k - applied["compensated_dps"][i]));
+  EXPECT_LE(worst, tol);
+}
+
+// poly(T, dT/dt, memory) (issue 23) end to end: the model file of `fit --inputs
+// temp,dtemp,memory`, `apply --causal` and the C of `export --format c` give the same
+// compensated rate (double build, 1e-12 of the drift span).
+TEST_F(GeneratedCTest, TwoStateModelAgreesWithApplyCausal) {
+  const std::string cli = testing::CliPath();
+  if (cli.empty()) GTEST_SKIP() << "the gyrocomp CLI is not built (GYROCOMP_BUILD_CLI=OFF)";
+  const DriftModel m = export_test::Fit(export_test::ChamberRun(45), DriftModelKind::kPolynomial,
+                                        DriftInputSet::kTempRateAndMemory);
+  ASSERT_TRUE(SaveDriftModel(m, dir_ + "/m2.json").ok());
+  const SimulatedRun val = HeldOut(46);
+  {
+    std::ofstream f(dir_ + "/val2.csv");
+    f.precision(17);
+    f << "time_s,rate_dps,temp_c\n";
+    for (std::size_t i = 0; i < val.temp_c.size(); ++i) f << i << "," << val.rate_dps[i] << "," << val.temp_c[i] << "\n";
+  }
+  std::string out;
+  ASSERT_EQ(testing::RunCommand(cli + " apply --causal -m " + dir_ + "/m2.json -i " + dir_ + "/val2.csv -o " +
+                                    dir_ + "/applied2.csv", &out), 0) << out;
+  ASSERT_EQ(testing::RunCommand(cli + " export -m " + dir_ + "/m2.json --format c -o " + dir_ + "/gcd_two", &out), 0)
+      << out;
+  GeneratedC gen;
+  gen.header_name = "gcd_two.h";
+  gen.source_name = "gcd_two.c";
+  std::ifstream h(dir_ + "/gcd_two.h"), c(dir_ + "/gcd_two.c");
+  gen.header.assign(std::istreambuf_iterator<char>(h), {});
+  gen.source.assign(std::istreambuf_iterator<char>(c), {});
+  EXPECT_NE(gen.source.find("mt = state->mem[0]"), std::string::npos);
+  auto applied = testing::ReadGoldenCsv(dir_ + "/applied2.csv");
+  const auto got = Run(Build(gen, "gcd_two", 1, false), 1.0, applied["temp_c"], applied["rate_dps"], 1);
+  ASSERT_EQ(got.size(), applied["compensated_dps"].size());
+  const double tol = 1e-12 * Span(applied["predicted_drift_dps"]);
+  double worst = 0.0;
+  for (std::size_t i = 0; i < got.size(); ++i) worst = std::max(worst, std::abs(got[i][0] - applied["compensated_dps"][i]));
   EXPECT_LE(worst, tol);
 }
 

@@ -20,7 +20,7 @@ Result<std::vector<double>> PredictDriftCausal(const DriftModel& model, const Dr
   if (!out.ok()) return out.error();
   if (summary) {
     summary->inputs = model.inputs;
-    const bool rate = model.inputs == DriftInputSet::kTempAndRate || model.inputs == DriftInputSet::kTempAndMemory;
+    const bool rate = UsesCausalRate(model.inputs);
     summary->rate_tau_s = rate ? model.state.causal_rate_tau_s : 0.0;
     if (rate && in.fs_hz > 0.0) {
       const double dt = 1.0 / in.fs_hz;

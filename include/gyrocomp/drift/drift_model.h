@@ -198,15 +198,20 @@ struct PolynomialTerm {
   int temp_power = 0;   // of the standardised temperature
   int dtemp_power = 0;  // of the standardised state (dT/dt, lag excess or memory)
   double coefficient = 0.0;  // target units
+  // Of the standardised memory, the second state of temp,dtemp,memory (0 or 1; issue 23). Last,
+  // so {temp_power, dtemp_power, coefficient} initialisers keep their meaning.
+  int memory_power = 0;
 };
 
 struct PolynomialModel {
-  AffineScaler input_scaler;          // (temp_c[, dtemp_c_per_s]) -> standardised
-  std::vector<PolynomialTerm> terms;  // sum of coefficient * t^temp_power * r^dtemp_power
-  // inputs[j][i] raw (column 0 temperature, column 1 the state if used).
+  AffineScaler input_scaler;          // (temp_c[, state[, memory]]) -> standardised
+  // sum of coefficient * t^temp_power * r^dtemp_power * m^memory_power
+  std::vector<PolynomialTerm> terms;
+  // inputs[j][i] raw (column 0 temperature, column 1 the state if used, column 2 the memory of
+  // temp,dtemp,memory).
   std::vector<double> Predict(const std::vector<std::vector<double>>& inputs) const;
-  // At one raw (temperature, state) pair; the state is ignored when the model has no state.
-  double PredictOne(double temp_c, double state) const;
+  // At one raw (temperature, state[, memory]); a state the model does not have is ignored.
+  double PredictOne(double temp_c, double state, double memory = 0.0) const;
 };
 
 // One candidate that --model auto scored.
@@ -348,8 +353,9 @@ struct DriftModel {
   std::optional<DriftBandModel> band;
 
   // ---- evaluator accessors (exporters, generated C) ----
-  // The model function at one temperature and state value (after the out-of-range policy).
-  double PredictAt(double temp_c, double state) const;
+  // The model function at one temperature and state value (after the out-of-range policy);
+  // `memory`: the second state of temp,dtemp,memory (ignored by the other input sets).
+  double PredictAt(double temp_c, double state, double memory = 0.0) const;
   // Temperature range of the fit and the input the model function sees under `out_of_range`.
   double temp_min_c() const { return summary.temp_min_c; }
   double temp_max_c() const { return summary.temp_max_c; }
@@ -373,7 +379,10 @@ class DriftEvaluator {
   explicit DriftEvaluator(const DriftModel& model)
       : model_(model), state_(model.inputs, model.state) {}
   // Predicted drift after a sample taken dt_s after the previous one (dt_s ignored for the first).
-  double Step(double dt_s, double temp_c) { return model_.PredictAt(temp_c, state_.Step(dt_s, temp_c)); }
+  double Step(double dt_s, double temp_c) {
+    const double s = state_.Step(dt_s, temp_c);
+    return model_.PredictAt(temp_c, s, state_.memory());
+  }
   void Reset() { state_.Reset(); }
 
  private:

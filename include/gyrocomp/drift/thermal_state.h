@@ -20,6 +20,13 @@
 //           so m tends to +1 after heating by a few w, to -1 after cooling, and keeps its value
 //           during holds (a play operator on the filtered temperature). 3 states, ~12 operations.
 //
+// Two states (issue 23): `temp,dtemp,memory` takes the rate of Eq. TS-1 AND the memory of
+// Eq. TS-3 (computed from the same L1, L2): the drift cubic(T) + k_dot dT/dt + k_h (T - P_w(T))
+// of a unit with a die gain and a hysteresis together (docs/simulator.md "Deterministic drift")
+// needs both; with one state the gain absorbs the hysteresis (docs/drift_model.md). Its primary
+// state s is the rate (batch: the centred slope; causal: Eq. TS-1), the memory m is a second,
+// always causal, column.
+//
 // Every state has the causal one-sample-at-a-time update ThermalStateEvaluator::Step; the batch
 // computation ComputeThermalState runs exactly that update for lag and memory (and for rate when
 // causal is asked). Initial state: every lag equals the first temperature, m = 0.
@@ -36,14 +43,24 @@
 
 namespace gyrocomp {
 
-// Model inputs: temperature only (the paper), or temperature and one thermal state.
-enum class DriftInputSet { kTemp, kTempAndRate, kTempAndLag, kTempAndMemory };
-// "temp" | "temp,dtemp" | "temp,lag" | "temp,memory".
+// Model inputs: temperature only (the paper), temperature and one thermal state, or temperature,
+// rate and memory (kTempRateAndMemory: state s = the rate, plus the memory m as a second state).
+enum class DriftInputSet { kTemp, kTempAndRate, kTempAndLag, kTempAndMemory, kTempRateAndMemory };
+// "temp" | "temp,dtemp" | "temp,lag" | "temp,memory" | "temp,dtemp,memory".
 std::optional<DriftInputSet> ParseDriftInputSet(std::string_view name);
 const char* DriftInputSetName(DriftInputSet inputs);
 // Name of the state column in model files and reports: "dtemp_c_per_s", "lag_excess_c",
-// "memory"; "" for kTemp.
+// "memory"; "" for kTemp. kTempRateAndMemory: "dtemp_c_per_s" (its second state's column is
+// kMemoryColumnName).
 const char* ThermalStateColumnName(DriftInputSet inputs);
+inline constexpr const char* kMemoryColumnName = "memory";
+// Whether the inputs carry the memory of Eq. TS-3 as a second state (kTempRateAndMemory).
+inline bool HasSecondMemoryState(DriftInputSet inputs) { return inputs == DriftInputSet::kTempRateAndMemory; }
+// Whether the inputs' states need the causal rate of Eq. TS-1 (rate, memory, or both).
+inline bool UsesCausalRate(DriftInputSet inputs) {
+  return inputs == DriftInputSet::kTempAndRate || inputs == DriftInputSet::kTempAndMemory ||
+         inputs == DriftInputSet::kTempRateAndMemory;
+}
 
 struct ThermalStateOptions {
   // rate: tau_r of the causal update (Eq. TS-1), s. Default 75 s = a quarter of the batch slope's
@@ -65,6 +82,8 @@ class ThermalStateEvaluator {
   // Advances by one sample (dt_s since the previous one; ignored for the first) and returns the
   // state s after it (0 for kTemp). Units: deg C / s (rate), deg C (lag), 1 (memory).
   double Step(double dt_s, double temp_c);
+  // The memory m of Eq. TS-3 after the last Step (kTempAndMemory, kTempRateAndMemory; 0 else).
+  double memory() const { return memory_; }
   void Reset() { started_ = false; }
 
  private:
@@ -76,7 +95,8 @@ class ThermalStateEvaluator {
   double memory_ = 0.0;         // Eq. TS-3
 };
 
-// The state at every sample of a uniformly sampled record. kTempAndRate with causal = false:
+// The state at every sample of a uniformly sampled record (kTempRateAndMemory: its primary
+// state, the rate; its memory is ComputeThermalState(kTempAndMemory)). kTempAndRate with causal = false:
 // the centred least-squares slope (TemperatureRate with `rate`); everything else: Step over the
 // record. Errors: fewer than 2 samples or fs_hz <= 0 when a state is needed, non-finite values.
 Result<std::vector<double>> ComputeThermalState(std::span<const double> temp_c, double fs_hz,

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <numbers>
 #include <sstream>
 
@@ -19,6 +20,8 @@ namespace gyrocomp {
 namespace {
 
 using export_test::Span;
+
+SimulatedRun HeldOut(std::uint64_t seed, double fs_hz = 1.0);  // below
 
 // A main() that feeds "dt temp rate..." lines to <prefix>_step and prints rate_out.
 std::string Harness(const std::string& prefix, std::size_t axes) {
@@ -59,6 +62,37 @@ class GeneratedCTest : public ::testing::Test {
                                            dir_ + "/main_" + prefix + ".c " + bin + ".o -lm -o " + bin, &out);
     EXPECT_EQ(rc, 0) << out;
     return bin;
+  }
+
+  // The CLI path end to end: saves `m`, runs `apply --causal` on held-out run `seed` and
+  // `export --format c [extra]` to `name`.h/.c; returns the applied CSV's columns and the C.
+  struct CliRun {
+    std::map<std::string, std::vector<double>> applied;
+    GeneratedC gen;
+  };
+  CliRun ApplyCausalAndExportC(const std::string& cli, const DriftModel& m, std::uint64_t seed, const std::string& name,
+                               const std::string& extra) {
+    CliRun r;
+    EXPECT_TRUE(SaveDriftModel(m, dir_ + "/" + name + ".json").ok());
+    const SimulatedRun val = HeldOut(seed);
+    {
+      std::ofstream f(dir_ + "/" + name + "_val.csv");
+      f.precision(17);
+      f << "time_s,rate_dps,temp_c\n";
+      for (std::size_t i = 0; i < val.temp_c.size(); ++i) f << i << "," << val.rate_dps[i] << "," << val.temp_c[i] << "\n";
+    }
+    std::string out;
+    EXPECT_EQ(testing::RunCommand(cli + " apply --causal -m " + dir_ + "/" + name + ".json -i " + dir_ + "/" + name +
+                                      "_val.csv -o " + dir_ + "/" + name + "_applied.csv", &out), 0) << out;
+    EXPECT_EQ(testing::RunCommand(cli + " export -m " + dir_ + "/" + name + ".json --format c " + extra + " -o " + dir_ +
+                                      "/" + name, &out), 0) << out;
+    r.gen.header_name = name + ".h";
+    r.gen.source_name = name + ".c";
+    std::ifstream h(dir_ + "/" + name + ".h"), c(dir_ + "/" + name + ".c");
+    r.gen.header.assign(std::istreambuf_iterator<char>(h), {});
+    r.gen.source.assign(std::istreambuf_iterator<char>(c), {});
+    r.applied = testing::ReadGoldenCsv(dir_ + "/" + name + "_applied.csv");
+    return r;
   }
 
   // Runs the binary on "dt temp rate x axes" lines; returns out[sample][axis].
@@ -165,7 +199,7 @@ std::vector<double> InputConditioning(const DriftModel& m, const std::vector<dou
 // A held-out run (other seed) that also leaves the fitted range (a ramp to 75 C and one to
 // -50 C at the end), so the clamps are exercised. fs_hz < 1 thins the paper profile (the bounds
 // of InputConditioning cost a pass over the support vectors per sample and model).
-SimulatedRun HeldOut(std::uint64_t seed, double fs_hz = 1.0) {
+SimulatedRun HeldOut(std::uint64_t seed, double fs_hz) {
   SimulatedRun run = export_test::ChamberRun(seed, 1.5, {}, fs_hz);
   const double last = run.temp_c.back();
   for (int i = 1; i <= 1500; ++i) {
@@ -291,34 +325,16 @@ TEST_F(GeneratedCTest, RadPerSecondBuildAgreesWithApplyCausal) {
   if (cli.empty()) GTEST_SKIP() << "the gyrocomp CLI is not built (GYROCOMP_BUILD_CLI=OFF)";
   const DriftModel m = export_test::Fit(export_test::ChamberRun(43), DriftModelKind::kPolynomial,
                                         DriftInputSet::kTempAndRate);
-  ASSERT_TRUE(SaveDriftModel(m, dir_ + "/m.json").ok());
-  const SimulatedRun val = HeldOut(44);
-  {
-    std::ofstream f(dir_ + "/val.csv");
-    f.precision(17);
-    f << "time_s,rate_dps,temp_c\n";
-    for (std::size_t i = 0; i < val.temp_c.size(); ++i) f << i << "," << val.rate_dps[i] << "," << val.temp_c[i] << "\n";
-  }
-  std::string out;
-  ASSERT_EQ(testing::RunCommand(cli + " apply --causal -m " + dir_ + "/m.json -i " + dir_ + "/val.csv -o " +
-                                    dir_ + "/applied.csv", &out), 0) << out;
-  ASSERT_EQ(testing::RunCommand(cli + " export -m " + dir_ + "/m.json --format c --c-unit rads -o " + dir_ +
-                                    "/gcd_rad", &out), 0) << out;
-  GeneratedC gen;
-  gen.header_name = "gcd_rad.h";
-  gen.source_name = "gcd_rad.c";
-  std::ifstream h(dir_ + "/gcd_rad.h"), c(dir_ + "/gcd_rad.c");
-  gen.header.assign(std::istreambuf_iterator<char>(h), {});
-  gen.source.assign(std::istreambuf_iterator<char>(c), {});
-  EXPECT_NE(gen.header.find("Rates in rad/s"), std::string::npos);
-  auto applied = testing::ReadGoldenCsv(dir_ + "/applied.csv");
+  auto r = ApplyCausalAndExportC(cli, m, 44, "gcd_rad", "--c-unit rads");
+  EXPECT_NE(r.gen.header.find("Rates in rad/s"), std::string::npos);
   const double k = std::numbers::pi / 180.0;
   std::vector<double> rate_rad;
-  for (double v : applied["rate_dps"]) rate_rad.push_back(v * k);
-  const auto got = Run(Build(gen, "gcd_rad", 1, false), 1.0, applied["temp_c"], rate_rad, 1);
-  const double tol = 1e-12 * Span(applied["predicted_drift_dps"]);
+  for (double v : r.applied["rate_dps"]) rate_rad.push_back(v * k);
+  const auto got = Run(Build(r.gen, "gcd_rad", 1, false), 1.0, r.applied["temp_c"], rate_rad, 1);
+  ASSERT_EQ(got.size(), r.applied["compensated_dps"].size());
+  const double tol = 1e-12 * Span(r.applied["predicted_drift_dps"]);
   double worst = 0.0;
-  for (std::size_t i = 0; i < got.size(); ++i) worst = std::max(worst, std::abs(got[i][0] / k - applied["compensated_dps"][i]));
+  for (std::size_t i = 0; i < got.size(); ++i) worst = std::max(worst, std::abs(got[i][0] / k - r.applied["compensated_dps"][i]));
   EXPECT_LE(worst, tol);
 }
 
@@ -330,32 +346,13 @@ TEST_F(GeneratedCTest, TwoStateModelAgreesWithApplyCausal) {
   if (cli.empty()) GTEST_SKIP() << "the gyrocomp CLI is not built (GYROCOMP_BUILD_CLI=OFF)";
   const DriftModel m = export_test::Fit(export_test::ChamberRun(45), DriftModelKind::kPolynomial,
                                         DriftInputSet::kTempRateAndMemory);
-  ASSERT_TRUE(SaveDriftModel(m, dir_ + "/m2.json").ok());
-  const SimulatedRun val = HeldOut(46);
-  {
-    std::ofstream f(dir_ + "/val2.csv");
-    f.precision(17);
-    f << "time_s,rate_dps,temp_c\n";
-    for (std::size_t i = 0; i < val.temp_c.size(); ++i) f << i << "," << val.rate_dps[i] << "," << val.temp_c[i] << "\n";
-  }
-  std::string out;
-  ASSERT_EQ(testing::RunCommand(cli + " apply --causal -m " + dir_ + "/m2.json -i " + dir_ + "/val2.csv -o " +
-                                    dir_ + "/applied2.csv", &out), 0) << out;
-  ASSERT_EQ(testing::RunCommand(cli + " export -m " + dir_ + "/m2.json --format c -o " + dir_ + "/gcd_two", &out), 0)
-      << out;
-  GeneratedC gen;
-  gen.header_name = "gcd_two.h";
-  gen.source_name = "gcd_two.c";
-  std::ifstream h(dir_ + "/gcd_two.h"), c(dir_ + "/gcd_two.c");
-  gen.header.assign(std::istreambuf_iterator<char>(h), {});
-  gen.source.assign(std::istreambuf_iterator<char>(c), {});
-  EXPECT_NE(gen.source.find("mt = state->mem[0]"), std::string::npos);
-  auto applied = testing::ReadGoldenCsv(dir_ + "/applied2.csv");
-  const auto got = Run(Build(gen, "gcd_two", 1, false), 1.0, applied["temp_c"], applied["rate_dps"], 1);
-  ASSERT_EQ(got.size(), applied["compensated_dps"].size());
-  const double tol = 1e-12 * Span(applied["predicted_drift_dps"]);
+  auto r = ApplyCausalAndExportC(cli, m, 46, "gcd_two", "");
+  EXPECT_NE(r.gen.source.find("mt = state->mem[0]"), std::string::npos);
+  const auto got = Run(Build(r.gen, "gcd_two", 1, false), 1.0, r.applied["temp_c"], r.applied["rate_dps"], 1);
+  ASSERT_EQ(got.size(), r.applied["compensated_dps"].size());
+  const double tol = 1e-12 * Span(r.applied["predicted_drift_dps"]);
   double worst = 0.0;
-  for (std::size_t i = 0; i < got.size(); ++i) worst = std::max(worst, std::abs(got[i][0] - applied["compensated_dps"][i]));
+  for (std::size_t i = 0; i < got.size(); ++i) worst = std::max(worst, std::abs(got[i][0] - r.applied["compensated_dps"][i]));
   EXPECT_LE(worst, tol);
 }
 

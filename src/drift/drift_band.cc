@@ -26,10 +26,13 @@
 //            extrapolation (flagged by the fit), not the spread inside the range.
 //   Eq. B-4  a dT/dt gain the run does not identify (Eq. I-1) is not in the model, and poly(T)
 //            absorbed g r_cal(T), r_cal the calibration run's dT/dt as a cubic in T; on another
-//            run it errs by g (r_i - r_cal(T_i)): var_i += (g^2 + SE^2) (r_i - r_cal(T_i))^2, g and
-//            SE the gain and its segment-jackknife SE from Eq. I-1, sqrt(g^2 + SE^2) capped at
-//            drift_span / max |dT/dt| of the run (a larger gain would have shown in it). A heating-only calibration
-//            applied to a cooling run: r - r_cal ~ -1 C/min on the cooling holds.
+//            run it errs by g (r_i - r_cal(T_i)): var_i += g^2 (r_i - r_cal(T_i))^2, g the gain
+//            from Eq. I-1, |g| capped at drift_span / max |dT/dt| of the run (a larger gain would
+//            have shown in it). A heating-only calibration applied to a cooling run: r - r_cal ~
+//            -1 C/min on the cooling holds. g^2 alone: its expectation over runs is already
+//            g_true^2 + Var(g); g^2 + SE^2 (Eq. I-1's jackknife SE) counted the noise twice and
+//            made `plan` over-predict a plain cubic's error on heat-cool / ramp by 1.7-1.8x
+//            (docs/drift_model.md "Prediction bands": coverage 84.6% with g^2, 87.2% before).
 #include <algorithm>
 #include <cmath>
 
@@ -149,7 +152,7 @@ Status AttachBand(const DriftInputs& inputs, std::span<const double> target, con
     // a larger one would have shown in the run.
     const double r_max = std::max(std::abs(fs.dtemp_min_c_per_s), std::abs(fs.dtemp_max_c_per_s));
     const double cap = r_max > 0.0 ? fs.drift_span / r_max : 0.0;
-    band.unidentified_rate_gain_rms = std::min(cap, std::hypot(*fs.unidentified_rate_gain, *fs.unidentified_rate_gain_se));
+    band.unidentified_rate_gain_rms = std::min(cap, std::abs(*fs.unidentified_rate_gain));
   }
   band.calibration_rate_vs_temp = fs.calibration_rate_vs_temp;
   m->band = std::move(band);

@@ -147,6 +147,35 @@ TEST(DriftBand, WidensWhereALeftOutRateTermActs) {
   EXPECT_GT(rms_half(*on_cool), 1.3 * rms_half(*on_heat));
 }
 
+// Eq. B-4 with a truly zero gain: a heating-only run of a plain cubic leaves the gain out, and the
+// gain it estimates is noise. The band's squared gain term is g^2, whose expectation is already
+// g_true^2 + Var(g); g^2 + SE^2 added the noise a second time. Measured over these 12 seeds: mean
+// G^2 / SE^2 = 1.92 with |g| (the jackknife SE is below g's real scatter under slow noise), 2.92
+// with g^2 + SE^2.
+TEST(DriftBand, LeftOutGainTermIsNotTwiceItsNoise) {
+  const double fs = 0.2;
+  std::vector<double> heat;
+  double sensor = -40.0;
+  for (double t = 0.0; t < 13200.0; t += 1.0 / fs) {
+    const double chamber = t < 3600.0 ? -40.0 : std::min(60.0, -40.0 + (t - 3600.0) / 60.0);
+    sensor += (chamber - sensor) * (1.0 - std::exp(-1.0 / fs / 600.0));
+    heat.push_back(sensor);
+  }
+  double ratio = 0.0;
+  int count = 0;
+  for (unsigned seed = 1; seed <= 12; ++seed) {
+    auto m = FitDriftModel({heat, fs}, Measured(heat, fs, seed), DriftFitOptions{});
+    ASSERT_TRUE(m.ok()) << m.error().message;
+    ASSERT_TRUE(m->band.has_value());
+    if (!m->summary.unidentified_rate_gain_se || !(*m->summary.unidentified_rate_gain_se > 0.0)) continue;
+    const double se = *m->summary.unidentified_rate_gain_se;
+    ratio += std::pow(m->band->unidentified_rate_gain_rms / se, 2);
+    ++count;
+  }
+  ASSERT_GE(count, 6) << "Eq. I-1 left the gain out on too few seeds";
+  EXPECT_LT(ratio / count, 2.4) << "mean of G^2 / SE^2 over " << count << " seeds";
+}
+
 // apply writes the band columns (cli.md "apply (bands)"); with a model file without a band it
 // writes none and says so.
 TEST(DriftBand, ApplyWritesBandColumnsOrSaysThereIsNone) {

@@ -183,12 +183,13 @@ Result<StaticWeightChoice> ChooseStaticWeight(const DriftModel& model, const Dri
   if (warm_x.empty()) condition = CubicCondition::kSteady;
   StaticWeightChoice c;
   // The squared gain: the unbiased estimate g^2 - SE^2 (Eq. I-1's gain and jackknife SE), not the
-  // band's g^2 + SE^2: the noise part below already holds the noise's share of the gain (the time
-  // estimator's variance is that of the model with the gain, minus SE^2 (L r)(L r)'), so the
-  // band's figure would count SE^2 twice more. A model file keeps only the band's G: then that.
+  // band's |g| (Eq. B-4, expectation g^2 + SE^2): the noise part below already holds the noise's
+  // share of the gain (the time estimator's variance is that of the model with the gain, minus
+  // SE^2 (L r)(L r)'), so the band's figure would count SE^2 once more. A model file keeps only
+  // the band's G: then that.
   const DriftFitSummary& fs = model.summary;
   c.rate_gain_rms = c.band_gain_rms = model.band->unidentified_rate_gain_rms;
-  std::string gain_source = "the band's G = sqrt(g^2 + SE^2)";
+  std::string gain_source = "the band's G = |g| (Eq. B-4)";
   if (fs.unidentified_rate_gain && fs.unidentified_rate_gain_se) {
     const double g = *fs.unidentified_rate_gain, se = *fs.unidentified_rate_gain_se;
     c.gain = g, c.gain_se = se;

@@ -78,7 +78,7 @@ TEST(StaticWeight, AStrongRateTermPicksTemperature) {
   EXPECT_GT(c->time.rate_gain_rms, 2.0 * c->temperature.rate_gain_rms);
 }
 
-// The gain used is the unbiased g^2 - SE^2, not the band's g^2 + SE^2: a gain within its SE
+// The gain used is the unbiased g^2 - SE^2, not the band's G^2 = g^2: a gain within its SE
 // counts as none; one well above it counts (capped by the band's G).
 TEST(StaticWeight, GainWithinItsStandardErrorCountsAsNone) {
   const ChamberHeat r = HeatingRun(0.0, 0.01, 3);

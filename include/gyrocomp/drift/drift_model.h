@@ -323,7 +323,7 @@ struct DriftBandModel {
   NoisePsd noise;
   // The model-form spread the thermal-segment CV shows, target units (Eq. B-3).
   double model_form_rms = 0.0;
-  // Eq. B-4: sqrt(g^2 + SE^2) of a dT/dt gain the run did not identify (0: none), target units
+  // Eq. B-4: |g| of a dT/dt gain the run did not identify (0: none; capped), target units
   // per C/s, and the calibration run's dT/dt against T (what the T polynomial absorbed of it).
   double unidentified_rate_gain_rms = 0.0;
   RateCurve calibration_rate_vs_temp;

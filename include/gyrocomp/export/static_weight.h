@@ -12,8 +12,8 @@
 // The expected next-run error of each is estimated from the run's own evidence, the same
 // ingredients as the model's prediction band (drift_model.h, DriftBandModel):
 //   gain part  G (L_w r)(T) - G r_next(T), G = sqrt(max(0, g^2 - SE^2)) from Eq. I-1's gain and
-//              jackknife SE (a model file, which keeps only Eq. B-4's band G = sqrt(g^2 + SE^2):
-//              that; 0 when the model has no left-out gain); r_next = 0 at steady temperature, the run's own dT/dt along its
+//              jackknife SE (a model file, which keeps only Eq. B-4's band G = |g|: that; 0 when
+//              the model has no left-out gain); r_next = 0 at steady temperature, the run's own dT/dt along its
 //              heating (warm-up); the constant removed (the boot offset calibration's);
 //   noise part a(T)' Cov_w a(T), Cov_w = sigma_white^2 L_w L_w' + Lb_w R Lb_w' with the band's
 //              Eq. G-0 noise (white; flicker + random walk as block means, Eq. G-2, R of

@@ -26,6 +26,7 @@
 
 #include "commands.h"
 #include "calibrate_report.h"
+#include "calibrate_sensor.h"
 #include "gyrocomp/drift/drift_model.h"
 #include "gyrocomp/export/cubic_score.h"
 #include "gyrocomp/export/param_export.h"
@@ -39,71 +40,8 @@
 namespace gyrocomp::cli {
 namespace {
 
-constexpr const char* kName = "calibrate";
-constexpr double kDegPerRad = 180.0 / std::numbers::pi;
+using namespace calibrate;  // kName, CalibrateArgs, Sensor, the outputs (calibrate_sensor.h)
 
-struct CalibrateArgs {
-  std::string input;                      // the first -i (the primary run: models, bands, cost)
-  std::vector<std::string> inputs;        // every -i: runs of one board, their cubics averaged
-  std::string format;
-  std::string output;
-  std::string models_dir;
-  std::string json_path;
-  std::string validation_path;  // a second log of the same board: every exported cubic scored on it
-  std::string report_path;      // HTML report
-  double block_s = 10.0;        // validation: residual block means, s (bench/imu_calibration_side_by_side.py)
-  double fit_rate_hz = 1.0;   // block means of the rows before fitting
-  double min_span_c = 10.0;   // ArduPilot's TEMP_RANGE_MIN (AP_InertialSensor_tempcal.cpp)
-  std::size_t min_rows = 60;  // after the block means
-  std::string optimise_for = "steady";  // CubicCondition of the exported cubic
-  // How the static curve is estimated: "temperature" (each temperature alike: the run's data,
-  // the model's dynamic part removed, in equal-width temperature bins; static_cubic.h), "time"
-  // (the fitted model's own curve at state 0, fitted on every sample) or "auto" (per axis, the
-  // one with the lower expected next-run error; static_weight.h).
-  std::string static_weight = "auto";
-};
-
-// One sensor instance of the log, in its sensor frame and firmware unit.
-struct Sensor {
-  std::string type;  // gyro | accel | baro
-  int instance = 0;
-  std::optional<std::uint32_t> device_id;
-  std::vector<double> time_s, temp_c;
-  std::vector<std::vector<double>> values;  // per axis, firmware unit (rad/s, m/s^2, Pa)
-  std::vector<std::string> cols;            // x_rad_s | x_m_s2 | pressure_pa
-  std::string unit;                         // firmware unit
-  double to_model = 1.0;                    // firmware unit -> model unit (gyro: deg/s)
-  std::string model_unit;
-  // Outcome.
-  std::string reason;  // non-empty: skipped
-  int slot = -1;       // PX4 slot / ArduPilot IMU n
-  std::vector<DriftModel> models;
-  std::vector<TemperatureCubic> cubics;  // firmware unit, constant handled as the file needs
-  // Both candidates of --static-weight (firmware unit, as `cubics`; the temperature one only
-  // when computed), the weighting each axis's exported cubic has, and --static-weight auto's
-  // comparison (nullopt: not auto, or no band; then weight_reason says why).
-  std::vector<TemperatureCubic> cubics_time, cubics_temperature;
-  std::vector<std::string> weights;
-  std::vector<std::optional<StaticWeightChoice>> weight_choices;
-  std::string weight_reason;
-  std::vector<double> cost_rms;          // projection cost on the run, firmware unit
-  // RMS over the range of cubic - full model at state 0 (steady) and along the run's warm-up
-  // state (warm-up), firmware unit: what the exported cubic loses in each condition.
-  std::vector<double> steady_rms, warm_up_rms;
-  // Expected next-run error of each axis's cubic (model band + projection), per condition.
-  std::vector<std::optional<CubicExpectedError>> expected;
-  std::string band_reason;  // why `expected` is missing (a model without a band)
-  double temp_min_c = 0.0, temp_max_c = 0.0;
-  // --validation: per axis RMS of the residual block means on the validation run, firmware unit.
-  struct Validation {
-    std::string reason;  // non-empty: not validated
-    std::size_t rows = 0;
-    double temp_min_c = 0.0, temp_max_c = 0.0;
-    std::vector<double> raw, cubic, full_model;
-  };
-  std::optional<Validation> validation;
-  int runs_combined = 1;  // -i logs whose cubics were averaged
-};
 
 std::vector<double> Seconds(const std::vector<std::uint64_t>& us) {
   std::vector<double> t(us.size());
@@ -199,13 +137,6 @@ void BlockMeans(Sensor* s, double fit_rate_hz) {
   for (auto& v : s->values) v = mean(v);
 }
 
-std::string Num(double v) {
-  std::ostringstream s;
-  s.precision(4);
-  s << v;
-  return s.str();
-}
-
 // RMS over 201 temperatures of the range of cubic - model at state 0 and at the warm-up state
 // (model unit; the cubic before any constant is removed).
 std::pair<double, double> ConditionErrors(const DriftModel& m, const TemperatureCubic& c, const StateByTemperature& warm) {
@@ -252,13 +183,13 @@ void Calibrate(Sensor* s, const CalibrateArgs& a, std::optional<std::pair<double
   }
   BlockMeans(s, a.fit_rate_hz);
   if (s->time_s.size() < a.min_rows) {
-    s->reason = std::to_string(s->time_s.size()) + " rows at " + Num(a.fit_rate_hz) + " Hz < " + std::to_string(a.min_rows);
+    s->reason = std::to_string(s->time_s.size()) + " rows at " + ShortNum(a.fit_rate_hz) + " Hz < " + std::to_string(a.min_rows);
     return;
   }
   const auto [lo, hi] = std::minmax_element(s->temp_c.begin(), s->temp_c.end());
   s->temp_min_c = *lo, s->temp_max_c = *hi;
   if (*hi - *lo < a.min_span_c) {
-    s->reason = "temperature span " + Num(*hi - *lo) + " C < " + Num(a.min_span_c) + " C";
+    s->reason = "temperature span " + ShortNum(*hi - *lo) + " C < " + ShortNum(a.min_span_c) + " C";
     return;
   }
   if (range) s->temp_min_c = range->first, s->temp_max_c = range->second;
@@ -407,273 +338,6 @@ Status Validate(const CalibrateArgs& a, LogFormat format, std::vector<Sensor>* a
   return Status::Ok();
 }
 
-ThreeAxisCubics Three(const Sensor& s) { return {s.cubics[0], s.cubics[1], s.cubics[2]}; }
-
-const Sensor* Find(const std::vector<Sensor>& all, const std::string& type, int slot) {
-  for (const Sensor& s : all)
-    if (s.type == type && s.slot == slot && s.reason.empty()) return &s;
-  return nullptr;
-}
-
-// "steady 1e-4 2e-4 3e-4" (firmware unit) or the reason no band is available.
-std::string ExpectedText(const Sensor& s, bool warm_up) {
-  std::string t = warm_up ? "warm-up" : "steady";
-  for (const auto& e : s.expected) {
-    if (!e) return t + " n/a (" + s.band_reason + ")";
-    if (warm_up && !e->warm_up) return t + " n/a (the run has no heating sample)";
-    t += " " + Num((warm_up ? e->warm_up->total_rms : e->steady.total_rms) / s.to_model);
-  }
-  return t;
-}
-
-// "static weight temperature time time (auto: expected error time 1e-4/..., temperature ...)".
-std::string WeightText(const Sensor& s) {
-  std::string t = "static weight";
-  for (const std::string& w : s.weights) t += " " + w;
-  bool any = false;
-  std::string time = "time", temp = "temperature";
-  for (const auto& c : s.weight_choices) {
-    if (!c) continue;
-    time += (any ? "/" : " ") + Num(c->time.total_rms / s.to_model);
-    temp += (any ? "/" : " ") + Num(c->temperature.total_rms / s.to_model);
-    any = true;
-  }
-  if (any) t += " (auto, expected error " + time + ", " + temp + " " + s.unit + ")";
-  if (!s.weight_reason.empty()) t += " (" + s.weight_reason + ")";
-  return t;
-}
-
-std::string ValidationText(const Sensor::Validation& v) {
-  if (!v.reason.empty()) return "validation: not scored, " + v.reason;
-  std::string t = "validation run (" + std::to_string(v.rows) + " rows): RMS raw / cubic / full model";
-  for (std::size_t k = 0; k < v.raw.size(); ++k) t += " " + Num(v.raw[k]) + "/" + Num(v.cubic[k]) + "/" + Num(v.full_model[k]);
-  return t;
-}
-
-std::string Joined(const std::vector<std::string>& v) {
-  std::string t;
-  for (const std::string& x : v) t += (t.empty() ? "" : " + ") + x;
-  return v.size() > 1 ? t + " (cubics averaged over the runs; models and bands from the first)" : t;
-}
-
-std::vector<std::string> Comments(const CalibrateArgs& a, const std::vector<Sensor>& all) {
-  std::vector<std::string> c = {
-      "Thermal calibration generated by gyrocomp calibrate --format " + a.format + " from " + Joined(a.inputs),
-      "(docs/export.md). Every sensor of the log: the library's default drift model (auto) fitted on",
-      "block means at " + Num(a.fit_rate_hz) + " Hz, its curve projected onto the firmware's cubic over the",
-      "sensor's range, optimised for: " + a.optimise_for + " (steady: dT/dt = 0; warm-up: the state the run had while heating;",
-      "both: their mean); static curve weighted by: " + a.static_weight + " (temperature: each temperature alike,",
-      "the run's data with the model's dynamic part removed, 2000 bins; time: the model's own curve; auto: per",
-      "axis the one with the lower expected next-run error of the estimator, docs/export.md).",
-      "Units: gyro rad/s, accel m/s^2, baro Pa; sensor frame. Per sensor: model, projection cost",
-      "(RMS full model - cubic on this run, firmware unit) and, per axis, the expected next-run error of the",
-      "exported cubic: RMS of sqrt((cubic - model)^2 + sd^2), sd the model's prediction band / z (docs/export.md),",
-      "at steady temperature and along this run's own heating (warm-up), constant excluded."};
-  for (const Sensor& s : all) {
-    std::ostringstream l;
-    l << "  " << s.type << " " << s.instance << (s.device_id ? " (device_id " + std::to_string(*s.device_id) + ")" : "");
-    if (!s.reason.empty()) {
-      l << ": SKIPPED, " << s.reason;
-      c.push_back(l.str());
-      continue;
-    }
-    l << ": " << DriftModelKindName(s.models[0].kind) << ", " << Num(s.temp_min_c) << ".." << Num(s.temp_max_c) << " C, cost";
-    for (double v : s.cost_rms) l << " " << Num(v);
-    c.push_back(l.str());
-    c.push_back("    expected error " + ExpectedText(s, false) + "; " + ExpectedText(s, true));
-    c.push_back("    " + WeightText(s));
-    if (s.validation) c.push_back("    " + ValidationText(*s.validation));
-  }
-  return c;
-}
-
-Result<std::string> WriteFile(const CalibrateArgs& a, const std::vector<Sensor>& all) {
-  const auto comments = Comments(a, all);
-  if (a.format == "px4") {
-    Px4TcalFile f;
-    for (const Sensor& s : all) {
-      if (!s.reason.empty()) continue;
-      if (!s.device_id) return InvalidInput(a.input + ": " + s.type + " " + std::to_string(s.instance) + " logs no device_id");
-      if (s.type == "gyro") f.gyro.push_back({s.slot, *s.device_id, Three(s)});
-      if (s.type == "accel") f.accel.push_back({s.slot, *s.device_id, Three(s)});
-      if (s.type == "baro") f.baro.push_back({s.slot, *s.device_id, s.cubics[0]});
-    }
-    return WritePx4TcalFile(f, comments);
-  }
-  std::vector<ArduPilotTcalImu> imus;
-  for (int n = 1; n <= 3; ++n) {
-    ArduPilotTcalImu m;
-    m.imu = n;
-    const Sensor* g = Find(all, "gyro", n);
-    const Sensor* acc = Find(all, "accel", n);
-    if (g) m.gyro_radps = Three(*g);
-    if (acc) m.accel_m_s2 = Three(*acc);
-    if (!g && !acc) {
-      m.disabled_reason = "IMU " + std::to_string(n - 1) + " not calibrated";
-      for (const Sensor& s : all)
-        if (s.slot == n && !s.reason.empty()) m.disabled_reason = s.type + ": " + s.reason;
-      bool in_log = false;
-      for (const Sensor& s : all) in_log |= s.slot == n;
-      if (!in_log) m.disabled_reason = "IMU " + std::to_string(n - 1) + " not in the log";
-    }
-    imus.push_back(m);
-  }
-  return WriteArduPilotTcalFile(imus, comments);
-}
-
-nlohmann::json ConditionJson(const CubicConditionError& e, double to_model) {
-  return {{"total_rms", e.total_rms / to_model}, {"projection_rms", e.projection_rms / to_model},
-          {"band_sd_rms", e.band_sd_rms / to_model}, {"samples", e.num_samples}};
-}
-
-// Per axis, firmware unit: the exported cubic's expected next-run error in each condition.
-nlohmann::json ExpectedJson(const CalibrateArgs& a, const Sensor& s) {
-  nlohmann::json steady = nlohmann::json::array(), warm = nlohmann::json::array(), axes = nlohmann::json::array();
-  nlohmann::json proj_steady = nlohmann::json::array(), proj_warm = nlohmann::json::array();
-  nlohmann::json level = nullptr;
-  for (std::size_t k = 0; k < s.models.size(); ++k) {
-    proj_steady.push_back(s.steady_rms[k]);
-    proj_warm.push_back(s.warm_up_rms[k]);
-    const auto& e = s.expected[k];
-    if (e) level = e->level;
-    steady.push_back(e ? nlohmann::json(e->steady.total_rms / s.to_model) : nlohmann::json(nullptr));
-    warm.push_back(e && e->warm_up ? nlohmann::json(e->warm_up->total_rms / s.to_model) : nlohmann::json(nullptr));
-    nlohmann::json ax = {{"col", s.cols[k]}};
-    if (e) {
-      ax["steady"] = ConditionJson(e->steady, s.to_model);
-      ax["warm_up"] = e->warm_up ? ConditionJson(*e->warm_up, s.to_model) : nlohmann::json(nullptr);
-    }
-    axes.push_back(ax);
-  }
-  nlohmann::json j = {{"optimised_for", a.optimise_for}, {"band_level", level}, {"steady", steady}, {"warm_up", warm},
-                      {"projection_steady", proj_steady}, {"projection_warm_up", proj_warm}, {"axes", axes}};
-  if (!s.band_reason.empty()) j["steady_reason"] = j["warm_up_reason"] = s.band_reason;
-  j["note"] = "per axis, firmware unit: expected next-run RMS error of the exported cubic, RMS of sqrt((cubic - "
-              "model)^2 + sd^2) with sd the model's prediction band / z(band_level), at steady temperature (a "
-              "slow ramp over the range) and along this run's heating samples (warm_up); projection_*: the "
-              "cubic - model part alone, over the range";
-  return j;
-}
-
-nlohmann::json EstimatorJson(const StaticEstimatorError& e, double to_model) {
-  return {{"total_rms", e.total_rms / to_model}, {"rate_gain_rms", e.rate_gain_rms / to_model},
-          {"noise_rms", e.noise_rms / to_model}};
-}
-
-// --static-weight auto's comparison for axis k (firmware unit), or null with the reason.
-nlohmann::json WeightChoiceJson(const Sensor& s, std::size_t k) {
-  const auto& c = s.weight_choices[k];
-  if (!c) return s.weight_reason.empty() ? nlohmann::json(nullptr) : nlohmann::json({{"reason", s.weight_reason}});
-  return {{"chosen", StaticWeightName(c->chosen)}, {"time", EstimatorJson(c->time, s.to_model)},
-          {"temperature", EstimatorJson(c->temperature, s.to_model)},
-          {"unidentified_rate_gain_rms", c->rate_gain_rms / s.to_model}, {"reason", c->reason},
-          {"note", "expected next-run RMS error of each estimator of the static cubic (constant removed): the left-out "
-                   "dT/dt gain G (Eq. B-4) times what the estimator makes of the run's dT/dt, and the run's noise "
-                   "(the band's Eq. G-0) through the estimator; over the --optimise-for conditions"}};
-}
-
-nlohmann::json ValidationJson(const Sensor::Validation& v) {
-  if (!v.reason.empty()) return {{"status", "not scored"}, {"reason", v.reason}};
-  return {{"status", "scored"}, {"rows", v.rows}, {"temp_min_c", v.temp_min_c}, {"temp_max_c", v.temp_max_c},
-          {"raw_rms", v.raw}, {"cubic_rms", v.cubic}, {"full_model_rms", v.full_model}};
-}
-
-nlohmann::json SensorJson(const CalibrateArgs& a, const Sensor& s) {
-  nlohmann::json j = {{"type", s.type}, {"instance", s.instance}, {"slot", s.slot},
-                      {"status", s.reason.empty() ? "calibrated" : "skipped"}};
-  if (a.format == "px4") j["device_id"] = s.device_id ? nlohmann::json(*s.device_id) : nlohmann::json(nullptr);
-  else j["imu"] = s.slot;
-  if (!s.reason.empty()) {
-    j["reason"] = s.reason;
-    return j;
-  }
-  j["temp_min_c"] = s.temp_min_c;
-  j["temp_max_c"] = s.temp_max_c;
-  j["runs_combined"] = s.runs_combined;
-  j["kind"] = DriftModelKindName(s.models[0].kind);
-  j["unit"] = s.unit;
-  nlohmann::json axes = nlohmann::json::array();
-  for (std::size_t k = 0; k < s.models.size(); ++k) {
-    const TemperatureCubic& c = s.cubics[k];
-    axes.push_back({{"col", s.cols[k]}, {"kind", DriftModelKindName(s.models[k].kind)},
-                    {"cubic", {{"ref_temp_c", c.ref_temp_c}, {"temp_min_c", c.temp_min_c}, {"temp_max_c", c.temp_max_c},
-                               {"coeff", c.coeff}}},
-                    {"projection_cost_rms", s.cost_rms[k]}, {"fit_rmse", s.models[k].summary.train_rmse / s.to_model},
-                    {"static_weight", s.weights[k]}, {"static_weight_choice", WeightChoiceJson(s, k)}});
-  }
-  j["axes"] = axes;
-  j["expected_error"] = ExpectedJson(a, s);
-  if (s.validation) j["validation"] = ValidationJson(*s.validation);
-  return j;
-}
-
-Status WriteModels(const CalibrateArgs& a, const std::vector<Sensor>& all) {
-  if (a.models_dir.empty()) return Status::Ok();
-  std::error_code ec;
-  std::filesystem::create_directories(a.models_dir, ec);
-  if (ec) return IoError(a.models_dir + ": cannot create the directory: " + ec.message());
-  for (const Sensor& s : all) {
-    if (!s.reason.empty()) continue;
-    DriftModelSet set;
-    set.axes = s.models;
-    set.device_id = s.device_id;
-    set.sensor = SensorIdentity{s.type, s.instance, s.device_id, "sensor"};
-    const std::string path = (std::filesystem::path(a.models_dir) / (s.type + std::to_string(s.instance) + ".json")).string();
-    if (Status st = SaveDriftModelSet(set, path); !st.ok()) return st;
-  }
-  return Status::Ok();
-}
-
-void PrintTable(const std::vector<Sensor>& all) {
-  std::ostringstream t;
-  t << "sensor  inst  slot  span_c         model          cost (RMS full - cubic, per axis)\n";
-  for (const Sensor& s : all) {
-    t << s.type << std::string(8 - std::min<std::size_t>(7, s.type.size()), ' ') << s.instance << "     " << s.slot << "     ";
-    if (!s.reason.empty()) {
-      t << "skipped: " << s.reason << "\n";
-      continue;
-    }
-    std::string span = Num(s.temp_min_c) + ".." + Num(s.temp_max_c);
-    t << span << std::string(span.size() < 15 ? 15 - span.size() : 1, ' ') << DriftModelKindName(s.models[0].kind)
-      << std::string(15 - std::min<std::size_t>(14, std::string(DriftModelKindName(s.models[0].kind)).size()), ' ');
-    for (double v : s.cost_rms) t << Num(v) << " ";
-    t << s.unit << "\n";
-    t << "                  expected next-run error of the cubic: " << ExpectedText(s, false) << "; "
-      << ExpectedText(s, true) << " " << s.unit << "\n";
-    t << "                  " << WeightText(s) << "\n";
-  }
-  bool any_validation = false;
-  for (const Sensor& s : all) any_validation |= s.validation.has_value();
-  if (any_validation) {
-    t << "validation run: RMS of block means, mean removed, per axis (raw / exported cubic, firmware formula / "
-         "full model, causal)\n";
-    for (const Sensor& s : all) {
-      if (!s.validation) continue;
-      t << s.type << std::string(8 - std::min<std::size_t>(7, s.type.size()), ' ') << s.instance << "     ";
-      const Sensor::Validation& v = *s.validation;
-      if (!v.reason.empty()) {
-        t << "not scored: " << v.reason << "\n";
-        continue;
-      }
-      for (std::size_t k = 0; k < v.raw.size(); ++k)
-        t << s.cols[k] << " " << Num(v.raw[k]) << " / " << Num(v.cubic[k]) << " / " << Num(v.full_model[k]) << "   ";
-      t << s.unit << "\n";
-    }
-  }
-  std::cerr << t.str();
-}
-
-// The gyro cubics for the report's chart (deg/s).
-std::vector<CalibrateCurve> CubicCurves(const std::vector<Sensor>& all) {
-  std::vector<CalibrateCurve> out;
-  for (const Sensor& s : all) {
-    if (s.type != "gyro" || !s.reason.empty()) continue;
-    for (std::size_t k = 0; k < s.cubics.size(); ++k)
-      out.push_back({s.type + " " + std::to_string(s.instance) + " " + s.cols[k], s.cubics[k], s.to_model});
-  }
-  return out;
-}
-
 // Several -i logs of one board: each sensor of the first log is matched in the others (type,
 // instance, device id), every match calibrated over the range all of them cover, and the cubics
 // averaged coefficient by coefficient (one range and reference): the calibration runs' noise
@@ -704,7 +368,7 @@ Status CombineRuns(const CalibrateArgs& a, LogFormat format, std::vector<Sensor>
     }
     if (!s.reason.empty()) continue;
     if (hi - lo < a.min_span_c) {
-      s.reason = "the -i logs share only " + Num(lo) + ".." + Num(hi) + " C < --min-span";
+      s.reason = "the -i logs share only " + ShortNum(lo) + ".." + ShortNum(hi) + " C < --min-span";
       continue;
     }
     runs.insert(runs.begin(), &s);

@@ -7,20 +7,15 @@
 
 #include <gtest/gtest.h>
 
+#include "fixtures.h"
 #include "test_support.h"
 
 namespace gyrocomp {
 namespace {
 
-class FitApplyCli : public ::testing::Test {
+class FitApplyCli : public testing::CliTest {
  protected:
-  void SetUp() override {
-    cli_ = testing::CliPath();
-    if (cli_.empty()) GTEST_SKIP() << "the gyrocomp CLI is not built (GYROCOMP_BUILD_CLI=OFF)";
-    dir_ = testing::MakeTempDir("drift_cli_test");
-  }
-  int Run(const std::string& args, std::string* out) { return testing::RunCommand(cli_ + " " + args, out); }
-  std::string cli_, dir_;
+  FitApplyCli() : CliTest("drift_cli_test") {}
 };
 
 // The golden SVR cases through the CLI: fit on train.csv (no time column: --fs 1), apply on the

@@ -17,6 +17,7 @@
 #include "gyrocomp/io/dataflash.h"
 #include "gyrocomp/io/io.h"
 #include "gyrocomp/sim/simulator.h"
+#include "fixtures.h"
 #include "test_support.h"
 
 namespace gyrocomp {
@@ -84,16 +85,13 @@ std::map<std::string, double> ReadParams(const std::string& path) {
   return p;
 }
 
-class ArduPilotFramesCli : public ::testing::Test {
+class ArduPilotFramesCli : public testing::CliTest {
  protected:
+  ArduPilotFramesCli() : CliTest("ardupilot_frames_cli_test") {}
   void SetUp() override {
-    cli_ = testing::CliPath();
-    if (cli_.empty()) GTEST_SKIP() << "the gyrocomp CLI is not built (GYROCOMP_BUILD_CLI=OFF)";
-    dir_ = testing::MakeTempDir("ardupilot_frames_cli_test");
+    CliTest::SetUp();
+    if (IsSkipped()) return;
     run_ = MakeRun();
-  }
-  void TearDown() override {
-    if (!dir_.empty()) std::filesystem::remove_all(dir_);
   }
   // fit --model poly + export --format ardupilot on `bytes`; the parameters written.
   std::map<std::string, double> Export(const std::string& name, const std::string& bytes) {
@@ -105,7 +103,6 @@ class ArduPilotFramesCli : public ::testing::Test {
     EXPECT_EQ(testing::RunCommand(cli_ + " export -m " + model + " --format ardupilot -o " + params, &out), 0) << out;
     return ReadParams(params);
   }
-  std::string cli_, dir_;
   SensorRun run_;
 };
 

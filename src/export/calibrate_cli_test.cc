@@ -17,6 +17,7 @@
 #include "gyrocomp/export/thermal_cubic.h"
 #include "gyrocomp/sim/simulator.h"
 #include "param_files_test_util.h"
+#include "fixtures.h"
 #include "test_support.h"
 
 namespace gyrocomp {
@@ -74,17 +75,9 @@ float ApRemoved(const std::map<std::string, float>& p, const std::string& pre, c
   return poly(std::clamp(t, tmin, tmax) - 35.0f) - poly(std::clamp(tcal, tmin, tmax) - 35.0f);
 }
 
-class CalibrateCli : public ::testing::Test {
+class CalibrateCli : public testing::CliTest {
  protected:
-  void SetUp() override {
-    cli_ = testing::CliPath();
-    if (cli_.empty()) GTEST_SKIP() << "the gyrocomp CLI is not built (GYROCOMP_BUILD_CLI=OFF)";
-    dir_ = testing::MakeTempDir("calibrate_cli_test");
-  }
-  void TearDown() override {
-    if (!dir_.empty()) fs::remove_all(dir_);
-  }
-  int Run(const std::string& args, std::string* out) { return testing::RunCommand(cli_ + " " + args, out); }
+  CalibrateCli() : CliTest("calibrate_cli_test") {}
   std::string Simulate(const std::string& name, const std::string& extra) {
     std::string out;
     const std::string path = dir_ + "/" + name;
@@ -92,7 +85,6 @@ class CalibrateCli : public ::testing::Test {
                       " -o " + path, &out), 0) << out;
     return path;
   }
-  std::string cli_, dir_;
 };
 
 TEST_F(CalibrateCli, Px4FileHoldsEverySensorAndTheFirmwareFormulaGivesTheCubic) {

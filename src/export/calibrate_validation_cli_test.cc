@@ -15,6 +15,7 @@
 #include "gyrocomp/export/thermal_cubic.h"
 #include "gyrocomp/io/ulog.h"
 #include "param_files_test_util.h"
+#include "fixtures.h"
 #include "test_support.h"
 
 namespace gyrocomp {
@@ -71,17 +72,9 @@ double RawScore(const std::vector<double>& v) {
   return std::sqrt(ss / static_cast<double>(means.size()));
 }
 
-class CalibrateValidationCli : public ::testing::Test {
+class CalibrateValidationCli : public testing::CliTest {
  protected:
-  void SetUp() override {
-    cli_ = testing::CliPath();
-    if (cli_.empty()) GTEST_SKIP() << "the gyrocomp CLI is not built (GYROCOMP_BUILD_CLI=OFF)";
-    dir_ = testing::MakeTempDir("calibrate_validation_cli_test");
-  }
-  void TearDown() override {
-    if (!dir_.empty()) fs::remove_all(dir_);
-  }
-  int Run(const std::string& args, std::string* out) { return testing::RunCommand(cli_ + " " + args, out); }
+  CalibrateValidationCli() : CliTest("calibrate_validation_cli_test") {}
   // The bench's board: cold start, heating ramp at 1 C/min behind a 120 s lag; `profile` adds
   // the direction (cooling: --room-temp 60 --ramp-end 10).
   std::string Simulate(const std::string& name, int seed, const std::string& profile) {
@@ -91,7 +84,6 @@ class CalibrateValidationCli : public ::testing::Test {
                   "--seed " + std::to_string(seed) + " " + profile + " -o " + path, &out), 0) << out;
     return path;
   }
-  std::string cli_, dir_;
 };
 
 TEST_F(CalibrateValidationCli, ScoresEveryCubicWithTheFirmwareFormulaOnTheValidationRun) {

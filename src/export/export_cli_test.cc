@@ -10,17 +10,18 @@
 
 #include "export_test_models.h"
 #include "gyrocomp/export/thermal_cubic.h"
+#include "fixtures.h"
 #include "test_support.h"
 
 namespace gyrocomp {
 namespace {
 
-class ExportCli : public ::testing::Test {
+class ExportCli : public testing::CliTest {
  protected:
+  ExportCli() : CliTest("export_cli_test") {}
   void SetUp() override {
-    cli_ = testing::CliPath();
-    if (cli_.empty()) GTEST_SKIP() << "the gyrocomp CLI is not built (GYROCOMP_BUILD_CLI=OFF)";
-    dir_ = testing::MakeTempDir("export_cli_test");
+    CliTest::SetUp();
+    if (IsSkipped()) return;
     run_ = export_test::ChamberRun(51);
     std::ofstream f(dir_ + "/cal.csv");
     f.precision(17);
@@ -34,8 +35,6 @@ class ExportCli : public ::testing::Test {
   }
   std::string Model(int a) const { return dir_ + "/m" + std::to_string(a) + ".json"; }
   std::string Models() const { return " -m " + Model(0) + " -m " + Model(1) + " -m " + Model(2); }
-  int Run(const std::string& args, std::string* out) { return testing::RunCommand(cli_ + " " + args, out); }
-  std::string cli_, dir_;
   SimulatedRun run_;
   std::vector<DriftModel> models_;
 };

@@ -115,10 +115,8 @@ TEST(DriftBand, RoundTripsThroughTheModelFileAndOldFilesHaveNone) {
   EXPECT_NE(bad.error().message.find("band.model_form_rms"), std::string::npos) << bad.error().message;
 }
 
-// Eq. B-4: a heating-only calibration leaves the dT/dt gain out (Eq. I-1) but the band widens on
-// a run whose dT/dt differs from the calibration's at the same temperature (a cooling run).
-TEST(DriftBand, WidensWhereALeftOutRateTermActs) {
-  const double fs = 0.2;
+// A heating-only chamber run at fs: 1 h at -40 C, then 1 C/min to 60 C, behind a 600 s lag.
+std::vector<double> HeatingOnly(double fs) {
   std::vector<double> heat;
   double sensor = -40.0;
   for (double t = 0.0; t < 13200.0; t += 1.0 / fs) {
@@ -126,6 +124,14 @@ TEST(DriftBand, WidensWhereALeftOutRateTermActs) {
     sensor += (chamber - sensor) * (1.0 - std::exp(-1.0 / fs / 600.0));
     heat.push_back(sensor);
   }
+  return heat;
+}
+
+// Eq. B-4: a heating-only calibration leaves the dT/dt gain out (Eq. I-1) but the band widens on
+// a run whose dT/dt differs from the calibration's at the same temperature (a cooling run).
+TEST(DriftBand, WidensWhereALeftOutRateTermActs) {
+  const double fs = 0.2;
+  const std::vector<double> heat = HeatingOnly(fs);
   auto rate = TemperatureRate(heat, fs);
   ASSERT_TRUE(rate.ok());
   std::vector<double> y = Measured(heat, fs, 5);
@@ -154,13 +160,7 @@ TEST(DriftBand, WidensWhereALeftOutRateTermActs) {
 // with g^2 + SE^2.
 TEST(DriftBand, LeftOutGainTermIsNotTwiceItsNoise) {
   const double fs = 0.2;
-  std::vector<double> heat;
-  double sensor = -40.0;
-  for (double t = 0.0; t < 13200.0; t += 1.0 / fs) {
-    const double chamber = t < 3600.0 ? -40.0 : std::min(60.0, -40.0 + (t - 3600.0) / 60.0);
-    sensor += (chamber - sensor) * (1.0 - std::exp(-1.0 / fs / 600.0));
-    heat.push_back(sensor);
-  }
+  const std::vector<double> heat = HeatingOnly(fs);
   double ratio = 0.0;
   int count = 0;
   for (unsigned seed = 1; seed <= 12; ++seed) {

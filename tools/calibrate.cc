@@ -27,6 +27,7 @@
 #include "commands.h"
 #include "calibrate_report.h"
 #include "calibrate_sensor.h"
+#include "gyrocomp/core/format.h"
 #include "gyrocomp/drift/drift_model.h"
 #include "gyrocomp/export/cubic_score.h"
 #include "gyrocomp/export/param_export.h"
@@ -183,13 +184,13 @@ void Calibrate(Sensor* s, const CalibrateArgs& a, std::optional<std::pair<double
   }
   BlockMeans(s, a.fit_rate_hz);
   if (s->time_s.size() < a.min_rows) {
-    s->reason = std::to_string(s->time_s.size()) + " rows at " + ShortNum(a.fit_rate_hz) + " Hz < " + std::to_string(a.min_rows);
+    s->reason = std::to_string(s->time_s.size()) + " rows at " + FormatNumber(a.fit_rate_hz, 4) + " Hz < " + std::to_string(a.min_rows);
     return;
   }
   const auto [lo, hi] = std::minmax_element(s->temp_c.begin(), s->temp_c.end());
   s->temp_min_c = *lo, s->temp_max_c = *hi;
   if (*hi - *lo < a.min_span_c) {
-    s->reason = "temperature span " + ShortNum(*hi - *lo) + " C < " + ShortNum(a.min_span_c) + " C";
+    s->reason = "temperature span " + FormatNumber(*hi - *lo, 4) + " C < " + FormatNumber(a.min_span_c, 4) + " C";
     return;
   }
   if (range) s->temp_min_c = range->first, s->temp_max_c = range->second;
@@ -368,7 +369,7 @@ Status CombineRuns(const CalibrateArgs& a, LogFormat format, std::vector<Sensor>
     }
     if (!s.reason.empty()) continue;
     if (hi - lo < a.min_span_c) {
-      s.reason = "the -i logs share only " + ShortNum(lo) + ".." + ShortNum(hi) + " C < --min-span";
+      s.reason = "the -i logs share only " + FormatNumber(lo, 4) + ".." + FormatNumber(hi, 4) + " C < --min-span";
       continue;
     }
     runs.insert(runs.begin(), &s);

@@ -87,9 +87,6 @@ struct Sensor {
   int runs_combined = 1;  // -i logs whose cubics were averaged
 };
 
-// 4 significant digits.
-std::string ShortNum(double v);
-
 // The parameter file's text (PX4 or ArduPilot, every sensor, disabled slots included).
 Result<std::string> WriteFile(const CalibrateArgs& a, const std::vector<Sensor>& all);
 // Each calibrated sensor's model file to --models (nothing without it).

@@ -95,7 +95,7 @@ Result<Eigen::MatrixXd> ParameterCovariance(const DriftModel& m, const DriftInpu
   for (std::size_t i = 0; i < n; ++i)
     a.row(static_cast<Eigen::Index>(i)) = TermRow(p, d->xd[0][i], Col(d->xd, 1, i), Col(d->xd, 2, i)).transpose();
   const double duration_s = static_cast<double>(target.size()) / inputs.fs_hz;
-  const double f_floor_hz = 1.0 / (2.0 * 3.14159265358979323846 * o.noise_psd.max_tau_fraction * duration_s);
+  const double f_floor_hz = RedSpectrumFloorHz(o.noise_psd, duration_s);
   const std::vector<double> r = BlockMeanAutocovariance(psd, n, d->train_period_s, f_floor_hz);  // Eq. G-2, floored
   Eigen::MatrixXd sigma(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(n));
   for (std::size_t i = 0; i < n; ++i)

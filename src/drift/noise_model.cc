@@ -170,6 +170,10 @@ Result<NoisePsd> FitNoisePsd(std::span<const double> x, double fs_hz, const Nois
   return best;
 }
 
+double RedSpectrumFloorHz(const NoisePsdOptions& options, double duration_s) {
+  return 1.0 / (2.0 * std::numbers::pi * options.max_tau_fraction * duration_s);
+}
+
 std::vector<double> BlockMeanAutocovariance(const NoisePsd& psd, std::size_t n, double block_s, double f_floor_hz) {
   std::vector<double> r(n, 0.0);
   if (n == 0) return r;

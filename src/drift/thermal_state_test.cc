@@ -52,7 +52,9 @@ TEST(ThermalState, BatchEqualsStepAndEvaluatorEqualsCausalPredict) {
     for (std::size_t i = 0; i < temp.size(); ++i) {
       ASSERT_EQ((*batch)[i], ev.Step(1.0 / fs_hz, temp[i])) << i;
       // temp,dtemp,memory: its second state is the memory of Eq. TS-3, from the same lags.
-      if (HasSecondMemoryState(in)) ASSERT_EQ((*memory)[i], ev.memory()) << i;
+      if (HasSecondMemoryState(in)) {
+        ASSERT_EQ((*memory)[i], ev.memory()) << i;
+      }
     }
 
     DriftFitOptions f;

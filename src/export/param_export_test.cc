@@ -72,7 +72,9 @@ Px4GyroCal ReadPx4(const std::string& text, int slot, std::uint32_t id) {
   EXPECT_EQ(p.at(s + "ID"), (std::pair<std::string, int>{std::to_string(id), 6}));
   EXPECT_EQ(p.size(), 2u + 3u + 12u);
   for (const auto& [name, value] : p) {
-    if (name.starts_with(s) && name != s + "ID") EXPECT_EQ(value.second, 9) << name;
+    if (name.starts_with(s) && name != s + "ID") {
+      EXPECT_EQ(value.second, 9) << name;
+    }
   }
   return ReadPx4Slot(p, s);
 }

@@ -3,13 +3,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <numbers>
 #include <string>
 #include <vector>
 
 #include <Eigen/Dense>
 
+#include "gyrocomp/core/format.h"
 #include "gyrocomp/drift/noise_model.h"
 #include "gyrocomp/drift/temperature_rate.h"
 
@@ -97,7 +97,7 @@ Eigen::Matrix4d NoiseCovariance(const Eigen::MatrixXd& l, const NoisePsd& psd, d
   NoisePsd red = psd;
   red.h0 = 0.0;
   // Eq. G-2 with the red part held flat below the longest Allan tau fitted (drift_band.cc).
-  const double f_floor_hz = 1.0 / (2.0 * std::numbers::pi * NoisePsdOptions{}.max_tau_fraction * duration_s);
+  const double f_floor_hz = RedSpectrumFloorHz(NoisePsdOptions{}, duration_s);
   const std::vector<double> r =
       BlockMeanAutocovariance(red, static_cast<std::size_t>(blocks), static_cast<double>(per_block) / fs_hz, f_floor_hz);
   Eigen::MatrixXd sigma(blocks, blocks);
@@ -139,18 +139,12 @@ StaticEstimatorError ErrorOf(MeanSquares m, double gain) {
   return e;
 }
 
-std::string Short(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.3g", v);
-  return b;
-}
-
 void Decide(StaticWeightChoice* c, const std::string& evidence) {
   c->chosen = c->temperature.total_rms < c->time.total_rms ? StaticWeight::kTemperature : StaticWeight::kTime;
-  c->reason = std::string(StaticWeightName(c->chosen)) + ": expected error time " + Short(c->time.total_rms) +
-              " (gain " + Short(c->time.rate_gain_rms) + ", noise " + Short(c->time.noise_rms) + "), temperature " +
-              Short(c->temperature.total_rms) + " (gain " + Short(c->temperature.rate_gain_rms) + ", noise " +
-              Short(c->temperature.noise_rms) + ")" + evidence;
+  c->reason = std::string(StaticWeightName(c->chosen)) + ": expected error time " + FormatNumber(c->time.total_rms, 3) +
+              " (gain " + FormatNumber(c->time.rate_gain_rms, 3) + ", noise " + FormatNumber(c->time.noise_rms, 3) + "), temperature " +
+              FormatNumber(c->temperature.total_rms, 3) + " (gain " + FormatNumber(c->temperature.rate_gain_rms, 3) + ", noise " +
+              FormatNumber(c->temperature.noise_rms, 3) + ")" + evidence;
 }
 
 }  // namespace
@@ -194,7 +188,7 @@ Result<StaticWeightChoice> ChooseStaticWeight(const DriftModel& model, const Dri
     const double g = *fs.unidentified_rate_gain, se = *fs.unidentified_rate_gain_se;
     c.gain = g, c.gain_se = se;
     c.rate_gain_rms = std::min(c.rate_gain_rms, std::sqrt(std::max(0.0, g * g - se * se)));
-    gain_source = "sqrt(max(0, g^2 - SE^2)), g " + Short(g) + " +- " + Short(se);
+    gain_source = "sqrt(max(0, g^2 - SE^2)), g " + FormatNumber(g, 3) + " +- " + FormatNumber(se, 3);
   }
   const double duration_s = static_cast<double>(x.size()) / run.fs_hz;
   // The band's block period (drift_band.cc AttachBand): red_block_s, at least 20 blocks.
@@ -209,7 +203,7 @@ Result<StaticWeightChoice> ChooseStaticWeight(const DriftModel& model, const Dri
     *out = ErrorOf(m, c.rate_gain_rms);
     if (!std::isfinite(out->total_rms)) return InvalidInput("static weight: non-finite expected error");
   }
-  Decide(&c, "; left-out dT/dt gain " + Short(c.rate_gain_rms) + " per C/s (" + gain_source + ")");
+  Decide(&c, "; left-out dT/dt gain " + FormatNumber(c.rate_gain_rms, 3) + " per C/s (" + gain_source + ")");
   return c;
 }
 
@@ -234,13 +228,13 @@ StaticWeightChoice CombineStaticWeightChoices(const std::vector<StaticWeightChoi
     const double g = g_sum / k;
     c.gain = g, c.gain_se = std::sqrt(se2);
     g2 = std::min(band2, std::max(0.0, g * g - se2));
-    source = "the runs' mean gain " + Short(g) + " +- " + Short(std::sqrt(se2)) + ", sqrt(max(0, g^2 - SE^2))";
+    source = "the runs' mean gain " + FormatNumber(g, 3) + " +- " + FormatNumber(std::sqrt(se2), 3) + ", sqrt(max(0, g^2 - SE^2))";
   }
   c.rate_gain_rms = std::sqrt(g2);
   c.band_gain_rms = std::sqrt(band2);
   c.time = ErrorOf(t, c.rate_gain_rms), c.temperature = ErrorOf(p, c.rate_gain_rms);
   Decide(&c, "; " + std::to_string(per_run.size()) + " runs averaged: noise / runs, left-out dT/dt gain " +
-                 Short(c.rate_gain_rms) + " per C/s (" + source + ")");
+                 FormatNumber(c.rate_gain_rms, 3) + " per C/s (" + source + ")");
   return c;
 }
 

@@ -86,4 +86,8 @@ Result<NoisePsd> FitNoisePsd(std::span<const double> x, double fs_hz, const Nois
 std::vector<double> BlockMeanAutocovariance(const NoisePsd& psd, std::size_t n, double block_s,
                                             double f_floor_hz = 0.0);
 
+// The f_floor_hz of a record of duration_s: 1 / (2 pi tau_max), tau_max = options.max_tau_fraction
+// x the record, the longest Allan tau FitNoisePsd fits (the band's Eq. B-2, static_weight.h).
+double RedSpectrumFloorHz(const NoisePsdOptions& options, double duration_s);
+
 }  // namespace gyrocomp

@@ -407,21 +407,24 @@ Result<DriftModel> FitAuto(const DriftInputs& inputs, std::span<const double> ta
 
 }  // namespace
 
+CvPlan ModelCvPlan(const FitData& base, const DriftFitOptions& o, std::string* note) {
+  CvPlan plan = MakeCvPlan(base, o, o.model);
+  if (o.model != DriftModelKind::kAuto) return plan;
+  // Eq. I-0: every fold must leave enough points for the largest candidate the points support.
+  const std::size_t points = base.yd.size();
+  const std::size_t coefficients = std::max<std::size_t>(
+      2, std::min<std::size_t>(MaxCoefficients(points),
+                               static_cast<std::size_t>(o.polynomial.degree + 1 + o.polynomial.dtemp_degree)));
+  return EnsureTrainablePlan(plan, base.xd[0], coefficients, o.cv_folds, note);
+}
+
 Result<DriftModel> FitSelected(const DriftInputs& inputs, std::span<const double> target, const DriftFitOptions& o) {
   // One plan for every candidate: it depends on the temperature only.
   auto base = PrepareFitData(inputs, target, o);
   if (!base.ok()) return base.error();
-  CvPlan plan = MakeCvPlan(*base, o, o.model);
-  if (o.model == DriftModelKind::kAuto) {
-    // Eq. I-0: every fold must leave enough points for the largest candidate the points support.
-    const std::size_t points = base->yd.size();
-    const std::size_t coefficients = std::max<std::size_t>(
-        2, std::min<std::size_t>(MaxCoefficients(points),
-                                 static_cast<std::size_t>(o.polynomial.degree + 1 + o.polynomial.dtemp_degree)));
-    std::string note;
-    plan = EnsureTrainablePlan(plan, base->xd[0], coefficients, o.cv_folds, &note);
-    return FitAuto(inputs, target, o, plan, points, base->train_period_s, note);
-  }
+  std::string note;
+  CvPlan plan = ModelCvPlan(*base, o, &note);
+  if (o.model == DriftModelKind::kAuto) return FitAuto(inputs, target, o, plan, base->yd.size(), base->train_period_s, note);
   // A given model with the lag state: tau first, then the model.
   DriftFitOptions c = o;
   c.state.lag_tau_s = SearchLagTau(inputs, target, o, plan);

@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include "drift_model_internal.h"
 #include "gyrocomp/drift/drift_model.h"
 #include "test_support.h"
 
@@ -80,6 +81,48 @@ TEST(DriftBand, CoversTheTrueDriftOnAnotherRunAndIsNotTooWide) {
   const double coverage = inside / count;
   EXPECT_GE(coverage, 0.75) << "coverage " << coverage;
   EXPECT_LE(std::sqrt(half2 / err2), 3.0) << "RMS half-width / RMS error";
+}
+
+// Eq. B-3's noise-only CV (StructuredFormCv) against a Monte Carlo of the CV itself: a cubic
+// plus white noise of known SD, refitted on 400 noise draws. The realised CV of each draw is the
+// fit's own score (the same plan), and its mean and SD over the draws are what the closed form
+// tr(G Sigma G') / k and sqrt(2 tr((G Sigma G')^2)) / k predict. Without the fold refit (the
+// held-out noise alone) the expectation would be sigma^2, 5% low here; without the factor 2
+// the SD would be 29% low.
+TEST(DriftBand, NoiseOnlyCvMatchesAMonteCarloOfTheCv) {
+  const double fs = 1.0 / 60.0, sigma = 0.01;
+  std::vector<double> temp;
+  for (int i = 0; i < 120; ++i) temp.push_back(-40.0 + 100.0 * i / 119.0);  // heating
+  for (int i = 0; i < 60; ++i) temp.push_back(60.0 - 100.0 * i / 59.0);     // cooling
+  DriftFitOptions o;
+  o.model = DriftModelKind::kPolynomial;
+  o.cv_scheme = DriftCvScheme::kThermalSegments;
+  o.band = false;
+  NoisePsd white;
+  white.h0 = 2.0 * sigma * sigma / fs;  // variance h0 fs / 2
+  std::mt19937 rng(11);
+  std::normal_distribution<double> n(0.0, sigma);
+  std::vector<double> mse;
+  drift_internal::FormCv first;
+  for (int draw = 0; draw < 400; ++draw) {
+    std::vector<double> y;
+    for (double t : temp) y.push_back(Cubic(t) + n(rng));
+    auto m = FitDriftModel({temp, fs}, y, o);
+    ASSERT_TRUE(m.ok()) << m.error().message;
+    auto f = drift_internal::StructuredFormCv(*m, {temp, fs}, y, o, white, 1.0 / fs);
+    ASSERT_TRUE(f.ok()) << f.error().message;
+    EXPECT_EQ(f->points, temp.size());
+    if (draw == 0) first = *f;
+    EXPECT_NEAR(f->noise_mse, first.noise_mse, 1e-15);  // depends on the design only
+    mse.push_back(f->mse);
+  }
+  double mean = 0.0, ss = 0.0;
+  for (double v : mse) mean += v / static_cast<double>(mse.size());
+  for (double v : mse) ss += (v - mean) * (v - mean) / static_cast<double>(mse.size() - 1);
+  const double se_mean = std::sqrt(ss / static_cast<double>(mse.size()));
+  EXPECT_GT(first.noise_mse, 1.03 * sigma * sigma);  // the fold refits add their parameter error (1.055 sigma^2)
+  EXPECT_NEAR(mean, first.noise_mse, 3.0 * se_mean) << "Monte Carlo mean vs tr(G Sigma G') / k";
+  EXPECT_NEAR(std::sqrt(ss), first.noise_mse_sd, 0.12 * first.noise_mse_sd) << "Monte Carlo SD vs the closed form";
 }
 
 // The band is stored per axis and read back: the same band after a round trip; a version-1 file

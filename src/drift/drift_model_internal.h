@@ -123,6 +123,9 @@ Status CheckFitArguments(const DriftInputs& inputs, std::span<const double> targ
 Result<FitData> PrepareFitData(const DriftInputs& inputs, std::span<const double> target, const DriftFitOptions& o);
 // The CV plan of o.cv_scheme (automatic: segments for hybrid and auto, blocks otherwise).
 CvPlan MakeCvPlan(const FitData& d, const DriftFitOptions& o, DriftModelKind kind);
+// The plan a fit with options `o` scores its candidates on: MakeCvPlan, and for auto made
+// trainable for the largest candidate (EnsureTrainablePlan; *note says when it fell back).
+CvPlan ModelCvPlan(const FitData& base, const DriftFitOptions& o, std::string* note);
 // One model of `kind` (not kAuto) with o.inputs and o.state as given.
 Result<DriftModel> FitPrepared(const FitData& d, const DriftInputs& inputs, DriftModelKind kind,
                                const DriftFitOptions& o, const CvPlan& plan);
@@ -159,6 +162,19 @@ TermTest TestLagTau(double tau_s, double score_at_tau, double score_below, doubl
 // with *note saying why. `temp` is the training copy's temperature column.
 CvPlan EnsureTrainablePlan(const CvPlan& plan, std::span<const double> temp, std::size_t coefficients, int folds,
                            std::string* note);
+
+// Eq. B-3 (drift_band.cc): the thermal-segment CV of a model's structured form, refitted per
+// fold by OLS (GLS for noise_model allan) on the plan the fit scored on (ModelCvPlan), pooled
+// over the scored held-out points; and its expectation and SD were the run exactly that form plus
+// the noise `psd` (Eq. B-2's Sigma at the CV's block period cv_period_s).
+struct FormCv {
+  double mse = 0.0;           // realised mean square held-out error, target units^2
+  double noise_mse = 0.0;     // its expectation under the noise alone
+  double noise_mse_sd = 0.0;  // its standard deviation under the noise alone (Gaussian)
+  std::size_t points = 0;     // held-out points scored
+};
+Result<FormCv> StructuredFormCv(const DriftModel& m, const DriftInputs& inputs, std::span<const double> target,
+                                const DriftFitOptions& o, const NoisePsd& psd, double cv_period_s);
 
 // Eqs. B-1..B-3 (drift_band.cc): the prediction band of a fitted model from its calibration run;
 // cv_period_s = the block period of the training copy its CV score was computed on.

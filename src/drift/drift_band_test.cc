@@ -85,10 +85,9 @@ TEST(DriftBand, CoversTheTrueDriftOnAnotherRunAndIsNotTooWide) {
 
 // Eq. B-3's noise-only CV (StructuredFormCv) against a Monte Carlo of the CV itself: a cubic
 // plus white noise of known SD, refitted on 400 noise draws. The realised CV of each draw is the
-// fit's own score (the same plan), and its mean and SD over the draws are what the closed form
-// tr(G Sigma G') / k and sqrt(2 tr((G Sigma G')^2)) / k predict. Without the fold refit (the
-// held-out noise alone) the expectation would be sigma^2, 5% low here; without the factor 2
-// the SD would be 29% low.
+// fit's own score (the same plan), and its mean over the draws is what the closed form
+// tr(G Sigma G') / k predicts. Without the fold refits (the held-out noise alone) the
+// expectation would be sigma^2, 5% low here, beyond 3 SE of the Monte Carlo mean (1.7%).
 TEST(DriftBand, NoiseOnlyCvMatchesAMonteCarloOfTheCv) {
   const double fs = 1.0 / 60.0, sigma = 0.01;
   std::vector<double> temp;
@@ -122,7 +121,6 @@ TEST(DriftBand, NoiseOnlyCvMatchesAMonteCarloOfTheCv) {
   const double se_mean = std::sqrt(ss / static_cast<double>(mse.size()));
   EXPECT_GT(first.noise_mse, 1.03 * sigma * sigma);  // the fold refits add their parameter error (1.055 sigma^2)
   EXPECT_NEAR(mean, first.noise_mse, 3.0 * se_mean) << "Monte Carlo mean vs tr(G Sigma G') / k";
-  EXPECT_NEAR(std::sqrt(ss), first.noise_mse_sd, 0.12 * first.noise_mse_sd) << "Monte Carlo SD vs the closed form";
 }
 
 // The band is stored per axis and read back: the same band after a round trip; a version-1 file

@@ -165,13 +165,12 @@ CvPlan EnsureTrainablePlan(const CvPlan& plan, std::span<const double> temp, std
 
 // Eq. B-3 (drift_band.cc): the thermal-segment CV of a model's structured form, refitted per
 // fold by OLS (GLS for noise_model allan) on the plan the fit scored on (ModelCvPlan), pooled
-// over the scored held-out points; and its expectation and SD were the run exactly that form plus
-// the noise `psd` (Eq. B-2's Sigma at the CV's block period cv_period_s).
+// over the scored held-out points, and its expectation were the run exactly that form plus the
+// noise `psd` (Eq. B-2's Sigma at the CV's block period cv_period_s).
 struct FormCv {
-  double mse = 0.0;           // realised mean square held-out error, target units^2
-  double noise_mse = 0.0;     // its expectation under the noise alone
-  double noise_mse_sd = 0.0;  // its standard deviation under the noise alone (Gaussian)
-  std::size_t points = 0;     // held-out points scored
+  double mse = 0.0;        // realised mean square held-out error, target units^2
+  double noise_mse = 0.0;  // its expectation under the noise alone
+  std::size_t points = 0;  // held-out points scored
 };
 Result<FormCv> StructuredFormCv(const DriftModel& m, const DriftInputs& inputs, std::span<const double> target,
                                 const DriftFitOptions& o, const NoisePsd& psd, double cv_period_s);

@@ -164,13 +164,15 @@ CvPlan EnsureTrainablePlan(const CvPlan& plan, std::span<const double> temp, std
                            std::string* note);
 
 // Eq. B-3 (drift_band.cc): the thermal-segment CV of a model's structured form, refitted per
-// fold by OLS (GLS for noise_model allan) on the plan the fit scored on (ModelCvPlan), pooled
+// fold by OLS (GLS for noise_model allan) on the plan the fit scored on (ModelCvPlan; contiguous
+// blocks when its every fold is one whole segment, Eq. B-3s), pooled
 // over the scored held-out points, and its expectation were the run exactly that form plus the
 // noise `psd` (Eq. B-2's Sigma at the CV's block period cv_period_s).
 struct FormCv {
   double mse = 0.0;        // realised mean square held-out error, target units^2
   double noise_mse = 0.0;  // its expectation under the noise alone
   std::size_t points = 0;  // held-out points scored
+  DriftCvScheme scheme = DriftCvScheme::kBlocks;  // the plan scored (Eq. B-3s)
 };
 Result<FormCv> StructuredFormCv(const DriftModel& m, const DriftInputs& inputs, std::span<const double> target,
                                 const DriftFitOptions& o, const NoisePsd& psd, double cv_period_s);

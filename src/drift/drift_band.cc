@@ -31,16 +31,17 @@
 //            their correlation through the slow noise. Replaced (sixth session) CV_balanced^2 -
 //            R_seg(0) - mean a'Ca, which let one draw of slow noise on a single-segment class
 //            (rate-cycles' initial soak, a third of the direction-balanced score) make m 32 mdps
-//            against a realised 4-7. Eq. B-3s: on a segment plan of single-segment folds (3
-//            segments: each fold a whole direction) the CV is scored on contiguous blocks; on
-//            `heat-cool` and `stairs` of structure C the segment form gave m = 0-57 mdps by seed
-//            against realised 7-29, and `plan` 1.43x. Measured and not kept (less upward bias from max(0, .) for
-//            a right form, more under-prediction where the form is wrong): subtracting one SD s
-//            of MSE_cv under the noise as well (B's coverage 71.7%, `plan` 0.68-0.75x on 5 of
+//            against a realised 4-7. Measured and not kept (less upward bias from max(0, .)
+//            for a right form, more under-prediction where the form is wrong): subtracting one SD
+//            s of MSE_cv under the noise as well (B's coverage 71.7%, `plan` 0.68-0.75x on 5 of
 //            20 structure x profile pairs), or the positive-part shrinkage max(0, d - s^2 / d)
-//            (`plan` 0.70-0.74x on 3 pairs); this form: 19 of 20 within 25%, the other 1.43x
-//            (docs/drift_model.md, "Sixth session"). Capped at the target's variance: a larger CV
-//            error is extrapolation (flagged by the fit), not the spread inside the range.
+//            (`plan` 0.70-0.74x on 3 pairs). Capped at the target's variance: a larger CV error
+//            is extrapolation (flagged by the fit), not the spread inside the range.
+//   Eq. B-3s On a segment plan whose every fold is one whole segment (heat-cool, stairs: 3
+//            segments, each fold a whole direction) the CV of Eq. B-3 is scored on contiguous
+//            blocks: the segment form gave m = 0-57 mdps by seed against a realised 7-29 on
+//            structure C's heat-cool and stairs runs (`plan` 1.43x there). With both, `plan`
+//            holds within 25% on 19 of 20 pairs (docs/drift_model.md, "Sixth session").
 //   Eq. B-3k A model without a structured part (svr, cs-svr): its CV is not linear in the target;
 //            m^2 = CV^2 - R_seg(0) - mean a'Ca as before, R_seg(0) the Eq. G-2 variance of a
 //            block mean of the CV period about the mean of a left-out unit (duration / segments).
@@ -55,8 +56,6 @@
 //            (docs/drift_model.md "Prediction bands": coverage 84.6% with g^2, 87.2% before).
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <limits>
 #include <numbers>
 

@@ -48,6 +48,10 @@ TEST(DriftIdentify, PlateauTableOf25RowsGetsACubicOrLessAndSaysWhy) {
   EXPECT_GT(m->summary.drift_span, 0.05);
   // The cubic it fits follows the table: in-sample error near the noise.
   EXPECT_LT(m->summary.train_rmse, 0.004);
+  // With its band (issue 23 done-when 5): the table's noise (2 mdps a row) through a cubic.
+  ASSERT_TRUE(m->band.has_value()) << m->summary.data_support;
+  EXPECT_GT(m->band->expected_rms, 0.0005);
+  EXPECT_LT(m->band->expected_rms, 0.01);
 }
 
 // Fewer points: 13 rows support 2 coefficients, a straight line.

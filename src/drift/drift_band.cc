@@ -57,7 +57,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numbers>
 
 #include <Eigen/Dense>
 
@@ -114,7 +113,9 @@ Eigen::MatrixXd Toeplitz(const std::vector<double>& r) {
 // which holds at every tau). The random walk is not extrapolated (a Gauss-Markov wander fitted
 // as one would be counted again); below f_floor it is in Sigma already.
 double RunOffsetVariance(const NoisePsd& psd, double duration_s) {
-  return psd.h0 / (2.0 * duration_s) + 2.0 * std::numbers::ln2 * psd.h_1;
+  NoisePsd white_and_flicker = psd;
+  white_and_flicker.h_2 = 0.0;
+  return ModelAllanVariance(white_and_flicker, duration_s);
 }
 
 // Terms of the structured part at every sample of a (decimated) training copy.
@@ -204,13 +205,12 @@ Result<FormCv> StructuredFormCv(const DriftModel& m, const DriftInputs& inputs, 
   if (rows == 0) return InvalidInput("band: the CV plan scores no held-out point");
   gm.conservativeResize(rows, nn);
   const Eigen::VectorXd e = gm * Eigen::Map<const Eigen::VectorXd>(d->yd.data(), nn);
-  const Eigen::MatrixXd h = gm * sigma * gm.transpose();  // E e e' under the noise alone
   const double k = static_cast<double>(rows);
   FormCv f;
   f.scheme = plan.scheme;
   f.points = static_cast<std::size_t>(rows);
   f.mse = e.squaredNorm() / k;
-  f.noise_mse = h.trace() / k;
+  f.noise_mse = (gm * sigma).cwiseProduct(gm).sum() / k;  // tr(G Sigma G') / k, E e'e / k under the noise alone
   return f;
 }
 

@@ -148,9 +148,9 @@ Result<NoisePsd> FitNoisePsd(std::span<const double> x, double fs_hz, const Nois
     const double tau = static_cast<double>(m) / fs_hz;
     avar(r) = OverlappingAvar(c, m);
     if (!(avar(r) > 0.0)) return InvalidInput("FitNoisePsd: the series is constant (Allan variance 0 at tau " + FormatNumber(tau, 4) + " s)");
-    terms(r, 0) = 0.5 / tau;                      // Eq. G-1, white
-    terms(r, 1) = 2.0 * kLn2;                     // flicker
-    terms(r, 2) = 2.0 * kPi * kPi / 3.0 * tau;    // random walk
+    terms(r, 0) = ModelAllanVariance({1.0, 0.0, 0.0}, tau);  // Eq. G-1, white
+    terms(r, 1) = ModelAllanVariance({0.0, 1.0, 0.0}, tau);  // flicker
+    terms(r, 2) = ModelAllanVariance({0.0, 0.0, 1.0}, tau);  // random walk
     edf(r) = static_cast<double>(n) / static_cast<double>(m);  // ~ independent averages
   }
   // Weighted least squares on relative errors: Var(AVAR estimate) ~ 2 AVAR^2 / EDF, so weight
@@ -168,6 +168,10 @@ Result<NoisePsd> FitNoisePsd(std::span<const double> x, double fs_hz, const Nois
     scale = terms * Eigen::Vector3d(best.h0, best.h_1, best.h_2);
   }
   return best;
+}
+
+double ModelAllanVariance(const NoisePsd& psd, double tau_s) {
+  return psd.h0 / (2.0 * tau_s) + 2.0 * kLn2 * psd.h_1 + 2.0 * kPi * kPi / 3.0 * psd.h_2 * tau_s;
 }
 
 double RedSpectrumFloorHz(const NoisePsdOptions& options, double duration_s) {

@@ -86,6 +86,10 @@ Result<NoisePsd> FitNoisePsd(std::span<const double> x, double fs_hz, const Nois
 std::vector<double> BlockMeanAutocovariance(const NoisePsd& psd, std::size_t n, double block_s,
                                             double f_floor_hz = 0.0);
 
+// Eq. G-1: the Allan variance the model gives at averaging time tau_s (IEEE 952: white
+// h0 / (2 tau), flicker 2 ln2 h_-1, random walk (2 pi^2 / 3) h_-2 tau).
+double ModelAllanVariance(const NoisePsd& psd, double tau_s);
+
 // The f_floor_hz of a record of duration_s: 1 / (2 pi tau_max), tau_max = options.max_tau_fraction
 // x the record, the longest Allan tau FitNoisePsd fits (the band's Eq. B-2, static_weight.h).
 double RedSpectrumFloorHz(const NoisePsdOptions& options, double duration_s);

@@ -118,6 +118,36 @@ double RunOffsetVariance(const NoisePsd& psd, double duration_s) {
   return ModelAllanVariance(white_and_flicker, duration_s);
 }
 
+// Eq. B-2b: the run's trend. The same slow noise also tilts the run: the difference of its two
+// halves' means has the variance 2 AVAR(T / 2) (IEEE 952; white and flicker parts, as Eq.
+// B-2a), of which the floored Sigma holds w' Sigma w (w: -2/n on the first half, +2/n on the
+// second). The rest enters as a random linear trend in time, Sigma += v tt', t linear in the
+// block index with w't = 1: what a term that is one step in time on the run (a memory or a
+// dT/dt that reverses once) takes from the noise.
+void AddRunTrend(const NoisePsd& psd, double duration_s, Eigen::MatrixXd* sigma) {
+  const Eigen::Index n = sigma->rows();
+  if (n < 2) return;  // one block: no trend to tell from the offset
+  Eigen::VectorXd w(n), t(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    w(i) = (2 * i + 1 < n ? -1.0 : 2 * i + 1 > n ? 1.0 : 0.0) / static_cast<double>(n / 2);
+    t(i) = static_cast<double>(2 * i + 1 - n) / static_cast<double>(n);
+  }
+  t /= w.dot(t);
+  NoisePsd white_and_flicker = psd;
+  white_and_flicker.h_2 = 0.0;
+  const double v = 2.0 * ModelAllanVariance(white_and_flicker, 0.5 * duration_s) - w.dot(*sigma * w);
+  if (v > 0.0) *sigma += v * t * t.transpose();
+}
+
+// The covariance of the run's noise over its block means: the floored Eq. G-2 Toeplitz matrix
+// `floored`, the run's offset (Eq. B-2a: the noise slower than the record is common to every
+// block) and its trend (Eq. B-2b).
+Eigen::MatrixXd RunCovariance(Eigen::MatrixXd floored, const NoisePsd& psd, double duration_s) {
+  floored.array() += std::max(0.0, RunOffsetVariance(psd, duration_s) - floored.mean());
+  AddRunTrend(psd, duration_s, &floored);
+  return floored;
+}
+
 // Terms of the structured part at every sample of a (decimated) training copy.
 Eigen::MatrixXd TermMatrix(const PolynomialModel& p, const Columns& xd) {
   const std::size_t n = xd[0].size();
@@ -142,9 +172,7 @@ Result<Eigen::MatrixXd> ParameterCovariance(const DriftModel& m, const DriftInpu
   const double duration_s = static_cast<double>(target.size()) / inputs.fs_hz;
   const double f_floor_hz = RedSpectrumFloorHz(o.noise_psd, duration_s);
   const std::vector<double> r = BlockMeanAutocovariance(psd, n, d->train_period_s, f_floor_hz);  // Eq. G-2, floored
-  Eigen::MatrixXd sigma = Toeplitz(r);
-  // Eq. B-2a: the run's offset (the noise slower than the record) is common to every block.
-  sigma.array() += std::max(0.0, RunOffsetVariance(psd, duration_s) - sigma.mean());
+  const Eigen::MatrixXd sigma = RunCovariance(Toeplitz(r), psd, duration_s);
   const Eigen::MatrixXd ata = a.transpose() * a;
   const Eigen::MatrixXd bread = ata.completeOrthogonalDecomposition().pseudoInverse();
   return Eigen::MatrixXd(bread * (a.transpose() * sigma * a) * bread);
@@ -175,10 +203,12 @@ Result<FormCv> StructuredFormCv(const DriftModel& m, const DriftInputs& inputs, 
   if (n > o.max_gls_blocks) return InvalidInput("band: " + std::to_string(n) + " CV points (more than max_gls_blocks)");
   const Eigen::MatrixXd a = TermMatrix(*m.structured, d->xd);
   const double duration_s = static_cast<double>(target.size()) / inputs.fs_hz;
-  // Eq. B-2's Sigma (floored; the run's offset of Eq. B-2a is left out: every fold reproduces a
-  // constant, so it cancels from every held-out error). GLS folds are weighted by it too (the
-  // fit's own weights differ only below the floor).
+  // Eq. B-2's Sigma, the noise E0 is taken under with the run's offset and trend (Eqs. B-2a, B-2b;
+  // the offset cancels from every held-out error, as every fold reproduces a constant, the trend
+  // does not). GLS folds are weighted by the floored Sigma alone, the fit's own weights (they
+  // differ only below the floor).
   const Eigen::MatrixXd sigma = Toeplitz(BlockMeanAutocovariance(psd, n, d->train_period_s, RedSpectrumFloorHz(o.noise_psd, duration_s)));
+  const Eigen::MatrixXd noise = RunCovariance(sigma, psd, duration_s);
   const auto nn = static_cast<Eigen::Index>(n);
   Eigen::MatrixXd gm = Eigen::MatrixXd::Zero(nn, nn);  // one row per scored held-out sample
   Eigen::Index rows = 0;
@@ -210,7 +240,7 @@ Result<FormCv> StructuredFormCv(const DriftModel& m, const DriftInputs& inputs, 
   f.scheme = plan.scheme;
   f.points = static_cast<std::size_t>(rows);
   f.mse = e.squaredNorm() / k;
-  f.noise_mse = (gm * sigma).cwiseProduct(gm).sum() / k;  // tr(G Sigma G') / k, E e'e / k under the noise alone
+  f.noise_mse = (gm * noise).cwiseProduct(gm).sum() / k;  // tr(G Sigma G') / k, E e'e / k under the noise alone
   return f;
 }
 

@@ -20,12 +20,20 @@
 //            random walk is not extrapolated, see above): run-to-run bias repeatability. Without
 //            it the parameter part was 4.2-7.1 mdps on structure A's rate-cycles runs against a
 //            realised 9-11 (docs/drift_model.md, "Sixth session").
+//   Eq. B-2b The run's trend: the same slow noise tilts the run; the difference of its two
+//            halves' means has the variance 2 AVAR(T / 2) of the white and flicker parts, of
+//            which the floored Sigma holds less; the rest enters Sigma as a random linear trend in
+//            time. A term that is one step in time on the run (the memory, or a dT/dt that
+//            reverses once: a one-cycle run) takes it into its coefficient: without it the band
+//            was 0.75x the realised error of structure C's one-cycle calibrations (`plan`'s one
+//            pair outside 25%), with it 0.80x (docs/drift_model.md, "Seventh session").
 //   Eq. B-3  m^2 = min(var(y), max(0, MSE_cv - E0)): the model form's spread, e.g. a hysteresis
 //            or a lag the form cannot follow. MSE_cv: the structured form refitted on every fold
 //            of the plan the fit scored on, pooled over the held-out points (a next run's error is
 //            pooled over its samples). E0: that MSE's expectation had the run been exactly the
 //            fitted form plus its measured noise: each held-out error is linear in the target,
-//            e = G y, so E0 = tr(G Sigma G') / k (StructuredFormCv). E0 carries everything the
+//            e = G y, so E0 = tr(G Sigma G') / k (StructuredFormCv; Sigma with Eqs. B-2a and B-2b:
+//            the offset cancels from every held-out error, the trend does not). E0 carries everything the
 //            noise does to a CV: the held-out segment's own noise, each fold fit's parameter
 //            error (larger than the full fit's where a left-out segment is an extrapolation) and
 //            their correlation through the slow noise. Replaced (sixth session) CV_balanced^2 -
@@ -139,14 +147,17 @@ void AddRunTrend(const NoisePsd& psd, double duration_s, Eigen::MatrixXd* sigma)
   if (v > 0.0) *sigma += v * t * t.transpose();
 }
 
-// The covariance of the run's noise over its block means: the floored Eq. G-2 Toeplitz matrix
-// `floored`, the run's offset (Eq. B-2a: the noise slower than the record is common to every
-// block) and its trend (Eq. B-2b).
+}  // namespace
+
+// Declared in drift_model_internal.h: the offset (Eq. B-2a: the noise slower than the record is
+// common to every block) and the trend (Eq. B-2b) on the floored matrix.
 Eigen::MatrixXd RunCovariance(Eigen::MatrixXd floored, const NoisePsd& psd, double duration_s) {
   floored.array() += std::max(0.0, RunOffsetVariance(psd, duration_s) - floored.mean());
   AddRunTrend(psd, duration_s, &floored);
   return floored;
 }
+
+namespace {
 
 // Terms of the structured part at every sample of a (decimated) training copy.
 Eigen::MatrixXd TermMatrix(const PolynomialModel& p, const Columns& xd) {

@@ -5,6 +5,7 @@
 #include <random>
 #include <vector>
 
+#include <Eigen/Dense>
 #include <gtest/gtest.h>
 
 #include "drift_model_internal.h"
@@ -131,6 +132,40 @@ TEST(DriftBand, NoiseOnlyCvMatchesAMonteCarloOfTheCv) {
 // Eq. B-3s: a run of three segments (heat, hold, cool) makes a segment plan whose every fold is
 // a whole direction; the band scores its form CV on contiguous blocks instead. Two cycles (eight
 // segments ending on the cold hold, three folds) keep the segment plan.
+// Eqs. B-2a and B-2b against IEEE 952's closed forms: over a run of T = n blocks, the noise
+// covariance the band uses gives the record's mean the Allan variance AVAR(T) of the white and
+// flicker parts (the run's offset) and the difference of its two halves' means 2 AVAR(T / 2)
+// (its trend), however little of either the floored spectrum holds; odd and even block counts.
+TEST(DriftBand, RunCovarianceHoldsTheRecordScaleAllanVariances) {
+  NoisePsd psd;
+  psd.h0 = 2.0 * 1e-6;   // white, (deg/s)^2 / Hz
+  psd.h_1 = 3.0 * 1e-7;  // flicker
+  psd.h_2 = 1e-11;       // random walk: not extrapolated (its AVAR is not asked for)
+  for (std::size_t n : {40u, 41u, 300u}) {
+    const double block_s = 30.0, duration_s = block_s * static_cast<double>(n);
+    const std::vector<double> r = BlockMeanAutocovariance(psd, n, block_s, 1.0 / (2.0 * M_PI * 0.1 * duration_s));
+    Eigen::MatrixXd floored(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(n));
+    for (std::size_t i = 0; i < n; ++i)
+      for (std::size_t j = 0; j < n; ++j) floored(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = r[i > j ? i - j : j - i];
+    const Eigen::MatrixXd sigma = drift_internal::RunCovariance(floored, psd, duration_s);
+    Eigen::VectorXd mean = Eigen::VectorXd::Constant(static_cast<Eigen::Index>(n), 1.0 / static_cast<double>(n));
+    Eigen::VectorXd half = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(n));
+    for (std::size_t i = 0; i < n / 2; ++i) {
+      half(static_cast<Eigen::Index>(i)) = -1.0 / static_cast<double>(n / 2);
+      half(static_cast<Eigen::Index>(n - 1 - i)) = 1.0 / static_cast<double>(n / 2);
+    }
+    NoisePsd wf = psd;
+    wf.h_2 = 0.0;
+    const double avar_t = wf.h0 / (2.0 * duration_s) + 2.0 * std::log(2.0) * wf.h_1;
+    const double avar_half = wf.h0 / duration_s + 2.0 * std::log(2.0) * wf.h_1;
+    ASSERT_LT(mean.dot(floored * mean), avar_t) << n;  // the floored matrix alone holds less
+    ASSERT_LT(half.dot(floored * half), 2.0 * avar_half) << n;
+    EXPECT_NEAR(mean.dot(sigma * mean), avar_t, 1e-9 * avar_t) << n;
+    EXPECT_NEAR(half.dot(sigma * half), 2.0 * avar_half, 1e-9 * avar_half) << n;
+    EXPECT_EQ(sigma.llt().info(), Eigen::Success) << n;  // still a covariance
+  }
+}
+
 TEST(DriftBand, FormCvLeavesOutNoWholeDirection) {
   const double fs = 1.0 / 60.0;
   auto cycles = [](int n) {

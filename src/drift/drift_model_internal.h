@@ -8,6 +8,8 @@
 #include <span>
 #include <vector>
 
+#include <Eigen/Core>
+
 #include "gyrocomp/drift/drift_model.h"
 
 namespace gyrocomp::drift_internal {
@@ -162,6 +164,12 @@ TermTest TestLagTau(double tau_s, double score_at_tau, double score_below, doubl
 // with *note saying why. `temp` is the training copy's temperature column.
 CvPlan EnsureTrainablePlan(const CvPlan& plan, std::span<const double> temp, std::size_t coefficients, int folds,
                            std::string* note);
+
+// Eqs. B-2a, B-2b (drift_band.cc): the run's noise over its n block means: the floored Eq. G-2
+// Toeplitz matrix `floored` plus the run's offset and linear trend, so that the record's mean and
+// its two halves' difference carry the Allan variances of psd's white and flicker parts at T and
+// T / 2 (IEEE 952) where the floored matrix holds less.
+Eigen::MatrixXd RunCovariance(Eigen::MatrixXd floored, const NoisePsd& psd, double duration_s);
 
 // Eq. B-3 (drift_band.cc): the thermal-segment CV of a model's structured form, refitted per
 // fold by OLS (GLS for noise_model allan) on the plan the fit scored on (ModelCvPlan; contiguous

@@ -392,7 +392,7 @@ std::string DriftModelSetToJson(const DriftModelSet& models) {
   return j.dump(1) + "\n";
 }
 
-std::string DriftModelToJson(const DriftModel& model) { return DriftModelSetToJson(DriftModelSet{{model}, std::nullopt}); }
+std::string DriftModelToJson(const DriftModel& model) { return DriftModelSetToJson(DriftModelSet{{model}, std::nullopt, std::nullopt}); }
 
 Result<DriftModelSet> DriftModelSetFromJson(std::string_view text, const std::string& source) {
   json j = json::parse(text.begin(), text.end(), nullptr, /*allow_exceptions=*/false);

@@ -30,8 +30,8 @@ struct PlanArgs {
   // stairs on request: its simulated error is above rate-cycles' (A: 19.8 against 12.5 mdps,
   // docs/drift_model.md "What any estimator can reach"; its band covers 79.3%, "Sixth session").
   // rate-cycles: the design of the least calibration-noise error (docs/drift_model.md "What any estimator can reach"); with 10 seeds
-  // plan's predictions hold within 25% of the simulated error on 19 of these 20 structure x
-  // profile pairs for A, B, C, E (docs/drift_model.md "Sixth session").
+  // plan's predictions hold within 25% of the simulated error on all 20 structure x profile
+  // pairs for A, B, C, E (docs/drift_model.md "Seventh session").
   std::string profiles = "paper,heat-cool,rate-cycles,cycle,ramp";
   std::string drift_poly;
   int seeds = 3;

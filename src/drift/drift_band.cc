@@ -49,7 +49,8 @@
 //            segments, each fold a whole direction) the CV of Eq. B-3 is scored on contiguous
 //            blocks: the segment form gave m = 0-57 mdps by seed against a realised 7-29 on
 //            structure C's heat-cool and stairs runs (`plan` 1.43x there). With both, `plan`
-//            holds within 25% on 19 of 20 pairs (docs/drift_model.md, "Sixth session").
+//            held within 25% on 19 of 20 pairs (docs/drift_model.md, "Sixth session"; with
+//            Eq. B-2b all 20, "Seventh session").
 //   Eq. B-3k A model without a structured part (svr, cs-svr): its CV is not linear in the target;
 //            m^2 = CV^2 - R_seg(0) - mean a'Ca as before, R_seg(0) the Eq. G-2 variance of a
 //            block mean of the CV period about the mean of a left-out unit (duration / segments).

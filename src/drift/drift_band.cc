@@ -108,14 +108,6 @@ NoisePsd ResidualNoise(std::span<const double> residual, double fs_hz, double mi
   return white;
 }
 
-// The symmetric Toeplitz matrix of autocovariances r[0..n-1]: Sigma(i, j) = r[|i - j|].
-Eigen::MatrixXd Toeplitz(const std::vector<double>& r) {
-  const auto n = static_cast<Eigen::Index>(r.size());
-  Eigen::MatrixXd sigma(n, n);
-  for (Eigen::Index i = 0; i < n; ++i)
-    for (Eigen::Index j = 0; j < n; ++j) sigma(i, j) = r[static_cast<std::size_t>(i > j ? i - j : j - i)];
-  return sigma;
-}
 
 // Eq. B-2a: the variance of one run's offset: the Allan variance at the record length of the
 // Eq. G-0 model's white and flicker parts (IEEE 952: N^2 / T and the flicker floor 2 ln2 h_-1,
@@ -129,8 +121,8 @@ double RunOffsetVariance(const NoisePsd& psd, double duration_s) {
 
 // Eq. B-2b: the run's trend. The same slow noise also tilts the run: the difference of its two
 // halves' means has the variance 2 AVAR(T / 2) (IEEE 952; white and flicker parts, as Eq.
-// B-2a), of which the floored Sigma holds w' Sigma w (w: -2/n on the first half, +2/n on the
-// second). The rest enters as a random linear trend in time, Sigma += v tt', t linear in the
+// B-2a), of which the floored Sigma holds w' Sigma w (w: -1/h on the first h = floor(n/2)
+// blocks, +1/h on the last h, 0 on an odd middle one). The rest enters as a random linear trend in time, Sigma += v tt', t linear in the
 // block index with w't = 1: what a term that is one step in time on the run (a memory or a
 // dT/dt that reverses once) takes from the noise.
 void AddRunTrend(const NoisePsd& psd, double duration_s, Eigen::MatrixXd* sigma) {
@@ -149,6 +141,14 @@ void AddRunTrend(const NoisePsd& psd, double duration_s, Eigen::MatrixXd* sigma)
 }
 
 }  // namespace
+
+Eigen::MatrixXd Toeplitz(const std::vector<double>& r) {
+  const auto n = static_cast<Eigen::Index>(r.size());
+  Eigen::MatrixXd sigma(n, n);
+  for (Eigen::Index i = 0; i < n; ++i)
+    for (Eigen::Index j = 0; j < n; ++j) sigma(i, j) = r[static_cast<std::size_t>(i > j ? i - j : j - i)];
+  return sigma;
+}
 
 // Declared in drift_model_internal.h: the offset (Eq. B-2a: the noise slower than the record is
 // common to every block) and the trend (Eq. B-2b) on the floored matrix.

@@ -1,6 +1,7 @@
 // Prediction bands (issue 23, drift_band.cc Eqs. B-1..B-4): what they cover, the model file, apply.
 #include <cmath>
 #include <filesystem>
+#include <numbers>
 #include <fstream>
 #include <random>
 #include <vector>
@@ -129,9 +130,6 @@ TEST(DriftBand, NoiseOnlyCvMatchesAMonteCarloOfTheCv) {
   EXPECT_NEAR(mean, first.noise_mse, 3.0 * se_mean) << "Monte Carlo mean vs tr(G Sigma G') / k";
 }
 
-// Eq. B-3s: a run of three segments (heat, hold, cool) makes a segment plan whose every fold is
-// a whole direction; the band scores its form CV on contiguous blocks instead. Two cycles (eight
-// segments ending on the cold hold, three folds) keep the segment plan.
 // Eqs. B-2a and B-2b against IEEE 952's closed forms: over a run of T = n blocks, the noise
 // covariance the band uses gives the record's mean the Allan variance AVAR(T) of the white and
 // flicker parts (the run's offset) and the difference of its two halves' means 2 AVAR(T / 2)
@@ -143,10 +141,8 @@ TEST(DriftBand, RunCovarianceHoldsTheRecordScaleAllanVariances) {
   psd.h_2 = 1e-11;       // random walk: not extrapolated (its AVAR is not asked for)
   for (std::size_t n : {40u, 41u, 300u}) {
     const double block_s = 30.0, duration_s = block_s * static_cast<double>(n);
-    const std::vector<double> r = BlockMeanAutocovariance(psd, n, block_s, 1.0 / (2.0 * M_PI * 0.1 * duration_s));
-    Eigen::MatrixXd floored(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(n));
-    for (std::size_t i = 0; i < n; ++i)
-      for (std::size_t j = 0; j < n; ++j) floored(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = r[i > j ? i - j : j - i];
+    const Eigen::MatrixXd floored = drift_internal::Toeplitz(
+        BlockMeanAutocovariance(psd, n, block_s, 1.0 / (2.0 * std::numbers::pi * 0.1 * duration_s)));
     const Eigen::MatrixXd sigma = drift_internal::RunCovariance(floored, psd, duration_s);
     Eigen::VectorXd mean = Eigen::VectorXd::Constant(static_cast<Eigen::Index>(n), 1.0 / static_cast<double>(n));
     Eigen::VectorXd half = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(n));
@@ -166,6 +162,9 @@ TEST(DriftBand, RunCovarianceHoldsTheRecordScaleAllanVariances) {
   }
 }
 
+// Eq. B-3s: a run of three segments (heat, hold, cool) makes a segment plan whose every fold is
+// a whole direction; the band scores its form CV on contiguous blocks instead. Two cycles (eight
+// segments ending on the cold hold, three folds) keep the segment plan.
 TEST(DriftBand, FormCvLeavesOutNoWholeDirection) {
   const double fs = 1.0 / 60.0;
   auto cycles = [](int n) {

@@ -165,6 +165,8 @@ TermTest TestLagTau(double tau_s, double score_at_tau, double score_below, doubl
 CvPlan EnsureTrainablePlan(const CvPlan& plan, std::span<const double> temp, std::size_t coefficients, int folds,
                            std::string* note);
 
+// The symmetric Toeplitz matrix of autocovariances r[0..n-1]: Sigma(i, j) = r[|i - j|].
+Eigen::MatrixXd Toeplitz(const std::vector<double>& r);
 // Eqs. B-2a, B-2b (drift_band.cc): the run's noise over its n block means: the floored Eq. G-2
 // Toeplitz matrix `floored` plus the run's offset and linear trend, so that the record's mean and
 // its two halves' difference carry the Allan variances of psd's white and flicker parts at T and

@@ -8,22 +8,30 @@
 //   simulated = RMSE of the prediction against the true drift (the check of the prediction).
 // The recommendation: the lowest predicted error; profiles within 10% of it -> the shortest.
 #include <algorithm>
+#include <span>
 #include <cmath>
 #include <iostream>
 #include <memory>
+#include <optional>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "commands.h"
+#include "gyrocomp/allan/allan.h"
+#include "gyrocomp/core/format.h"
 #include "gyrocomp/drift/drift_model.h"
 #include "gyrocomp/sim/simulator.h"
+#include "plan_unit.h"
 
 namespace gyrocomp::cli {
 namespace {
 
 constexpr const char* kName = "plan";
 constexpr double kZ90 = 1.6448536269514722;
+// --pilot: the least temperature span a pilot run must cover to give a drift family, deg C.
+constexpr double kMinPilotSpanC = 5.0;
 
 struct PlanArgs {
   SimulatorOptions unit;  // noise and drift family; profile and seed set per run
@@ -36,6 +44,17 @@ struct PlanArgs {
   std::string drift_poly;
   int seeds = 3;
   std::string json_path;
+  // The unit from recordings (plan_unit.h): a pilot chamber run (its drift family, and the noise
+  // of its residual unless given otherwise) and an Allan run (a static recording).
+  std::string pilot_path, pilot_col = "rate_dps", pilot_temp_col = "temp_c";
+  std::string noise_path, noise_col = "rate_dps";
+  std::optional<double> pilot_fs_hz, noise_fs_hz;
+  // The unit's flags the command line gave: each overrides what --pilot / --noise-from read.
+  std::set<std::string> given;
+  bool Given(const std::string& flag) const { return given.count(flag) > 0; }
+  std::string noise_source = "datasheet flags (or the simulator's defaults)";
+  std::string family_source = "flags (or the simulator's defaults)";
+  std::vector<std::string> unit_notes;
 };
 
 struct Outcome {
@@ -135,7 +154,137 @@ std::string SePercent(double rel) {
   return os.str();
 }
 
+// A one-axis recording named by --pilot or --noise-from (read as `fit -i` / `allan -i`).
+Result<GyroLog> ReadRun(const std::string& path, const std::string& rate_col, const std::string& temp_col,
+                        std::optional<double> fs_hz, bool temp_required) {
+  LogOptions lo;
+  lo.input = path;
+  lo.rate_col = rate_col;
+  lo.temp_col = temp_col;
+  lo.fs_hz = fs_hz;
+  auto spec = ToLogSpec(lo);
+  if (!spec.ok()) return spec.error();
+  spec->min_samples = 3;
+  spec->temp_required = temp_required;
+  spec->keep_cols.emplace();
+  auto loaded = LoadLog(kName, lo, *spec);
+  if (!loaded.ok()) return loaded.error();
+  if (loaded->log.rate_dps.size() != 1) return InvalidArgument(path + ": name one rate column");
+  return std::move(loaded->log);
+}
+
+// The noise of `rate` as `allan` reads it (IEEE 952, the simulator's own definitions): ARW from
+// sigma(1 s), B = ADEV minimum / 0.664, RRW from the +1/2 region (0 without one). Eq. G-0 fitted
+// over tau <= record / 10 (FitNoisePsd, the band's noise model) read a simulated 44 deg/h unit
+// as B 30-32 and RRW 140-240 (true 3) from 1-4 h soaks: its random walk stands in for the
+// flicker's rise, and extrapolated over a 14 h profile it would make the unit far noisier.
+Status NoiseFromAllan(std::span<const double> rate, double fs_hz, const std::string& what, PlanArgs* a) {
+  auto allan = ComputeAllan(rate, fs_hz);
+  if (!allan.ok()) return InvalidInput(what + ": " + allan.error().message);
+  const AllanNoiseTerms& t = allan->terms;
+  if (!t.arw_deg_per_sqrt_h) return InvalidInput(what + ": too short for sigma(1 s) (the ARW)");
+  NoiseOptions& n = a->unit.noise;
+  if (!a->Given("--arw")) n.arw_deg_per_sqrt_h = *t.arw_deg_per_sqrt_h;
+  if (!a->Given("--bias-instability")) n.bias_instability_deg_per_h = t.bias_instability_deg_per_h;
+  if (!a->Given("--rrw")) n.rrw_deg_per_h_per_sqrt_h = t.rrw_deg_per_h_per_sqrt_h.value_or(0.0);
+  a->noise_source = what + " (" + FormatNumber(static_cast<double>(rate.size()) / fs_hz / 3600.0, 3) +
+                    " h; B = ADEV min / 0.664" +
+                    (t.min_at_longest_tau ? ", the minimum at the longest tau: an upper bound" : "") +
+                    (t.rrw_deg_per_h_per_sqrt_h ? "" : "; no +1/2 region: RRW 0") + ")";
+  return Status::Ok();
+}
+
+// The pilot run: the structured model auto chooses on it (no kernel: a family the simulator can
+// run), its terms as the drift family, the Allan terms of its residual as the noise (unless
+// given otherwise), its temperature range (unless --hot / --cold).
+Status ApplyPilot(PlanArgs& a) {
+  auto log = ReadRun(a.pilot_path, a.pilot_col, a.pilot_temp_col, a.pilot_fs_hz, /*temp_required=*/true);
+  if (!log.ok()) return log.error();
+  const auto [t_lo, t_hi] = std::minmax_element(log->temp_c.begin(), log->temp_c.end());
+  if (*t_hi - *t_lo < kMinPilotSpanC)
+    return InvalidInput(a.pilot_path + ": the pilot run spans " + FormatNumber(*t_hi - *t_lo, 3) + " C (needs >= " +
+                        FormatNumber(kMinPilotSpanC, 3) + " C of chamber temperature change for a drift family)");
+  DriftFitOptions o;
+  o.auto_select.try_svr = false;
+  const DriftInputs inputs{log->temp_c, log->fs_hz};
+  auto m = FitDriftModel(inputs, log->rate_dps.front(), o);
+  if (!m.ok()) return InvalidInput(a.pilot_path + ": " + m.error().message);
+  BiasModelOptions family = a.unit.bias;
+  if (Status s = FamilyFromModel(*m, &family, &a.unit_notes); !s.ok()) return s.error();
+  BiasModelOptions& b = a.unit.bias;  // holds the flags' values; --drift-poly is applied after this
+  b.poly_dps = family.poly_dps;
+  if (!a.Given("--dtemp-coeff")) b.dtemp_coeff_dps_per_c_per_s = family.dtemp_coeff_dps_per_c_per_s;
+  if (!a.Given("--hysteresis-width")) b.hysteresis_width_c = family.hysteresis_width_c;
+  if (!a.Given("--hysteresis-coeff")) b.hysteresis_coeff_dps_per_c = family.hysteresis_coeff_dps_per_c;
+  for (const ExcludedTerm& e : m->summary.excluded_terms) {
+    const std::string flag = e.term == "dT/dt gain" ? "--dtemp-coeff" : e.term == "memory" ? "--hysteresis-coeff" : "";
+    a.unit_notes.push_back("the pilot run does not identify the " + e.term +
+                           (!flag.empty() && a.Given(flag) ? " (simulated with " + flag + ")" : " (simulated without it)"));
+  }
+  a.family_source = "pilot " + a.pilot_path + " (" + DriftModelKindName(m->kind) + "(" + DriftInputSetName(m->inputs) + "))";
+  if (a.noise_path.empty()) {
+    auto pred = m->Predict(inputs);
+    if (!pred.ok()) return pred.error();
+    std::vector<double> residual(pred->size());
+    for (std::size_t i = 0; i < residual.size(); ++i) residual[i] = log->rate_dps.front()[i] - (*pred)[i];
+    if (Status s = NoiseFromAllan(residual, log->fs_hz, "the pilot run's residual", &a); !s.ok()) return s.error();
+    // A chamber run's residual carries the drift the model does not follow, which rises with tau
+    // like a random walk (a simulated 3 deg/h/sqrt(h) unit read 110 on a heat-cool pilot).
+    if (!a.Given("--rrw")) {
+      a.unit.noise.rrw_deg_per_h_per_sqrt_h = 0.0;
+      a.noise_source += ", RRW not read from a chamber run (give --rrw or --noise-from a static run)";
+    }
+  }
+  if (!a.Given("--cold")) a.unit.profile.cold_temp_c = *t_lo;
+  if (!a.Given("--hot")) a.unit.profile.hot_temp_c = *t_hi;
+  if (a.unit.profile.cold_temp_c < *t_lo || a.unit.profile.hot_temp_c > *t_hi) {
+    a.unit_notes.push_back("the family is extrapolated beyond the pilot run's " + FormatNumber(*t_lo, 4) + ".." +
+                           FormatNumber(*t_hi, 4) + " C");
+  }
+  return Status::Ok();
+}
+
+// The Allan run's noise.
+Status ApplyNoiseRun(PlanArgs& a) {
+  auto log = ReadRun(a.noise_path, a.noise_col, "temp_c", a.noise_fs_hz, /*temp_required=*/false);
+  if (!log.ok()) return log.error();
+  return NoiseFromAllan(log->rate_dps.front(), log->fs_hz, "Allan run " + a.noise_path, &a);
+}
+
+nlohmann::json UnitJson(const PlanArgs& a) {
+  const SimulatorOptions& u = a.unit;
+  return {{"noise", {{"arw_deg_per_sqrt_h", u.noise.arw_deg_per_sqrt_h},
+                     {"bias_instability_deg_per_h", u.noise.bias_instability_deg_per_h},
+                     {"rrw_deg_per_h_per_sqrt_h", u.noise.rrw_deg_per_h_per_sqrt_h},
+                     {"source", a.noise_source}}},
+          {"drift", {{"reference_temp_c", u.bias.reference_temp_c}, {"poly_dps", u.bias.poly_dps},
+                     {"dtemp_coeff_dps_per_c_per_s", u.bias.dtemp_coeff_dps_per_c_per_s},
+                     {"hysteresis_width_c", u.bias.hysteresis_width_c},
+                     {"hysteresis_coeff_dps_per_c", u.bias.hysteresis_coeff_dps_per_c},
+                     {"thermal_lag_s", u.thermal_lag_s}, {"source", a.family_source}}},
+          {"cold_c", u.profile.cold_temp_c}, {"hot_c", u.profile.hot_temp_c}, {"notes", a.unit_notes}};
+}
+
+std::string UnitLine(const PlanArgs& a) {
+  const SimulatorOptions& u = a.unit;
+  std::ostringstream s;
+  s << "unit: noise ARW " << FormatNumber(u.noise.arw_deg_per_sqrt_h, 4) << " deg/sqrt(h), bias instability "
+    << FormatNumber(u.noise.bias_instability_deg_per_h, 4) << " deg/h, RRW " << FormatNumber(u.noise.rrw_deg_per_h_per_sqrt_h, 4)
+    << " deg/h/sqrt(h) from " << a.noise_source << "; drift: bias(T) about " << FormatNumber(u.bias.reference_temp_c, 4) << " C [";
+  for (std::size_t k = 0; k < u.bias.poly_dps.size(); ++k) s << (k ? ", " : "") << FormatNumber(u.bias.poly_dps[k], 4);
+  s << "] deg/s per C^k, dT/dt gain " << FormatNumber(u.bias.dtemp_coeff_dps_per_c_per_s, 4) << " deg/s per C/s, hysteresis "
+    << FormatNumber(u.bias.hysteresis_width_c, 4) << " C x " << FormatNumber(u.bias.hysteresis_coeff_dps_per_c, 4)
+    << " deg/s per C, sensor lag " << FormatNumber(u.thermal_lag_s, 4) << " s, from " << a.family_source << "; range "
+    << FormatNumber(u.profile.cold_temp_c, 4) << ".." << FormatNumber(u.profile.hot_temp_c, 4) << " C";
+  for (const std::string& n : a.unit_notes) s << "; " << n;
+  return s.str();
+}
+
 int RunPlan(PlanArgs& a) {
+  if (!a.noise_path.empty())
+    if (Status s = ApplyNoiseRun(a); !s.ok()) return ReportError(kName, s.error());
+  if (!a.pilot_path.empty())
+    if (Status s = ApplyPilot(a); !s.ok()) return ReportError(kName, s.error());
   if (!a.drift_poly.empty()) {
     a.unit.bias.poly_dps.clear();
     for (const std::string& item : SplitList(a.drift_poly)) {
@@ -159,7 +308,9 @@ int RunPlan(PlanArgs& a) {
   for (const Outcome& o : all)
     if (o.predicted() <= 1.1 * best && (!pick || o.hours < pick->hours)) pick = &o;
   nlohmann::json j;
+  j["unit"] = UnitJson(a);
   j["profiles"] = nlohmann::json::array();
+  if (a.json_path != "-") std::cout << UnitLine(a) << "\n";
   if (a.json_path != "-")
     std::cout << "| profile | hours | model(s) | left out | predicted RMS heat / cool (deg/s) | simulated RMS heat / cool "
                  "| predicted / simulated | simulated: 1 SE (seeds) | predicted x hours |\n|---|---|---|---|---|---|---|---|---|\n";
@@ -202,25 +353,47 @@ Command Make(CLI::App& app) {
       "Recommends the lowest predicted error (the shortest profile within 10% of it).\n"
       "JSON: profiles[] (profile, hours, models, left_out, predicted_rms_heating/_cooling, simulated_rms_...),\n"
       "  simulated_rms_rel_se (null with one seed), recommended, seeds.\n"
-      "Example: gyrocomp plan --arw 0.3 --bias-instability 10 --thermal-lag 900 --dtemp-coeff 2");
+      "The unit: datasheet noise flags or --noise-from (an Allan run), the drift family's flags or --pilot (a\n"
+      "chamber run, which also gives the noise and the range unless given otherwise). JSON unit{noise, drift}.\n"
+      "Example: gyrocomp plan --arw 0.3 --bias-instability 10 --thermal-lag 900 --dtemp-coeff 2\n"
+      "         gyrocomp plan --pilot pilot_run.csv --noise-from static_4h.csv");
   sub->add_option("--profiles", a->profiles, "Profiles to compare (paper, heat-cool, stairs, rate-cycles, cycle, ramp, soak)")->capture_default_str();
   sub->add_option("--seeds", a->seeds, "Noise seeds per profile")
       ->check(IntegerRange(1, 50, "plan: noise seeds per profile"))->capture_default_str();
   sub->add_option("--fs", o.fs_hz, "Sample rate of the simulated runs, Hz")->check(CLI::PositiveNumber)->capture_default_str();
   AddOutputOption(sub, "--json", &a->json_path, "Write the comparison as JSON ('-' = stdout)");
-  sub->add_option("--arw", o.noise.arw_deg_per_sqrt_h, "Angle random walk, deg/sqrt(h)")->capture_default_str();
-  sub->add_option("--bias-instability", o.noise.bias_instability_deg_per_h, "Bias instability, deg/h")->capture_default_str();
-  sub->add_option("--rrw", o.noise.rrw_deg_per_h_per_sqrt_h, "Rate random walk, deg/h/sqrt(h)")->capture_default_str();
-  sub->add_option("--drift-poly", a->drift_poly, "Drift family: bias(T) coefficients (as simulate)");
-  sub->add_option("--dtemp-coeff", o.bias.dtemp_coeff_dps_per_c_per_s, "Drift per dT/dt, deg/s per (C/s)")->capture_default_str();
-  sub->add_option("--hysteresis-width", o.bias.hysteresis_width_c, "Hysteresis width, deg C")->capture_default_str();
-  sub->add_option("--hysteresis-coeff", o.bias.hysteresis_coeff_dps_per_c, "Hysteresis gain, deg/s per C")->capture_default_str();
+  std::vector<CLI::Option*> unit;  // the unit's flags: each overrides --pilot / --noise-from
+  unit.push_back(sub->add_option("--arw", o.noise.arw_deg_per_sqrt_h, "Angle random walk, deg/sqrt(h)")->capture_default_str());
+  unit.push_back(sub->add_option("--bias-instability", o.noise.bias_instability_deg_per_h, "Bias instability, deg/h")->capture_default_str());
+  unit.push_back(sub->add_option("--rrw", o.noise.rrw_deg_per_h_per_sqrt_h, "Rate random walk, deg/h/sqrt(h)")->capture_default_str());
+  unit.push_back(sub->add_option("--drift-poly", a->drift_poly, "Drift family: bias(T) coefficients (as simulate)"));
+  unit.push_back(sub->add_option("--dtemp-coeff", o.bias.dtemp_coeff_dps_per_c_per_s, "Drift per dT/dt, deg/s per (C/s)")->capture_default_str());
+  unit.push_back(sub->add_option("--hysteresis-width", o.bias.hysteresis_width_c, "Hysteresis width, deg C")->capture_default_str());
+  unit.push_back(sub->add_option("--hysteresis-coeff", o.bias.hysteresis_coeff_dps_per_c, "Hysteresis gain, deg/s per C")->capture_default_str());
   sub->add_option("--thermal-lag", o.thermal_lag_s, "Sensor thermal time constant, s")->capture_default_str();
-  sub->add_option("--hot", o.profile.hot_temp_c, "Hot extreme, deg C")->capture_default_str();
-  sub->add_option("--cold", o.profile.cold_temp_c, "Cold extreme, deg C")->capture_default_str();
+  unit.push_back(sub->add_option("--hot", o.profile.hot_temp_c, "Hot extreme, deg C")->capture_default_str());
+  unit.push_back(sub->add_option("--cold", o.profile.cold_temp_c, "Cold extreme, deg C")->capture_default_str());
   sub->add_option("--cycles", o.profile.num_cycles, "cycle: number of cycles")
       ->check(IntegerRange(1, 1000, "ThermalProfileOptions::num_cycles"))->capture_default_str();
-  return {sub, [a] { return RunPlan(*a); }};
+  AddInputOption(sub, "--pilot", &a->pilot_path,
+                 "A pilot chamber run (CSV, ULog, DataFlash, as fit -i): the drift family from the structured model "
+                 "auto fits on it, the noise from its residual and the range from its temperatures, unless given "
+                 "otherwise");
+  sub->add_option("--pilot-col", a->pilot_col, "--pilot: its rate column")->capture_default_str();
+  sub->add_option("--pilot-temp-col", a->pilot_temp_col, "--pilot: its temperature column")->capture_default_str();
+  sub->add_option("--pilot-fs", a->pilot_fs_hz, "--pilot: its sample rate, Hz, when it has no time column")
+      ->check(CLI::PositiveNumber);
+  AddInputOption(sub, "--noise-from", &a->noise_path,
+                 "An Allan run (a static recording, as allan -i): ARW sigma(1 s), B = ADEV min / 0.664, RRW from "
+                 "the +1/2 region");
+  sub->add_option("--noise-col", a->noise_col, "--noise-from: its rate column")->capture_default_str();
+  sub->add_option("--noise-fs", a->noise_fs_hz, "--noise-from: its sample rate, Hz, when it has no time column")
+      ->check(CLI::PositiveNumber);
+  return {sub, [a, unit] {
+            for (CLI::Option* x : unit)
+              if (x->count() > 0) a->given.insert(x->get_name());
+            return RunPlan(*a);
+          }};
 }
 
 const CommandRegistrar kReg(kName, 67, &Make);

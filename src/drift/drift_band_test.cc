@@ -329,6 +329,41 @@ TEST(DriftBand, ApplyWritesBandColumnsOrSaysThereIsNone) {
   std::filesystem::remove_all(dir);
 }
 
+// --pilot: a noise-free heat-cool pilot of the simulator's default family (cubic, dT/dt gain 1.5,
+// hysteresis 4 C x 2e-3) gives that family back through the fitted two-state polynomial
+// (tools/plan_unit.cc re-expands it about 25 C); --noise-from reads the noise exactly as `allan`
+// does; a flag overrides what a file gave; a pilot without a temperature span is exit 2.
+TEST(DriftPlan, ReadsTheUnitFromAPilotRunAndAnAllanRun) {
+  const std::string cli = testing::CliPath();
+  if (cli.empty()) GTEST_SKIP() << "the gyrocomp CLI is not built (GYROCOMP_BUILD_CLI=OFF)";
+  const testing::TempDir dir("drift_plan_unit_test");
+  const std::string d = dir.path() + "/";
+  std::string out;
+  ASSERT_EQ(testing::RunCommand(cli + " simulate --profile heat-cool --fs 0.2 --arw 0 --bias-instability 0 --rrw 0 "
+                                      "--temp-noise 0 -o " + d + "pilot.csv", &out), 0) << out;
+  ASSERT_EQ(testing::RunCommand(cli + " simulate --profile soak --fs 10 --duration 14400 --seed 3 -o " + d + "soak.csv",
+                                &out), 0) << out;
+  ASSERT_EQ(testing::RunCommand(cli + " plan --pilot " + d + "pilot.csv --noise-from " + d + "soak.csv --arw 0.5 "
+                                      "--profiles ramp --seeds 1 --fs 0.2 --json " + d + "p.json", &out), 0) << out;
+  const nlohmann::json u = testing::ReadJsonFile(d + "p.json")["unit"];
+  const nlohmann::json& f = u["drift"];
+  const std::vector<double> truth = {0.02, 1.5e-3, 1.2e-5, -2.0e-7};  // BiasModelOptions' defaults
+  ASSERT_EQ(f["poly_dps"].size(), truth.size()) << u.dump();
+  EXPECT_NEAR(f["poly_dps"][0].get<double>(), truth[0], 5e-4) << u.dump();
+  for (std::size_t k = 1; k < truth.size(); ++k) EXPECT_NEAR(f["poly_dps"][k].get<double>(), truth[k], 0.02 * std::abs(truth[k])) << k;
+  EXPECT_NEAR(f["dtemp_coeff_dps_per_c_per_s"].get<double>(), 1.5, 0.05);
+  EXPECT_EQ(f["hysteresis_width_c"].get<double>(), 4.0);
+  EXPECT_NEAR(f["hysteresis_coeff_dps_per_c"].get<double>(), 2e-3, 1e-4);
+  EXPECT_NEAR(u["cold_c"].get<double>(), -40.0, 0.1);
+  EXPECT_NEAR(u["hot_c"].get<double>(), 60.0, 0.1);
+  ASSERT_EQ(testing::RunCommand(cli + " allan -i " + d + "soak.csv --json " + d + "a.json", &out), 0) << out;
+  const nlohmann::json al = testing::ReadJsonFile(d + "a.json");
+  EXPECT_EQ(u["noise"]["arw_deg_per_sqrt_h"].get<double>(), 0.5);  // the flag overrides the file
+  EXPECT_DOUBLE_EQ(u["noise"]["bias_instability_deg_per_h"].get<double>(), al["bias_instability_deg_per_h"].get<double>());
+  EXPECT_EQ(testing::RunCommand(cli + " plan --pilot " + d + "soak.csv --profiles ramp --seeds 1", &out), 2) << out;
+  EXPECT_NE(out.find("spans"), std::string::npos) << out;
+}
+
 }  // namespace
 }  // namespace gyrocomp
 

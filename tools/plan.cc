@@ -194,9 +194,43 @@ Status NoiseFromAllan(std::span<const double> rate, double fs_hz, const std::str
   return Status::Ok();
 }
 
+// The pilot's structured model as the drift family; a unit flag given keeps its value.
+Status ApplyPilotFamily(const DriftModel& m, PlanArgs& a) {
+  BiasModelOptions family = a.unit.bias;
+  if (Status s = FamilyFromModel(m, &family, &a.unit_notes); !s.ok()) return s.error();
+  BiasModelOptions& b = a.unit.bias;  // holds the flags' values; --drift-poly is applied after this
+  b.poly_dps = family.poly_dps;
+  if (!a.Given("--dtemp-coeff")) b.dtemp_coeff_dps_per_c_per_s = family.dtemp_coeff_dps_per_c_per_s;
+  if (!a.Given("--hysteresis-width")) b.hysteresis_width_c = family.hysteresis_width_c;
+  if (!a.Given("--hysteresis-coeff")) b.hysteresis_coeff_dps_per_c = family.hysteresis_coeff_dps_per_c;
+  for (const ExcludedTerm& e : m.summary.excluded_terms) {
+    const std::string flag = e.term == "dT/dt gain" ? "--dtemp-coeff" : e.term == "memory" ? "--hysteresis-coeff" : "";
+    a.unit_notes.push_back("the pilot run does not identify the " + e.term +
+                           (!flag.empty() && a.Given(flag) ? " (simulated with " + flag + ")" : " (simulated without it)"));
+  }
+  a.family_source = "pilot " + a.pilot_path + " (" + DriftModelKindName(m.kind) + "(" + DriftInputSetName(m.inputs) + "))";
+  return Status::Ok();
+}
+
+// The noise of the pilot's residual, without the RRW: a chamber run's residual carries the drift
+// the model does not follow, which rises with tau like a random walk (a simulated 3
+// deg/h/sqrt(h) unit read 110 on a heat-cool pilot).
+Status ApplyPilotNoise(const DriftModel& m, const GyroLog& log, PlanArgs& a) {
+  auto pred = m.Predict({log.temp_c, log.fs_hz});
+  if (!pred.ok()) return pred.error();
+  std::vector<double> residual(pred->size());
+  for (std::size_t i = 0; i < residual.size(); ++i) residual[i] = log.rate_dps.front()[i] - (*pred)[i];
+  if (Status s = NoiseFromAllan(residual, log.fs_hz, "the pilot run's residual", &a); !s.ok()) return s.error();
+  if (!a.Given("--rrw")) {
+    a.unit.noise.rrw_deg_per_h_per_sqrt_h = 0.0;
+    a.noise_source += ", RRW not read from a chamber run (give --rrw or --noise-from a static run)";
+  }
+  return Status::Ok();
+}
+
 // The pilot run: the structured model auto chooses on it (no kernel: a family the simulator can
-// run), its terms as the drift family, the Allan terms of its residual as the noise (unless
-// given otherwise), its temperature range (unless --hot / --cold).
+// run) as the drift family, the noise of its residual (unless --noise-from), its temperature
+// range (unless --cold / --hot).
 Status ApplyPilot(PlanArgs& a) {
   auto log = ReadRun(a.pilot_path, a.pilot_col, a.pilot_temp_col, a.pilot_fs_hz, /*temp_required=*/true);
   if (!log.ok()) return log.error();
@@ -206,41 +240,16 @@ Status ApplyPilot(PlanArgs& a) {
                         FormatNumber(kMinPilotSpanC, 3) + " C of chamber temperature change for a drift family)");
   DriftFitOptions o;
   o.auto_select.try_svr = false;
-  const DriftInputs inputs{log->temp_c, log->fs_hz};
-  auto m = FitDriftModel(inputs, log->rate_dps.front(), o);
+  auto m = FitDriftModel({log->temp_c, log->fs_hz}, log->rate_dps.front(), o);
   if (!m.ok()) return InvalidInput(a.pilot_path + ": " + m.error().message);
-  BiasModelOptions family = a.unit.bias;
-  if (Status s = FamilyFromModel(*m, &family, &a.unit_notes); !s.ok()) return s.error();
-  BiasModelOptions& b = a.unit.bias;  // holds the flags' values; --drift-poly is applied after this
-  b.poly_dps = family.poly_dps;
-  if (!a.Given("--dtemp-coeff")) b.dtemp_coeff_dps_per_c_per_s = family.dtemp_coeff_dps_per_c_per_s;
-  if (!a.Given("--hysteresis-width")) b.hysteresis_width_c = family.hysteresis_width_c;
-  if (!a.Given("--hysteresis-coeff")) b.hysteresis_coeff_dps_per_c = family.hysteresis_coeff_dps_per_c;
-  for (const ExcludedTerm& e : m->summary.excluded_terms) {
-    const std::string flag = e.term == "dT/dt gain" ? "--dtemp-coeff" : e.term == "memory" ? "--hysteresis-coeff" : "";
-    a.unit_notes.push_back("the pilot run does not identify the " + e.term +
-                           (!flag.empty() && a.Given(flag) ? " (simulated with " + flag + ")" : " (simulated without it)"));
-  }
-  a.family_source = "pilot " + a.pilot_path + " (" + DriftModelKindName(m->kind) + "(" + DriftInputSetName(m->inputs) + "))";
-  if (a.noise_path.empty()) {
-    auto pred = m->Predict(inputs);
-    if (!pred.ok()) return pred.error();
-    std::vector<double> residual(pred->size());
-    for (std::size_t i = 0; i < residual.size(); ++i) residual[i] = log->rate_dps.front()[i] - (*pred)[i];
-    if (Status s = NoiseFromAllan(residual, log->fs_hz, "the pilot run's residual", &a); !s.ok()) return s.error();
-    // A chamber run's residual carries the drift the model does not follow, which rises with tau
-    // like a random walk (a simulated 3 deg/h/sqrt(h) unit read 110 on a heat-cool pilot).
-    if (!a.Given("--rrw")) {
-      a.unit.noise.rrw_deg_per_h_per_sqrt_h = 0.0;
-      a.noise_source += ", RRW not read from a chamber run (give --rrw or --noise-from a static run)";
-    }
-  }
+  if (Status s = ApplyPilotFamily(*m, a); !s.ok()) return s.error();
+  if (a.noise_path.empty())
+    if (Status s = ApplyPilotNoise(*m, *log, a); !s.ok()) return s.error();
   if (!a.Given("--cold")) a.unit.profile.cold_temp_c = *t_lo;
   if (!a.Given("--hot")) a.unit.profile.hot_temp_c = *t_hi;
-  if (a.unit.profile.cold_temp_c < *t_lo || a.unit.profile.hot_temp_c > *t_hi) {
+  if (a.unit.profile.cold_temp_c < *t_lo || a.unit.profile.hot_temp_c > *t_hi)
     a.unit_notes.push_back("the family is extrapolated beyond the pilot run's " + FormatNumber(*t_lo, 4) + ".." +
                            FormatNumber(*t_hi, 4) + " C");
-  }
   return Status::Ok();
 }
 

@@ -6,7 +6,7 @@
 // held-out runs (a heating ramp cold -> hot and the paper's cooling staircase, other seeds):
 //   predicted = RMS over the run of the band's standard deviation (half-width / z(0.9)),
 //   simulated = RMSE of the prediction against the true drift (the check of the prediction).
-// The recommendation: the lowest predicted error; profiles within 10% of it -> the shortest.
+// The recommendation: the lowest of max(predicted, simulated); within 10% of it, the shortest.
 #include <algorithm>
 #include <span>
 #include <cmath>
@@ -67,6 +67,11 @@ struct Outcome {
   std::vector<double> simulated_ms_per_seed;
   double predicted() const { return std::sqrt(0.5 * (predicted_heat * predicted_heat + predicted_cool * predicted_cool)); }
   double simulated() const { return std::sqrt(0.5 * (simulated_heat * simulated_heat + simulated_cool * simulated_cool)); }
+  // What the recommendation ranks: the larger of the predicted and the simulated error, so that a
+  // profile must both say and reach a small error. By the predicted error alone (its 10% window
+  // within the seed scatter), 5 seeds of structure B recommended heat-cool, predicted 14.3 mdps and
+  // simulated 22.8, over rate-cycles' 14.1 / 10.5 (docs/drift_model.md "Seventh session").
+  double score() const { return std::max(predicted(), simulated()); }
   // Relative standard error of simulated() from the seed-to-seed scatter of the per-seed mean
   // squares (delta method: SE(sqrt m) / sqrt m = SE(m) / (2 m)); NaN with one seed. The simulated
   // error of one run is mostly the calibration run's slow noise projected on the drift's constant
@@ -311,11 +316,11 @@ int RunPlan(PlanArgs& a) {
     all.push_back(std::move(*o));
   }
   if (all.empty()) return ReportError(kName, InvalidArgument("--profiles: none given"));
-  double best = all[0].predicted();
-  for (const Outcome& o : all) best = std::min(best, o.predicted());
+  double best = all[0].score();
+  for (const Outcome& o : all) best = std::min(best, o.score());
   const Outcome* pick = nullptr;
   for (const Outcome& o : all)
-    if (o.predicted() <= 1.1 * best && (!pick || o.hours < pick->hours)) pick = &o;
+    if (o.score() <= 1.1 * best && (!pick || o.hours < pick->hours)) pick = &o;
   nlohmann::json j;
   j["unit"] = UnitJson(a);
   j["profiles"] = nlohmann::json::array();
@@ -341,7 +346,7 @@ int RunPlan(PlanArgs& a) {
   if (a.json_path != "-")
     std::cout << "recommended: " << pick->profile << " (" << pick->hours << " h): predicted next-run drift error RMS "
               << pick->predicted() << " deg/s (simulated " << pick->simulated()
-              << "); the lowest predicted error, the shortest within 10% of it\n";
+              << "); the lowest of max(predicted, simulated), the shortest within 10% of it\n";
   if (!a.json_path.empty())
     if (Status s = WriteJson(a.json_path, j); !s.ok()) return ReportError(kName, s.error());
   return kExitOk;
@@ -359,7 +364,7 @@ Command Make(CLI::App& app) {
       "compare the band's predicted RMS error with the simulated one against the true drift; the simulated\n"
       "figure's own standard error over the seeds is printed (one run's error is mostly the calibration\n"
       "run's slow noise on the drift's constant: up to a third for 3 seeds; 20-30 seeds for 10%).\n"
-      "Recommends the lowest predicted error (the shortest profile within 10% of it).\n"
+      "Recommends the lowest of max(predicted, simulated) (the shortest profile within 10% of it).\n"
       "JSON: profiles[] (profile, hours, models, left_out, predicted_rms_heating/_cooling, simulated_rms_...),\n"
       "  simulated_rms_rel_se (null with one seed), recommended, seeds.\n"
       "The unit: datasheet noise flags or --noise-from (an Allan run), the drift family's flags or --pilot (a\n"

@@ -46,8 +46,8 @@ struct PlanArgs {
   std::string json_path;
   // The unit from recordings (plan_unit.h): a pilot chamber run (its drift family, and the noise
   // of its residual unless given otherwise) and an Allan run (a static recording).
-  std::string pilot_path, pilot_col = "rate_dps", pilot_temp_col = "temp_c";
-  std::string noise_path, noise_col = "rate_dps";
+  std::string pilot_path, pilot_col = "rate_dps", pilot_temp_col = "temp_c", pilot_time_col = "time_s";
+  std::string noise_path, noise_col = "rate_dps", noise_time_col = "time_s";
   std::optional<double> pilot_fs_hz, noise_fs_hz;
   // The unit's flags the command line gave: each overrides what --pilot / --noise-from read.
   std::set<std::string> given;
@@ -159,11 +159,24 @@ std::string SePercent(double rel) {
   return os.str();
 }
 
-// A one-axis recording named by --pilot or --noise-from (read as `fit -i` / `allan -i`).
-Result<GyroLog> ReadRun(const std::string& path, const std::string& rate_col, const std::string& temp_col,
-                        std::optional<double> fs_hz, bool temp_required) {
+// The reader's advice names the -i commands' flags; plan's are `flag`-col, -temp-col, -time-col, -fs.
+std::string PlanFlags(std::string message, const std::string& flag) {
+  for (const auto& [from, to] : {std::pair<std::string, std::string>{"--rate-col", flag + "-col"},
+                                 {"--temp-col", flag + "-temp-col"}, {"--time-col", flag + "-time-col"},
+                                 {"--fs ", flag + "-fs "}})
+    for (std::size_t at = message.find(from); at != std::string::npos; at = message.find(from, at + to.size()))
+      message.replace(at, from.size(), to);
+  return message;
+}
+
+// A one-axis recording named by --pilot or --noise-from (read as `fit -i` / `allan -i`); `flag`:
+// the option's prefix (--pilot, --noise) for the reader's advice.
+Result<GyroLog> ReadRun(const std::string& flag, const std::string& path, const std::string& rate_col,
+                        const std::string& temp_col, const std::string& time_col, std::optional<double> fs_hz,
+                        bool temp_required) {
   LogOptions lo;
   lo.input = path;
+  lo.time_col = time_col;
   lo.rate_col = rate_col;
   lo.temp_col = temp_col;
   lo.fs_hz = fs_hz;
@@ -173,8 +186,8 @@ Result<GyroLog> ReadRun(const std::string& path, const std::string& rate_col, co
   spec->temp_required = temp_required;
   spec->keep_cols.emplace();
   auto loaded = LoadLog(kName, lo, *spec);
-  if (!loaded.ok()) return loaded.error();
-  if (loaded->log.rate_dps.size() != 1) return InvalidArgument(path + ": name one rate column");
+  if (!loaded.ok()) return Error{loaded.error().kind, PlanFlags(loaded.error().message, flag)};
+  if (loaded->log.rate_dps.size() != 1) return InvalidArgument(path + ": name one rate column with " + flag + "-col");
   return std::move(loaded->log);
 }
 
@@ -237,7 +250,8 @@ Status ApplyPilotNoise(const DriftModel& m, const GyroLog& log, PlanArgs& a) {
 // run) as the drift family, the noise of its residual (unless --noise-from), its temperature
 // range (unless --cold / --hot).
 Status ApplyPilot(PlanArgs& a) {
-  auto log = ReadRun(a.pilot_path, a.pilot_col, a.pilot_temp_col, a.pilot_fs_hz, /*temp_required=*/true);
+  auto log = ReadRun("--pilot", a.pilot_path, a.pilot_col, a.pilot_temp_col, a.pilot_time_col, a.pilot_fs_hz,
+                     /*temp_required=*/true);
   if (!log.ok()) return log.error();
   const auto [t_lo, t_hi] = std::minmax_element(log->temp_c.begin(), log->temp_c.end());
   if (*t_hi - *t_lo < kMinPilotSpanC)
@@ -260,7 +274,8 @@ Status ApplyPilot(PlanArgs& a) {
 
 // The Allan run's noise.
 Status ApplyNoiseRun(PlanArgs& a) {
-  auto log = ReadRun(a.noise_path, a.noise_col, "temp_c", a.noise_fs_hz, /*temp_required=*/false);
+  auto log = ReadRun("--noise", a.noise_path, a.noise_col, "temp_c", a.noise_time_col, a.noise_fs_hz,
+                     /*temp_required=*/false);
   if (!log.ok()) return log.error();
   return NoiseFromAllan(log->rate_dps.front(), log->fs_hz, "Allan run " + a.noise_path, &a);
 }
@@ -395,12 +410,16 @@ Command Make(CLI::App& app) {
                  "otherwise");
   sub->add_option("--pilot-col", a->pilot_col, "--pilot: its rate column")->capture_default_str();
   sub->add_option("--pilot-temp-col", a->pilot_temp_col, "--pilot: its temperature column")->capture_default_str();
+  sub->add_option("--pilot-time-col", a->pilot_time_col, "--pilot: its time column, s ('none': i / --pilot-fs)")
+      ->capture_default_str();
   sub->add_option("--pilot-fs", a->pilot_fs_hz, "--pilot: its sample rate, Hz, when it has no time column")
       ->check(CLI::PositiveNumber);
   AddInputOption(sub, "--noise-from", &a->noise_path,
                  "An Allan run (a static recording, as allan -i): ARW sigma(1 s), B = ADEV min / 0.664, RRW from "
                  "the +1/2 region");
   sub->add_option("--noise-col", a->noise_col, "--noise-from: its rate column")->capture_default_str();
+  sub->add_option("--noise-time-col", a->noise_time_col, "--noise-from: its time column, s ('none': i / --noise-fs)")
+      ->capture_default_str();
   sub->add_option("--noise-fs", a->noise_fs_hz, "--noise-from: its sample rate, Hz, when it has no time column")
       ->check(CLI::PositiveNumber);
   return {sub, [a, unit] {

@@ -362,6 +362,9 @@ TEST(DriftPlan, ReadsTheUnitFromAPilotRunAndAnAllanRun) {
   EXPECT_DOUBLE_EQ(u["noise"]["bias_instability_deg_per_h"].get<double>(), al["bias_instability_deg_per_h"].get<double>());
   EXPECT_EQ(testing::RunCommand(cli + " plan --pilot " + d + "soak.csv --profiles ramp --seeds 1", &out), 2) << out;
   EXPECT_NE(out.find("spans"), std::string::npos) << out;
+  // The reader's advice names plan's own flags.
+  EXPECT_EQ(testing::RunCommand(cli + " plan --pilot " + d + "pilot.csv --pilot-temp-col nosuch --profiles ramp", &out), 2);
+  EXPECT_NE(out.find("choose it with --pilot-temp-col"), std::string::npos) << out;
 }
 
 }  // namespace

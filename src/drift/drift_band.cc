@@ -108,24 +108,21 @@ NoisePsd ResidualNoise(std::span<const double> residual, double fs_hz, double mi
   return white;
 }
 
-
-// Eq. B-2a: the variance of one run's offset: the Allan variance at the record length of the
-// Eq. G-0 model's white and flicker parts (IEEE 952: N^2 / T and the flicker floor 2 ln2 h_-1,
-// which holds at every tau). The random walk is not extrapolated (a Gauss-Markov wander fitted
-// as one would be counted again); below f_floor it is in Sigma already.
-double RunOffsetVariance(const NoisePsd& psd, double duration_s) {
-  NoisePsd white_and_flicker = psd;
-  white_and_flicker.h_2 = 0.0;
-  return ModelAllanVariance(white_and_flicker, duration_s);
+// The Eq. G-0 model without its random walk: what Eqs. B-2a and B-2b extrapolate to the record's
+// scale (a Gauss-Markov wander fitted as a random walk would be counted again; below f_floor it is
+// in Sigma already).
+NoisePsd WhiteAndFlicker(NoisePsd psd) {
+  psd.h_2 = 0.0;
+  return psd;
 }
 
 // Eq. B-2b: the run's trend. The same slow noise also tilts the run: the difference of its two
-// halves' means has the variance 2 AVAR(T / 2) (IEEE 952; white and flicker parts, as Eq.
-// B-2a), of which the floored Sigma holds w' Sigma w (w: -1/h on the first h = floor(n/2)
-// blocks, +1/h on the last h, 0 on an odd middle one). The rest enters as a random linear trend in time, Sigma += v tt', t linear in the
-// block index with w't = 1: what a term that is one step in time on the run (a memory or a
-// dT/dt that reverses once) takes from the noise.
-void AddRunTrend(const NoisePsd& psd, double duration_s, Eigen::MatrixXd* sigma) {
+// halves' means has the variance 2 AVAR(T / 2) (IEEE 952), of which the floored Sigma holds
+// w' Sigma w (w: -1/h on the first h = floor(n/2) blocks, +1/h on the last h, 0 on an odd middle
+// one). The rest enters as a random linear trend in time, Sigma += v tt', t linear in the block
+// index with w't = 1: what a term that is one step in time on the run (a memory or a dT/dt that
+// reverses once) takes from the noise. `wf`: WhiteAndFlicker of the run's noise model.
+void AddRunTrend(const NoisePsd& wf, double duration_s, Eigen::MatrixXd* sigma) {
   const Eigen::Index n = sigma->rows();
   if (n < 2) return;  // one block: no trend to tell from the offset
   Eigen::VectorXd w(n), t(n);
@@ -134,9 +131,7 @@ void AddRunTrend(const NoisePsd& psd, double duration_s, Eigen::MatrixXd* sigma)
     t(i) = static_cast<double>(2 * i + 1 - n) / static_cast<double>(n);
   }
   t /= w.dot(t);
-  NoisePsd white_and_flicker = psd;
-  white_and_flicker.h_2 = 0.0;
-  const double v = 2.0 * ModelAllanVariance(white_and_flicker, 0.5 * duration_s) - w.dot(*sigma * w);
+  const double v = 2.0 * ModelAllanVariance(wf, 0.5 * duration_s) - w.dot(*sigma * w);
   if (v > 0.0) *sigma += v * t * t.transpose();
 }
 
@@ -150,11 +145,13 @@ Eigen::MatrixXd Toeplitz(const std::vector<double>& r) {
   return sigma;
 }
 
-// Declared in drift_model_internal.h: the offset (Eq. B-2a: the noise slower than the record is
-// common to every block) and the trend (Eq. B-2b) on the floored matrix.
+// Declared in drift_model_internal.h. Eq. B-2a, the run's offset: the noise slower than the
+// record is common to every block; its variance is the Allan variance at the record length
+// (IEEE 952: N^2 / T and the flicker floor 2 ln2 h_-1, which holds at every tau). Then Eq. B-2b.
 Eigen::MatrixXd RunCovariance(Eigen::MatrixXd floored, const NoisePsd& psd, double duration_s) {
-  floored.array() += std::max(0.0, RunOffsetVariance(psd, duration_s) - floored.mean());
-  AddRunTrend(psd, duration_s, &floored);
+  const NoisePsd wf = WhiteAndFlicker(psd);
+  floored.array() += std::max(0.0, ModelAllanVariance(wf, duration_s) - floored.mean());
+  AddRunTrend(wf, duration_s, &floored);
   return floored;
 }
 

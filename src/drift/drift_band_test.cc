@@ -1,8 +1,8 @@
 // Prediction bands (issue 23, drift_band.cc Eqs. B-1..B-4): what they cover, the model file, apply.
 #include <cmath>
 #include <filesystem>
-#include <numbers>
 #include <fstream>
+#include <numbers>
 #include <random>
 #include <vector>
 

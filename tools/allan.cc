@@ -18,7 +18,7 @@
 namespace gyrocomp::cli {
 namespace {
 
-constexpr const char* kName = "allan";
+constexpr const char* kAllanName = "allan";
 
 struct AllanArgs {
   LogOptions log;
@@ -234,35 +234,35 @@ int Run(const AllanArgs& a) {
   int ppd = a.allan.points_per_decade;
   const std::optional<TauGrid> grid = ParseTauGrid(a.taus, &ppd);
   if (!grid) {
-    return ReportError(kName, InvalidArgument("--taus " + a.taus +
+    return ReportError(kAllanName, InvalidArgument("--taus " + a.taus +
                                               ": must be octave, decade, all or a number of taus per decade (1-1000)"));
   }
   AllanOptions options = a.allan;
   options.grid = *grid;
   options.points_per_decade = ppd;
   std::string why;
-  if (!options.IsValid(&why)) return ReportError(kName, InvalidArgument(why));
+  if (!options.IsValid(&why)) return ReportError(kAllanName, InvalidArgument(why));
 
   const std::optional<DeviationKind> kind = ParseDeviationKind(a.deviation);
   if (!kind) {
-    return ReportError(kName, InvalidArgument("--deviation " + a.deviation + ": must be adev, mdev, hdev, ohdev or totdev"));
+    return ReportError(kAllanName, InvalidArgument("--deviation " + a.deviation + ": must be adev, mdev, hdev, ohdev or totdev"));
   }
   const bool noise_file = !a.kalibr_yaml_path.empty() || !a.openvins_yaml_path.empty() || !a.vins_yaml_path.empty();
   if (!a.accel_cols.empty() && !noise_file) {
-    return ReportError(kName, InvalidArgument("--accel-col: only used with --kalibr-yaml, --openvins-yaml or --vins-yaml"));
+    return ReportError(kAllanName, InvalidArgument("--accel-col: only used with --kalibr-yaml, --openvins-yaml or --vins-yaml"));
   }
 
   Result<LogSpec> spec = ToLogSpec(a.log);
-  if (!spec.ok()) return ReportError(kName, spec.error());
+  if (!spec.ok()) return ReportError(kAllanName, spec.error());
   spec->min_samples = 3;  // one tau needs 3 samples
   // Without --accel-col a CSV's other columns are not used (issue 24: memory); with it, the
   // accelerometer log is loaded from the whole table.
   if (a.accel_cols.empty()) spec->keep_cols.emplace();
-  Result<LoadedLog> loaded = LoadLog(kName, a.log, *spec);
-  if (!loaded.ok()) return ReportError(kName, loaded.error());
+  Result<LoadedLog> loaded = LoadLog(kAllanName, a.log, *spec);
+  if (!loaded.ok()) return ReportError(kAllanName, loaded.error());
   const GyroLog& log = loaded->log;
   Result<AllanOutputs> out = Analyse(a, options, *kind, *loaded);
-  if (!out.ok()) return ReportError(kName, out.error());
+  if (!out.ok()) return ReportError(kAllanName, out.error());
   const std::vector<AllanResult>& results = out->results;
 
   nlohmann::json j;
@@ -284,7 +284,7 @@ int Run(const AllanArgs& a) {
   if (noise_file || !out->accel.empty()) {
     Result<SensorNoise> noise = NoiseFigures(a, *out, log);
     // Without a noise file to write, a record too short for tau = 1 s still gets its curves.
-    if (!noise.ok() && noise_file) return ReportError(kName, noise.error());
+    if (!noise.ok() && noise_file) return ReportError(kAllanName, noise.error());
     if (!out->accel.empty()) {
       j["accel_axes"] = nlohmann::json::object();
       for (std::size_t i = 0; i < out->accel.size(); ++i) {
@@ -302,19 +302,19 @@ int Run(const AllanArgs& a) {
     }
     if (!noise_file) noise = SensorNoise{};
     Result<std::vector<std::pair<std::string, std::string>>> f = NoiseFiles(a, *noise, log);
-    if (!f.ok()) return ReportError(kName, f.error());
+    if (!f.ok()) return ReportError(kAllanName, f.error());
     files = std::move(*f);
   }
 
   if (!a.csv_path.empty()) {
     const Table table = out->deviations.empty() ? CurveTable(results) : DeviationTable(results, out->deviations);
-    if (Status s = WriteCsv(a.csv_path, table); !s.ok()) return ReportError(kName, s.error());
+    if (Status s = WriteCsv(a.csv_path, table); !s.ok()) return ReportError(kAllanName, s.error());
   }
   for (const auto& [path, text] : files) {
-    if (Status s = WriteText(path, text); !s.ok()) return ReportError(kName, s.error());
+    if (Status s = WriteText(path, text); !s.ok()) return ReportError(kAllanName, s.error());
   }
   if (!a.json_path.empty()) {
-    if (Status s = WriteJson(a.json_path, j); !s.ok()) return ReportError(kName, s.error());
+    if (Status s = WriteJson(a.json_path, j); !s.ok()) return ReportError(kAllanName, s.error());
   }
   const bool stdout_taken = a.json_path == "-" || a.kalibr_yaml_path == "-" || a.openvins_yaml_path == "-" || a.vins_yaml_path == "-";
   if (!stdout_taken) {
@@ -338,10 +338,10 @@ int Run(const AllanArgs& a) {
   return kExitOk;
 }
 
-Command Make(CLI::App& app) {
+Command MakeAllan(CLI::App& app) {
   auto args = std::make_shared<AllanArgs>();
   CLI::App* sub = app.add_subcommand(
-      kName,
+      kAllanName,
       "Overlapping Allan deviation of the rate column(s), with chi-square confidence intervals and the "
       "noise terms of IEEE 952 (method.md section 6)");
   sub->footer(
@@ -398,7 +398,7 @@ Command Make(CLI::App& app) {
   return {sub, [args] { return Run(*args); }};
 }
 
-const CommandRegistrar kReg(kName, 30, &Make);
+const CommandRegistrar kAllanRegistrar(kAllanName, 30, &MakeAllan);
 
 }  // namespace
 }  // namespace gyrocomp::cli

@@ -16,7 +16,7 @@
 namespace gyrocomp::cli {
 namespace {
 
-constexpr const char* kName = "apply";
+constexpr const char* kApplyName = "apply";
 
 struct ApplyArgs {
   LogOptions log;
@@ -48,14 +48,14 @@ Status CheckPlausibleDrift(const std::string& model_path, const GyroLog& log, co
 
 int Run(const ApplyArgs& a) {
   Result<DriftModelSet> set = LoadDriftModelSet(a.model_path);
-  if (!set.ok()) return ReportError(kName, set.error());
+  if (!set.ok()) return ReportError(kApplyName, set.error());
   if (!a.out_of_range.empty())
     for (DriftModel& m : set->axes) m.out_of_range = *ParseOutOfRangePolicy(a.out_of_range);
   Result<LogSpec> spec = ToLogSpec(a.log);
-  if (!spec.ok()) return ReportError(kName, spec.error());
+  if (!spec.ok()) return ReportError(kApplyName, spec.error());
   spec->temp_required = true;
-  Result<LoadedLog> loaded = LoadLog(kName, a.log, *spec);
-  if (!loaded.ok()) return ReportError(kName, loaded.error());
+  Result<LoadedLog> loaded = LoadLog(kApplyName, a.log, *spec);
+  if (!loaded.ok()) return ReportError(kApplyName, loaded.error());
   const GyroLog& log = loaded->log;
   Table out = loaded->table;
   const DriftInputs inputs{log.temp_c, log.fs_hz};
@@ -73,12 +73,12 @@ int Run(const ApplyArgs& a) {
   for (std::size_t k = 0; k < log.axis_names.size(); ++k) {
     const DriftModel* model = set->ForAxis(log.axis_names[k]);
     if (!model)
-      return ReportError(kName, InvalidInput(a.model_path + ": no model for rate column '" + log.axis_names[k] + "'"));
+      return ReportError(kApplyName, InvalidInput(a.model_path + ": no model for rate column '" + log.axis_names[k] + "'"));
     Result<std::vector<double>> predicted = model->Predict(inputs, a.causal);
-    if (!predicted.ok()) return ReportError(kName, predicted.error());
-    if (Status s = CheckPlausibleDrift(a.model_path, log, *predicted); !s.ok()) return ReportError(kName, s.error());
+    if (!predicted.ok()) return ReportError(kApplyName, predicted.error());
+    if (Status s = CheckPlausibleDrift(a.model_path, log, *predicted); !s.ok()) return ReportError(kApplyName, s.error());
     const TemperatureExcursion range = model->CheckTemperatureRange(log.temp_c);
-    if (range.outside && k == 0) Note(kName, "warning: " + range.Message());
+    if (range.outside && k == 0) Note(kApplyName, "warning: " + range.Message());
     std::vector<double> comp(log.num_samples());
     for (std::size_t i = 0; i < comp.size(); ++i) comp[i] = log.rate_dps[k][i] - (*predicted)[i];
     nlohmann::json j;
@@ -94,7 +94,7 @@ int Run(const ApplyArgs& a) {
     // The 90% band (issue 23; cli.md "apply (bands)"): a model file written before it has none.
     if (model->band) {
       Result<DriftBand> band = model->PredictBand(inputs, a.causal);
-      if (!band.ok()) return ReportError(kName, band.error());
+      if (!band.ok()) return ReportError(kApplyName, band.error());
       if (truth >= 0) {
         std::size_t inside = 0;
         for (std::size_t i = 0; i < band->lo.size(); ++i)
@@ -108,21 +108,21 @@ int Run(const ApplyArgs& a) {
       // In the unit of the rate column they are named after, as the prediction below.
       for (double& v : band->lo) v *= to_col_unit;
       for (double& v : band->hi) v *= to_col_unit;
-      SetColumn(kName, &out, one ? "predicted_drift_lo_dps" : log.axis_names[k] + "_predicted_drift_lo", band->lo);
-      SetColumn(kName, &out, one ? "predicted_drift_hi_dps" : log.axis_names[k] + "_predicted_drift_hi", band->hi);
+      SetColumn(kApplyName, &out, one ? "predicted_drift_lo_dps" : log.axis_names[k] + "_predicted_drift_lo", band->lo);
+      SetColumn(kApplyName, &out, one ? "predicted_drift_hi_dps" : log.axis_names[k] + "_predicted_drift_hi", band->hi);
     } else {
       j["band_level"] = nullptr;
-      if (k == 0) Note(kName, "note: " + a.model_path + " has no prediction band (written before gyrocomp's issue 23); "
+      if (k == 0) Note(kApplyName, "note: " + a.model_path + " has no prediction band (written before gyrocomp's issue 23); "
                                   "no _lo/_hi columns: refit it to get one");
     }
     axes.push_back(j);
     std::vector<double> predicted_col = *predicted;
     for (double& v : predicted_col) v *= to_col_unit;
     for (double& v : comp) v *= to_col_unit;
-    SetColumn(kName, &out, one ? "predicted_drift_dps" : log.axis_names[k] + "_predicted_drift", std::move(predicted_col));
-    SetColumn(kName, &out, one ? "compensated_dps" : log.axis_names[k] + "_compensated", std::move(comp));
+    SetColumn(kApplyName, &out, one ? "predicted_drift_dps" : log.axis_names[k] + "_predicted_drift", std::move(predicted_col));
+    SetColumn(kApplyName, &out, one ? "compensated_dps" : log.axis_names[k] + "_compensated", std::move(comp));
   }
-  if (Status s = WriteCsv(a.output, out); !s.ok()) return ReportError(kName, s.error());
+  if (Status s = WriteCsv(a.output, out); !s.ok()) return ReportError(kApplyName, s.error());
 
   // The first axis's keys at the top level (as before), every axis under "axes".
   nlohmann::json j = axes[0];
@@ -134,7 +134,7 @@ int Run(const ApplyArgs& a) {
   j["causal"] = a.causal;
   j["axes"] = axes;
   if (!a.json_path.empty()) {
-    if (Status s = WriteJson(a.json_path, j); !s.ok()) return ReportError(kName, s.error());
+    if (Status s = WriteJson(a.json_path, j); !s.ok()) return ReportError(kApplyName, s.error());
   }
   if (a.json_path != "-") {
     std::cout << "applied " << set->axes.size() << " model(s) (" << DriftModelKindName(set->axes[0].kind) << ", "
@@ -146,9 +146,9 @@ int Run(const ApplyArgs& a) {
   return kExitOk;
 }
 
-Command Make(CLI::App& app) {
+Command MakeApply(CLI::App& app) {
   auto a = std::make_shared<ApplyArgs>();
-  CLI::App* sub = app.add_subcommand(kName, "Apply a saved drift model: predict the drift from temperature and subtract it");
+  CLI::App* sub = app.add_subcommand(kApplyName, "Apply a saved drift model: predict the drift from temperature and subtract it");
   sub->footer(
       "OUT.csv: the input columns plus predicted_drift_dps and compensated_dps (= rate -\n"
       "predicted); with several --rate-col axes, <axis>_predicted_drift and <axis>_compensated, each\n"
@@ -175,7 +175,7 @@ Command Make(CLI::App& app) {
   return {sub, [a] { return Run(*a); }};
 }
 
-const CommandRegistrar kReg(kName, 65, &Make);
+const CommandRegistrar kApplyRegistrar(kApplyName, 65, &MakeApply);
 
 }  // namespace
 }  // namespace gyrocomp::cli

@@ -41,7 +41,7 @@
 namespace gyrocomp::cli {
 namespace {
 
-using namespace calibrate;  // kName, CalibrateArgs, Sensor, the outputs (calibrate_sensor.h)
+using namespace calibrate;  // kCalibrateName, CalibrateArgs, Sensor, the outputs (calibrate_sensor.h)
 
 
 std::vector<double> Seconds(const std::vector<std::uint64_t>& us) {
@@ -105,7 +105,7 @@ Result<std::vector<Sensor>> SensorsOfDataFlash(const std::string& path, double f
     std::vector<std::string> notes;
     Result<DataFlashImuSeries> s = DataFlashImuToSensorFrame(*log, raw, &notes);  // rotation, TCAL undone
     if (!s.ok()) return s.error();
-    for (const std::string& n : notes) Note(kName, n);
+    for (const std::string& n : notes) Note(kCalibrateName, n);
     out.push_back(MakeSensor("gyro", s->instance, std::nullopt, s->time_us, s->temp_c,
                              {s->gyr_x_rad_s, s->gyr_y_rad_s, s->gyr_z_rad_s}));
     if (!s->acc_x_m_s2.empty())
@@ -414,26 +414,26 @@ Status CombineRuns(const CalibrateArgs& a, LogFormat format, std::vector<Sensor>
 
 int Run(const CalibrateArgs& a) {
   if (!(a.fit_rate_hz > 0.0) || !(a.min_span_c >= 0.0) || !(a.block_s > 0.0))
-    return ReportError(kName, InvalidArgument("--fit-rate must be > 0 Hz, --min-span >= 0 C and --block > 0 s"));
+    return ReportError(kCalibrateName, InvalidArgument("--fit-rate must be > 0 Hz, --min-span >= 0 C and --block > 0 s"));
   const LogFormat format = DetectLogFormat(a.input);
   if (format == LogFormat::kCsv)
-    return ReportError(kName, InvalidInput(a.input + ": not a PX4 ULog or ArduPilot DataFlash log (by its first bytes)"));
+    return ReportError(kCalibrateName, InvalidInput(a.input + ": not a PX4 ULog or ArduPilot DataFlash log (by its first bytes)"));
   if ((format == LogFormat::kULog) != (a.format == "px4"))
-    return ReportError(kName, InvalidArgument("--format " + a.format + " for a " + std::string(LogFormatName(format)) +
+    return ReportError(kCalibrateName, InvalidArgument("--format " + a.format + " for a " + std::string(LogFormatName(format)) +
                                               " log: PX4 parameters come from a ULog, ArduPilot's from a DataFlash log"));
   auto sensors = format == LogFormat::kULog ? SensorsOfULog(a.input, a.fit_rate_hz) : SensorsOfDataFlash(a.input, a.fit_rate_hz);
-  if (!sensors.ok()) return ReportError(kName, sensors.error());
+  if (!sensors.ok()) return ReportError(kCalibrateName, sensors.error());
   for (Sensor& s : *sensors) Calibrate(&s, a);
-  if (Status st = CombineRuns(a, format, &*sensors); !st.ok()) return ReportError(kName, st.error());
+  if (Status st = CombineRuns(a, format, &*sensors); !st.ok()) return ReportError(kCalibrateName, st.error());
   const bool any = std::any_of(sensors->begin(), sensors->end(), [](const Sensor& s) { return s.reason.empty(); });
   if (any)
-    if (Status st = Validate(a, format, &*sensors); !st.ok()) return ReportError(kName, st.error());
+    if (Status st = Validate(a, format, &*sensors); !st.ok()) return ReportError(kCalibrateName, st.error());
   PrintTable(*sensors);
-  if (!any) return ReportError(kName, InvalidInput(a.input + ": no sensor could be calibrated (reasons above)"));
+  if (!any) return ReportError(kCalibrateName, InvalidInput(a.input + ": no sensor could be calibrated (reasons above)"));
   Result<std::string> text = WriteFile(a, *sensors);
-  if (!text.ok()) return ReportError(kName, text.error());
-  if (Status st = WriteModels(a, *sensors); !st.ok()) return ReportError(kName, st.error());
-  if (Status st = WriteText(a.output, *text); !st.ok()) return ReportError(kName, st.error());
+  if (!text.ok()) return ReportError(kCalibrateName, text.error());
+  if (Status st = WriteModels(a, *sensors); !st.ok()) return ReportError(kCalibrateName, st.error());
+  if (Status st = WriteText(a.output, *text); !st.ok()) return ReportError(kCalibrateName, st.error());
   nlohmann::json j = {{"input", a.input}, {"format", a.format}, {"output", a.output}, {"fit_rate_hz", a.fit_rate_hz},
                       {"min_span_c", a.min_span_c}, {"optimised_for", a.optimise_for},
                       {"static_weight", a.static_weight}};
@@ -444,18 +444,18 @@ int Run(const CalibrateArgs& a) {
   j["sensors"] = nlohmann::json::array();
   for (const Sensor& s : *sensors) j["sensors"].push_back(SensorJson(a, s));
   if (!a.json_path.empty())
-    if (Status st = WriteJson(a.json_path, j); !st.ok()) return ReportError(kName, st.error());
+    if (Status st = WriteJson(a.json_path, j); !st.ok()) return ReportError(kCalibrateName, st.error());
   if (!a.report_path.empty()) {
     const ReportData report = BuildCalibrateReport(j, CubicCurves(*sensors));
-    if (Status st = WriteText(a.report_path, RenderReportHtml(report)); !st.ok()) return ReportError(kName, st.error());
+    if (Status st = WriteText(a.report_path, RenderReportHtml(report)); !st.ok()) return ReportError(kCalibrateName, st.error());
   }
-  Note(kName, "-> " + a.output);
+  Note(kCalibrateName, "-> " + a.output);
   return kExitOk;
 }
 
-Command Make(CLI::App& app) {
+Command MakeCalibrate(CLI::App& app) {
   auto a = std::make_shared<CalibrateArgs>();
-  CLI::App* sub = app.add_subcommand(kName, "Thermal calibration of every IMU sensor of a flight log, as one parameter file");
+  CLI::App* sub = app.add_subcommand(kCalibrateName, "Thermal calibration of every IMU sensor of a flight log, as one parameter file");
   sub->footer(
       "px4 (ULog): every sensor_gyro, sensor_accel and sensor_baro instance -> TC_G / TC_A / TC_B slots by\n"
       "  device_id, all four slots of each kind written (unused: ID 0), TC_x_ENABLE. QGroundControl format.\n"
@@ -501,7 +501,7 @@ Command Make(CLI::App& app) {
           }};
 }
 
-const CommandRegistrar kReg(kName, 67, &Make);
+const CommandRegistrar kCalibrateRegistrar(kCalibrateName, 67, &MakeCalibrate);
 
 }  // namespace
 }  // namespace gyrocomp::cli

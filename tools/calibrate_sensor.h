@@ -21,7 +21,7 @@
 
 namespace gyrocomp::cli::calibrate {
 
-constexpr const char* kName = "calibrate";
+constexpr const char* kCalibrateName = "calibrate";
 constexpr double kDegPerRad = 180.0 / std::numbers::pi;
 
 struct CalibrateArgs {

@@ -331,4 +331,13 @@ Status WriteJson(const std::string& path, const nlohmann::json& j) {
   return WriteText(path, *text);
 }
 
+double Rms(std::span<const double> a, std::span<const double> b) {
+  double s = 0.0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const double d = a[i] - (b.empty() ? 0.0 : b[i]);
+    s += d * d;
+  }
+  return a.empty() ? 0.0 : std::sqrt(s / static_cast<double>(a.size()));
+}
+
 }  // namespace gyrocomp::cli

@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <functional>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -129,5 +130,8 @@ CLI::Validator IntegerRange(std::int64_t lo, std::int64_t hi, const std::string&
 
 // Splits "a,b,c" on commas, trimming spaces; empty items are dropped.
 std::vector<std::string> SplitList(const std::string& text);
+
+// Root mean square of a - b, element by element (b empty: of a alone); 0 for an empty a.
+double Rms(std::span<const double> a, std::span<const double> b);
 
 }  // namespace gyrocomp::cli

@@ -94,7 +94,7 @@ int Run(const CompareCli& c) {
   return kExitOk;
 }
 
-Command Make(CLI::App& app) {
+Command MakeCompare(CLI::App& app) {
   auto c = std::make_shared<CompareCli>();
   CLI::App* sub = app.add_subcommand(
       "compare", "The paper's comparisons on a log: wavelet threshold vs FLP vs WFLP; SVR vs grid vs CS-SVR; "
@@ -109,7 +109,7 @@ Command Make(CLI::App& app) {
   return {sub, [c] { return Run(*c); }};
 }
 
-const CommandRegistrar kRegistrar("compare", 80, &Make);
+const CommandRegistrar kCompareRegistrar("compare", 80, &MakeCompare);
 
 }  // namespace
 }  // namespace gyrocomp::cli

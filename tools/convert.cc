@@ -12,7 +12,7 @@
 namespace gyrocomp::cli {
 namespace {
 
-constexpr const char* kName = "convert";
+constexpr const char* kConvertName = "convert";
 
 struct ConvertArgs {
   std::string input;
@@ -36,14 +36,14 @@ Result<FlightLogTable> ReadBag(const ConvertArgs& a) {
 int Run(const ConvertArgs& a) {
   const LogFormat format = DetectLogFormat(a.input);
   if (format == LogFormat::kCsv) {
-    return ReportError(kName, InvalidInput(a.input + ": not a PX4 ULog, ArduPilot DataFlash log or ROS bag (by its "
+    return ReportError(kConvertName, InvalidInput(a.input + ": not a PX4 ULog, ArduPilot DataFlash log or ROS bag (by its "
                                                      "first bytes); convert reads flight-controller logs and bags"));
   }
   Result<FlightLogTable> log = format == LogFormat::kRosBag ? ReadBag(a) : ReadFlightLog(a.input, a.instance);
-  if (!log.ok()) return ReportError(kName, log.error());
-  for (const std::string& w : log->warnings) Note(kName, w);
+  if (!log.ok()) return ReportError(kConvertName, log.error());
+  for (const std::string& w : log->warnings) Note(kConvertName, w);
   const std::size_t rows = log->table.num_rows();
-  if (Status s = WriteCsv(a.output, log->table); !s.ok()) return ReportError(kName, s.error());
+  if (Status s = WriteCsv(a.output, log->table); !s.ok()) return ReportError(kConvertName, s.error());
   if (!a.json_path.empty()) {
     nlohmann::json j;
     j["input"] = a.input;
@@ -55,15 +55,15 @@ int Run(const ConvertArgs& a) {
     j["columns"] = log->table.names;
     j["output"] = a.output;
     j["warnings"] = log->warnings;
-    if (Status s = WriteJson(a.json_path, j); !s.ok()) return ReportError(kName, s.error());
+    if (Status s = WriteJson(a.json_path, j); !s.ok()) return ReportError(kConvertName, s.error());
   }
-  Note(kName, log->origin + ": " + std::to_string(rows) + " rows -> " + a.output);
+  Note(kConvertName, log->origin + ": " + std::to_string(rows) + " rows -> " + a.output);
   return kExitOk;
 }
 
-Command Make(CLI::App& app) {
+Command MakeConvert(CLI::App& app) {
   auto a = std::make_shared<ConvertArgs>();
-  CLI::App* sub = app.add_subcommand(kName, "Write the gyro rows of a PX4 ULog or ArduPilot DataFlash log, or a ROS bag's IMU topic, as CSV");
+  CLI::App* sub = app.add_subcommand(kConvertName, "Write the gyro rows of a PX4 ULog or ArduPilot DataFlash log, or a ROS bag's IMU topic, as CSV");
   sub->footer(
       "Columns: time_s (log timestamps / 1e6), x_rad_s, y_rad_s, z_rad_s (as logged), temp_c (absent\n"
       "for ULog sensor_combined). ULog: sensor_gyro multi_id N (sensor_combined when there is no\n"
@@ -84,7 +84,7 @@ Command Make(CLI::App& app) {
   return {sub, [a] { return Run(*a); }};
 }
 
-const CommandRegistrar kReg(kName, 24, &Make);
+const CommandRegistrar kConvertRegistrar(kConvertName, 24, &MakeConvert);
 
 }  // namespace
 }  // namespace gyrocomp::cli

@@ -20,7 +20,7 @@
 namespace gyrocomp::cli {
 namespace {
 
-constexpr const char* kName = "decompose";
+constexpr const char* kDecomposeName = "decompose";
 
 struct DecomposeArgs {
   LogOptions log;
@@ -114,26 +114,26 @@ int Run(DecomposeArgs a) {
   if (a.entropy_all) a.entropy_max_samples.reset();
   std::string why;
   if (!a.vmd.IsValid(&why) || !a.entropy.IsValid(&why) || !rule.IsValid(&why)) {
-    return ReportError(kName, InvalidArgument(why));
+    return ReportError(kDecomposeName, InvalidArgument(why));
   }
 
   Result<LogSpec> spec = ToLogSpec(a.log);
-  if (!spec.ok()) return ReportError(kName, spec.error());
+  if (!spec.ok()) return ReportError(kDecomposeName, spec.error());
   spec->min_samples = 4;
   Result<GyroLog> log = ReadGyroLog(a.log.input, *spec);
-  if (!log.ok()) return ReportError(kName, log.error());
-  if (log->sampling.resampled) Note(kName, log->sampling.BriefReport());
+  if (!log.ok()) return ReportError(kDecomposeName, log.error());
+  if (log->sampling.resampled) Note(kDecomposeName, log->sampling.BriefReport());
 
   std::vector<AxisResult> results;
   for (std::size_t axis = 0; axis < log->rate_dps.size(); ++axis) {
     VmdOptions vmd = a.vmd;
     vmd.fs_hz = log->fs_hz;
     Result<VmdResult> v = DecomposeVmd(log->rate_dps[axis], vmd);
-    if (!v.ok()) return ReportError(kName, Error{v.error().kind, log->source + ": " + log->axis_names[axis] + ": " + v.error().message});
+    if (!v.ok()) return ReportError(kDecomposeName, Error{v.error().kind, log->source + ": " + log->axis_names[axis] + ": " + v.error().message});
     Result<ClassificationResult> c = ClassifyVmdModes(*v, a.entropy, rule, a.entropy_max_samples);
-    if (!c.ok()) return ReportError(kName, Error{c.error().kind, log->source + ": " + log->axis_names[axis] + ": " + c.error().message});
+    if (!c.ok()) return ReportError(kDecomposeName, Error{c.error().kind, log->source + ": " + log->axis_names[axis] + ": " + c.error().message});
     if (!v->summary.converged) {
-      Note(kName, log->axis_names[axis] + ": VMD stopped at --max-iter without meeting --tol (" + v->summary.BriefReport() + ")");
+      Note(kDecomposeName, log->axis_names[axis] + ": VMD stopped at --max-iter without meeting --tol (" + v->summary.BriefReport() + ")");
     }
     results.push_back({log->axis_names[axis], std::move(*v), std::move(*c)});
   }
@@ -144,7 +144,7 @@ int Run(DecomposeArgs a) {
       const std::string prefix = results.size() == 1 ? "" : r.axis + "_";
       for (std::size_t k = 0; k < r.vmd.modes.size(); ++k) t.Add(prefix + "mode_" + std::to_string(k + 1), r.vmd.modes[k]);
     }
-    if (Status s = WriteCsv(a.csv_path, t); !s.ok()) return ReportError(kName, s.error());
+    if (Status s = WriteCsv(a.csv_path, t); !s.ok()) return ReportError(kDecomposeName, s.error());
   }
   if (!a.json_path.empty()) {
     nlohmann::json j;
@@ -161,7 +161,7 @@ int Run(DecomposeArgs a) {
                         {"dc", a.vmd.dc}, {"init", a.init}, {"seed", a.vmd.seed},
                         {"max_iterations", a.vmd.max_iterations}, {"stopping_rule", a.stop},
                         {"accel", a.accel}};
-    if (Status s = WriteJson(a.json_path, j); !s.ok()) return ReportError(kName, s.error());
+    if (Status s = WriteJson(a.json_path, j); !s.ok()) return ReportError(kDecomposeName, s.error());
   }
   if (a.json_path != "-") {
     for (const AxisResult& r : results) {
@@ -172,10 +172,10 @@ int Run(DecomposeArgs a) {
   return kExitOk;
 }
 
-Command Make(CLI::App& app) {
+Command MakeDecompose(CLI::App& app) {
   auto args = std::make_shared<DecomposeArgs>();
   CLI::App* sub = app.add_subcommand(
-      kName,
+      kDecomposeName,
       "Variational mode decomposition of the rate, then the sample entropy and the drift / mixed / "
       "noise class of every mode (paper Sections 3.1, 3.2, 3.5; method.md sections 1-2)");
   sub->footer(
@@ -234,7 +234,7 @@ Command Make(CLI::App& app) {
   return {sub, [args] { return Run(*args); }};
 }
 
-const CommandRegistrar kReg(kName, 40, &Make);
+const CommandRegistrar kDecomposeRegistrar(kDecomposeName, 40, &MakeDecompose);
 
 }  // namespace
 }  // namespace gyrocomp::cli

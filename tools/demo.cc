@@ -27,7 +27,7 @@
 namespace gyrocomp::cli {
 namespace {
 
-constexpr const char* kName = "demo";
+constexpr const char* kDemoName = "demo";
 
 // The demo's reduced search budgets (docs/cli.md, demo): cuckoo-search nests of every searched
 // model, generations of auto's searched candidates (hybrid, cs-svr) and of the paper's CS-SVR
@@ -68,16 +68,6 @@ class PhaseClock {
   std::chrono::steady_clock::time_point wall_ = std::chrono::steady_clock::now();
   std::map<std::string, double> cpu_s_, wall_s_;
 };
-
-// RMS of a - b (b empty: of a).
-double Rms(std::span<const double> a, std::span<const double> b) {
-  double s = 0.0;
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    const double d = a[i] - (b.empty() ? 0.0 : b[i]);
-    s += d * d;
-  }
-  return a.empty() ? 0.0 : std::sqrt(s / static_cast<double>(a.size()));
-}
 
 // The budgets above, where the command line did not set them; returns what was applied, in words.
 std::string ApplyDemoBudget(const DemoArgs& a, PipelineOptions* o, int* cs_svr_generations) {
@@ -286,19 +276,19 @@ int WriteDemoFiles(const DemoArgs& a, const SimulatedRun& run, const PipelineRes
   processed.Add("paper_predicted_drift_dps", paper.predicted_drift_dps);
   const std::filesystem::path dir(a.out_dir);
   const std::string csv = (dir / "processed.csv.gz").string();
-  if (Status s = WriteCsv(csv, processed); !s) return ReportError(kName, s.error());
+  if (Status s = WriteCsv(csv, processed); !s) return ReportError(kDemoName, s.error());
   clock->Mark("csv");
   params["simulator"] = {{"profile", "paper"}, {"fs_hz", a.fs_hz}, {"seed", a.seed},
                          {"summary", run.summary.BriefReport()}};
   params["demo_budget"] = budget;
   const std::string report_path = (dir / "report.html").string();
   const std::string html = ReportHtml(a, run, r, paper, held_out, table, comparison, params);
-  if (Status s = WriteText(report_path, html); !s) return ReportError(kName, s.error());
+  if (Status s = WriteText(report_path, html); !s) return ReportError(kDemoName, s.error());
   clock->Mark("report");
   nlohmann::json summary = SummaryJson(a, r, paper, held_out, table, params);
   summary["demo_phases"] = clock->Json();
   const std::string json_path = (dir / "summary.json").string();
-  if (Status s = WriteJson(json_path, summary); !s) return ReportError(kName, s.error());
+  if (Status s = WriteJson(json_path, summary); !s) return ReportError(kDemoName, s.error());
   std::printf("\n  time by phase (CPU s, all threads / wall s):");
   for (const auto& [phase, cpu] : summary["demo_phases"]["cpu_s"].items()) {
     std::printf(" %s %.1f/%.1f;", phase.c_str(), cpu.get<double>(), summary["demo_phases"]["wall_s"][phase].get<double>());
@@ -310,7 +300,7 @@ int WriteDemoFiles(const DemoArgs& a, const SimulatedRun& run, const PipelineRes
 int Run(const DemoArgs& a) {
   PhaseClock clock;
   PipelineCliOptions pipe = a.pipeline;
-  if (Status s = ResolvePipelineOptions(&pipe); !s) return ReportError(kName, s.error());
+  if (Status s = ResolvePipelineOptions(&pipe); !s) return ReportError(kDemoName, s.error());
   int cs_svr_generations = 0;
   const std::string budget = ApplyDemoBudget(a, &pipe.options, &cs_svr_generations);
   // Options first: a refused --fs must not leave an empty --out folder behind (issue 24).
@@ -318,11 +308,11 @@ int Run(const DemoArgs& a) {
   sim.fs_hz = a.fs_hz;
   sim.seed = a.seed;
   std::string why;
-  if (!sim.IsValid(&why)) return ReportError(kName, InvalidArgument(why));
+  if (!sim.IsValid(&why)) return ReportError(kDemoName, InvalidArgument(why));
   std::error_code ec;
   const bool existed = std::filesystem::exists(a.out_dir, ec);
   std::filesystem::create_directories(a.out_dir, ec);
-  if (ec) return ReportError(kName, IoError(a.out_dir + ": cannot create directory: " + ec.message()));
+  if (ec) return ReportError(kDemoName, IoError(a.out_dir + ": cannot create directory: " + ec.message()));
   // A failed run leaves no folder it created (issue 24): its temporaries are discarded first.
   // Listed for the signal handler too (RemoveLiveTemporaryFiles: a Ctrl-C mid-run).
   struct RemoveCreatedFolder {
@@ -340,31 +330,31 @@ int Run(const DemoArgs& a) {
   const std::filesystem::path dir(a.out_dir);
   // The three files, checked before the work (cli_common.h: written together at the end).
   for (const char* name : {"processed.csv.gz", "summary.json", "report.html"}) {
-    if (Status s = Outputs().Declare((dir / name).string()); !s) return ReportError(kName, s.error());
+    if (Status s = Outputs().Declare((dir / name).string()); !s) return ReportError(kDemoName, s.error());
   }
 
   Result<SimulatedRun> run = Simulate(sim);
-  if (!run) return ReportError(kName, run.error());
+  if (!run) return ReportError(kDemoName, run.error());
   clock.Mark("simulate");
   std::printf("gyrocomp demo: the paper's chamber run (Section 4.1), simulated with ground truth\n  %s\n  %s\n",
               run->summary.BriefReport().c_str(), budget.c_str());
 
   const PipelineInput input{run->rate_dps, run->temp_c, run->fs_hz, {}};
-  Result<PipelineResult> r = RunParallelModel(input, pipe.options, TerminalProgress(kName, a.quiet));
+  Result<PipelineResult> r = RunParallelModel(input, pipe.options, TerminalProgress(kDemoName, a.quiet));
   EndProgress();
-  if (!r) return ReportError(kName, r.error());
-  if (!r->drift_model) return ReportError(kName, InternalError("demo: the pipeline returned no drift model"));
+  if (!r) return ReportError(kDemoName, r.error());
+  if (!r->drift_model) return ReportError(kDemoName, InternalError("demo: the pipeline returned no drift model"));
   clock.Mark("pipeline (default)");
   Result<PipelineResult> paper = PaperPipeline(input, *r, pipe.options, cs_svr_generations);
-  if (!paper) return ReportError(kName, paper.error());
+  if (!paper) return ReportError(kDemoName, paper.error());
   clock.Mark("paper drift branch (cs-svr)");
   Result<HeldOut> held_out = ValidateOnHeldOut(a, *paper->drift_model, *r->drift_model);
-  if (!held_out) return ReportError(kName, held_out.error());
+  if (!held_out) return ReportError(kDemoName, held_out.error());
   clock.Mark("held-out run");
   std::optional<ComparisonResult> comparison;
   if (a.compare) {
     Result<ComparisonResult> c = Compare(*run, input, *paper, pipe.options, cs_svr_generations);
-    if (!c) return ReportError(kName, c.error());
+    if (!c) return ReportError(kDemoName, c.error());
     comparison = std::move(*c);
     clock.Mark("comparisons");
   }
@@ -378,7 +368,7 @@ int Run(const DemoArgs& a) {
   return code;
 }
 
-Command Make(CLI::App& app) {
+Command MakeDemo(CLI::App& app) {
   auto a = std::make_shared<DemoArgs>();
   CLI::App* sub = app.add_subcommand(
       "demo", "Simulate the paper's chamber run and a held-out heating run, process the first with the paper's "
@@ -397,7 +387,7 @@ Command Make(CLI::App& app) {
   return {sub, [a] { return Run(*a); }};
 }
 
-const CommandRegistrar kRegistrar("demo", 10, &Make);
+const CommandRegistrar kDemoRegistrar("demo", 10, &MakeDemo);
 
 }  // namespace
 }  // namespace gyrocomp::cli

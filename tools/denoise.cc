@@ -20,7 +20,7 @@
 namespace gyrocomp::cli {
 namespace {
 
-constexpr const char* kName = "denoise";
+constexpr const char* kDenoiseName = "denoise";
 
 struct DenoiseArgs {
   LogOptions log;
@@ -111,39 +111,33 @@ Result<Method> MakeMethod(const DenoiseArgs& a) {
   return m;
 }
 
-double Rms(std::span<const double> a, std::span<const double> b) {
-  double s = 0.0;
-  for (std::size_t i = 0; i < a.size(); ++i) s += (a[i] - b[i]) * (a[i] - b[i]);
-  return std::sqrt(s / static_cast<double>(a.size()));
-}
-
 nlohmann::json OptionalNumber(const std::optional<double>& v) { return v ? nlohmann::json(*v) : nlohmann::json(); }
 
 int Run(const DenoiseArgs& a) {
   if (a.output.empty() && a.json_path.empty()) {
-    return ReportError(kName, InvalidArgument("nothing to write: give -o OUT.csv and/or --json FILE"));
+    return ReportError(kDenoiseName, InvalidArgument("nothing to write: give -o OUT.csv and/or --json FILE"));
   }
   Result<Method> method = MakeMethod(a);
-  if (!method.ok()) return ReportError(kName, method.error());
+  if (!method.ok()) return ReportError(kDenoiseName, method.error());
   Result<LogSpec> spec = ToLogSpec(a.log);
-  if (!spec.ok()) return ReportError(kName, spec.error());
+  if (!spec.ok()) return ReportError(kDenoiseName, spec.error());
   Result<LogTableRead> read = ReadLogTable(a.log.input, *spec);  // CSV, ULog or DataFlash (issue 12)
-  if (!read.ok()) return ReportError(kName, read.error());
+  if (!read.ok()) return ReportError(kDenoiseName, read.error());
   Result<Table> table = std::move(read->table);
   Result<GyroLog> log = LoadGyroLog(*table, read->spec);
-  if (!log.ok()) return ReportError(kName, log.error());
-  if (log->sampling.resampled) Note(kName, log->sampling.BriefReport());
+  if (!log.ok()) return ReportError(kDenoiseName, log.error());
+  if (log->sampling.resampled) Note(kDenoiseName, log->sampling.BriefReport());
 
   // Truth (for RMSE): the sum of the named columns, in deg/s, on the log's rows.
   std::vector<double> truth;
   if (!a.truth_cols.empty()) {
     if (log->sampling.resampled) {
-      return ReportError(kName, InvalidArgument("--truth-col cannot be used with --resample (the truth is not resampled)"));
+      return ReportError(kDenoiseName, InvalidArgument("--truth-col cannot be used with --resample (the truth is not resampled)"));
     }
     truth.assign(log->num_samples(), 0.0);
     for (const std::string& name : SplitList(a.truth_cols)) {
       const int c = table->Find(name);
-      if (c < 0) return ReportError(kName, InvalidInput(table->source + ": no column '" + name + "' (--truth-col)"));
+      if (c < 0) return ReportError(kDenoiseName, InvalidInput(table->source + ": no column '" + name + "' (--truth-col)"));
       for (std::size_t i = 0; i < truth.size(); ++i) truth[i] += table->columns[static_cast<std::size_t>(c)][i];
     }
   }
@@ -165,7 +159,7 @@ int Run(const DenoiseArgs& a) {
     const std::vector<double>& x = log->rate_dps[k];
     std::string report;
     Result<std::vector<double>> y = method->Apply(x, &report);
-    if (!y.ok()) return ReportError(kName, Error{y.error().kind, axis + ": " + y.error().message});
+    if (!y.ok()) return ReportError(kDenoiseName, Error{y.error().kind, axis + ": " + y.error().message});
     nlohmann::json j;
     j["method"] = method->name;
     j["summary"] = report;
@@ -178,8 +172,8 @@ int Run(const DenoiseArgs& a) {
     if (!a.json_path.empty() && x.size() >= 3) {
       Result<AllanResult> before = ComputeAllan(x, log->fs_hz);
       Result<AllanResult> after = ComputeAllan(*y, log->fs_hz);
-      if (!before.ok()) return ReportError(kName, before.error());
-      if (!after.ok()) return ReportError(kName, after.error());
+      if (!before.ok()) return ReportError(kDenoiseName, before.error());
+      if (!after.ok()) return ReportError(kDenoiseName, after.error());
       j["arw_before_deg_per_sqrt_h"] = OptionalNumber(before->terms.arw_deg_per_sqrt_h);
       j["arw_after_deg_per_sqrt_h"] = OptionalNumber(after->terms.arw_deg_per_sqrt_h);
       j["adev_min_before_deg_per_h"] = before->terms.adev_min_deg_per_h;
@@ -196,7 +190,7 @@ int Run(const DenoiseArgs& a) {
       const Method& m = *method;
       SignalProcessing p = [&m](std::span<const double> s) { return m.Apply(s, nullptr); };
       Result<BandwidthResult> bw = MeasureBandwidth(p, std::span<const double>(x.data(), n), bo);
-      if (!bw.ok()) return ReportError(kName, Error{bw.error().kind, axis + ": bandwidth: " + bw.error().message});
+      if (!bw.ok()) return ReportError(kDenoiseName, Error{bw.error().kind, axis + ": bandwidth: " + bw.error().message});
       j["bandwidth_hz"] = OptionalNumber(bw->bandwidth_hz);
       j["bandwidth_below_range"] = bw->bandwidth_below_range;
       j["bandwidth_max_tested_hz"] = bw->max_frequency_hz;
@@ -207,25 +201,25 @@ int Run(const DenoiseArgs& a) {
     }
     if (a.json_path != "-") std::cout << axis << ": " << report << "\n";
     axes[axis] = j;
-    SetColumn(kName, &out, single ? "denoised_dps" : axis + "_denoised", std::move(*y));
+    SetColumn(kDenoiseName, &out, single ? "denoised_dps" : axis + "_denoised", std::move(*y));
   }
   if (!a.output.empty()) {
-    if (Status s = WriteCsv(a.output, out); !s.ok()) return ReportError(kName, s.error());
+    if (Status s = WriteCsv(a.output, out); !s.ok()) return ReportError(kDenoiseName, s.error());
   }
   if (!a.json_path.empty()) {
     nlohmann::json j = single ? axes.begin().value() : nlohmann::json{{"axes", axes}};
     j["input"] = log->source;
     j["sampling"] = log->sampling.BriefReport();
-    if (Status s = WriteJson(a.json_path, j); !s.ok()) return ReportError(kName, s.error());
+    if (Status s = WriteJson(a.json_path, j); !s.ok()) return ReportError(kDenoiseName, s.error());
   }
   return kExitOk;
 }
 
-Command Make(CLI::App& app) {
+Command MakeDenoise(CLI::App& app) {
   auto args = std::make_shared<DenoiseArgs>();
   DenoiseArgs& a = *args;
   CLI::App* sub = app.add_subcommand(
-      kName, "Denoise the rate column(s): wavelet thresholding, FLP (variable-step LMS predictor) or WFLP "
+      kDenoiseName, "Denoise the rate column(s): wavelet thresholding, FLP (variable-step LMS predictor) or WFLP "
              "(paper Section 3.3)");
   AddLogOptions(sub, &a.log);
   sub->add_option("--method", a.method, "wavelet | flp | wflp")
@@ -306,7 +300,7 @@ Command Make(CLI::App& app) {
   return {sub, [args] { return Run(*args); }};
 }
 
-const CommandRegistrar kReg(kName, 50, &Make);
+const CommandRegistrar kDenoiseRegistrar(kDenoiseName, 50, &MakeDenoise);
 
 }  // namespace
 }  // namespace gyrocomp::cli

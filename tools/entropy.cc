@@ -13,7 +13,7 @@
 namespace gyrocomp::cli {
 namespace {
 
-constexpr const char* kName = "entropy";
+constexpr const char* kEntropyName = "entropy";
 
 struct EntropyArgs {
   std::string input;
@@ -29,19 +29,19 @@ int Run(EntropyArgs a) {
   if (a.r_abs) a.options.r_absolute = *a.r_abs;
   if (a.brute_force) a.options.algorithm = SampleEntropyAlgorithm::kBruteForce;
   std::string why;
-  if (!a.options.IsValid(&why)) return ReportError(kName, InvalidArgument(why));
+  if (!a.options.IsValid(&why)) return ReportError(kEntropyName, InvalidArgument(why));
   CsvReadOptions read;
   read.columns = std::vector<std::string>{a.col};  // the one column used (issue 24: memory)
   Result<Table> table = ReadCsv(a.input, read);
-  if (!table.ok()) return ReportError(kName, table.error());
+  if (!table.ok()) return ReportError(kEntropyName, table.error());
   const int j = table->Find(a.col);
   if (j < 0) {
     std::string names;
     for (const std::string& n : table->FileNames()) names += (names.empty() ? "" : ", ") + n;
-    return ReportError(kName, InvalidInput(table->source + ":1: no column '" + a.col + "' (columns: " + names + ")"));
+    return ReportError(kEntropyName, InvalidInput(table->source + ":1: no column '" + a.col + "' (columns: " + names + ")"));
   }
   Result<SampleEntropyResult> r = SampleEntropy(table->columns[j], a.options);
-  if (!r.ok()) return ReportError(kName, Error{r.error().kind, table->source + ": column '" + a.col + "': " + r.error().message});
+  if (!r.ok()) return ReportError(kEntropyName, Error{r.error().kind, table->source + ": column '" + a.col + "': " + r.error().message});
 
   nlohmann::json out;
   // JSON has no infinity/NaN: null, with `defined` and the counts telling why.
@@ -58,17 +58,17 @@ int Run(EntropyArgs a) {
   out["input"] = table->source;
   out["column"] = a.col;
   if (!a.json_path.empty()) {
-    if (Status s = WriteJson(a.json_path, out); !s.ok()) return ReportError(kName, s.error());
+    if (Status s = WriteJson(a.json_path, out); !s.ok()) return ReportError(kEntropyName, s.error());
   }
   if (a.json_path != "-") std::cout << a.col << ": " << r->BriefReport() << "\n";
-  if (std::isinf(r->sample_entropy)) Note(kName, "no template match of length m+1: SampEn is infinite (JSON null)");
-  if (!r->defined) Note(kName, "no template match of length m: SampEn is undefined (JSON null)");
+  if (std::isinf(r->sample_entropy)) Note(kEntropyName, "no template match of length m+1: SampEn is infinite (JSON null)");
+  if (!r->defined) Note(kEntropyName, "no template match of length m: SampEn is undefined (JSON null)");
   return kExitOk;
 }
 
-Command Make(CLI::App& app) {
+Command MakeEntropy(CLI::App& app) {
   auto args = std::make_shared<EntropyArgs>();
-  CLI::App* sub = app.add_subcommand(kName, "Sample entropy of one column (Richman & Moorman 2000; method.md section 2)");
+  CLI::App* sub = app.add_subcommand(kEntropyName, "Sample entropy of one column (Richman & Moorman 2000; method.md section 2)");
   sub->footer(
       "Definition: templates of length m and m+1 from the same N-m start points, Chebyshev distance,\n"
       "a match when the distance is < r (strict: quantized data has distances equal to r), no\n"
@@ -89,7 +89,7 @@ Command Make(CLI::App& app) {
   return {sub, [args] { return Run(*args); }};
 }
 
-const CommandRegistrar kReg(kName, 45, &Make);
+const CommandRegistrar kEntropyRegistrar(kEntropyName, 45, &MakeEntropy);
 
 }  // namespace
 }  // namespace gyrocomp::cli

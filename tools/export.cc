@@ -27,7 +27,7 @@
 namespace gyrocomp::cli {
 namespace {
 
-constexpr const char* kName = "export";
+constexpr const char* kExportName = "export";
 constexpr double kRadPerDeg = std::numbers::pi / 180.0;
 
 struct ExportArgs {
@@ -127,7 +127,7 @@ Result<GyroLog> ReadRun(const LogOptions& options) {
   if (!spec.ok()) return spec.error();
   spec->temp_required = true;
   spec->keep_cols.emplace();  // only the log: time, rates, temperature (issue 24: memory)
-  Result<LoadedLog> loaded = LoadLog(kName, options, *spec);
+  Result<LoadedLog> loaded = LoadLog(kExportName, options, *spec);
   if (!loaded.ok()) return loaded.error();
   return std::move(loaded->log);
 }
@@ -265,11 +265,11 @@ std::vector<std::string> ParamComments(const ExportArgs& a, const std::vector<Ax
 int RunParams(const ExportArgs& a, const std::vector<AxisDriftModel>& axes, const std::vector<std::string>& src,
               nlohmann::json* j) {
   if (axes.size() != 3)
-    return ReportError(kName, InvalidArgument("--format " + a.format + " needs three axis models (one file with three "
+    return ReportError(kExportName, InvalidArgument("--format " + a.format + " needs three axis models (one file with three "
                                               "axes, or -m x.json -m y.json -m z.json), got " +
                                               std::to_string(axes.size())));
   auto costs = ProjectAxes(a, axes);
-  if (!costs.ok()) return ReportError(kName, costs.error());
+  if (!costs.ok()) return ReportError(kExportName, costs.error());
   ThreeAxisCubics radps;
   for (int k = 0; k < 3; ++k) radps[k] = (*costs)[k].cubic_dps.Scaled(kRadPerDeg);
   const auto comments = ParamComments(a, axes, src, *costs);
@@ -278,14 +278,14 @@ int RunParams(const ExportArgs& a, const std::vector<AxisDriftModel>& axes, cons
   // the model file records (PX4 slot i = instance; ArduPilot INS_TCAL<n>, n = instance + 1).
   const std::optional<int> instance = a.log.instance ? a.log.instance : a.file_instance;
   if (!a.index && instance && *instance > (a.format == "px4" ? 3 : 2))
-    return ReportError(kName, InvalidArgument("gyro instance " + std::to_string(*instance) + " has no " + a.format +
+    return ReportError(kExportName, InvalidArgument("gyro instance " + std::to_string(*instance) + " has no " + a.format +
                                               " slot of the same number; choose one with --index"));
   if (a.format == "px4") {
     Px4ThermalParamOptions o;
     o.index = a.index.value_or(instance.value_or(0));
     if (a.device_id) {
       if (*a.device_id <= 0 || *a.device_id > 0xFFFFFFFFLL)
-        return ReportError(kName, InvalidArgument("--device-id: must be in 1..4294967295"));
+        return ReportError(kExportName, InvalidArgument("--device-id: must be in 1..4294967295"));
       o.device_id = static_cast<std::uint32_t>(*a.device_id);
     }
     text = WritePx4ThermalParams(radps, o, comments);
@@ -294,8 +294,8 @@ int RunParams(const ExportArgs& a, const std::vector<AxisDriftModel>& axes, cons
     o.imu = a.index.value_or(instance.value_or(0) + 1);
     text = WriteArduPilotThermalParams(radps, o, comments);
   }
-  if (!text.ok()) return ReportError(kName, text.error());
-  if (Status s = WriteText(a.output.empty() ? "-" : a.output, *text); !s.ok()) return ReportError(kName, s.error());
+  if (!text.ok()) return ReportError(kExportName, text.error());
+  if (Status s = WriteText(a.output.empty() ? "-" : a.output, *text); !s.ok()) return ReportError(kExportName, s.error());
   nlohmann::json ax = nlohmann::json::array();
   for (int k = 0; k < 3; ++k) {
     const TemperatureCubic& c = (*costs)[k].cubic_dps;
@@ -315,7 +315,7 @@ int RunParams(const ExportArgs& a, const std::vector<AxisDriftModel>& axes, cons
 int RunC(const ExportArgs& a, const std::vector<AxisDriftModel>& axes, const std::vector<std::string>& src,
          nlohmann::json* j) {
   if (a.output.empty() || a.output == "-")
-    return ReportError(kName, InvalidArgument("--format c needs -o DIR/NAME (writes DIR/NAME.h and DIR/NAME.c)"));
+    return ReportError(kExportName, InvalidArgument("--format c needs -o DIR/NAME (writes DIR/NAME.h and DIR/NAME.c)"));
   const std::filesystem::path out(a.output);
   CExportOptions o;
   o.prefix = out.filename().string();
@@ -323,14 +323,14 @@ int RunC(const ExportArgs& a, const std::vector<AxisDriftModel>& axes, const std
     o.output_scale = kRadPerDeg;
     o.output_unit = "rad/s";
   } else if (a.c_unit != "dps") {
-    return ReportError(kName, InvalidArgument("--c-unit " + a.c_unit + ": expected dps or rads"));
+    return ReportError(kExportName, InvalidArgument("--c-unit " + a.c_unit + ": expected dps or rads"));
   }
   for (const std::string& p : a.model_paths) o.comments.push_back("model: " + p);
   Result<GeneratedC> gen = GenerateCEvaluator(axes, o);
-  if (!gen.ok()) return ReportError(kName, gen.error());
+  if (!gen.ok()) return ReportError(kExportName, gen.error());
   const std::filesystem::path dir = out.parent_path();
-  if (Status s = WriteText((dir / gen->header_name).string(), gen->header); !s.ok()) return ReportError(kName, s.error());
-  if (Status s = WriteText((dir / gen->source_name).string(), gen->source); !s.ok()) return ReportError(kName, s.error());
+  if (Status s = WriteText((dir / gen->header_name).string(), gen->header); !s.ok()) return ReportError(kExportName, s.error());
+  if (Status s = WriteText((dir / gen->source_name).string(), gen->source); !s.ok()) return ReportError(kExportName, s.error());
   nlohmann::json ax = nlohmann::json::array();
   for (std::size_t k = 0; k < axes.size(); ++k)
     ax.push_back({{"model_file", src[k]}, {"rate_col", axes[k].axis}, {"model", DriftSummaryJson(axes[k].model.summary)},
@@ -347,7 +347,7 @@ int Run(const ExportArgs& args) {
   std::optional<std::uint32_t> file_device_id;
   std::optional<int> file_instance;
   auto axes = LoadAxes(args.model_paths, &src, &file_device_id, &file_instance);
-  if (!axes.ok()) return ReportError(kName, axes.error());
+  if (!axes.ok()) return ReportError(kExportName, axes.error());
   ExportArgs a = args;  // --device-id, else the id the model file carries (fitted on a ULog)
   a.file_instance = file_instance;
   if (!a.device_id && file_device_id) a.device_id = *file_device_id;
@@ -357,13 +357,13 @@ int Run(const ExportArgs& args) {
   const int rc = a.format == "c" ? RunC(a, *axes, src, &j) : RunParams(a, *axes, src, &j);
   if (rc != kExitOk) return rc;
   if (!a.json_path.empty())
-    if (Status s = WriteJson(a.json_path, j); !s.ok()) return ReportError(kName, s.error());
+    if (Status s = WriteJson(a.json_path, j); !s.ok()) return ReportError(kExportName, s.error());
   return kExitOk;
 }
 
-Command Make(CLI::App& app) {
+Command MakeExport(CLI::App& app) {
   auto a = std::make_shared<ExportArgs>();
-  CLI::App* sub = app.add_subcommand(kName, "Export drift models for a flight controller: PX4 / ArduPilot parameters or C code");
+  CLI::App* sub = app.add_subcommand(kExportName, "Export drift models for a flight controller: PX4 / ArduPilot parameters or C code");
   sub->footer(
       "px4: QGroundControl parameter file (TC_G_ENABLE, TC_G<i>_ID/TREF/TMIN/TMAX/X0..X3_0..2, rad/s);\n"
       "  needs the gyro's device_id (from the model file when it was fitted on a ULog, else --device-id) and three axes: one file (fit --rate-col gx,gy,gz)\n"
@@ -394,7 +394,7 @@ Command Make(CLI::App& app) {
   return {sub, [a] { return Run(*a); }};
 }
 
-const CommandRegistrar kReg(kName, 66, &Make);
+const CommandRegistrar kExportRegistrar(kExportName, 66, &MakeExport);
 
 }  // namespace
 }  // namespace gyrocomp::cli

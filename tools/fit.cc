@@ -19,7 +19,7 @@
 namespace gyrocomp::cli {
 namespace {
 
-constexpr const char* kName = "fit";
+constexpr const char* kFitName = "fit";
 
 struct FitArgs {
   LogOptions log;
@@ -166,7 +166,7 @@ Result<nlohmann::json> ValidateOn(const FitArgs& a, const DriftModelSet& set) {
   if (!spec.ok()) return spec.error();
   spec->temp_required = true;
   spec->keep_cols = std::vector<std::string>{"true_drift_dps"};  // the log and the truth only (issue 24: memory)
-  Result<LoadedLog> loaded = LoadLog(kName, other, *spec);
+  Result<LoadedLog> loaded = LoadLog(kFitName, other, *spec);
   if (!loaded.ok()) return loaded.error();
   nlohmann::json out = nlohmann::json::array();
   for (std::size_t k = 0; k < set.axes.size(); ++k) {
@@ -186,23 +186,23 @@ Result<nlohmann::json> ValidateOn(const FitArgs& a, const DriftModelSet& set) {
 }
 
 int Run(FitArgs a) {
-  if (Status st = ResolveOptions(a); !st.ok()) return ReportError(kName, st.error());
+  if (Status st = ResolveOptions(a); !st.ok()) return ReportError(kFitName, st.error());
   DriftFitOptions& o = a.fit;
   // Which columns are needed: temperature always; the rate unless --target names another column.
   Result<LogSpec> spec = ToLogSpec(a.log);
-  if (!spec.ok()) return ReportError(kName, spec.error());
+  if (!spec.ok()) return ReportError(kFitName, spec.error());
   const bool target_is_column = a.target != "rate" && a.target != "drift-mode";
   spec->temp_required = true;
   spec->rates_required = !target_is_column;
   if (target_is_column && spec->rate_cols.size() != 1)
-    return ReportError(kName, InvalidArgument("--rate-col: with --target COLUMN give one rate column"));
+    return ReportError(kFitName, InvalidArgument("--rate-col: with --target COLUMN give one rate column"));
   spec->keep_cols.emplace();  // the log and what Target reads (issue 24: memory)
   if (target_is_column) spec->keep_cols->push_back(a.target);
   if (!a.known_rate_col.empty()) spec->keep_cols->push_back(a.known_rate_col);
-  Result<LoadedLog> loaded = LoadLog(kName, a.log, *spec);
-  if (!loaded.ok()) return ReportError(kName, loaded.error());
+  Result<LoadedLog> loaded = LoadLog(kFitName, a.log, *spec);
+  if (!loaded.ok()) return ReportError(kFitName, loaded.error());
   const GyroLog& log = loaded->log;
-  WarnIfTemperatureFlat(kName, log);
+  WarnIfTemperatureFlat(kFitName, log);
 
   // One model per axis (--rate-col gx,gy,gz), all in one model file.
   DriftModelSet set;
@@ -214,9 +214,9 @@ int Run(FitArgs a) {
   const std::size_t axes = target_is_column ? 1 : log.rate_dps.size();
   for (std::size_t k = 0; k < axes; ++k) {
     Result<std::vector<double>> target = Target(a, *loaded, k, &o.target_name, &feature_report);
-    if (!target.ok()) return ReportError(kName, target.error());
+    if (!target.ok()) return ReportError(kFitName, target.error());
     Result<DriftModel> model = FitDriftModel({log.temp_c, log.fs_hz}, *target, o);
-    if (!model.ok()) return ReportError(kName, model.error());
+    if (!model.ok()) return ReportError(kFitName, model.error());
     model->rate_col = k < log.axis_names.size() ? log.axis_names[k] : o.target_name;
     if (a.json_path != "-") {
       if (!feature_report.empty()) std::cout << "VMD modes: " << feature_report << "\n";
@@ -231,11 +231,11 @@ int Run(FitArgs a) {
   nlohmann::json validation;
   if (!a.validate_path.empty()) {
     auto v = ValidateOn(a, set);
-    if (!v.ok()) return ReportError(kName, v.error());
+    if (!v.ok()) return ReportError(kFitName, v.error());
     validation = std::move(*v);
   }
   // Through the run's output transaction (issue 15) the model set of issue 11.
-  if (Status s = WriteText(a.model_path, DriftModelSetToJson(set)); !s.ok()) return ReportError(kName, s.error());
+  if (Status s = WriteText(a.model_path, DriftModelSetToJson(set)); !s.ok()) return ReportError(kFitName, s.error());
   if (!a.json_path.empty()) {
     // One axis: its summary at the top level (as before); always: "axes" with one entry per axis.
     nlohmann::json j = AxisJson(a, set.axes[0]);
@@ -249,16 +249,16 @@ int Run(FitArgs a) {
     j["known_rate_col"] = a.known_rate_col.empty() ? nlohmann::json() : nlohmann::json(a.known_rate_col);
     if (!feature_report.empty()) j["drift_feature"] = feature_report;
     if (!validation.is_null()) j["validation"] = validation;
-    if (Status st = WriteJson(a.json_path, j); !st.ok()) return ReportError(kName, st.error());
+    if (Status st = WriteJson(a.json_path, j); !st.ok()) return ReportError(kFitName, st.error());
   }
   if (a.json_path != "-") std::cout << "model written to " << a.model_path << "\n";
   return kExitOk;
 }
 
-Command Make(CLI::App& app) {
+Command MakeFit(CLI::App& app) {
   auto a = std::make_shared<FitArgs>();
   CLI::App* sub = app.add_subcommand(
-      kName, "Fit a temperature-drift model (auto, poly, SVR, grid/cuckoo-searched SVR, hybrid) per axis and save it");
+      kFitName, "Fit a temperature-drift model (auto, poly, SVR, grid/cuckoo-searched SVR, hybrid) per axis and save it");
   sub->footer(
       "The model maps temperature [and a thermal state: dT/dt, lag, memory] to drift. --model auto\n"
       "(default) fits poly with each state, svr, cs-svr and hybrid, scores them by cross-validation\n"
@@ -365,7 +365,7 @@ Command Make(CLI::App& app) {
   return {sub, [a] { return Run(*a); }};
 }
 
-const CommandRegistrar kReg(kName, 60, &Make);
+const CommandRegistrar kFitRegistrar(kFitName, 60, &MakeFit);
 
 }  // namespace
 }  // namespace gyrocomp::cli

@@ -14,7 +14,7 @@
 namespace gyrocomp::cli {
 namespace {
 
-constexpr const char* kName = "inspect";
+constexpr const char* kInspectName = "inspect";
 
 struct InspectArgs {
   std::string input;
@@ -149,29 +149,29 @@ int Run(const InspectArgs& a) {
   switch (DetectLogFormat(a.input)) {
     case LogFormat::kULog: {
       Result<ULogContents> log = ReadULog(a.input);
-      if (!log.ok()) return ReportError(kName, log.error());
+      if (!log.ok()) return ReportError(kInspectName, log.error());
       j = InspectULog(*log);
       break;
     }
     case LogFormat::kDataFlash: {
       Result<DataFlashContents> log = ReadDataFlash(a.input);
-      if (!log.ok()) return ReportError(kName, log.error());
+      if (!log.ok()) return ReportError(kInspectName, log.error());
       j = InspectDataFlash(*log);
       break;
     }
     case LogFormat::kRosBag: {
       Result<BagListing> bag = ListBag(a.input);
-      if (!bag.ok()) return ReportError(kName, bag.error());
+      if (!bag.ok()) return ReportError(kInspectName, bag.error());
       j = InspectBag(*bag);
       break;
     }
     default:
-      return ReportError(kName, InvalidInput(a.input + ": not a PX4 ULog, ArduPilot DataFlash log or ROS bag (by its "
+      return ReportError(kInspectName, InvalidInput(a.input + ": not a PX4 ULog, ArduPilot DataFlash log or ROS bag (by its "
                                                        "first bytes); inspect reads flight-controller logs and bags"));
   }
   j["input"] = a.input;
   if (!a.json_path.empty()) {
-    if (Status s = WriteJson(a.json_path, j); !s.ok()) return ReportError(kName, s.error());
+    if (Status s = WriteJson(a.json_path, j); !s.ok()) return ReportError(kInspectName, s.error());
   }
   if (a.json_path != "-") {
     if (j.contains("gyro_instances")) PrintText(j); else PrintBag(j);
@@ -179,9 +179,9 @@ int Run(const InspectArgs& a) {
   return kExitOk;
 }
 
-Command Make(CLI::App& app) {
+Command MakeInspect(CLI::App& app) {
   auto a = std::make_shared<InspectArgs>();
-  CLI::App* sub = app.add_subcommand(kName, "List what a PX4 ULog or ArduPilot DataFlash log, or a ROS bag, holds");
+  CLI::App* sub = app.add_subcommand(kInspectName, "List what a PX4 ULog or ArduPilot DataFlash log, or a ROS bag, holds");
   sub->footer(
       "Prints the topics (ULog) or message types (DataFlash), the gyro instances with rows, device id,\n"
       "mean sample rate and temperature range, and the thermal-compensation parameters found\n"
@@ -193,7 +193,7 @@ Command Make(CLI::App& app) {
   return {sub, [a] { return Run(*a); }};
 }
 
-const CommandRegistrar kReg(kName, 22, &Make);
+const CommandRegistrar kInspectRegistrar(kInspectName, 22, &MakeInspect);
 
 }  // namespace
 }  // namespace gyrocomp::cli

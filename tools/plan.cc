@@ -28,7 +28,7 @@
 namespace gyrocomp::cli {
 namespace {
 
-constexpr const char* kName = "plan";
+constexpr const char* kPlanName = "plan";
 constexpr double kZ90 = 1.6448536269514722;
 // --pilot: the least temperature span a pilot run must cover to give a drift family, deg C.
 constexpr double kMinPilotSpanC = 5.0;
@@ -185,7 +185,7 @@ Result<GyroLog> ReadRun(const std::string& flag, const std::string& path, const 
   spec->min_samples = 3;
   spec->temp_required = temp_required;
   spec->keep_cols.emplace();
-  auto loaded = LoadLog(kName, lo, *spec);
+  auto loaded = LoadLog(kPlanName, lo, *spec);
   if (!loaded.ok()) return Error{loaded.error().kind, PlanFlags(loaded.error().message, flag)};
   if (loaded->log.rate_dps.size() != 1) return InvalidArgument(path + ": name one rate column with " + flag + "-col");
   return std::move(loaded->log);
@@ -311,26 +311,26 @@ std::string UnitLine(const PlanArgs& a) {
 
 int RunPlan(PlanArgs& a) {
   if (!a.noise_path.empty())
-    if (Status s = ApplyNoiseRun(a); !s.ok()) return ReportError(kName, s.error());
+    if (Status s = ApplyNoiseRun(a); !s.ok()) return ReportError(kPlanName, s.error());
   if (!a.pilot_path.empty())
-    if (Status s = ApplyPilot(a); !s.ok()) return ReportError(kName, s.error());
+    if (Status s = ApplyPilot(a); !s.ok()) return ReportError(kPlanName, s.error());
   if (!a.drift_poly.empty()) {
     a.unit.bias.poly_dps.clear();
     for (const std::string& item : SplitList(a.drift_poly)) {
       char* end = nullptr;
       const double v = std::strtod(item.c_str(), &end);
-      if (end == item.c_str() || *end != '\0') return ReportError(kName, InvalidArgument("--drift-poly: '" + item + "' is not a number"));
+      if (end == item.c_str() || *end != '\0') return ReportError(kPlanName, InvalidArgument("--drift-poly: '" + item + "' is not a number"));
       a.unit.bias.poly_dps.push_back(v);
     }
   }
-  if (a.seeds < 1 || a.seeds > 50) return ReportError(kName, InvalidArgument("--seeds must be in 1..50"));
+  if (a.seeds < 1 || a.seeds > 50) return ReportError(kPlanName, InvalidArgument("--seeds must be in 1..50"));
   std::vector<Outcome> all;
   for (const std::string& p : SplitList(a.profiles)) {
     auto o = Evaluate(a, p);
-    if (!o.ok()) return ReportError(kName, o.error());
+    if (!o.ok()) return ReportError(kPlanName, o.error());
     all.push_back(std::move(*o));
   }
-  if (all.empty()) return ReportError(kName, InvalidArgument("--profiles: none given"));
+  if (all.empty()) return ReportError(kPlanName, InvalidArgument("--profiles: none given"));
   double best = all[0].score();
   for (const Outcome& o : all) best = std::min(best, o.score());
   const Outcome* pick = nullptr;
@@ -363,16 +363,16 @@ int RunPlan(PlanArgs& a) {
               << pick->predicted() << " deg/s (simulated " << pick->simulated()
               << "); the lowest of max(predicted, simulated), the shortest within 10% of it\n";
   if (!a.json_path.empty())
-    if (Status s = WriteJson(a.json_path, j); !s.ok()) return ReportError(kName, s.error());
+    if (Status s = WriteJson(a.json_path, j); !s.ok()) return ReportError(kPlanName, s.error());
   return kExitOk;
 }
 
-Command Make(CLI::App& app) {
+Command MakePlan(CLI::App& app) {
   auto a = std::make_shared<PlanArgs>();
   a->unit.fs_hz = 1.0;
   SimulatorOptions& o = a->unit;
   CLI::App* sub = app.add_subcommand(
-      kName, "Compare chamber profiles for a unit by the predicted drift error on the next run per chamber hour");
+      kPlanName, "Compare chamber profiles for a unit by the predicted drift error on the next run per chamber hour");
   sub->footer(
       "For each profile (and --seeds noise seeds): simulate the calibration run with the unit's noise and drift\n"
       "family, fit the default model, and on a heating ramp and the paper's cooling staircase (other seeds)\n"
@@ -429,7 +429,7 @@ Command Make(CLI::App& app) {
           }};
 }
 
-const CommandRegistrar kReg(kName, 67, &Make);
+const CommandRegistrar kPlanRegistrar(kPlanName, 67, &MakePlan);
 
 }  // namespace
 }  // namespace gyrocomp::cli

@@ -183,7 +183,7 @@ int Run(const ProcessCli& c) {
   return kExitOk;
 }
 
-Command Make(CLI::App& app) {
+Command MakeProcess(CLI::App& app) {
   auto c = std::make_shared<ProcessCli>();
   CLI::App* sub = app.add_subcommand(
       "process", "The parallel VMD-SE-WFLP-CS-SVR model on a log: denoise, compensate temperature drift, "
@@ -205,7 +205,7 @@ Command Make(CLI::App& app) {
   return {sub, [c] { return Run(*c); }};
 }
 
-const CommandRegistrar kRegistrar("process", 70, &Make);
+const CommandRegistrar kProcessRegistrar("process", 70, &MakeProcess);
 
 }  // namespace
 }  // namespace gyrocomp::cli

@@ -16,7 +16,7 @@
 namespace gyrocomp::cli {
 namespace {
 
-constexpr const char* kName = "simulate";
+constexpr const char* kSimulateName = "simulate";
 
 struct SimulateArgs {
   SimulatorOptions sim;  // library defaults
@@ -80,15 +80,15 @@ Status ReadUserProfile(const std::string& path, ThermalProfileOptions* p) {
 int Run(SimulateArgs& a) {
   if (!a.profile_csv.empty()) {
     if (a.profile != "paper" && a.profile != "user")
-      return ReportError(kName, InvalidArgument("--profile-csv: the profile is the file's (got --profile " + a.profile + ")"));
+      return ReportError(kSimulateName, InvalidArgument("--profile-csv: the profile is the file's (got --profile " + a.profile + ")"));
     a.profile = "user";
-    if (Status s = ReadUserProfile(a.profile_csv, &a.sim.profile); !s.ok()) return ReportError(kName, s.error());
+    if (Status s = ReadUserProfile(a.profile_csv, &a.sim.profile); !s.ok()) return ReportError(kSimulateName, s.error());
   } else if (a.profile == "user") {
-    return ReportError(kName, InvalidArgument("--profile user: give the schedule with --profile-csv FILE"));
+    return ReportError(kSimulateName, InvalidArgument("--profile user: give the schedule with --profile-csv FILE"));
   }
   const auto kind = ParseThermalProfileKind(a.profile);
   if (!kind)
-    return ReportError(kName, InvalidArgument("--profile " + a.profile + ": must be paper, soak, ramp, cycle, heat-cool, stairs, rate-cycles or user"));
+    return ReportError(kSimulateName, InvalidArgument("--profile " + a.profile + ": must be paper, soak, ramp, cycle, heat-cool, stairs, rate-cycles or user"));
   a.sim.profile.kind = *kind;
   a.sim.duration_s = a.duration_s;
   if (!a.drift_poly.empty()) {
@@ -97,21 +97,21 @@ int Run(SimulateArgs& a) {
       char* end = nullptr;
       const double v = std::strtod(item.c_str(), &end);
       if (end == item.c_str() || *end != '\0') {
-        return ReportError(kName, InvalidArgument("--drift-poly: '" + item + "' is not a number"));
+        return ReportError(kSimulateName, InvalidArgument("--drift-poly: '" + item + "' is not a number"));
       }
       a.sim.bias.poly_dps.push_back(v);
     }
   }
   Result<SimulatedRun> run = Simulate(a.sim);
-  if (!run.ok()) return ReportError(kName, run.error());
+  if (!run.ok()) return ReportError(kSimulateName, run.error());
   const SimulationSummary sum = run->summary;
   const double fs_hz = run->fs_hz;
   const bool ulog = EndsWith(a.output, ".ulg"), dataflash = EndsWith(a.output, ".bin");
   if (ulog || dataflash) {
     *run = SimulatedRun{};  // the board simulates its own axes
-    if (Status s = WriteBoardLog(a.output, a, ulog); !s.ok()) return ReportError(kName, s.error());
+    if (Status s = WriteBoardLog(a.output, a, ulog); !s.ok()) return ReportError(kSimulateName, s.error());
   } else if (Status s = WriteCsv(a.output, std::move(*run).ToTable()); !s.ok()) {
-    return ReportError(kName, s.error());
+    return ReportError(kSimulateName, s.error());
   }
   if (!a.json_path.empty()) {
     nlohmann::json j;
@@ -131,17 +131,17 @@ int Run(SimulateArgs& a) {
     j["flicker_processes"] = sum.num_flicker_processes;
     j["flicker_process_sigma_dps"] = sum.flicker_process_sigma_dps;
     j["seconds"] = sum.seconds;
-    if (Status s = WriteJson(a.json_path, j); !s.ok()) return ReportError(kName, s.error());
+    if (Status s = WriteJson(a.json_path, j); !s.ok()) return ReportError(kSimulateName, s.error());
   }
-  Note(kName, sum.BriefReport() + " -> " + a.output);
+  Note(kSimulateName, sum.BriefReport() + " -> " + a.output);
   return kExitOk;
 }
 
-Command Make(CLI::App& app) {
+Command MakeSimulate(CLI::App& app) {
   auto a = std::make_shared<SimulateArgs>();
   SimulatorOptions& o = a->sim;
   CLI::App* sub = app.add_subcommand(
-      kName, "Simulate a MEMS gyro in a temperature chamber, with ground truth (default: the paper's run, "
+      kSimulateName, "Simulate a MEMS gyro in a temperature chamber, with ground truth (default: the paper's run, "
              "Section 4.1)");
   sub->footer(
       "Output columns: time_s, rate_dps, temp_c, chamber_temp_c, sensor_temp_c, true_rate_dps,\n"
@@ -226,7 +226,7 @@ Command Make(CLI::App& app) {
   return {sub, [a] { return Run(*a); }};
 }
 
-const CommandRegistrar kReg(kName, 20, &Make);
+const CommandRegistrar kSimulateRegistrar(kSimulateName, 20, &MakeSimulate);
 
 }  // namespace
 }  // namespace gyrocomp::cli

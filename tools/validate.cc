@@ -16,7 +16,7 @@
 namespace gyrocomp::cli {
 namespace {
 
-constexpr const char* kName = "validate";
+constexpr const char* kValidateName = "validate";
 
 struct ValidateArgs {
   LogOptions log;
@@ -29,13 +29,13 @@ struct ValidateArgs {
 
 int Run(const ValidateArgs& a) {
   Result<DriftModelSet> set = LoadDriftModelSet(a.model_path);
-  if (!set.ok()) return ReportError(kName, set.error());
+  if (!set.ok()) return ReportError(kValidateName, set.error());
   Result<LogSpec> spec = ToLogSpec(a.log);
-  if (!spec.ok()) return ReportError(kName, spec.error());
+  if (!spec.ok()) return ReportError(kValidateName, spec.error());
   spec->temp_required = true;
   spec->keep_cols = std::vector<std::string>{a.truth_col};  // the log and the truth only (issue 24: memory)
-  Result<LoadedLog> loaded = LoadLog(kName, a.log, *spec);
-  if (!loaded.ok()) return ReportError(kName, loaded.error());
+  Result<LoadedLog> loaded = LoadLog(kValidateName, a.log, *spec);
+  if (!loaded.ok()) return ReportError(kValidateName, loaded.error());
   const GyroLog& log = loaded->log;
   const int truth = loaded->table.Find(a.truth_col);
   nlohmann::json axes = nlohmann::json::array();
@@ -44,12 +44,12 @@ int Run(const ValidateArgs& a) {
   for (std::size_t k = 0; k < log.axis_names.size(); ++k) {
     const DriftModel* model = set->ForAxis(log.axis_names[k]);
     if (!model)
-      return ReportError(kName, InvalidInput(a.model_path + ": no model for rate column '" + log.axis_names[k] + "'"));
+      return ReportError(kValidateName, InvalidInput(a.model_path + ": no model for rate column '" + log.axis_names[k] + "'"));
     std::vector<double> none;
     auto v = ValidateDriftModel(*model, log.rate_dps[k], log.temp_c, log.fs_hz,
                                 truth >= 0 ? loaded->table.columns[truth] : none, a.options);
-    if (!v.ok()) return ReportError(kName, v.error());
-    if (v->excursion.outside && a.json_path != "-") Note(kName, "warning: " + v->excursion.Message());
+    if (!v.ok()) return ReportError(kValidateName, v.error());
+    if (v->excursion.outside && a.json_path != "-") Note(kValidateName, "warning: " + v->excursion.Message());
     if (a.json_path != "-") std::cout << log.axis_names[k] << ": " << v->BriefReport() << "\n";
     nlohmann::json j = DriftValidationJson(*v);
     j["rate_col"] = log.axis_names[k];
@@ -64,7 +64,7 @@ int Run(const ValidateArgs& a) {
     j["input"] = loaded->table.source;
     j["causal"] = a.options.causal;
     j["axes"] = axes;
-    if (Status s = WriteJson(a.json_path, j); !s.ok()) return ReportError(kName, s.error());
+    if (Status s = WriteJson(a.json_path, j); !s.ok()) return ReportError(kValidateName, s.error());
   }
   if (!a.report_path.empty()) {
     std::vector<ValidationSection> sections;
@@ -81,14 +81,14 @@ int Run(const ValidateArgs& a) {
         "Drift model " + a.model_path + " on " + loaded->table.source + ", a run it was not fitted on: " +
             std::to_string(log.rate_dps[0].size()) + " samples at " + std::to_string(log.fs_hz) + " Hz.",
         params);
-    if (Status s = WriteText(a.report_path, RenderReportHtml(report)); !s.ok()) return ReportError(kName, s.error());
+    if (Status s = WriteText(a.report_path, RenderReportHtml(report)); !s.ok()) return ReportError(kValidateName, s.error());
   }
   return kExitOk;
 }
 
-Command Make(CLI::App& app) {
+Command MakeValidate(CLI::App& app) {
   auto a = std::make_shared<ValidateArgs>();
-  CLI::App* sub = app.add_subcommand(kName, "Validate a saved drift model on another run (residual drift, what it missed)");
+  CLI::App* sub = app.add_subcommand(kValidateName, "Validate a saved drift model on another run (residual drift, what it missed)");
   sub->footer(
       "Reports, per axis: residual drift RMS (the compensated rate in --block means, about its mean)\n"
       "beside the raw rate's; the residual's least-squares slopes against T and dT/dt (what the\n"
@@ -108,7 +108,7 @@ Command Make(CLI::App& app) {
   return {sub, [a] { return Run(*a); }};
 }
 
-const CommandRegistrar kReg(kName, 66, &Make);
+const CommandRegistrar kValidateRegistrar(kValidateName, 66, &MakeValidate);
 
 }  // namespace
 }  // namespace gyrocomp::cli

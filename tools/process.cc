@@ -3,6 +3,7 @@
 #include <iostream>
 
 #include "commands.h"
+#include "console.h"
 #include "gyrocomp/io/flight_log.h"
 #include "gyrocomp/io/io.h"
 #include "gyrocomp/report/report.h"
@@ -23,6 +24,7 @@ struct ProcessCli {
   std::string known_rate_col;
   bool compare = false;
   bool quiet = false;
+  bool verbose = false;
 };
 
 // Output column name for axis `axis` (one of `num_axes`): the contract's names for one axis.
@@ -97,6 +99,39 @@ Result<Table> ReadInputAgain(const std::string& cmd, const ProcessCli& c, const 
   return std::move(again->table);
 }
 
+// The default summary: what was read, the modes, the drift model and the headline Allan figures
+// before -> after beside the bandwidth they hold; --verbose prints every stage's BriefReport.
+void PrintAxisSummary(const GyroLog& log, const std::string& axis, const PipelineResult& r, bool verbose) {
+  if (verbose) {
+    std::cerr << "gyrocomp process: " << axis << ": " << r.BriefReport() << "\n";
+    return;
+  }
+  Headline("process", log.source + ", " + axis + ": " + std::to_string(r.num_samples) + " samples at " +
+                          Num(r.fs_hz) + " Hz (" + Num(r.num_samples / r.fs_hz / 3600.0) + " h)");
+  int counts[3] = {0, 0, 0};
+  for (const ModeReport& m : r.mode_reports) ++counts[static_cast<int>(m.feature) % 3];
+  std::ostringstream modes;
+  modes << r.mode_reports.size() << " modes by VMD (" << (r.vmd.converged ? "converged" : "NOT converged")
+        << " after " << r.vmd.iterations << " iterations):";
+  for (FeatureClass f : {FeatureClass::kDrift, FeatureClass::kMixed, FeatureClass::kNoise}) {
+    modes << " " << counts[static_cast<int>(f) % 3] << " " << FeatureClassName(f);
+  }
+  Line(modes.str());
+  if (r.drift_model) {
+    const DriftFitSummary& d = r.drift_model->summary;
+    Line("drift model: " + std::string(DriftModelKindName(d.model)) + "(" + DriftInputSetName(d.inputs) +
+         "), CV error " + RateDps(d.cv_rmse) + " against a drift span of " + RateDps(d.drift_span) + ", over " +
+         Num(d.temp_min_c) + " .. " + Num(d.temp_max_c) + " C");
+  } else {
+    Line("drift model: none (no mode was classed as drift)");
+  }
+  std::string allan = "ARW " + BeforeAfter(r.allan_before.terms.arw_deg_per_sqrt_h.value_or(NAN),
+                                           r.allan_after.terms.arw_deg_per_sqrt_h.value_or(NAN), "deg/sqrt(h)");
+  if (r.bandwidth && r.bandwidth->bandwidth_hz) allan += " at a bandwidth of " + Num(*r.bandwidth->bandwidth_hz) + " Hz";
+  Line(allan);
+  Line("ADEV min " + BeforeAfter(r.allan_before.terms.adev_min_deg_per_h, r.allan_after.terms.adev_min_deg_per_h, "deg/h"));
+}
+
 int Run(const ProcessCli& c) {
   const std::string cmd = "process";
   PipelineCliOptions pipe = c.pipeline;
@@ -143,7 +178,7 @@ int Run(const ProcessCli& c) {
     }
 
     axes[axis] = AxisJson(*r, comparison);
-    if (!c.quiet) std::cerr << "gyrocomp process: " << axis << ": " << r->BriefReport() << "\n";
+    if (!c.quiet) PrintAxisSummary(log, axis, *r, c.verbose);
     if (!c.report.empty() && a == 0) {
       ReportContext ctx;
       ctx.title = "gyrocomp: " + log.source;
@@ -180,6 +215,7 @@ int Run(const ProcessCli& c) {
   if (report) {
     if (Status s = WriteText(c.report, RenderReportHtml(*report)); !s) return ReportError(cmd, s.error());
   }
+  if (!c.quiet) Wrote({c.output, c.json, c.report});
   return kExitOk;
 }
 
@@ -197,6 +233,8 @@ Command MakeProcess(CLI::App& app) {
                   "Column of a rate known to be applied (Earth rate, turntable): the drift model learns bias only");
   sub->add_flag("--compare", c->compare, "Also run the baseline comparisons (in the JSON per axis, and tables in the report)");
   sub->add_flag("-q,--quiet", c->quiet, "No progress or summary on stderr");
+  sub->add_flag("-v,--verbose", c->verbose,
+                "Every stage's detail on stderr (VMD, entropies, the drift model's candidates, timings)");
   sub->add_option("--threads", c->pipeline.options.num_threads,
                   "Threads of the VMD, sample entropy, cuckoo search and the two branches (default: each stage's "
                   "automatic choice, at most the cores); results do not depend on it")

@@ -1,12 +1,14 @@
 // gyrocomp validate: a saved drift model on a run it was not fitted on (docs/drift_model.md,
 // drift_validate.h): residual drift, what the model missed, ADEV at long taus, errors against
 // the truth when present, and how far the run leaves the calibration's conditions.
+#include <cmath>
 #include <iostream>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "commands.h"
+#include "console.h"
 #include "gyrocomp/drift/drift_model.h"
 #include "gyrocomp/drift/drift_validate.h"
 #include "gyrocomp/report/report.h"
@@ -24,8 +26,38 @@ struct ValidateArgs {
   std::string json_path;
   std::string report_path;
   std::string truth_col = "true_drift_dps";
+  bool verbose = false;
   DriftValidationOptions options;
 };
+
+// One axis on stdout: the residual drift beside the uncompensated one, the error against the truth
+// when given, the band's coverage and how far the run leaves the fitted range. --verbose: the
+// validation's full BriefReport (slopes, block counts).
+void PrintAxis(const std::string& axis, const DriftValidation& v, bool verbose) {
+  if (verbose) {
+    std::cout << axis << ": " << v.BriefReport() << "\n";
+    return;
+  }
+  std::cout << axis << ": residual drift " << RateDps(v.residual_drift_rms) << " RMS against "
+            << RateDps(v.raw_drift_rms) << " uncompensated";
+  if (v.raw_drift_rms > 0.0) std::cout << " (" << Num(v.residual_drift_rms / v.raw_drift_rms, 2) << "x)";
+  if (v.rmse_vs_true_drift) std::cout << "; error against the true drift " << RateDps(*v.rmse_vs_true_drift);
+  std::cout << "\n";
+  if (v.band_level) {
+    std::cout << "  " << Num(100.0 * *v.band_level) << "% band: half-width " << RateDps(v.band_half_width_rms.value_or(NAN))
+              << " RMS";
+    if (v.band_coverage_truth) std::cout << ", holds " << Num(100.0 * *v.band_coverage_truth) << "% of the true drift";
+    else if (v.band_coverage_blocks)
+      std::cout << ", holds " << Num(100.0 * *v.band_coverage_blocks) << "% of the block means (noise included)";
+    std::cout << "\n";
+  } else {
+    std::cout << "  band: n/a (the model file has none; refit with gyrocomp fit to get one)\n";
+  }
+  if (v.fraction_temp_outside > 0.0 || v.fraction_dtemp_outside > 0.0) {
+    std::cout << "  outside the fitted range: T " << Num(100.0 * v.fraction_temp_outside) << "% of samples, dT/dt "
+              << Num(100.0 * v.fraction_dtemp_outside) << "%\n";
+  }
+}
 
 int Run(const ValidateArgs& a) {
   Result<DriftModelSet> set = LoadDriftModelSet(a.model_path);
@@ -33,7 +65,7 @@ int Run(const ValidateArgs& a) {
   Result<LogSpec> spec = ToLogSpec(a.log);
   if (!spec.ok()) return ReportError(kValidateName, spec.error());
   spec->temp_required = true;
-  spec->keep_cols = std::vector<std::string>{a.truth_col};  // the log and the truth only (issue 24: memory)
+  spec->keep_cols = std::vector<std::string>{a.truth_col};  // the log and the truth only: memory
   Result<LoadedLog> loaded = LoadLog(kValidateName, a.log, *spec);
   if (!loaded.ok()) return ReportError(kValidateName, loaded.error());
   const GyroLog& log = loaded->log;
@@ -50,7 +82,7 @@ int Run(const ValidateArgs& a) {
                                 truth >= 0 ? loaded->table.columns[truth] : none, a.options);
     if (!v.ok()) return ReportError(kValidateName, v.error());
     if (v->excursion.outside && a.json_path != "-") Note(kValidateName, "warning: " + v->excursion.Message());
-    if (a.json_path != "-") std::cout << log.axis_names[k] << ": " << v->BriefReport() << "\n";
+    if (a.json_path != "-") PrintAxis(log.axis_names[k], *v, a.verbose);
     nlohmann::json j = DriftValidationJson(*v);
     j["rate_col"] = log.axis_names[k];
     j["model"] = DriftSummaryJson(model->summary);
@@ -105,6 +137,7 @@ Command MakeValidate(CLI::App& app) {
   sub->add_option("--block", a->options.block_s, "Block length of the residual drift, s")->capture_default_str();
   sub->add_option("--min-tau", a->options.min_tau_s, "Smallest tau of the ADEV comparison, s")->capture_default_str();
   sub->add_flag("--causal", a->options.causal, "Evaluate the model one sample at a time (as firmware)");
+  sub->add_flag("-v,--verbose", a->verbose, "The full validation per axis (slopes against T and dT/dt, block counts)");
   return {sub, [a] { return Run(*a); }};
 }
 

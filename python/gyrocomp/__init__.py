@@ -88,6 +88,8 @@ read_log = _returns("GyroLog")(_core.read_log)
 project_onto_cubic = _returns("TemperatureCubic")(_core.project_onto_cubic)
 px4_thermal_params = _core.px4_thermal_params
 ardupilot_thermal_params = _core.ardupilot_thermal_params
+validate_drift_model = _returns("DriftValidation")(_core.validate_drift_model)
+generate_c = _returns("GeneratedC")(_core.generate_c)
 
 
 def export_params(models, format, **options):
@@ -113,5 +115,6 @@ __all__ = [
     "CancellationToken", "Cancelled", "DriftModel", "Result", "ardupilot_thermal_params", "compute_allan",
     "compute_deviation", "export_params", "project_onto_cubic", "px4_thermal_params", "read_log",
     "drift_model_from_json", "fit_drift_model", "flp_denoise", "kalibr_imu_yaml", "load_drift_model",
-    "run_parallel_model", "sample_entropy", "simulate", "vmd", "wavelet_denoise", "wflp_denoise",
+    "run_parallel_model", "sample_entropy", "simulate", "validate_drift_model", "generate_c", "vmd",
+    "wavelet_denoise", "wflp_denoise",
 ]

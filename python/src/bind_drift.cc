@@ -3,6 +3,7 @@
 #include "bindings.h"
 
 #include "gyrocomp/drift/drift_model.h"
+#include "gyrocomp/drift/drift_validate.h"
 
 namespace gyrocomp::python {
 namespace {
@@ -103,7 +104,56 @@ DriftFitOptions ReadFitOptions(Kwargs& kw) {
   return o;
 }
 
+namespace {
+
+// DriftValidation as a dict whose keys are those of `gyrocomp validate --json` (docs/cli.md).
+py::dict ValidationDict(const DriftValidation& v) {
+  py::dict d;
+  d["n_samples"] = v.num_samples;
+  d["fs_hz"] = v.fs_hz;
+  d["num_blocks"] = v.num_blocks;
+  d["raw_drift_rms_dps"] = v.raw_drift_rms;
+  d["residual_drift_rms_dps"] = v.residual_drift_rms;
+  d["residual_mean_dps"] = v.residual_mean;
+  d["residual_slope_vs_temp_dps_per_c"] = v.slope_vs_temp;
+  d["residual_slope_vs_dtemp_dps_per_c_per_s"] = v.slope_vs_dtemp;
+  d["adev_tau_s"] = v.tau_s;
+  d["adev_raw_dps"] = v.adev_raw;
+  d["adev_compensated_dps"] = v.adev_compensated;
+  d["rmse_vs_true_drift_dps"] = v.rmse_vs_true_drift;
+  d["fraction_temp_outside_fitted_range"] = v.fraction_temp_outside;
+  d["fraction_dtemp_outside_fitted_range"] = v.fraction_dtemp_outside;
+  d["temp_below_fitted_c"] = v.excursion.below_c;
+  d["temp_above_fitted_c"] = v.excursion.above_c;
+  d["band_level"] = v.band_level;
+  d["band_half_width_rms_dps"] = v.band_half_width_rms;
+  d["band_coverage_of_true_drift"] = v.band_coverage_truth;
+  d["band_coverage_of_block_means"] = v.band_coverage_blocks;
+  return d;
+}
+
+}  // namespace
+
 void BindDrift(py::module_& m) {
+  m.def(
+      "validate_drift_model",
+      [](const DriftModel& model, const DoubleArray& rate, const DoubleArray& temp_c, double fs_hz,
+         std::optional<DoubleArray> true_drift, const py::kwargs& kwargs) {
+        Kwargs kw(kwargs, "validate_drift_model");
+        DriftValidationOptions o;
+        kw.Get("block_s", &o.block_s);
+        kw.Get("min_tau_s", &o.min_tau_s);
+        kw.Get("causal", &o.causal);
+        kw.Done();
+        const std::span<const double> truth =
+            true_drift ? AsSpan(*true_drift, "true_drift") : std::span<const double>{};
+        const std::span<const double> r = AsSpan(rate, "rate"), t = AsSpan(temp_c, "temp_c");
+        return ValidationDict(Unwrap(WithoutGil([&] { return ValidateDriftModel(model, r, t, fs_hz, truth, o); })));
+      },
+      py::arg("model"), py::arg("rate"), py::arg("temp_c"), py::arg("fs_hz"), py::arg("true_drift") = py::none(),
+      "A saved drift model on a run it was not fitted on, as `gyrocomp validate` (one axis): residual drift, "
+      "slopes, ADEV at long taus, error against the truth when given, the band's coverage. Keywords "
+      "(DriftValidationOptions): block_s, min_tau_s, causal. Keys as in validate --json.");
   py::class_<DriftModel>(m, "DriftModel", "A fitted temperature-drift model (docs/drift_model.md).")
       .def(
           "predict",

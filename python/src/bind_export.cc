@@ -4,6 +4,7 @@
 #include "bindings.h"
 
 #include "gyrocomp/core/units.h"
+#include "gyrocomp/export/c_export.h"
 #include "gyrocomp/export/param_export.h"
 #include "gyrocomp/export/thermal_cubic.h"
 
@@ -36,6 +37,31 @@ ThreeAxisCubics CubicsRadps(const py::sequence& cubics_dps) {
 }  // namespace
 
 void BindExport(py::module_& m) {
+  m.def(
+      "generate_c",
+      [](const std::vector<DriftModel>& models, std::vector<std::string> axes, const py::kwargs& kwargs) {
+        Kwargs kw(kwargs, "generate_c");
+        CExportOptions o;
+        kw.Get("prefix", &o.prefix);
+        kw.Get("output_scale", &o.output_scale);
+        kw.Get("output_unit", &o.output_unit);
+        kw.Get("comments", &o.comments);
+        kw.Done();
+        if (!axes.empty() && axes.size() != models.size())
+          throw py::value_error("generate_c(): " + std::to_string(axes.size()) + " axis names for " +
+                                std::to_string(models.size()) + " models");
+        std::vector<AxisDriftModel> in;
+        for (std::size_t k = 0; k < models.size(); ++k)
+          in.push_back({axes.empty() ? models[k].summary.target_name : axes[k], models[k]});
+        const GeneratedC g = Unwrap(GenerateCEvaluator(in, o));
+        return py::dict(py::arg("header_name") = g.header_name, py::arg("header") = g.header,
+                        py::arg("source_name") = g.source_name, py::arg("source") = g.source);
+      },
+      py::arg("models"), py::arg("axes") = std::vector<std::string>{},
+      "The dependency-free C99 evaluator of drift models (one per axis), as `gyrocomp export --format c`: "
+      "a dict with header_name, header, source_name, source. Keywords (CExportOptions): prefix, output_scale, "
+      "output_unit, comments; axes defaults to each model's target name.");
+
   m.def(
       "project_onto_cubic",
       [](const DriftModel& model, const py::kwargs& kwargs) {

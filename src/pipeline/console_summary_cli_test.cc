@@ -1,0 +1,74 @@
+// The default console summary of each command: its shape (line count, what each line names,
+// units beside every figure, no colour off a terminal) pinned, and --verbose keeping the detail.
+// The guides (docs/guides/) show these summaries; Docs.GuidesRunAsShown checks them there.
+
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "fixtures.h"
+#include "test_support.h"
+
+namespace gyrocomp {
+namespace {
+
+std::vector<std::string> Lines(const std::string& text) {
+  std::vector<std::string> lines;
+  std::istringstream s(text);
+  for (std::string line; std::getline(s, line);) lines.push_back(line);
+  return lines;
+}
+
+bool Has(const std::string& text, const std::string& what) { return text.find(what) != std::string::npos; }
+
+class ConsoleSummaryCli : public testing::CliTest {
+ protected:
+  ConsoleSummaryCli() : CliTest("gyrocomp_console_summary") {}
+  void SetUp() override {
+    CliTest::SetUp();
+    if (IsSkipped()) return;
+    std::string out;
+    // A short two-direction chamber run at 2 Hz (about 3 h) and a second seed as the held-out run.
+    const std::string sim = "simulate --fs 2 --room-hold 1200 --hold 1200 --step 25 --ramp-rate 2 --thermal-lag 300";
+    ASSERT_EQ(Run(sim + " --seed 5 -o " + dir_ + "/run.csv", &out), 0) << out;
+    ASSERT_EQ(Run(sim + " --seed 6 -o " + dir_ + "/run2.csv", &out), 0) << out;
+  }
+};
+
+TEST_F(ConsoleSummaryCli, ProcessPrintsWhatWasReadTheModelAndAllanBeforeAfter) {
+  std::string out;
+  const std::string fast = " --nests 6 --generations 3 --bandwidth-segment 4096";
+  ASSERT_EQ(Run("process -i " + dir_ + "/run.csv -o " + dir_ + "/out.csv" + fast, &out), 0) << out;
+  const std::vector<std::string> lines = Lines(out);
+  ASSERT_GE(lines.size(), 5u) << out;
+  EXPECT_LE(lines.size(), 15u) << out;
+  EXPECT_TRUE(Has(lines[0], "gyrocomp process: ") && Has(lines[0], "samples at") && Has(lines[0], " h)")) << out;
+  EXPECT_TRUE(Has(out, "modes by VMD")) << out;
+  EXPECT_TRUE(Has(out, "drift model: ") && (Has(out, "mdps") || Has(out, "deg/s"))) << out;
+  EXPECT_TRUE(Has(out, "ARW ") && Has(out, " -> ") && Has(out, "deg/sqrt(h)") && Has(out, "Hz")) << out;
+  EXPECT_TRUE(Has(out, "wrote " + dir_ + "/out.csv")) << out;
+  EXPECT_FALSE(Has(out, "\033[")) << "colour off a terminal";
+  ASSERT_EQ(Run("process -i " + dir_ + "/run.csv --verbose --json " + dir_ + "/p.json" + fast, &out), 0) << out;
+  EXPECT_TRUE(Has(out, "classes:") && Has(out, "auto chose")) << "--verbose keeps every stage's detail:\n" << out;
+}
+
+TEST_F(ConsoleSummaryCli, ValidatePrintsTheResidualBesideTheUncompensatedDrift) {
+  std::string out;
+  ASSERT_EQ(Run("fit -i " + dir_ + "/run.csv --model poly --inputs temp,dtemp -o " + dir_ + "/m.json", &out), 0)
+      << out;
+  ASSERT_EQ(Run("validate -m " + dir_ + "/m.json -i " + dir_ + "/run2.csv", &out), 0) << out;
+  const std::vector<std::string> lines = Lines(out);
+  ASSERT_GE(lines.size(), 2u) << out;
+  EXPECT_LE(lines.size(), 15u) << out;
+  EXPECT_TRUE(Has(lines[0], "rate_dps: residual drift ") && Has(lines[0], " RMS against ") &&
+              Has(lines[0], "uncompensated") && Has(lines[0], "error against the true drift"))
+      << out;
+  EXPECT_TRUE(Has(out, "% band: half-width")) << out;
+  ASSERT_EQ(Run("validate -m " + dir_ + "/m.json -i " + dir_ + "/run2.csv --verbose", &out), 0) << out;
+  EXPECT_TRUE(Has(out, "slope vs T")) << "--verbose keeps the slopes:\n" << out;
+}
+
+}  // namespace
+}  // namespace gyrocomp

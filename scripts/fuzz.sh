@@ -39,7 +39,7 @@ if [ ! -e "$seeds/.done" ]; then
   for f in ../shared/fieldlogs/ardupilot/*.bin ../shared/fieldlogs/ardupilot/*.BIN; do
     [ -e "$f" ] && head -c 65536 "$f" > "$seeds/dataflash/$(basename "$f")"
   done
-  # ROS bags (issue 25): a 0.2 s simulated IMU with temperature and a small image topic, as MCAP
+  # ROS bags: a 0.2 s simulated IMU with temperature and a small image topic, as MCAP
   # (none / zstd / lz4 chunks) and ROS 1 (none / bz2 / lz4; needs python3-rosbag), plus
   # rosbag2's talker MCAP.
   if /usr/bin/python3 tests/bags/make_imu_bags.py "$seeds/bags" --seconds 0.2 --camera-bytes 64 >/dev/null 2>&1 ||
@@ -51,7 +51,7 @@ if [ ! -e "$seeds/.done" ]; then
   cp tests/bags/rosbag2/talker_mcap/talker.mcap "$seeds/mcap/"
   touch "$seeds/.done"
 fi
-# Numeric harnesses (issue 24): one small seed per shape x stage mask (fuzz_numeric_support.h):
+# Numeric harnesses (hostile numbers): one small seed per shape x stage mask (fuzz_numeric_support.h):
 # length byte, shape byte, then bytes that the harness reads as decades, values and options.
 if [ ! -e "$seeds/numeric/.done" ]; then
   mkdir -p "$seeds/numeric"
@@ -64,7 +64,7 @@ if [ ! -e "$seeds/numeric/.done" ]; then
   touch "$seeds/numeric/.done"
 fi
 
-# rosbag2 sqlite3 seeds (issue 25): the simulated IMU as a .db3 and rosbag2's talker (its -wal
+# rosbag2 sqlite3 seeds: the simulated IMU as a .db3 and rosbag2's talker (its -wal
 # is empty: the .db3 holds every row).
 if [ ! -e "$seeds/.done_ros2_sqlite" ]; then
   mkdir -p "$seeds/ros2_sqlite"

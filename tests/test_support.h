@@ -30,7 +30,7 @@ std::map<std::string, std::vector<double>> ReadGoldenCsv(const std::string& path
 
 // A fresh empty directory under the system temp dir for a test's files: <tmp>/<prefix>_<random>.
 // It is removed with everything in it when the test process exits (ctest runs each test in a
-// process of its own, so: when the test ends), whether the test removes it or not (issue 24:
+// process of its own, so: when the test ends), whether the test removes it or not (before,
 // hundreds of /tmp/allan_cli_*, /tmp/c_export_test_* were left behind).
 std::string MakeTempDir(const std::string& prefix);
 

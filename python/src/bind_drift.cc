@@ -41,7 +41,7 @@ py::dict FitSummaryDict(const DriftFitSummary& s) {
   d["best_cv_history"] = s.best_cv_history;
   d["fit_time_s"] = s.fit_time_s;
   d["brief_report"] = s.BriefReport();
-  // Issue 23: what the run identifies and what it supports.
+  // What the run identifies and what it supports (excluded terms, data support, drift span).
   py::list excluded;
   for (const ExcludedTerm& e : s.excluded_terms) {
     py::dict t;
@@ -174,7 +174,7 @@ void BindDrift(py::module_& m) {
             return d;
           },
           py::arg("temp_c"), py::arg("fs_hz"),
-          "Predicted drift with its prediction band (issue 23): dict center, lo, hi (numpy), level (0.9). "
+          "Predicted drift with its prediction band: dict center, lo, hi (numpy), level (0.9). "
           "Raises for a model loaded from a file written before the bands existed.")
       .def("save", [](const DriftModel& model, const std::string& path) { Check(SaveDriftModel(model, path)); },
            py::arg("path"), "Writes the model file (JSON, atomic).")
@@ -182,7 +182,7 @@ void BindDrift(py::module_& m) {
       .def_property_readonly("kind", [](const DriftModel& model) { return DriftModelKindName(model.kind); })
       .def_property_readonly("summary", [](const DriftModel& model) { return FitSummaryDict(model.summary); })
       .def_property_readonly("band", &BandDict,
-                             "The prediction band's parts (issue 23): dict level, expected_rms (the expected drift "
+                             "The prediction band's parts: dict level, expected_rms (the expected drift "
                              "error RMS on a next run like the calibration, target units), model_form_rms, "
                              "unidentified_rate_gain_rms, noise (white, flicker, random_walk PSD); None for a "
                              "model file written before the bands existed.")

@@ -1,4 +1,4 @@
-// gyrocomp.project_onto_cubic, px4_thermal_params, ardupilot_thermal_params (issue 12's export
+// gyrocomp.project_onto_cubic, px4_thermal_params, ardupilot_thermal_params (the export
 // stage, include/gyrocomp/export/). The three-axis convenience export_params is Python
 // (python/gyrocomp/__init__.py).
 #include "bindings.h"

@@ -1,4 +1,4 @@
-// gyrocomp.read_log: CSV, PX4 ULog or ArduPilot DataFlash (issue 12's readers) as a GyroLog.
+// gyrocomp.read_log: CSV, PX4 ULog or ArduPilot DataFlash (the flight-log readers) as a GyroLog.
 #include "bindings.h"
 
 #include "gyrocomp/core/units.h"

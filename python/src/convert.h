@@ -93,7 +93,7 @@ class Hooks {
 };
 
 // A long call that Ctrl-C, the caller's CancellationToken or a Dask cancel (gyrocomp.dask) can
-// stop (issue 24). Run(fn) runs fn on a worker thread with the GIL released; the calling thread
+// stop. Run(fn) runs fn on a worker thread with the GIL released; the calling thread
 // waits in steps of kPollInterval and at each step (1) copies the caller's token into token(),
 // (2) takes the GIL and runs Python's signal handlers (PyErr_CheckSignals: Ctrl-C raises
 // KeyboardInterrupt; they run only on the main thread, elsewhere this is a no-op) and, when one

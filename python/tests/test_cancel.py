@@ -1,4 +1,4 @@
-"""Issue 24: Ctrl-C (KeyboardInterrupt), a CancellationToken and a Dask cancel stop the long calls.
+"""Cancellation: Ctrl-C (KeyboardInterrupt), a CancellationToken and a Dask cancel stop the long calls.
 
 Each case runs the call in a child interpreter, sends SIGINT once the child says the call is
 running, and checks that the child saw KeyboardInterrupt from inside the call (not after it ran to

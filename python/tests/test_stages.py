@@ -90,7 +90,7 @@ def test_drift_model_fit_predict_save_load(tmp_path):
     model.save(str(path))
     again = gyrocomp.load_drift_model(str(path))
     assert again.predict(temp, fs).tolist() == predicted.tolist()
-    # Issue 23: the prediction band, kept through the file.
+    # The prediction band, kept through the file.
     band = again.predict_band(temp, fs)
     assert band["level"] == 0.9
     assert np.all(band["lo"] <= band["center"]) and np.all(band["hi"] >= band["center"])

@@ -150,7 +150,7 @@ Result<ClassificationResult> ClassifyVmdModes(const VmdResult& vmd, const Sample
   SampleEntropyOptions one = se_options;
   one.num_threads = 1;
   std::vector<std::optional<Result<SampleEntropyResult>>> se(K);
-  // SampleEntropyOptions::cancel (issue 24): a Cancelled thrown on a worker reaches the caller
+  // SampleEntropyOptions::cancel: a Cancelled thrown on a worker reaches the caller
   // after the join (ParallelFor).
   ParallelFor(K, threads, [&](std::size_t k) { se[k] = SampleEntropy(MiddleWindow(vmd.modes[k], entropy_max_samples), one); });
   std::vector<ModeFeature> features(K);

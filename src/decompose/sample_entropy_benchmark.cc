@@ -1,4 +1,4 @@
-// Sample entropy timings (issue 3 goals: N = 100,000 in 0.2 s, N = 1,000,000 in 5 s, whatever
+// Sample entropy timings (goals: N = 100,000 in 0.2 s, N = 1,000,000 in 5 s, whatever
 // the entropy). Inputs: white noise (high entropy, few matches), a smooth narrow-band VMD-like
 // mode (nearly every pair matches: the O(N^2) trap for pair-walking methods), and quantized
 // noise (ADIS16405-like 0.05 deg/s steps: ties at distance r). m = 2, r = 0.2 SD.

@@ -21,7 +21,7 @@
 //     halving the larger side after trimming both to the values within r of the other.
 // Bipartite counts (pairs with different labels) reuse Self with a label bit on each item.
 //
-// Cost (issue 13): the values are ranked once per series (RankValues), so every re-sort of a
+// Cost: the values are ranked once per series (RankValues), so every re-sort of a
 // subset by another coordinate is an integer sort of packed (rank, item) keys (a radix sort from
 // kRadixMin items), and the top-level order is a filter of the ranked order. The window counts of
 // the two-coordinate sweep use a bitset (popcounts over the run's words) up to kBitsetMax items,

@@ -37,7 +37,7 @@ TEST(SampleEntropy, MatchesAntropyGoldenValues) {
       ASSERT_TRUE(r.ok()) << r.error().message;
       // r: the population SD times the factor; only summation order differs from numpy.
       EXPECT_NEAR(r->r, c.at("r").get<double>(), 1e-14 * c.at("r").get<double>());
-      // 1e-12 (issue 3): SampEn is -ln of a ratio of integer counts, so equal counts give the
+      // 1e-12: SampEn is -ln of a ratio of integer counts, so equal counts give the
       // same value up to the last bit of log(); any miscounted pair moves it by > 1e-7 here.
       EXPECT_NEAR(r->sample_entropy, c.at("sample_entropy").get<double>(), 1e-12);
     }
@@ -172,7 +172,7 @@ std::vector<Case> Inputs(std::size_t n, unsigned seed) {
   return cases;
 }
 
-// ---- extreme but finite values (issue 15 part 2) -------------------------------------------
+// ---- extreme but finite values -------------------------------------------------------------
 
 TEST(SampleEntropy, ExtremeScalesGiveTheCountsOfTheUnscaledSeries) {
   // A golden series scaled by 2^e: the counts must be those of the series itself (a power of two
@@ -313,7 +313,7 @@ TEST(SampleEntropy, ThreadCountDoesNotChangeCounts) {
 }  // namespace
 }  // namespace gyrocomp
 
-// ---- cancellation (issue 24) ------------------------------------------------------------------
+// ---- cancellation ----------------------------------------------------------------------------
 
 #include <chrono>
 #include <cstdio>

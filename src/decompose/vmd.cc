@@ -524,7 +524,7 @@ Result<VmdResult> vmd_internal::DecomposeVmdTuned(std::span<const double> signal
 
   // The absolute rule with a tolerance above the signal's power stops after the first update and
   // returns the all-zero initial iterate (as vmdpy does): no decomposition at all. Say so rather
-  // than hand the later stages K zero modes (issue 24: a record scaled to ~1e-302).
+  // than hand the later stages K zero modes (e.g. a record scaled to ~1e-302).
   if (st.n == 1 && opt.max_iterations > 2 && st.u_diff <= st.tol_norm && !last &&
       opt.stopping_rule == VmdStoppingRule::kAbsolute) {
     double power = 0.0;  // mean square in normalised units (max |x| in [1, 2)), then signal units

@@ -1,4 +1,4 @@
-// VMD timings (issue 13 goals: kernel <= 0.5 ns per bin-update at N = 20,000; N = 1,000,000,
+// VMD timings (goals: kernel <= 0.5 ns per bin-update at N = 20,000; N = 1,000,000,
 // K = 6 converged within 8 s and 400 MB on the 2-core machine).
 // Input: a gyro-like record, white noise (ARW) plus a slow drift, reference defaults (alpha 2000,
 // tau 0, tol 1e-7, uniform init, 500 max iterations).
@@ -150,8 +150,8 @@ BENCHMARK(BM_VmdUpdates)
 // The kernel alone, one thread, K = 6 modes over H bins in 256-bin chunks as DecomposeVmd walks
 // them. Second argument: 0 = the bin-major kernel updating the iterate in place (DecomposeVmd's
 // path for K <= 8: per bin-update 16 bytes of the iterate read and 16 written back), 1 = the
-// mode-major kernel with two iterates (the path for K > 8, and the kernel before issue 13's second
-// session: 16 bytes read, 16 written to another array). H = 20,000 (N = 20k: the in-place iterate,
+// mode-major kernel with two iterates (the path for K > 8, and the kernel before the in-place
+// iterate: 16 bytes read, 16 written to another array). H = 20,000 (N = 20k: the in-place iterate,
 // 1.9 MB, lives in L2/L3) and H = 1,000,000 (memory-bound: 96 MB of iterate per pass).
 // ns_per_bin_update and bytes_per_second use the wall time; on a loaded machine divide the CPU
 // time by K H instead, or take the "min" statistic of repetitions (the least disturbed run).
@@ -247,7 +247,7 @@ BENCHMARK(BM_VmdKernelPath)
 // blocks split between the threads of a WorkerPool (which runs rounds alone when two threads are
 // slower), the Eq. (5) sums per block; wall time per bin-update over the round, coordination
 // included. Arguments: H, threads, 0 = without the stopping-rule sums / 1 = with them. The
-// issue-13 goal (<= 0.5 ns per bin-update at N = 20k on this 2-core machine) is this wall time.
+// kernel goal (<= 0.5 ns per bin-update at N = 20k on this 2-core machine) is this wall time.
 void BM_VmdKernelRounds(benchmark::State& state) {
   using namespace gyrocomp::vmd_internal;
   const std::size_t H = static_cast<std::size_t>(state.range(0));

@@ -59,7 +59,7 @@ bool VmdOptions::IsValid(std::string* error) const {
   // tau is the dual-ascent step of Eq. (6). An ADMM dual step converges only below a bound of the
   // order of the penalty (Glowinski: (1 + sqrt 5) / 2 times it); measured on simulated records,
   // tau = 2 stays bounded and tau = 5 diverges (1e173 after 500 updates), tau = 1e300 gives NaN
-  // at once (issue 24). Valid: [0, kMaxTau].
+  // at once. Valid: [0, kMaxTau].
   if (!(tau >= 0 && tau <= kMaxTau)) return fail("tau", str(tau), "must be in [0, 2]");
   if (!(tol > 0) || !std::isfinite(tol)) return fail("tol", str(tol), "must be > 0 and finite");
   if (initial_center_frequencies) {

@@ -76,7 +76,7 @@ TEST_P(VmdGolden, MatchesVmdpy) {
       // shift moves these by > 1e-9).
       EXPECT_NEAR(s.center_frequency_cycles_per_sample[k], golden_w[k], 1e-12) << "mode " << k + 1;
     }
-    // Every mode within 1e-8 x input RMS (issue 3 acceptance). Observed: <= 4.4e-14 x RMS
+    // Every mode within 1e-8 x input RMS (the acceptance bound). Observed: <= 4.4e-14 x RMS
     // (gyro_like_K6), i.e. rounding only.
     const double tol = 1e-8 * Rms(input);
     ASSERT_EQ(r->modes.size(), static_cast<std::size_t>(opt.num_modes));
@@ -276,7 +276,7 @@ TEST(Vmd, ShortRecordsFollowTheReferenceIterationByDefault) {
   EXPECT_NE(why.find("omega_extrapolation_period"), std::string::npos) << why;
 }
 
-// ---- extreme but finite inputs (issue 15 part 2) --------------------------------------------
+// ---- extreme but finite inputs -------------------------------------------------------------
 // DecomposeVmd normalises the signal by a power of two, which commutes exactly with every
 // floating-point operation of the algorithm; the absolute tolerance (squared signal units) is
 // scaled by the square of that power. So a signal scaled by 2^e with tol scaled by 2^(2e) must
@@ -334,7 +334,7 @@ TEST(VmdExtremeValues, NearTheEdgesOfTheDoubleRangeTheRelativeRuleIsScaleFree) {
   }
 }
 
-// Issue 24: a record scaled to ~3e-302 under the default absolute rule. Normalised, tol = 1e-7
+// A record scaled to ~3e-302 under the default absolute rule. Normalised, tol = 1e-7
 // squared signal units becomes +inf; the loop ran no update and the reconstruction read a null
 // iterate (SIGSEGV). Now the first update always runs; the rule is then met at once and the
 // reference would return its all-zero initial modes, which is refused with the reason.
@@ -506,7 +506,7 @@ TEST(Vmd, RejectsBadOptionsAndInput) {
   EXPECT_FALSE(r3.ok());
 }
 
-// K is bounded by what the record supports, before any allocation (issue 15: `--modes 100000`
+// K is bounded by what the record supports, before any allocation (`--modes 100000`
 // ran for minutes; a huge K x N ends in std::bad_alloc).
 TEST(Vmd, RefusesMoreModesThanTheRecordHoldsOrMemoryAllows) {
   const std::vector<double> x(100, 1.0);
@@ -529,7 +529,7 @@ TEST(Vmd, RefusesMoreModesThanTheRecordHoldsOrMemoryAllows) {
   EXPECT_TRUE(DecomposeVmd(x, opt).ok());
 }
 
-// Issue 24: VmdOptions::cancel is polled before every update; a cancel from another thread (a
+// VmdOptions::cancel is polled before every update; a cancel from another thread (a
 // Python Ctrl-C, a Dask cancel) stops the decomposition with Cancelled.
 TEST(VmdCancel, ThrowsCancelledAtTheNextUpdate) {
   std::vector<double> x(4096);

@@ -1,4 +1,4 @@
-// Shared check of the denoisers near the ends of the double range (issue 24, fuzz_numeric_stages:
+// Shared check of the denoisers near the ends of the double range (found by fuzz_numeric_stages:
 // +-1.8e308 alternating gave NaN / -inf with a success status). Records beyond 2^+-500 are
 // denoised as a power-of-two scaled copy: the same bits scaled, or a refusal with a message when
 // the result itself leaves the double range. Used by the wavelet, FLP and WFLP tests.

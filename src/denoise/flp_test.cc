@@ -195,7 +195,7 @@ TEST(Flp, InvalidOptionsAndInputs) {
   EXPECT_EQ(*ParseFlpInitialWeights("zero"), FlpInitialWeights::kZero);
 }
 
-// Issue 24 (fuzz_numeric_stages): see denoise_numeric_edges.h.
+// Near the ends of the double range (fuzz_numeric_stages): see denoise_numeric_edges.h.
 TEST(NumericEdges, FlpDenoiseNearTheEndsOfTheDoubleRange) {
   testing::ExpectDenoiseScaleFreeNearTheEndsOfTheDoubleRange(
       [](const std::vector<double>& x) { return FlpDenoise(x, FlpOptions{}); });

@@ -1,5 +1,5 @@
 // What the denoisers (FLP, WFLP, wavelet denoising) accept, and the power-of-two normalisation
-// of records near the ends of the double range (issue 24, found by fuzz_numeric_stages:
+// of records near the ends of the double range (found by fuzz_numeric_stages:
 // +-1.8e308 alternating gave NaN / -inf with a success status). Internal to src/denoise/.
 #pragma once
 

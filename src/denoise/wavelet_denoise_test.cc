@@ -201,7 +201,7 @@ TEST_F(DenoiseCli, BadInputExitsTwoWithoutOutput) {
   EXPECT_EQ(rc, 2) << out;
 }
 
-// Issue 24 (fuzz_numeric_stages): see denoise_numeric_edges.h.
+// Near the ends of the double range (fuzz_numeric_stages): see denoise_numeric_edges.h.
 TEST(NumericEdges, WaveletDenoiseNearTheEndsOfTheDoubleRange) {
   testing::ExpectDenoiseScaleFreeNearTheEndsOfTheDoubleRange(
       [](const std::vector<double>& x) { return WaveletDenoise(x, WaveletDenoiseOptions{}); });

@@ -124,7 +124,7 @@ TEST(Wflp, InvalidOptions) {
   EXPECT_FALSE(ParseDetailHandling("drop").has_value());
 }
 
-// Issue 24 (fuzz_numeric_stages): see denoise_numeric_edges.h.
+// Near the ends of the double range (fuzz_numeric_stages): see denoise_numeric_edges.h.
 TEST(NumericEdges, WflpDenoiseNearTheEndsOfTheDoubleRange) {
   testing::ExpectDenoiseScaleFreeNearTheEndsOfTheDoubleRange(
       [](const std::vector<double>& x) { return WflpDenoise(x, WflpOptions{}); });

@@ -1,4 +1,4 @@
-// Issue 24: SIGINT / SIGTERM to `gyrocomp process` on 5 M samples (the done-when record: 50 000 s
+// SIGINT / SIGTERM to `gyrocomp process` on 5 M samples (a long record: 50 000 s
 // at 100 Hz) exits 130 / 143 and leaves nothing in the output folder. The time from the signal
 // to the exit is printed, not asserted (tests never assert on time; the goal is 0.5 s).
 #include <signal.h>

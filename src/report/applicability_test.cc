@@ -86,7 +86,7 @@ TEST(RrwApplicability, SlopeToleranceBothSides) {
 }
 
 TEST(RrwApplicability, RegionMadeByTheLowPassIsNotApplicable) {
-  // The demo's "RRW after" (issue 11): a +1/2 secant over [1.6, 3.2] s of a 0.175 Hz output.
+  // The demo's "RRW after": a +1/2 secant over [1.6, 3.2] s of a 0.175 Hz output.
   const TermApplicability t = RrwApplicability(WithRrwRegion(0.52, 1.6, 3.2), 0.175);
   EXPECT_FALSE(t.applicable);
   EXPECT_NEAR(*t.fitted_slope, 0.52, 1e-12);

@@ -1,4 +1,4 @@
-// The report through the CLI (issue 11 sections 4 and 6): `validate --report` and the demo's
+// The report through the CLI: `validate --report` and the demo's
 // side-by-side table (console, JSON, report), with the not-applicable rule applied alike.
 #include <algorithm>
 #include <cmath>
@@ -82,7 +82,7 @@ TEST_F(ReportCli, ValidateReportHasTheValidationSection) {
   EXPECT_TRUE(rows.at("residual slope vs T (deg/s per deg C)").is_number());
   EXPECT_TRUE(rows.at("residual slope vs dT/dt (deg/s per deg C/s)").is_number());
   EXPECT_TRUE(rows.count("samples with T outside the fitted range"));
-  // The prediction band's width and coverage (issue 23), as in the JSON.
+  // The prediction band's width and coverage, as in the JSON.
   EXPECT_DOUBLE_EQ(rows.at("90% band half-width RMS (deg/s)").get<double>(), v["band_half_width_rms_dps"].get<double>());
   EXPECT_NE(rows.at("band coverage of the true drift").get<std::string>().find('%'), std::string::npos);
   // ADEV at tau >= 100 s, compensated beside raw, also drawn in the Allan chart.
@@ -143,7 +143,7 @@ TEST_F(ReportCli, ProcessMarksNotApplicableTermsAlike) {
   EXPECT_NE(data["summary"]["note"].get<std::string>().find("After: ARW"), std::string::npos);
 }
 
-// `process --report`: the drift plot carries the model's 90% prediction band (issue 23) around
+// `process --report`: the drift plot carries the model's 90% prediction band around
 // its prediction, and the drift-model table the expected next-run error.
 TEST_F(ReportCli, ProcessReportShowsTheDriftBand) {
   std::string out;

@@ -127,7 +127,7 @@
       const m = d.model_temp_c.map((t, i) => [t, d.model_dps[i]]).sort((a, b) => a[0] - b[0]);
       tables.push([m.map(p => p[0]), m.map(p => p[1])]);
       series.push({ label: "model", stroke: COLORS[0], width: 2, spanGaps: true, points: { show: false } });
-      if (d.model_lo_dps && d.model_hi_dps) {  // the prediction band (issue 23), dashed edges
+      if (d.model_lo_dps && d.model_hi_dps) {  // the prediction band, dashed edges
         const pct = Math.round(100 * (d.band_level || 0.9));
         for (const [key, edge] of [["model_lo_dps", "lower"], ["model_hi_dps", "upper"]]) {
           const e = d.model_temp_c.map((t, i) => [t, d[key][i]]).sort((a, b) => a[0] - b[0]);

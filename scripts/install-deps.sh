@@ -31,6 +31,8 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   python3-dev python3-numpy python3-pytest pybind11-dev python3-distributed
   clang libclang-rt-14-dev  # libFuzzer for fuzz/ (scripts/fuzz.sh)
+  mkdocs doxygen  # the manual and its C++ API reference (scripts/docs.sh)
+  ccache  # rebuilds after a clean or a fresh clone take seconds
 )
 command -v npm >/dev/null 2>&1 || packages+=(nodejs npm)
 if [ "$want_browser" = 1 ]; then packages+=(chromium); fi

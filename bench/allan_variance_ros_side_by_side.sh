@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Side by side (issue 25): gyrocomp and ori-drs/allan_variance_ros on the same simulated six-axis
+# Side by side: gyrocomp and ori-drs/allan_variance_ros on the same simulated six-axis
 # ROS 1 bag: wall and CPU time and peak memory (/usr/bin/time -v), and every noise figure (gyro
 # and accelerometer noise density N and random walk K, per axis) next to the simulated truth.
 #
@@ -8,7 +8,7 @@
 #
 #   AVR_BIN          allan_variance_ros's `allan_variance` executable, built by you from its
 #                    source (this repository never carries its code nor a recipe to fetch it; see
-#                    docs/kalibr.md, "Side by side with allan_variance_ros", for how it was built)
+#                    docs/explanation/accuracy.md, "Allan deviation of a ROS bag", for how it was built)
 #   AVR_ANALYSIS_PY  its scripts/analysis.py (the line fits that turn its ADEV CSV into figures)
 #   AVR_CONFIG       its config yaml (imu_topic, imu_rate, measure_rate, sequence_time); written
 #                    here for /imu0 at --rate when not given
@@ -17,12 +17,14 @@
 #
 # allan_variance_ros is a ROS 1 node: it needs a ROS master even to read a bag, so one is started
 # here on 127.0.0.1:PORT (Debian's python3-rosmaster) and stopped at the end by its process id.
+# Reproduces the tables of docs/explanation/accuracy.md "Allan deviation of a ROS bag" (a few
+# minutes for the 3 h bag, most of it allan_variance_ros).
 # Needs: /usr/bin/time, python3 with numpy, scipy and matplotlib (analysis.py), rosmaster.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 repo=$(pwd)
 
-usage() { sed -n '2,21p' "$0" >&2; exit 2; }
+usage() { sed -n '2,23p' "$0" >&2; exit 2; }
 [ $# -ge 2 ] || usage
 avr_bin=$(realpath "$1"); avr_analysis=$(realpath "$2"); shift 2
 avr_config=""

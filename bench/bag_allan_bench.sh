@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
-# Times `gyrocomp allan -i BAG --topic /imu0 --kalibr-yaml` on a simulated six-axis IMU bag
-# (issue 25), with /usr/bin/time -v (wall time, peak RSS), for a ROS 1 bag (Debian's
+# Times `gyrocomp allan -i BAG --topic /imu0 --kalibr-yaml` on a simulated six-axis IMU bag,
+# with /usr/bin/time -v (wall time, peak RSS), for a ROS 1 bag (Debian's
 # python3-rosbag) and MCAP (zstd chunks), and the memory check: the same IMU with a camera topic
 # of ten times the IMU's bytes must read in about the same memory.
 #   bench/bag_allan_bench.sh [HOURS=3] [RATE_HZ=200] [WORK_DIR=/tmp/gyrocomp_bag_bench]
 # The bags are written by tests/bags/make_imu_bags.py (minutes for 3 h: ~2.2 M messages).
+# Reproduces the table "Reading ROS bags" of docs/explanation/performance.md.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 hours=${1:-3}

@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""Issue 24: time from a Ctrl-C to the end of a gyrocomp Python call (docs/performance.md, "Cancellation").
+"""Time from a Ctrl-C to the end of a gyrocomp Python call: the Python rows of the table
+"Cancellation" in docs/explanation/performance.md.
 
     PYTHONPATH=build/python bench/cancel_latency.py child process 2      # SIGINT 2 s into run_parallel_model (5 M samples)
     PYTHONPATH=build/python bench/cancel_latency.py child fit 3          # SIGINT 3 s into fit_drift_model(cs-svr)

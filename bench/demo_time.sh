@@ -1,5 +1,5 @@
 #!/bin/sh
-# CPU and wall time of `gyrocomp demo` (issue 11: under 15 s on the 2-core machine), with its own
+# CPU and wall time of `gyrocomp demo` (the `demo` row of docs/explanation/performance.md), with its own
 # per-phase split (summary.json demo_phases: process CPU of all threads / wall). Not a test:
 # timings never decide a test. Extra arguments go to demo (e.g. --full-budget).
 # Usage: G=build/gyrocomp D=/tmp/demo-time sh bench/demo_time.sh [demo options...]

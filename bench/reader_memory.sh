@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Peak memory of each log reader per GB of input (issue 24, docs/performance.md): generates one
+# Peak memory of each log reader per GB of input (docs/explanation/performance.md, "Reader
+# memory"): generates one
 # input per format (not committed), runs `gyrocomp allan` on it (the reader, the sampling check
 # and an Allan curve: what every -i command pays to read) under /usr/bin/time, and prints a
 # table of peak RSS, peak over the baseline (allan on a 3-row CSV) and MB per GB of file.

@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""Side-by-side timings of gyrocomp against the Python references (issue 13).
+"""Side-by-side timings of gyrocomp against the Python references: the vmdpy, antropy and
+allantools rows of docs/explanation/performance.md.
 
     bench/side_by_side.py [--build build] [--vmdpy DIR] [--antropy DIR] [--allantools DIR]
                           [--repeat 3] [--quick] [--baseline OTHER_GYROCOMP]
@@ -10,7 +11,7 @@ src/antropy/; allantools: the folder holding allantools/). A reference that is n
 does not import (numpy, scipy, numba, scikit-learn are needed; Debian: python3-numpy
 python3-scipy python3-numba python3-sklearn) is skipped with a message.
 
-Cases (the issue-13 goals):
+Cases:
   VMD         N = 20,000, K = 6, alpha = 2000, tau = 0, tol = 1e-7, uniform init
               gyrocomp decompose (whole process: start-up, parsing, VMD, sample entropy of the
               modes, writing) vs vmdpy: whole process (python start-up, numpy import, reading

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Soak (issue 24 item 5): every subcommand of the built CLI over a long 3-axis 100 Hz log and a
+# Soak: every subcommand of the built CLI over a long 3-axis 100 Hz log and a
 # 1 kHz multi-IMU PX4 ULog, each run twice:
 #   1. to the end, under /usr/bin/time: wall time, peak RSS, exit status (must be 0);
 #   2. again into an empty folder, with SIGINT at a random moment in [0, wall time of run 1]
@@ -8,7 +8,8 @@
 #      (after 130: no output at all, no folder it made; after 0: no temporary '.*.tmp*').
 # `compare` runs on a 1 Hz record of min(DURATION_S, 2 h) (it fits every model family several
 # times); `demo`, `plan` and `simulate` make their own data.
-# Prints a table (Markdown) and exits 1 on any violation.
+# Prints a table (Markdown) and exits 1 on any violation: the table "Soak" of
+# docs/explanation/performance.md (about 22 min for the default day-long log on 2 cores).
 #
 #   bench/soak.sh [DURATION_S] [ULOG_DURATION_S] [SEED]
 #     DURATION_S       length of the 100 Hz log (default 86400: a day, 8.64 M rows)

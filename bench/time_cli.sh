@@ -5,7 +5,8 @@
 # as ratios; on a loaded machine the CPU time is the better estimate of the cost.
 #   bench/time_cli.sh [BUILD_DIR] [--long]     (--long adds the 100 Hz, ~5 M sample cases)
 # `process` prints its stage timings (JSON timings_s) under its line; the VMD's share is shown
-# apart because it is not the rest of the pipeline (issue 13).
+# apart because it is not the rest of the pipeline. A quick check of the CLI on every size; the
+# figures the manual quotes come from the commands in docs/explanation/performance.md.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build="${1:-build}"

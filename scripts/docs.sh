@@ -6,7 +6,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 rm -rf build/api build/site
 mkdir -p build
-doxygen docs/api/Doxyfile
+doxygen Doxyfile
 mkdocs build --strict --quiet -d build/site
-cp -r build/api/html build/site/api
+mkdir -p build/site/api && cp -r build/api/html/. build/site/api/
 echo "docs: build/site/index.html, API reference build/site/api/index.html"

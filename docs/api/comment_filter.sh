@@ -2,7 +2,11 @@
 # Doxygen INPUT_FILTER: gyrocomp's headers document each name with plain // comments (the style
 # of the project style guide); Doxygen reads /// ones. A comment line above a declaration
 # becomes ///, and a trailing "// ..." after a member or enumerator becomes ///<.
+# Every header opens with a comment block right above "#pragma once": that block describes the
+# file, so the "#pragma once" line (not needed by Doxygen) becomes "/// \file", which makes the
+# block the file's documentation instead of a part of namespace gyrocomp's (line numbers kept).
 exec sed -E \
   -e 's#^([[:space:]]*)//([^/!]|$)#\1///\2#' \
   -e 's#^([^/"]*[;,{])[[:space:]]*//[[:space:]]#\1  ///< #' \
+  -e 's#^\#pragma once$#/// \\file#' \
   "$1"

@@ -8,12 +8,9 @@
 
 namespace gyrocomp {
 
-// Unit of an angular rate in a file or on the command line.
-enum class RateUnit {
-  kDegPerSec,   // deg/s ("dps"), the library's internal unit
-  kRadPerSec,   // rad/s ("rads")
-  kDegPerHour,  // deg/h ("dph")
-};
+// Unit of an angular rate in a file or on the command line: deg/s ("dps", the library's internal
+// unit), rad/s ("rads"), deg/h ("dph").
+enum class RateUnit { kDegPerSec, kRadPerSec, kDegPerHour };
 
 // "dps" | "rads" | "dph" -> RateUnit; nullopt for anything else.
 std::optional<RateUnit> ParseRateUnit(std::string_view name);

@@ -1,11 +1,11 @@
 // Whether a noise term read off an Allan deviation curve means what its name says
-// (docs/pipeline.md, "The not-applicable rule"). A processed record's ADEV is shaped by the processing: a record band-limited to B
-// carries 2B independent values per second (the sampling theorem), so averages over less than
-// 1/(2B) seconds are not independent and their ADEV shows the filter: sigma(1 s) of a 0.17 Hz output
-// is not an angle random walk coefficient, and a "+1/2 region" just after the filter's minimum is
-// the filter's roll-off, not a rate random walk. The report, the console tables and the JSON of
-// `process` and `demo` all use this one rule to print such a figure as "not applicable" with the
-// reason instead of a number.
+// (docs/pipeline.md, "The not-applicable rule"). A processed record's ADEV is shaped by the
+// processing: a record band-limited to B carries 2B independent values per second (the sampling
+// theorem), so averages over less than 1/(2B) seconds are not independent and their ADEV shows the
+// filter: sigma(1 s) of a 0.17 Hz output is not an angle random walk coefficient, and a "+1/2
+// region" just after the filter's minimum is the filter's roll-off, not a rate random walk. The
+// report, the console tables and the JSON of `process` and `demo` all use this one rule to print
+// such a figure as "not applicable" with the reason instead of a number.
 //
 // Rule (each clause must hold; the first that fails is the reason):
 //   1. the record's bandwidth B is known (a raw record: its Nyquist frequency fs/2). An ARW

@@ -1,5 +1,5 @@
 // Everything gyrocomp offers, for users who want one include. Each stage also has its own
-// header (include/gyrocomp/<stage>/<name>.h); including only what you use builds faster.
+// header (include/gyrocomp/STAGE/NAME.h); including only what you use builds faster.
 // Stages in the order data flows (docs/architecture.md).
 #pragma once
 

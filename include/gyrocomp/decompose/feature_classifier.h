@@ -28,11 +28,14 @@
 
 namespace gyrocomp {
 
+// The class of a VMD mode, and the feature it is summed into: kDrift (C1, low sample entropy: to
+// the temperature drift model), kMixed (C2: to WFLP), kNoise (C3, high sample entropy: discarded).
 enum class FeatureClass { kDrift, kMixed, kNoise };
 
 // "drift" | "mixed" | "noise".
 const char* FeatureClassName(FeatureClass feature);
 
+// The thresholds that sort modes into classes; Standard() by default, Paper() for comparison.
 struct ClassifierOptions {
   // Name reported with the results ("standard", "paper", or "custom" when edited).
   std::string rule_name = "standard";
@@ -63,20 +66,22 @@ struct ClassifierOptions {
 // Input per mode.
 struct ModeFeature {
   double sample_entropy = 0.0;                     // +inf allowed (no m+1 match): noise
-  double center_frequency_cycles_per_sample = 0.0;
-  double center_frequency_hz = 0.0;
+  double center_frequency_cycles_per_sample = 0.0;  // picks the lowest mode (keep_lowest_mode)
+  double center_frequency_hz = 0.0;  // compared with drift_max_frequency_hz
 };
 
+// The class given to one mode, with the features it was given from.
 struct ModeClassification {
   int index = 0;  // 1-based mode number, algorithm order
-  double sample_entropy = 0.0;
-  double center_frequency_cycles_per_sample = 0.0;
-  double center_frequency_hz = 0.0;
-  FeatureClass feature = FeatureClass::kMixed;
+  double sample_entropy = 0.0;                      // SE of the mode, as given
+  double center_frequency_cycles_per_sample = 0.0;  // centre frequency, cycles per sample
+  double center_frequency_hz = 0.0;                 // centre frequency, Hz
+  FeatureClass feature = FeatureClass::kMixed;      // the class the rule gave
 };
 
+// The classes of all modes and the rule that gave them.
 struct ClassificationResult {
-  std::vector<ModeClassification> modes;
+  std::vector<ModeClassification> modes;  // one per input mode, in input order
   ClassifierOptions rule;   // the rule used (thresholds, name)
   std::string rule_text;    // rule.Describe()
   // "drift: modes 1; mixed: 2 3; noise: 4 5 6 (standard: SE < ...)"
@@ -103,6 +108,8 @@ struct FeatureSignals {
   std::vector<double> mixed;  // C2
   std::vector<double> noise;  // C3
 };
+// Sums the modes of `vmd` into the three features by `classes` (mode index k+1 of `classes` is
+// vmd.modes[k]).
 FeatureSignals SumFeatures(const VmdResult& vmd, const ClassificationResult& classes);
 
 }  // namespace gyrocomp

@@ -31,6 +31,7 @@
 
 namespace gyrocomp {
 
+// How the matching pairs are counted; every algorithm gives the same counts.
 enum class SampleEntropyAlgorithm {
   kFast,          // the cheaper of the two exact counters below for this series and r (default)
   kRangeCount,    // range counting, O(N log^m N) whatever r
@@ -39,6 +40,7 @@ enum class SampleEntropyAlgorithm {
   kBruteForce,    // the O(N^2) definition; for tests and tiny inputs
 };
 
+// Parameters of SampEn(m, r) and how it is computed.
 struct SampleEntropyOptions {
   // Embedding dimension m (template length). 1 .. 10.
   int m = 2;
@@ -50,11 +52,12 @@ struct SampleEntropyOptions {
   std::optional<double> reference_sd;
   // Absolute tolerance r in the series' unit; overrides r_factor and reference_sd. > 0.
   std::optional<double> r_absolute;
+  // Pair counter; kFast (default) picks the cheaper exact one. The result does not depend on it.
   SampleEntropyAlgorithm algorithm = SampleEntropyAlgorithm::kFast;
   // Worker threads of the fast algorithm; nullopt = automatic (hardware concurrency, at most 2).
   // The counts do not depend on it. >= 1 when set.
   std::optional<int> num_threads;
-  // Polled while the pairs are counted (issue 24), by every counting thread, at most ~2^16
+  // Polled while the pairs are counted, by every counting thread, at most ~2^16
   // templates or ~2^22 candidate pairs apart (well under 0.1 s): once cancelled, the threads
   // stop, join, and SampleEntropy throws Cancelled on the calling thread. nullptr: not polled.
   // Not owned.
@@ -63,17 +66,18 @@ struct SampleEntropyOptions {
   bool IsValid(std::string* error) const;  // "SampleEntropyOptions::m = 0: must be in 1..10"
 };
 
+// The sample entropy of one series and the counts it came from.
 struct SampleEntropyResult {
   // -ln(A/B). +infinity when A = 0 < B (no match of length m+1); NaN when B = 0 (undefined:
   // no match of length m at all). `defined` is false only in the latter case.
   double sample_entropy = 0.0;
-  bool defined = false;
-  int m = 0;
+  bool defined = false;  // false when B = 0 (sample_entropy is NaN)
+  int m = 0;             // embedding dimension used
   double r = 0.0;            // the absolute tolerance used (series unit)
   std::size_t n = 0;         // series length N
   std::uint64_t a_matches = 0;  // unordered matching pairs of length m+1
   std::uint64_t b_matches = 0;  // unordered matching pairs of length m
-  double elapsed_s = 0.0;
+  double elapsed_s = 0.0;  // wall-clock time of SampleEntropy, s
   // "SampEn(m=2, r=0.2021) = 2.1863 (A=1234, B=10987, N=2000) in 0.001 s"
   std::string BriefReport() const;
 };
@@ -83,8 +87,8 @@ double PopulationSd(std::span<const double> x);
 
 // Matching-pair counts (A for length m+1, B for length m) for an absolute tolerance r > 0.
 struct TemplateMatchCounts {
-  std::uint64_t a = 0;
-  std::uint64_t b = 0;
+  std::uint64_t a = 0;  // unordered matching pairs of length m+1
+  std::uint64_t b = 0;  // unordered matching pairs of length m
 };
 // num_threads: workers for the fast algorithm (0 = automatic: hardware concurrency, at most 2).
 // cancel: polled as SampleEntropyOptions::cancel says; once it is set the counts are partial

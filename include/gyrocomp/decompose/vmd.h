@@ -56,6 +56,7 @@ enum class VmdStoppingRule {
   kRelative,
 };
 
+// Parameters of DecomposeVmd; the defaults are the paper's experiment and the reference code's.
 struct VmdOptions {
   // Number of modes K (paper Section 3.1; K = 6 in its experiment). >= 1.
   int num_modes = 6;
@@ -66,7 +67,7 @@ struct VmdOptions {
   // Dual-ascent time step tau of Eq. (6). 0 = no Lagrangian update (noise-slack). In [0, kMaxTau]
   // (larger steps diverge: vmd_options.cc).
   double tau = 0.0;
-  static constexpr double kMaxTau = 2.0;
+  static constexpr double kMaxTau = 2.0;  // largest tau accepted by IsValid
   // Convergence tolerance of the stopping rule (dimensionless for kRelative; squared signal
   // units for kAbsolute). > 0.
   double tol = 1e-7;
@@ -81,23 +82,25 @@ struct VmdOptions {
   std::uint32_t seed = 0;
   // The reference's Niter: at most max_iterations - 1 updates are run. >= 2.
   int max_iterations = 500;
+  // Stopping rule: kAbsolute (the reference code's, default) or kRelative (the paper's Eq. 7).
   VmdStoppingRule stopping_rule = VmdStoppingRule::kAbsolute;
   // Mirror-extend the signal by N/2 samples on each side (reference behaviour). Off: the
   // signal is decomposed as is (T = N), which wraps its ends around.
   bool mirror_extension = true;
   // Return update n (the last) instead of update n-1 (reference behaviour).
   bool return_last_iterate = false;
-  // Acceleration of the centre frequencies for long records (issue 13: the reference iteration
-  // stalls above ~100k samples). Every `omega_extrapolation_period` updates (>= 3), each w_k
-  // whose last three values w0, w1, w2 approach a limit geometrically (r = (w2 - w1) / (w1 - w0)
-  // in (0, 0.995)) is moved to the Aitken limit w2 + (w2 - w1) r / (1 - r), clamped to [0, 0.5];
-  // the modes follow in the next updates. A fixed point of the reference iteration is one of this
-  // one too (there the differences vanish), so it converges to the same decomposition, in ~4.5x
-  // fewer updates (docs/performance.md), but its path, iteration count and where within tol it
-  // stops differ from vmdpy's. Applied only to records of at least
-  // `omega_extrapolation_min_samples` samples, so shorter ones follow the reference exactly.
-  // nullopt = never (the reference iteration at every length).
+  // Acceleration of the centre frequencies for long records (the reference iteration stalls above
+  // ~100k samples; docs/performance.md, "Long records: centre-frequency extrapolation"). Every
+  // `omega_extrapolation_period` updates (>= 3), each w_k whose last three values w0, w1, w2
+  // approach a limit geometrically (r = (w2 - w1) / (w1 - w0) in (0, 0.995)) is moved to the Aitken
+  // limit w2 + (w2 - w1) r / (1 - r), clamped to [0, 0.5]; the modes follow in the next updates. A
+  // fixed point of the reference iteration is one of this one too (there the differences vanish),
+  // so it converges to the same decomposition, in ~4.5x fewer updates (docs/performance.md), but
+  // its path, iteration count and where within tol it stops differ from vmdpy's. Applied only to
+  // records of at least `omega_extrapolation_min_samples` samples, so shorter ones follow the
+  // reference exactly. nullopt = never (the reference iteration at every length).
   std::optional<int> omega_extrapolation_period = 5;
+  // Shortest record (samples N) the extrapolation is applied to; shorter ones follow vmdpy.
   std::size_t omega_extrapolation_min_samples = 100000;
   // Sample rate in Hz, used only to express the centre frequencies in Hz. > 0.
   double fs_hz = 1.0;
@@ -125,7 +128,7 @@ struct VmdOptions {
 
 // What happened.
 struct VmdSummary {
-  int num_modes = 0;
+  int num_modes = 0;               // K
   std::size_t num_samples = 0;     // N of the input
   std::size_t extended_length = 0; // T: length of the (mirror-extended, even) working signal
   // Number of updates run (vmdpy's final loop counter n; the golden `iterations`).
@@ -140,9 +143,9 @@ struct VmdSummary {
   // k-th initial frequency): cycles per sample (0 .. 0.5) and Hz (= cycles per sample * fs_hz).
   // Eq. (5) of the returned modes, never an extrapolated value (omega_extrapolation_period).
   std::vector<double> center_frequency_cycles_per_sample;
-  std::vector<double> center_frequency_hz;
-  double fs_hz = 1.0;
-  int threads_used = 1;
+  std::vector<double> center_frequency_hz;  // the same in Hz
+  double fs_hz = 1.0;    // VmdOptions::fs_hz used for the Hz values
+  int threads_used = 1;  // worker threads of the per-bin updates and inverse FFTs
   // The centre-frequency extrapolation period applied (VmdOptions::omega_extrapolation_period;
   // nullopt: the reference iteration, e.g. for a record shorter than its min_samples).
   std::optional<int> omega_extrapolation_period;
@@ -152,10 +155,11 @@ struct VmdSummary {
   std::string BriefReport() const;
 };
 
+// The modes and what happened.
 struct VmdResult {
   // modes[k][i]: mode k (algorithm order), sample i; K vectors of N samples.
   std::vector<std::vector<double>> modes;
-  VmdSummary summary;
+  VmdSummary summary;  // iterations, convergence, centre frequencies, timing
 };
 
 // Decomposes `signal` (deg/s or any unit; the modes carry the same unit) into K modes.

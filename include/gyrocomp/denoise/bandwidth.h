@@ -32,6 +32,7 @@ namespace gyrocomp {
 // A processing under test: maps a signal to a signal of the same length.
 using SignalProcessing = std::function<Result<std::vector<double>>(std::span<const double>)>;
 
+// How the test tones are chosen and, without a background record, what it is.
 struct BandwidthOptions {
   // Sample rate of the signals (Hz), > 0.
   double fs_hz = 1.0;
@@ -43,7 +44,7 @@ struct BandwidthOptions {
   int num_frequencies = 32;
   // Range of test frequencies (Hz). nullopt: min = 20 cycles per analysis window, max = 0.45 fs.
   std::optional<double> min_frequency_hz;
-  std::optional<double> max_frequency_hz;
+  std::optional<double> max_frequency_hz;  // highest test frequency, Hz, < fs/2
   // Amplitude A of the test sine (signal units). nullopt = the background's SD (0 dB SNR per
   // tone), or 1 when the background is all zero.
   std::optional<double> amplitude;
@@ -52,15 +53,17 @@ struct BandwidthOptions {
   // Background when none is passed: white Gaussian noise of this SD (signal units), >= 0, from
   // this seed. 0 = a clean (all-zero) background.
   double white_noise_sd = 0.0;
-  std::uint64_t seed = 1;
+  std::uint64_t seed = 1;  // seed of that noise (std::mt19937_64)
+  // Returns false and a message naming the field ("max_frequency_hz = 60: must be in (0, fs/2)").
   bool IsValid(std::string* error) const;
 };
 
+// The measured response at each test frequency and the figures read from it.
 struct BandwidthResult {
-  std::vector<double> frequency_hz;
+  std::vector<double> frequency_hz;  // test frequencies, increasing, Hz
   std::vector<double> gain;         // |H(f)|, dimensionless
   std::vector<double> phase_rad;    // unwrapped
-  std::optional<double> bandwidth_hz;
+  std::optional<double> bandwidth_hz;  // -3 dB bandwidth, Hz; nullopt: above max_frequency_hz
   bool bandwidth_below_range = false;  // gain < -3 dB already at the lowest test frequency
                                        // (then bandwidth_hz = that frequency, an upper bound)
   double max_frequency_hz = 0.0;    // highest frequency tested
@@ -68,6 +71,7 @@ struct BandwidthResult {
   double dc_gain = 0.0;             // gain at the lowest test frequency
   double amplitude = 0.0;           // test amplitude used
   std::size_t num_runs = 0;         // calls of the processing
+  // "-3 dB bandwidth 0.17 Hz, delay 1.2 s, gain 0.998 at 0.001 Hz (33 runs)"
   std::string BriefReport() const;
 };
 

@@ -29,6 +29,7 @@
 
 namespace gyrocomp {
 
+// The weights C(0) the filter starts from.
 enum class FlpInitialWeights {
   kMovingAverage,  // c_p = 1/N: the output starts as an N-tap mean of past samples
   kZero,           // c_p = 0: plain LMS start (the output starts at 0)
@@ -37,8 +38,10 @@ enum class FlpInitialWeights {
 
 // "moving-average" | "zero" | "last-sample".
 std::optional<FlpInitialWeights> ParseFlpInitialWeights(std::string_view name);
+// FlpInitialWeights -> "moving-average" | "zero" | "last-sample".
 const char* FlpInitialWeightsName(FlpInitialWeights w);
 
+// Parameters of the variable-step FLP (Eqs. 14-16).
 struct FlpOptions {
   // Defaults of order, beta and alpha: chosen by a sweep on simulated records with known truth,
   // for WFLP (FLP on the level-4 approximation); docs/denoising.md has the sweep table. For FLP
@@ -56,6 +59,7 @@ struct FlpOptions {
   double power_forgetting = 0.999;
   // Relative regulariser of the NLMS denominator (eps = regularization * N * P), >= 0.
   double regularization = 1e-6;
+  // C(0): an N-tap moving average by default (the output does not start at 0).
   FlpInitialWeights initial_weights = FlpInitialWeights::kMovingAverage;
   bool IsValid(std::string* error) const;  // "FlpOptions::beta = 3: must be in (0, 2)"
 };
@@ -63,6 +67,7 @@ struct FlpOptions {
 // Streaming FLP: one sample in, one filtered sample out. Copyable; no allocation after Create.
 class FlpFilter {
  public:
+  // A filter in its initial state. Errors: invalid options (kInvalidArgument).
   static Result<FlpFilter> Create(const FlpOptions& options);
 
   // Consumes x(n), returns xhat(n) (the prediction made from x(n-1)..x(n-N) before x(n) was
@@ -73,10 +78,10 @@ class FlpFilter {
   // Back to the state before the first sample (weights re-initialised).
   void Reset();
 
-  const FlpOptions& options() const { return options_; }
-  const std::vector<double>& weights() const { return weights_; }
-  std::size_t num_processed() const { return n_; }
-  double last_error() const { return last_error_; }
+  const FlpOptions& options() const { return options_; }  // as given to Create
+  const std::vector<double>& weights() const { return weights_; }  // C(n): c_1 .. c_N
+  std::size_t num_processed() const { return n_; }  // samples consumed since Create / Reset
+  double last_error() const { return last_error_; }  // e(n) = x(n) - xhat(n) of the last sample
   double last_step() const { return last_step_; }   // eta(n) of Eq. (16)
   double power() const { return power_; }           // P(n)
 
@@ -92,22 +97,25 @@ class FlpFilter {
   double last_step_ = 0.0;
 };
 
+// What a batch FLP run did.
 struct FlpSummary {
-  std::size_t num_samples = 0;
-  int order = 0;
-  double beta = 0.0;
-  double alpha = 0.0;
-  std::vector<double> final_weights;
+  std::size_t num_samples = 0;        // input length
+  int order = 0;                      // N used
+  double beta = 0.0;                  // beta used
+  double alpha = 0.0;                 // alpha used
+  std::vector<double> final_weights;  // C after the last sample
   double mean_step = 0.0;         // mean of eta(n)
   double final_step = 0.0;        // eta at the last sample
   double rms_error = 0.0;         // RMS prediction error e(n), signal units
-  double rms_error_second_half = 0.0;
+  double rms_error_second_half = 0.0;  // the same over the second half (after the start-up)
+  // "FLP order 8, beta 0.01, alpha 4: 1000 samples, mean step ..., weights [...]"
   std::string BriefReport() const;
 };
 
+// The filtered record and what happened.
 struct FlpResult {
   std::vector<double> filtered;   // xhat(n), same length as the input
-  FlpSummary summary;
+  FlpSummary summary;             // weights, steps and errors
 };
 
 // Batch FLP over a record. Errors: invalid options (kInvalidArgument), empty input or non-finite

@@ -38,6 +38,7 @@ enum class ExtensionMode {
 
 // "symmetric" | "reflect" | "periodic" | "zero" | "constant" | "periodization"; nullopt otherwise.
 std::optional<ExtensionMode> ParseExtensionMode(std::string_view name);
+// ExtensionMode -> its PyWavelets name (the names ParseExtensionMode accepts).
 const char* ExtensionModeName(ExtensionMode mode);
 
 // Number of coefficients per band of one DWT level of an n-sample signal (pywt.dwt_coeff_len).
@@ -46,11 +47,12 @@ std::size_t DwtCoeffLength(std::size_t n, std::size_t filter_length, ExtensionMo
 // Deepest useful level (pywt.dwt_max_level): floor(log2(n / (F - 1))), 0 when n < F - 1.
 int DwtMaxLevel(std::size_t n, std::size_t filter_length);
 
-// One level. Errors: empty signal (kInvalidInput).
+// The coefficients of one DWT level.
 struct DwtLevel {
   std::vector<double> approximation;  // cA
   std::vector<double> detail;         // cD
 };
+// One DWT level of `x` (pywt.dwt). Errors: empty signal (kInvalidInput).
 Result<DwtLevel> Dwt(std::span<const double> x, const Wavelet& wavelet, ExtensionMode mode);
 
 // Inverse of one level. cA and cD must have the same length; modes other than periodization need
@@ -62,11 +64,12 @@ Result<std::vector<double>> Idwt(std::span<const double> approximation, std::spa
 // details[0] is cD1 (finest, highest frequencies) and details.back() is cD_L, which has the length
 // of approximation (cA_L). (PyWavelets' wavedec list is [cA_L, cD_L, ..., cD1].)
 struct WaveletDecomposition {
-  std::string wavelet;
-  ExtensionMode mode = ExtensionMode::kSymmetric;
-  std::size_t signal_length = 0;
-  std::vector<double> approximation;
-  std::vector<std::vector<double>> details;
+  std::string wavelet;                             // name for MakeWavelet, e.g. "db4"
+  ExtensionMode mode = ExtensionMode::kSymmetric;  // extension used at every level
+  std::size_t signal_length = 0;                   // N of the decomposed signal
+  std::vector<double> approximation;               // cA_L
+  std::vector<std::vector<double>> details;        // cD1 .. cD_L
+  // L, the number of detail levels.
   int level() const { return static_cast<int>(details.size()); }
 };
 
@@ -78,6 +81,7 @@ Result<WaveletDecomposition> WaveDec(std::span<const double> x, const Wavelet& w
 // Reconstruction with the wavelet named in `d` (any coefficients may have been modified), cut to
 // d.signal_length. Errors: inconsistent coefficient lengths (kInvalidArgument).
 Result<std::vector<double>> WaveRec(const WaveletDecomposition& d);
+// The same with `wavelet` given (d.wavelet is not read).
 Result<std::vector<double>> WaveRec(const WaveletDecomposition& d, const Wavelet& wavelet);
 
 }  // namespace gyrocomp

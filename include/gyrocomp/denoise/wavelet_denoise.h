@@ -21,7 +21,9 @@
 
 namespace gyrocomp {
 
+// Soft (shrink towards 0) or hard (keep or zero) thresholding; see ApplyThreshold.
 enum class ThresholdMode { kSoft, kHard };
+// How the threshold of each detail level is chosen.
 enum class ThresholdRule {
   kUniversal,                // one threshold sigma * sqrt(2 ln N), sigma from cD1 (golden rule)
   kUniversalLevelDependent,  // sigma_l from each level's details, thr_l = sigma_l sqrt(2 ln N)
@@ -30,8 +32,11 @@ enum class ThresholdRule {
 
 // "soft" | "hard"; "universal" | "universal-level" | "sure".
 std::optional<ThresholdMode> ParseThresholdMode(std::string_view name);
+// ThresholdMode -> "soft" | "hard".
 const char* ThresholdModeName(ThresholdMode mode);
+// "universal" | "universal-level" | "sure" -> ThresholdRule; nullopt otherwise.
 std::optional<ThresholdRule> ParseThresholdRule(std::string_view name);
+// ThresholdRule -> "universal" | "universal-level" | "sure".
 const char* ThresholdRuleName(ThresholdRule rule);
 
 // Soft: sign(x) max(|x| - thr, 0) (as pywt: x (1 - thr/|x|) clipped at 0). Hard: x where
@@ -41,6 +46,7 @@ void ApplyThreshold(std::span<double> coefficients, double threshold, ThresholdM
 // Robust noise SD of detail coefficients: median(|d|) / 0.6745 (0 for an empty span).
 double MadSigma(std::span<const double> detail);
 
+// Wavelet, depth and threshold rule of RunWaveletDenoise; the defaults are the golden rule.
 struct WaveletDenoiseOptions {
   // Wavelet name (MakeWavelet): Daubechies 4 by default (the golden case and a common choice for
   // gyro signals: 4 vanishing moments, 8 taps).
@@ -48,32 +54,35 @@ struct WaveletDenoiseOptions {
   // Decomposition depth. nullopt = DwtMaxLevel (pywt's wavedec default). Default 4: at a sample
   // rate fs, details of levels 1-4 cover fs/32 .. fs/2, the approximation 0 .. fs/32.
   std::optional<int> level = 4;
-  ExtensionMode extension = ExtensionMode::kSymmetric;
-  ThresholdRule threshold = ThresholdRule::kUniversal;
-  ThresholdMode threshold_mode = ThresholdMode::kSoft;
+  ExtensionMode extension = ExtensionMode::kSymmetric;  // signal extension (pywt "symmetric")
+  ThresholdRule threshold = ThresholdRule::kUniversal;  // threshold rule (VisuShrink)
+  ThresholdMode threshold_mode = ThresholdMode::kSoft;  // soft or hard thresholding
   // Known noise SD of the signal's white noise (signal units). nullopt = estimate by MAD.
   std::optional<double> noise_sigma;
   bool IsValid(std::string* error) const;  // "WaveletDenoiseOptions::level = -1: must be >= 0"
 };
 
+// What a wavelet denoising did, level by level.
 struct WaveletDenoiseSummary {
-  std::string wavelet;
-  ExtensionMode extension = ExtensionMode::kSymmetric;
-  int level = 0;
-  ThresholdRule rule = ThresholdRule::kUniversal;
-  ThresholdMode mode = ThresholdMode::kSoft;
-  std::size_t num_samples = 0;
+  std::string wavelet;                                  // wavelet name used
+  ExtensionMode extension = ExtensionMode::kSymmetric;  // extension used
+  int level = 0;                                        // decomposition depth L used
+  ThresholdRule rule = ThresholdRule::kUniversal;       // threshold rule used
+  ThresholdMode mode = ThresholdMode::kSoft;            // soft or hard
+  std::size_t num_samples = 0;                          // input length N
   // Per detail level l = 1..L (index l-1): noise SD used and threshold applied, and the fraction
   // of that level's coefficients set to zero.
   std::vector<double> sigma;
-  std::vector<double> threshold;
-  std::vector<double> fraction_zeroed;
+  std::vector<double> threshold;        // threshold applied to level l, signal units
+  std::vector<double> fraction_zeroed;  // fraction of level l's coefficients set to 0
+  // "wavelet db4/symmetric level 4, universal soft threshold, N samples; D1 sigma .. thr .. ..."
   std::string BriefReport() const;
 };
 
+// The denoised record and what happened.
 struct WaveletDenoiseResult {
-  std::vector<double> denoised;
-  WaveletDenoiseSummary summary;
+  std::vector<double> denoised;   // same length as the input
+  WaveletDenoiseSummary summary;  // per-level sigma, threshold, fraction zeroed
 };
 
 // Thresholds the detail coefficients of `d` in place by the rule (signal length d.signal_length).

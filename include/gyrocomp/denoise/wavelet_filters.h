@@ -27,17 +27,19 @@
 
 namespace gyrocomp {
 
+// One orthogonal wavelet: its names and its four filters.
 struct Wavelet {
   std::string name;          // "db4", "sym8", "coif3", "haar"
   std::string family;        // "db" | "sym" | "coif" | "haar"
   int order = 0;             // N of dbN / symN / coifN (haar: 1)
   int vanishing_moments = 0; // of the wavelet (high-pass): db/sym N, coif 2N, haar 1
   // Filters in PyWavelets' convention (convolution, not correlation); all have length
-  // filter_length().
+  // filter_length(). Decomposition low-pass.
   std::vector<double> dec_lo;
-  std::vector<double> dec_hi;
-  std::vector<double> rec_lo;
-  std::vector<double> rec_hi;
+  std::vector<double> dec_hi;  // decomposition high-pass
+  std::vector<double> rec_lo;  // reconstruction low-pass
+  std::vector<double> rec_hi;  // reconstruction high-pass
+  // F, the length of every filter.
   std::size_t filter_length() const { return dec_lo.size(); }
 };
 

@@ -23,6 +23,7 @@
 
 namespace gyrocomp {
 
+// What WFLP does with the detail coefficients.
 enum class DetailHandling {
   kThreshold,  // threshold rule of WflpOptions (default: universal, soft)
   kKeep,       // details untouched: only the approximation is filtered
@@ -31,37 +32,42 @@ enum class DetailHandling {
 
 // "threshold" | "keep" | "zero".
 std::optional<DetailHandling> ParseDetailHandling(std::string_view name);
+// DetailHandling -> "threshold" | "keep" | "zero".
 const char* DetailHandlingName(DetailHandling handling);
 
+// Wavelet, depth, FLP and detail handling of RunWflp.
 struct WflpOptions {
   // Wavelet and depth (see WaveletDenoiseOptions for the meaning). Default db4, level 4.
   std::string wavelet = "db4";
-  std::optional<int> level = 4;
-  ExtensionMode extension = ExtensionMode::kSymmetric;
+  std::optional<int> level = 4;  // decomposition depth L; nullopt = DwtMaxLevel
+  ExtensionMode extension = ExtensionMode::kSymmetric;  // signal extension (pywt "symmetric")
   // FLP on the approximation coefficients (its defaults: flp.h).
   FlpOptions flp;
   // What happens to the detail coefficients.
   DetailHandling details = DetailHandling::kThreshold;
-  ThresholdRule threshold = ThresholdRule::kUniversal;
-  ThresholdMode threshold_mode = ThresholdMode::kSoft;
+  ThresholdRule threshold = ThresholdRule::kUniversal;  // rule when details = kThreshold
+  ThresholdMode threshold_mode = ThresholdMode::kSoft;  // soft or hard, when kThreshold
   std::optional<double> noise_sigma;  // known white-noise SD; nullopt = MAD of cD1
   bool IsValid(std::string* error) const;  // checks flp too: "WflpOptions::flp.beta = 3: ..."
 };
 
+// What a WFLP run did.
 struct WflpSummary {
-  std::string wavelet;
-  int level = 0;
-  std::size_t num_samples = 0;
-  std::size_t approximation_length = 0;
-  DetailHandling details = DetailHandling::kThreshold;
+  std::string wavelet;                                  // wavelet name used
+  int level = 0;                                        // decomposition depth L used
+  std::size_t num_samples = 0;                          // input length N
+  std::size_t approximation_length = 0;                 // length of cA_L, the FLP's input
+  DetailHandling details = DetailHandling::kThreshold;  // detail handling used
   FlpSummary flp;                       // FLP on cA_L
   WaveletDenoiseSummary thresholds;     // per-level sigma / threshold (when kThreshold)
+  // "WFLP db4 level 4 (N samples, approximation M), details threshold; FLP ...; wavelet ..."
   std::string BriefReport() const;
 };
 
+// The denoised record and what happened.
 struct WflpResult {
-  std::vector<double> denoised;
-  WflpSummary summary;
+  std::vector<double> denoised;  // same length as the input
+  WflpSummary summary;           // FLP and threshold details
 };
 
 // Errors: invalid options (kInvalidArgument), empty input or non-finite samples (kInvalidInput),

@@ -17,9 +17,11 @@ namespace gyrocomp {
 // minimum and the maximum of y in time order (two points per bucket), so spikes and the noise
 // envelope of millions of samples stay visible while the page stays responsive.
 struct DisplaySeries {
-  std::vector<double> x;
-  std::vector<double> y;
+  std::vector<double> x;  // x of each kept point (x of the bucket's min or max)
+  std::vector<double> y;  // y of each kept point
 };
+// The envelope of y(x) over at most `max_buckets` buckets; a series no longer than 2 x max_buckets
+// is returned whole.
 DisplaySeries MinMaxEnvelope(std::span<const double> x, std::span<const double> y,
                              std::size_t max_buckets = 2000);
 // The same bucket boundaries applied to several y series sharing x (each keeps its own min/max).
@@ -40,7 +42,7 @@ std::vector<DisplaySeries> MinMaxEnvelopes(std::span<const double> x,
 //   tables: [{title, columns: [str], rows: [[..]], note}]
 //   parameters: any JSON (printed verbatim); versions: {name: version}
 struct ReportData {
-  nlohmann::json content = nlohmann::json::object();
+  nlohmann::json content = nlohmann::json::object();  // the sections above; empty by default
 };
 
 // The complete HTML document.

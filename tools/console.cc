@@ -21,26 +21,26 @@ std::string Bold(const std::string& text) { return UseColour() ? "\033[1m" + tex
 
 std::string WarnColour(const std::string& text) { return UseColour() ? "\033[33m" + text + "\033[0m" : text; }
 
-std::string Num(double v, int digits) {
+std::string Figure(double v, int digits) {
   if (!std::isfinite(v)) return "n/a";
   if (std::abs(v) < 1e-7) return "0";
   return FormatNumber(v, digits);
 }
 
-std::string Num(const std::optional<double>& v, int digits) { return v ? Num(*v, digits) : "n/a"; }
+std::string Figure(const std::optional<double>& v, int digits) { return v ? Figure(*v, digits) : "n/a"; }
 
 std::string RateDps(double dps, int digits) {
   if (!std::isfinite(dps)) return "n/a";
-  if (std::abs(dps) >= 1.0) return Num(dps, digits) + " deg/s";
-  return Num(dps * 1e3, digits) + " mdps";
+  if (std::abs(dps) >= 1.0) return Figure(dps, digits) + " deg/s";
+  return Figure(dps * 1e3, digits) + " mdps";
 }
 
 std::string RateRadS(double rad_s, int digits) { return RateDps(rad_s * 180.0 / std::numbers::pi, digits); }
 
 std::string BeforeAfter(double before, double after, const std::string& unit, int digits) {
-  std::string s = Num(before, digits) + " -> " + Num(after, digits) + " " + unit;
+  std::string s = Figure(before, digits) + " -> " + Figure(after, digits) + " " + unit;
   if (std::isfinite(before) && std::isfinite(after) && before > 0.0 && after >= 0.0) {
-    s += " (" + Num(after / before, 2) + "x)";
+    s += " (" + Figure(after / before, 2) + "x)";
   }
   return s;
 }

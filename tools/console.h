@@ -18,8 +18,8 @@ std::string WarnColour(const std::string& text);
 
 // `v` with `digits` significant digits; a magnitude below 1e-7 of its unit (below a float's
 // resolution at one unit, e.g. 2e-19 rad/s) prints as 0, a missing or non-finite value as "n/a".
-std::string Num(double v, int digits = 3);
-std::string Num(const std::optional<double>& v, int digits = 3);
+std::string Figure(double v, int digits = 3);
+std::string Figure(const std::optional<double>& v, int digits = 3);
 
 // A gyro rate or rate error in the unit a person reads, labelled: "18.1 mdps" below 1 deg/s,
 // "1.23 deg/s" from 1 deg/s up. `rad_s` variant converts first.

@@ -107,7 +107,7 @@ void PrintAxisSummary(const GyroLog& log, const std::string& axis, const Pipelin
     return;
   }
   Headline("process", log.source + ", " + axis + ": " + std::to_string(r.num_samples) + " samples at " +
-                          Num(r.fs_hz) + " Hz (" + Num(r.num_samples / r.fs_hz / 3600.0) + " h)");
+                          Figure(r.fs_hz) + " Hz (" + Figure(r.num_samples / r.fs_hz / 3600.0) + " h)");
   int counts[3] = {0, 0, 0};
   for (const ModeReport& m : r.mode_reports) ++counts[static_cast<int>(m.feature) % 3];
   std::ostringstream modes;
@@ -121,13 +121,13 @@ void PrintAxisSummary(const GyroLog& log, const std::string& axis, const Pipelin
     const DriftFitSummary& d = r.drift_model->summary;
     Line("drift model: " + std::string(DriftModelKindName(d.model)) + "(" + DriftInputSetName(d.inputs) +
          "), CV error " + RateDps(d.cv_rmse) + " against a drift span of " + RateDps(d.drift_span) + ", over " +
-         Num(d.temp_min_c) + " .. " + Num(d.temp_max_c) + " C");
+         Figure(d.temp_min_c) + " .. " + Figure(d.temp_max_c) + " C");
   } else {
     Line("drift model: none (no mode was classed as drift)");
   }
   std::string allan = "ARW " + BeforeAfter(r.allan_before.terms.arw_deg_per_sqrt_h.value_or(NAN),
                                            r.allan_after.terms.arw_deg_per_sqrt_h.value_or(NAN), "deg/sqrt(h)");
-  if (r.bandwidth && r.bandwidth->bandwidth_hz) allan += " at a bandwidth of " + Num(*r.bandwidth->bandwidth_hz) + " Hz";
+  if (r.bandwidth && r.bandwidth->bandwidth_hz) allan += " at a bandwidth of " + Figure(*r.bandwidth->bandwidth_hz) + " Hz";
   Line(allan);
   Line("ADEV min " + BeforeAfter(r.allan_before.terms.adev_min_deg_per_h, r.allan_after.terms.adev_min_deg_per_h, "deg/h"));
 }

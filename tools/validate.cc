@@ -40,22 +40,23 @@ void PrintAxis(const std::string& axis, const DriftValidation& v, bool verbose) 
   }
   std::cout << axis << ": residual drift " << RateDps(v.residual_drift_rms) << " RMS against "
             << RateDps(v.raw_drift_rms) << " uncompensated";
-  if (v.raw_drift_rms > 0.0) std::cout << " (" << Num(v.residual_drift_rms / v.raw_drift_rms, 2) << "x)";
+  if (v.raw_drift_rms > 0.0) std::cout << " (" << Figure(v.residual_drift_rms / v.raw_drift_rms, 2) << "x)";
   if (v.rmse_vs_true_drift) std::cout << "; error against the true drift " << RateDps(*v.rmse_vs_true_drift);
   std::cout << "\n";
   if (v.band_level) {
-    std::cout << "  " << Num(100.0 * *v.band_level) << "% band: half-width " << RateDps(v.band_half_width_rms.value_or(NAN))
+    std::cout << "  " << Figure(100.0 * *v.band_level) << "% band: half-width " << RateDps(v.band_half_width_rms.value_or(NAN))
               << " RMS";
-    if (v.band_coverage_truth) std::cout << ", holds " << Num(100.0 * *v.band_coverage_truth) << "% of the true drift";
+    if (v.band_coverage_truth) std::cout << ", holds " << Figure(100.0 * *v.band_coverage_truth) << "% of the true drift";
     else if (v.band_coverage_blocks)
-      std::cout << ", holds " << Num(100.0 * *v.band_coverage_blocks) << "% of the block means (noise included)";
+      std::cout << ", holds " << Figure(100.0 * *v.band_coverage_blocks) << "% of the block means (noise included)";
     std::cout << "\n";
   } else {
     std::cout << "  band: n/a (the model file has none; refit with gyrocomp fit to get one)\n";
   }
-  if (v.fraction_temp_outside > 0.0 || v.fraction_dtemp_outside > 0.0) {
-    std::cout << "  outside the fitted range: T " << Num(100.0 * v.fraction_temp_outside) << "% of samples, dT/dt "
-              << Num(100.0 * v.fraction_dtemp_outside) << "%\n";
+  // A temperature excursion was already said once, as the warning on stderr.
+  if (!v.excursion.outside && v.fraction_dtemp_outside > 0.0) {
+    std::cout << "  outside the fitted range: T " << Figure(100.0 * v.fraction_temp_outside) << "% of samples, dT/dt "
+              << Figure(100.0 * v.fraction_dtemp_outside) << "%\n";
   }
 }
 

@@ -26,6 +26,7 @@
 #include "gyrocomp/export/thermal_cubic.h"
 #include "gyrocomp/export/param_export.h"
 #include "gyrocomp/export/c_export.h"
+#include "gyrocomp/calibrate/calibrate.h"
 #include "gyrocomp/pipeline/pipeline.h"
 #include "gyrocomp/pipeline/compare.h"
 #include "gyrocomp/report/report.h"

@@ -85,6 +85,7 @@ wflp_denoise = _returns("WflpResult")(_core.wflp_denoise)
 fit_drift_model = _core.fit_drift_model
 run_parallel_model = _returns("PipelineResult")(_core.run_parallel_model)
 read_log = _returns("GyroLog")(_core.read_log)
+calibrate = _returns("CalibrateResult")(_core.calibrate)
 project_onto_cubic = _returns("TemperatureCubic")(_core.project_onto_cubic)
 px4_thermal_params = _core.px4_thermal_params
 ardupilot_thermal_params = _core.ardupilot_thermal_params

@@ -15,6 +15,7 @@ void BindDrift(py::module_& m);
 void BindPipeline(py::module_& m);
 void BindExport(py::module_& m);
 void BindIo(py::module_& m);          // issue 12's readers      // issue 12's export stage
+void BindCalibrate(py::module_& m);   // the calibrate stage
 
 // Options structs from keyword arguments (each reads its own fields; the caller calls Done()).
 AllanOptions ReadAllanOptions(Kwargs& kw);

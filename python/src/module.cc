@@ -30,6 +30,7 @@ PYBIND11_MODULE(_core, m) {
   BindPipeline(m);
   BindExport(m);
   BindIo(m);
+  BindCalibrate(m);
 }
 
 }  // namespace gyrocomp::python

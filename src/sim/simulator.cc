@@ -1,6 +1,7 @@
 // The chamber-experiment simulator: sensor thermal lag, temperature-dependent bias with rate and
 // hysteresis terms, IEEE 952 noise terms. Model and units: docs/simulator.md.
 #include "gyrocomp/sim/simulator.h"
+#include "gyrocomp/sim/board_boot.h"
 
 #include <algorithm>
 #include <chrono>
@@ -507,26 +508,39 @@ std::uint32_t BoardAccelDeviceId(int imu) {
 std::uint32_t BoardBaroDeviceId() { return Px4DeviceId(2, 4, 2, 0x3D); }  // MS5611, SPI4
 
 Result<std::string> EncodeBoardULog(const BoardRun& b, double log_rate_hz) {
+  std::vector<int> order(b.imus.size());
+  for (std::size_t k = 0; k < order.size(); ++k) order[k] = static_cast<int>(k);
+  return EncodeBoardULogEnumerated(b, log_rate_hz, order);
+}
+
+Result<std::string> EncodeBoardULogEnumerated(const BoardRun& b, double log_rate_hz, const std::vector<int>& order) {
   if (Status st = CheckBoard(b, log_rate_hz); !st.ok()) return st.error();
+  std::vector<int> sorted = order;
+  std::sort(sorted.begin(), sorted.end());
+  for (std::size_t k = 0; k < sorted.size(); ++k)
+    if (sorted.size() != b.imus.size() || sorted[k] != static_cast<int>(k))
+      return InvalidArgument("enumeration order: must be a permutation of the board's " + std::to_string(b.imus.size()) + " IMUs");
   const std::size_t stride = LogStride(b, log_rate_hz);
   ULogWriteInput in;
   in.sys_name = "gyrocomp simulate";
   in.int_parameters = {{"TC_A_ENABLE", 0}, {"TC_B_ENABLE", 0}, {"TC_G_ENABLE", 0}};
   for (std::size_t k = 0; k < b.imus.size(); ++k) {
+    const int imu = order[k];  // the IMU the driver enumerated k-th at this boot
+    const BoardImuRun& run = b.imus[static_cast<std::size_t>(imu)];
     for (const char* topic : {"sensor_gyro", "sensor_accel"}) {
       const bool gyro = topic[7] == 'g';
       ULogSensorWriteSeries s;
       s.topic = topic;
       s.multi_id = static_cast<int>(k);
-      s.device_id = gyro ? BoardGyroDeviceId(static_cast<int>(k)) : BoardAccelDeviceId(static_cast<int>(k));
-      const auto& v = gyro ? b.imus[k].gyro_rad_s : b.imus[k].accel_m_s2;
+      s.device_id = gyro ? BoardGyroDeviceId(imu) : BoardAccelDeviceId(imu);
+      const auto& v = gyro ? run.gyro_rad_s : run.accel_m_s2;
       for (std::size_t i = 0; i < b.time_s.size(); i += stride) {
         // Sensors of one board are not sampled at the same microsecond: offset by instance.
         s.timestamp_us.push_back(Us(b.time_s[i]) + 10 * k + (gyro ? 0 : 5));
         s.x.push_back(static_cast<float>(v[0][i]));
         s.y.push_back(static_cast<float>(v[1][i]));
         s.z.push_back(static_cast<float>(v[2][i]));
-        s.temperature_c.push_back(static_cast<float>(b.imus[k].temp_c[i]));
+        s.temperature_c.push_back(static_cast<float>(run.temp_c[i]));
       }
       in.series.push_back(std::move(s));
     }

@@ -1,0 +1,135 @@
+// Thermal calibration of every gyro, accelerometer (and PX4 barometer) of a flight log, written
+// as ONE parameter file the autopilot loads (docs/export.md; the CLI is `gyrocomp calibrate`).
+//
+// Per sensor: the rows in the sensor frame (the readers undo ArduPilot's board rotation and
+// thermal correction), block means at fit_rate_hz, the library's default FitDriftModel (auto),
+// the static curve projected onto the firmware's cubic over the sensor's temperature range, and
+// the constant the firmware leaves to its offset calibration removed:
+//   PX4 gyro: X0..X3 = the drift itself (TemperatureCompensation subtracts it before CAL_GYRO);
+//   PX4 accel / baro: X0 = 0 (process_sensor_caldata.py subtracts the median: gravity and the
+//     constant go to CAL_ACC / the baro offset, recalibrated after loading, its step 12);
+//   ArduPilot gyro / accel: re-expanded about 35 C, constant dropped (correct_sensor is relative
+//     to INS_*_CALTEMP; tempcal_IMU.py drops it too).
+// A sensor that cannot be calibrated keeps its entry (its reason set) and its slot is disabled
+// in the file. Several logs of one board: each sensor of the first log is matched in the others
+// by its device id (PX4; the instance number where a log has none), every match calibrated over
+// the range all of them cover and the cubics averaged.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "gyrocomp/core/status.h"
+#include "gyrocomp/drift/drift_model.h"
+#include "gyrocomp/export/cubic_score.h"
+#include "gyrocomp/export/static_weight.h"
+#include "gyrocomp/export/thermal_cubic.h"
+
+namespace gyrocomp {
+
+struct CalibrateOptions {
+  // The parameter file and the log kind it needs: "px4" (ULog in; QGroundControl TC_* file out)
+  // or "ardupilot" (DataFlash in; INS_TCAL* file out). No default a user could rely on: the CLI
+  // requires it.
+  std::string format = "px4";
+  // Rows per second the fit sees: block means of the log's rows, Hz (tempcal_IMU.py: 2 s moving
+  // average). The drift is slow; the fit then sees the same rows whatever the log rate.
+  double fit_rate_hz = 1.0;
+  // Smallest temperature span calibrated, deg C (ArduPilot's TEMP_RANGE_MIN,
+  // AP_InertialSensor_tempcal.cpp).
+  double min_span_c = 10.0;
+  // Fewest rows after the block means; fewer: the sensor is skipped.
+  std::size_t min_rows = 60;
+  // What the exported cubic is optimised for (CubicCondition): "steady" (dT/dt = 0, the static
+  // curve), "warm-up" (the state the run had while heating) or "both" (their mean).
+  std::string optimise_for = "steady";
+  // How the static curve is estimated: "temperature" (each temperature alike, static_cubic.h),
+  // "time" (the fitted model's own curve at state 0) or "auto" (per axis, the one with the lower
+  // expected next-run error; static_weight.h).
+  std::string static_weight = "auto";
+  // A second log of the same board (same kind): every exported cubic (firmware formula) and the
+  // full model scored on it. Empty: no validation.
+  std::string validation_path;
+  // Validation: the residual block means, s (bench/imu_calibration_side_by_side.py).
+  double block_s = 10.0;
+
+  // False with a message naming the field when a value is out of range.
+  bool IsValid(std::string* error) const;
+};
+
+// One sensor instance of a log: its rows (sensor frame, firmware unit) and what calibration made
+// of them.
+struct CalibratedSensor {
+  std::string type;  // gyro | accel | baro
+  int instance = 0;
+  std::optional<std::uint32_t> device_id;
+  std::vector<double> time_s, temp_c;       // after the block means
+  std::vector<std::vector<double>> values;  // per axis, firmware unit (rad/s, m/s^2, Pa)
+  std::vector<std::string> cols;            // x_rad_s | x_m_s2 | pressure_pa
+  std::string unit;                         // firmware unit
+  double to_model = 1.0;                    // firmware unit -> model unit (gyro: deg/s)
+  std::string model_unit;
+  // Outcome.
+  std::string reason;  // non-empty: skipped, and why
+  int slot = -1;       // PX4 slot / ArduPilot IMU n
+  std::vector<DriftModel> models;
+  std::vector<TemperatureCubic> cubics;  // firmware unit, constant handled as the file needs
+  // Both candidates of static_weight (firmware unit, as `cubics`; the temperature one only when
+  // computed), the weighting each axis's exported cubic has, and "auto"'s comparison (nullopt:
+  // not auto, or no band; then weight_reason says why).
+  std::vector<TemperatureCubic> cubics_time, cubics_temperature;
+  std::vector<std::string> weights;
+  std::vector<std::optional<StaticWeightChoice>> weight_choices;
+  std::string weight_reason;
+  std::vector<double> cost_rms;  // projection cost on the run, firmware unit
+  // RMS over the range of cubic - full model at state 0 (steady) and along the run's warm-up
+  // state (warm-up), firmware unit: what the exported cubic loses in each condition.
+  std::vector<double> steady_rms, warm_up_rms;
+  // Expected next-run error of each axis's cubic (model band + projection), per condition.
+  std::vector<std::optional<CubicExpectedError>> expected;
+  std::string band_reason;  // why `expected` is missing (a model without a band)
+  double temp_min_c = 0.0, temp_max_c = 0.0;
+  // Validation: per axis RMS of the residual block means on the validation run, firmware unit.
+  struct Validation {
+    std::string reason;  // non-empty: not validated
+    std::size_t rows = 0;
+    double temp_min_c = 0.0, temp_max_c = 0.0;
+    std::vector<double> raw, cubic, full_model;
+  };
+  std::optional<Validation> validation;
+  int runs_combined = 1;  // logs whose cubics were averaged
+
+  bool calibrated() const { return reason.empty(); }
+};
+
+struct CalibrateResult {
+  std::vector<std::string> inputs;  // the logs, first = primary (models, bands, cost)
+  CalibrateOptions options;
+  std::vector<CalibratedSensor> sensors;  // every sensor of the first log, skipped ones too
+  // The parameter file (PX4 or ArduPilot, every sensor, disabled slots included); empty when no
+  // sensor could be calibrated.
+  std::string parameter_text;
+  // What the readers said on the way (e.g. an ArduPilot log's rotation undone), once each.
+  std::vector<std::string> notes;
+
+  bool AnyCalibrated() const;
+  // The per-sensor table: span, model, projection cost, expected error, static weighting and,
+  // with a validation run, its scores.
+  std::string BriefReport() const;
+};
+
+// Calibrates every sensor of logs[0], combined with the same board's sensors in logs[1..]. An
+// error: options not valid, a log unreadable, logs of different kinds or different boards (no
+// device id in common), the format not the logs' kind. A result with no calibrated sensor is not
+// an error: each sensor carries its reason and parameter_text is empty.
+Result<CalibrateResult> CalibrateLogs(const std::vector<std::string>& logs, const CalibrateOptions& options);
+
+// "steady 1e-4 2e-4 3e-4" (firmware unit, per axis) or the reason no band is available.
+std::string ExpectedErrorText(const CalibratedSensor& s, bool warm_up);
+// "static weight temperature time time (auto, expected error ...)".
+std::string StaticWeightText(const CalibratedSensor& s);
+
+}  // namespace gyrocomp

@@ -1,0 +1,49 @@
+// An ordinary flight of a small vehicle as the IMU sees it, for the still detector's tests: power
+// on at the ambient temperature, still on the ground while the board self-heats, armed (motors
+// spinning: vibration, still on the ground), a flight with manoeuvres, vibration and airflow
+// cooling, landing (motors still spinning a moment), disarmed and still again. Each power-on has
+// its own constant offset (turn-on repeatability). Ground truth: which samples are still.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "gyrocomp/core/status.h"
+
+namespace gyrocomp {
+
+struct FlightSimOptions {
+  double fs_hz = 200.0;               // IMU rows per second
+  double ambient_c = 20.0;            // air temperature at power-on, C
+  double still_before_s = 300.0;      // still on the ground after power-on, s
+  double armed_ground_s = 4.0;        // armed, motors spinning, before take-off, s
+  double flight_s = 600.0;            // in the air, s
+  double landed_armed_s = 3.0;        // on the ground again, motors spinning, s
+  double still_after_s = 180.0;       // disarmed, still, s
+  double self_heating_c = 15.0;       // board temperature rise over the ambient when still, C
+  double self_heating_tau_s = 400.0;  // its time constant, s
+  double airflow_cooling_c = 8.0;     // how far the airflow pulls the board down in flight, C
+  double gyro_noise_dps = 0.02;       // white noise per sample, deg/s (1 sigma)
+  double accel_noise_m_s2 = 0.02;     // white noise per sample, m/s^2 (1 sigma)
+  double gyro_offset_dps = 0.05;      // per-power-on offset, 1 sigma per axis, deg/s
+  double accel_offset_m_s2 = 0.196;   // per-power-on offset, 1 sigma per axis (20 mg), m/s^2
+  double vibration_gyro_dps = 3.0;    // motor vibration on the gyro (1 sigma), deg/s
+  double vibration_accel_m_s2 = 3.0;  // motor vibration on the accelerometer (1 sigma), m/s^2
+  double manoeuvre_rate_dps = 60.0;   // manoeuvre body rates, amplitude, deg/s
+  std::uint64_t seed = 1;
+  bool IsValid(std::string* error) const;
+};
+
+struct FlightRun {
+  std::vector<double> time_s, temp_c;
+  std::array<std::vector<double>, 3> gyro_rad_s, accel_m_s2;  // sensor frame (FRD)
+  std::vector<bool> armed;        // the log's armed state
+  std::vector<bool> landed;       // the log's landed state
+  std::vector<bool> truly_still;  // ground truth: disarmed on the ground, nothing moving
+};
+
+Result<FlightRun> SimulateFlight(const FlightSimOptions& options);
+
+}  // namespace gyrocomp

@@ -1,0 +1,40 @@
+"""gyrocomp.calibrate: the calibrate stage from Python gives the file the CLI writes."""
+import json
+import subprocess
+
+import pytest
+
+import gyrocomp
+
+
+def simulate_board(cli, path):
+    subprocess.run([cli, "simulate", "--profile", "ramp", "--ramp-end", "60", "--room-hold", "600", "--hold", "600",
+                    "--fs", "10", "--imus", "3", "-o", str(path)], check=True, capture_output=True)
+    return str(path)
+
+
+@pytest.mark.parametrize("fmt,name", [("px4", "board.ulg"), ("ardupilot", "board.bin")])
+def test_python_parameter_text_equals_the_cli_file(cli, tmp_path, fmt, name):
+    log = simulate_board(cli, tmp_path / name)
+    out = tmp_path / "tc.params"
+    subprocess.run([cli, "calibrate", "-i", log, "--format", fmt, "-o", str(out), "--json", str(tmp_path / "cal.json")],
+                   check=True, capture_output=True)
+    r = gyrocomp.calibrate([log], format=fmt)
+    assert r.parameter_text == out.read_text()
+    cal = json.loads((tmp_path / "cal.json").read_text())
+    assert len(r.sensors) == len(cal["sensors"])
+    for s, j in zip(r.sensors, cal["sensors"]):
+        assert (s.type, s.instance, s.status) == (j["type"], j["instance"], j["status"])
+        for cubic, axis in zip(s.cubics, j["axes"]):
+            assert cubic.coeff == pytest.approx(axis["cubic"]["coeff"], rel=1e-12, abs=0)
+    assert "gyro    2" in r.brief_report
+
+
+def test_options_are_checked(cli, tmp_path):
+    log = simulate_board(cli, tmp_path / "board.ulg")
+    with pytest.raises(ValueError, match="fit_rate_hz"):
+        gyrocomp.calibrate([log], fit_rate_hz=0.0)
+    with pytest.raises(TypeError, match="'fit_rate'"):
+        gyrocomp.calibrate([log], fit_rate=1.0)
+    r = gyrocomp.calibrate([log], min_span_c=100.0)
+    assert r.parameter_text == "" and all("temperature span" in s.reason for s in r.sensors)

@@ -1,0 +1,483 @@
+// The calibrate stage (include/gyrocomp/calibrate/calibrate.h): the sensors of a log, block
+// means, the fit and projection per axis, combining several runs of one board, and the scores on
+// a validation run.
+#include "gyrocomp/calibrate/calibrate.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "gyrocomp/core/format.h"
+#include "gyrocomp/drift/drift_model.h"
+#include "gyrocomp/export/cubic_score.h"
+#include "gyrocomp/export/param_export.h"
+#include "gyrocomp/export/static_cubic.h"
+#include "gyrocomp/export/static_weight.h"
+#include "gyrocomp/export/thermal_cubic.h"
+#include "gyrocomp/io/flight_log.h"
+#include "calibrate_internal.h"
+
+namespace gyrocomp {
+namespace calibrate_internal {
+namespace {
+
+constexpr double kDegPerRad = 180.0 / std::numbers::pi;
+
+std::vector<double> Seconds(const std::vector<std::uint64_t>& us) {
+  std::vector<double> t(us.size());
+  for (std::size_t i = 0; i < us.size(); ++i) t[i] = static_cast<double>(us[i]) * 1e-6;
+  return t;
+}
+
+Sensor MakeSensor(std::string type, int instance, std::optional<std::uint32_t> id, const std::vector<std::uint64_t>& t_us,
+                  std::vector<double> temp, std::vector<std::vector<double>> values) {
+  Sensor s;
+  s.type = std::move(type);
+  s.instance = instance;
+  s.device_id = id;
+  s.time_s = Seconds(t_us);
+  s.temp_c = std::move(temp);
+  s.values = std::move(values);
+  if (s.type == "gyro") {
+    s.cols = {"x_rad_s", "y_rad_s", "z_rad_s"}, s.unit = "rad/s", s.to_model = kDegPerRad, s.model_unit = "deg/s";
+  } else if (s.type == "accel") {
+    s.cols = {"x_m_s2", "y_m_s2", "z_m_s2"}, s.unit = s.model_unit = "m/s^2";
+  } else {
+    s.cols = {"pressure_pa"}, s.unit = s.model_unit = "Pa";
+  }
+  if (s.temp_c.size() != s.time_s.size()) s.reason = "no temperature logged";
+  return s;
+}
+
+Result<std::vector<Sensor>> SensorsOfULog(const std::string& path, double fit_rate_hz) {
+  // Means over 1 / fit_rate windows while reading: the full-rate rows are never held.
+  ULogReadOptions read;
+  read.average_window_us = static_cast<std::uint64_t>(std::llround(1e6 / fit_rate_hz));
+  Result<ULogContents> log = ReadULog(path, read);
+  if (!log.ok()) return log.error();
+  std::vector<Sensor> out;
+  for (const auto& g : log->gyros)
+    out.push_back(MakeSensor("gyro", g.multi_id, g.device_id, g.timestamp_us, g.temperature_c, {g.x_rad_s, g.y_rad_s, g.z_rad_s}));
+  for (const auto& a : log->accels)
+    out.push_back(MakeSensor("accel", a.multi_id, a.device_id, a.timestamp_us, a.temperature_c, {a.x_m_s2, a.y_m_s2, a.z_m_s2}));
+  for (const auto& b : log->baros)
+    out.push_back(MakeSensor("baro", b.multi_id, b.device_id, b.timestamp_us, b.temperature_c, {b.pressure_pa}));
+  if (out.empty()) return InvalidInput(path + ": no sensor_gyro, sensor_accel or sensor_baro data (" + log->BriefReport() + ")");
+  // PX4 slots: the order of the instances of each kind (at most 4).
+  for (const char* type : {"gyro", "accel", "baro"}) {
+    int next = 0;
+    for (Sensor& s : out)
+      if (s.type == type) s.slot = next++;
+  }
+  return out;
+}
+
+Result<std::vector<Sensor>> SensorsOfDataFlash(const std::string& path, double fit_rate_hz, std::vector<std::string>* notes_out) {
+  // Means over 1 / fit_rate windows while reading (the rotation undone later is linear; the
+  // thermal-correction undo is evaluated at the window's mean temperature).
+  DataFlashReadOptions read;
+  read.average_window_us = static_cast<std::uint64_t>(std::llround(1e6 / fit_rate_hz));
+  Result<DataFlashContents> log = ReadDataFlash(path, read);
+  if (!log.ok()) return log.error();
+  std::vector<Sensor> out;
+  for (const DataFlashImuSeries& raw : log->imus) {
+    std::vector<std::string> notes;
+    Result<DataFlashImuSeries> s = DataFlashImuToSensorFrame(*log, raw, &notes);  // rotation, TCAL undone
+    if (!s.ok()) return s.error();
+    for (const std::string& n : notes)
+      if (std::find(notes_out->begin(), notes_out->end(), n) == notes_out->end()) notes_out->push_back(n);
+    out.push_back(MakeSensor("gyro", s->instance, std::nullopt, s->time_us, s->temp_c,
+                             {s->gyr_x_rad_s, s->gyr_y_rad_s, s->gyr_z_rad_s}));
+    if (!s->acc_x_m_s2.empty())
+      out.push_back(MakeSensor("accel", s->instance, std::nullopt, s->time_us, s->temp_c,
+                               {s->acc_x_m_s2, s->acc_y_m_s2, s->acc_z_m_s2}));
+  }
+  if (out.empty()) return InvalidInput(path + ": no IMU rows (" + log->BriefReport() + ")");
+  for (Sensor& s : out) s.slot = s.instance + 1;  // INS_TCAL<n>
+  return out;
+}
+
+// Block means of `n` rows (the last partial block dropped): the thermal drift is slow, and the
+// fit then sees the same rows whatever the log rate (tempcal_IMU.py: 2 s moving average).
+void BlockMeans(Sensor* s, double fit_rate_hz) {
+  const std::size_t rows = s->time_s.size();
+  if (rows < 2) return;
+  const double fs = static_cast<double>(rows - 1) / (s->time_s.back() - s->time_s.front());
+  const auto n = static_cast<std::size_t>(std::max(1.0, std::floor(fs / fit_rate_hz)));
+  auto mean = [&](const std::vector<double>& v) {
+    std::vector<double> out;
+    for (std::size_t b = 0; b + n <= v.size(); b += n) {
+      double sum = 0.0;
+      for (std::size_t i = b; i < b + n; ++i) sum += v[i];
+      out.push_back(sum / static_cast<double>(n));
+    }
+    return out;
+  };
+  s->time_s = mean(s->time_s);
+  s->temp_c = mean(s->temp_c);
+  for (auto& v : s->values) v = mean(v);
+}
+
+// RMS over 201 temperatures of the range of cubic - model at state 0 and at the warm-up state
+// (model unit; the cubic before any constant is removed).
+std::pair<double, double> ConditionErrors(const DriftModel& m, const TemperatureCubic& c, const StateByTemperature& warm) {
+  double ss_steady = 0.0, ss_warm = 0.0;
+  constexpr int kPoints = 201;
+  for (int i = 0; i < kPoints; ++i) {
+    const double t = c.temp_min_c + (c.temp_max_c - c.temp_min_c) * i / (kPoints - 1);
+    const double cubic = c.Evaluate(t);
+    ss_steady += std::pow(cubic - m.PredictAt(t, 0.0), 2);
+    ss_warm += std::pow(cubic - m.PredictAt(t, m.inputs == DriftInputSet::kTemp ? 0.0 : warm.At(t)), 2);
+  }
+  return {std::sqrt(ss_steady / kPoints), std::sqrt(ss_warm / kPoints)};
+}
+
+// --static-weight temperature: the static part of `cubic` (the model's curve at state 0) replaced
+// by the run's static curve with each temperature weighted alike; what --optimise-for adds to the
+// static curve (the model's warm-up state) is kept: the projection is linear in the curve, so
+// cubic = static + (projection for the condition - projection at state 0), on one range and ref.
+Status StaticByTemperature(const DriftModel& m, const DriftInputs& run, const std::vector<double>& y,
+                           const CubicProjectionOptions& po, TemperatureCubic* cubic) {
+  CubicProjectionOptions steady = po;
+  steady.condition = CubicCondition::kSteady;
+  steady.ref_temp_c = cubic->ref_temp_c;
+  Result<TemperatureCubic> model_static = ProjectOntoCubic(m, steady);
+  if (!model_static.ok()) return model_static.error();
+  StaticCubicOptions so;
+  so.temp_min_c = cubic->temp_min_c, so.temp_max_c = cubic->temp_max_c, so.ref_temp_c = cubic->ref_temp_c;
+  Result<TemperatureCubic> data_static = FitStaticCubicByTemperature(m, run, y, so);
+  if (!data_static.ok()) return data_static.error();
+  for (std::size_t j = 0; j < 4; ++j) cubic->coeff[j] = data_static->coeff[j] + (cubic->coeff[j] - model_static->coeff[j]);
+  return Status::Ok();
+}
+
+// Fits and projects one sensor; sets `reason` when it cannot be calibrated.
+void Calibrate(Sensor* s, const Args& a, std::optional<std::pair<double, double>> range = std::nullopt) {
+  if (!s->reason.empty()) return;
+  if (s->slot < 0 || s->slot > (a.format == "px4" ? kPx4TcalSlots - 1 : 3) || (a.format == "ardupilot" && s->slot < 1)) {
+    s->reason = a.format == "px4" ? "PX4 has 4 calibration slots per sensor kind" : "ArduPilot has INS_TCAL1..3 only";
+    return;
+  }
+  if (a.format == "ardupilot" && s->type == "baro") {
+    s->reason = "ArduPilot has no barometer thermal calibration";
+    return;
+  }
+  BlockMeans(s, a.fit_rate_hz);
+  if (s->time_s.size() < a.min_rows) {
+    s->reason = std::to_string(s->time_s.size()) + " rows at " + FormatNumber(a.fit_rate_hz, 4) + " Hz < " + std::to_string(a.min_rows);
+    return;
+  }
+  const auto [lo, hi] = std::minmax_element(s->temp_c.begin(), s->temp_c.end());
+  s->temp_min_c = *lo, s->temp_max_c = *hi;
+  if (*hi - *lo < a.min_span_c) {
+    s->reason = "temperature span " + FormatNumber(*hi - *lo, 4) + " C < " + FormatNumber(a.min_span_c, 4) + " C";
+    return;
+  }
+  if (range) s->temp_min_c = range->first, s->temp_max_c = range->second;
+  const double fs = static_cast<double>(s->time_s.size() - 1) / (s->time_s.back() - s->time_s.front());
+  const DriftInputs inputs{s->temp_c, fs};
+  CubicProjectionOptions po;
+  po.temp_min_c = s->temp_min_c;
+  po.temp_max_c = s->temp_max_c;
+  po.condition = *ParseCubicCondition(a.optimise_for);
+  static const DriftFitOptions kFitOptions;  // the library default (auto)
+  for (std::size_t k = 0; k < s->values.size(); ++k) {
+    std::vector<double> y = s->values[k];
+    for (double& v : y) v *= s->to_model;
+    Result<DriftModel> m = FitDriftModel(inputs, y, kFitOptions);
+    if (!m.ok()) {
+      s->reason = "fit of " + s->cols[k] + " failed: " + m.error().message;
+      return;
+    }
+    m->rate_col = s->cols[k];
+    m->unit = s->model_unit;
+    Result<StateByTemperature> warm = StateWhileHeating(*m, inputs);
+    if (!warm.ok()) {
+      s->reason = "warm-up state of " + s->cols[k] + ": " + warm.error().message;
+      return;
+    }
+    po.warm_up = *warm;
+    Result<TemperatureCubic> c = ProjectOntoCubic(*m, po);
+    if (!c.ok()) {
+      s->reason = "projection of " + s->cols[k] + " failed: " + c.error().message;
+      return;
+    }
+    TemperatureCubic by_temp = *c;
+    if (a.static_weight != "time") {
+      if (Status st = StaticByTemperature(*m, inputs, y, po, &by_temp); !st.ok()) {
+        s->reason = "static curve of " + s->cols[k] + ": " + st.error().message;
+        return;
+      }
+    }
+    s->weights.push_back(a.static_weight);
+    s->weight_choices.emplace_back(std::nullopt);
+    if (a.static_weight == "auto") {
+      Result<StaticWeightChoice> ch = ChooseStaticWeight(*m, inputs, po.temp_min_c.value(), po.temp_max_c.value(), po.condition);
+      if (ch.ok()) {
+        s->weights.back() = StaticWeightName(ch->chosen);
+        s->weight_choices.back() = *ch;
+      } else {
+        s->weights.back() = "temperature";  // the robust one when the run gives no evidence
+        s->weight_reason = "auto fell back to temperature: " + ch.error().message;
+      }
+    }
+    const auto firmware = [&](const TemperatureCubic& model_unit) {
+      TemperatureCubic fw = model_unit.Scaled(1.0 / s->to_model);
+      if (a.format == "px4" && s->type != "gyro") fw.coeff[0] = 0.0;  // the script subtracts the median
+      return fw;
+    };
+    s->cubics_time.push_back(firmware(*c));
+    s->cubics_temperature.push_back(firmware(by_temp));
+    if (s->weights.back() == "temperature") *c = by_temp;
+    Result<CubicProjectionCost> cost = MeasureCubicProjectionCost(*m, *c, inputs);
+    TemperatureCubic fw = firmware(*c);
+    s->cost_rms.push_back(cost.ok() ? cost->rms / s->to_model : NAN);
+    const auto [steady, warm_up] = ConditionErrors(*m, *c, *warm);
+    s->steady_rms.push_back(steady / s->to_model);
+    s->warm_up_rms.push_back(warm_up / s->to_model);
+    Result<CubicExpectedError> e = ExpectedCubicError(*m, *c, inputs);
+    if (e.ok()) {
+      s->expected.emplace_back(*e);
+    } else {
+      s->expected.emplace_back(std::nullopt);
+      s->band_reason = e.error().message;
+    }
+    s->cubics.push_back(fw);
+    s->models.push_back(std::move(*m));
+  }
+}
+
+// The sensor of `run` that is `s`: the same type and device id when both logs give one (the
+// instance number is the order in which the drivers enumerated the IMUs at that boot and can
+// change between power-ons; the device id stays with the chip), else the same type and instance.
+const Sensor* Match(const std::vector<Sensor>& run, const Sensor& s) {
+  if (s.device_id)
+    for (const Sensor& v : run)
+      if (v.type == s.type && v.device_id && *v.device_id == *s.device_id) return &v;
+  for (const Sensor& v : run)
+    if (v.type == s.type && v.instance == s.instance && (!v.device_id || !s.device_id)) return &v;
+  return nullptr;
+}
+
+// A log of another board: both logs give device ids and none of them is in both. An error naming
+// the log and the ids; ok when the logs share an id or either has none (ArduPilot's IMU rows).
+Status SameBoard(const std::vector<Sensor>& primary, const std::string& primary_path, const std::vector<Sensor>& run,
+                 const std::string& path) {
+  std::string ids_primary, ids_run;
+  bool any_primary = false, any_run = false;
+  for (const Sensor& s : primary) {
+    if (!s.device_id) continue;
+    any_primary = true;
+    ids_primary += (ids_primary.empty() ? "" : ", ") + s.type + " " + std::to_string(*s.device_id);
+    for (const Sensor& v : run)
+      if (v.type == s.type && v.device_id && *v.device_id == *s.device_id) return Status::Ok();
+  }
+  for (const Sensor& v : run)
+    if (v.device_id) {
+      any_run = true;
+      ids_run += (ids_run.empty() ? "" : ", ") + v.type + " " + std::to_string(*v.device_id);
+    }
+  if (!any_primary || !any_run) return Status::Ok();
+  return InvalidInput(path + ": a log of another board: no sensor device id in common with " + primary_path + " (" +
+                      primary_path + ": " + ids_primary + "; " + path + ": " + ids_run + ")");
+}
+
+// Scores every axis of `s` on its match `v` of the validation run: the raw value, the exported
+// cubic under the firmware's formula (float32, clamped; ArduPilot's CALTEMP = the run's first
+// temperature) and the full model (causal, as the generated C runs it), as RMS of block means.
+Sensor::Validation ScoreOn(const Sensor& s, const Sensor* v, const Args& a) {
+  Sensor::Validation out;
+  if (!v) {
+    out.reason = "no " + s.type + " " + std::to_string(s.instance) + " in " + a.validation_path;
+    return out;
+  }
+  if (!v->reason.empty()) {
+    out.reason = v->reason;
+    return out;
+  }
+  out.rows = v->time_s.size();
+  if (out.rows < 2) {
+    out.reason = std::to_string(out.rows) + " rows";
+    return out;
+  }
+  const auto [lo, hi] = std::minmax_element(v->temp_c.begin(), v->temp_c.end());
+  out.temp_min_c = *lo, out.temp_max_c = *hi;
+  const double fs = static_cast<double>(out.rows - 1) / (v->time_s.back() - v->time_s.front());
+  const auto block = static_cast<std::size_t>(std::max(1.0, std::round(a.block_s * fs)));
+  const FirmwareFormula formula = a.format == "px4" ? FirmwareFormula::kPx4 : FirmwareFormula::kArduPilot;
+  const std::vector<double> zero(out.rows, 0.0);
+  for (std::size_t k = 0; k < s.cubics.size(); ++k) {
+    const std::vector<double> fw = FirmwareCorrection(formula, s.cubics[k], v->temp_c, v->temp_c.front());
+    Result<std::vector<double>> full = s.models[k].Predict({v->temp_c, fs}, /*causal=*/true);
+    if (!full.ok()) {
+      out.reason = "full model of " + s.cols[k] + ": " + full.error().message;
+      return out;
+    }
+    for (double& x : *full) x /= s.to_model;
+    Result<double> raw = ResidualBlockRms(v->values[k], zero, block);
+    Result<double> cubic = ResidualBlockRms(v->values[k], fw, block);
+    Result<double> model = ResidualBlockRms(v->values[k], *full, block);
+    for (const Result<double>* r : {&raw, &cubic, &model})
+      if (!r->ok()) {
+        out.reason = r->error().message;
+        return out;
+      }
+    out.raw.push_back(*raw), out.cubic.push_back(*cubic), out.full_model.push_back(*model);
+  }
+  return out;
+}
+
+// --validation: the second log read as the calibration log, each calibrated sensor scored on it.
+Status Validate(const Args& a, LogFormat format, std::vector<Sensor>* all) {
+  if (a.validation_path.empty()) return Status::Ok();
+  if (DetectLogFormat(a.validation_path) != format)
+    return InvalidInput(a.validation_path + ": --validation must be a log of the same kind as -i (" +
+                        std::string(LogFormatName(format)) + ")");
+  auto run = format == LogFormat::kULog ? SensorsOfULog(a.validation_path, a.fit_rate_hz)
+                                        : SensorsOfDataFlash(a.validation_path, a.fit_rate_hz, a.notes);
+  if (!run.ok()) return run.error();
+  for (Sensor& v : *run) {
+    if (!v.reason.empty()) continue;
+    BlockMeans(&v, a.fit_rate_hz);
+    if (v.time_s.size() < 2) v.reason = "fewer than 2 rows in " + a.validation_path;
+  }
+  if (Status st = SameBoard(*all, a.input, *run, a.validation_path); !st.ok()) return st;
+  for (Sensor& s : *all)
+    if (s.reason.empty()) s.validation = ScoreOn(s, Match(*run, s), a);
+  return Status::Ok();
+}
+
+// Several -i logs of one board: each sensor of the first log is matched in the others (type and
+// device id; type and instance where a log has no device id; Match), logs of another board
+// refused, every match calibrated over the range all of them cover, and the cubics
+// averaged coefficient by coefficient (one range and reference): the calibration runs' noise
+// averages out as 1/sqrt(runs) (docs/export.md). Models, bands and costs stay the first run's.
+Status CombineRuns(const Args& a, LogFormat format, std::vector<Sensor>* primary) {
+  if (a.inputs.size() < 2) return Status::Ok();
+  std::vector<std::vector<Sensor>> others;
+  for (std::size_t r = 1; r < a.inputs.size(); ++r) {
+    if (DetectLogFormat(a.inputs[r]) != format)
+      return InvalidInput(a.inputs[r] + ": every -i must be a log of the same kind as " + a.input);
+    auto run = format == LogFormat::kULog ? SensorsOfULog(a.inputs[r], a.fit_rate_hz) : SensorsOfDataFlash(a.inputs[r], a.fit_rate_hz, a.notes);
+    if (!run.ok()) return run.error();
+    if (Status st = SameBoard(*primary, a.input, *run, a.inputs[r]); !st.ok()) return st;
+    for (Sensor& v : *run) Calibrate(&v, a);
+    others.push_back(std::move(*run));
+  }
+  for (Sensor& s : *primary) {
+    if (!s.reason.empty()) continue;
+    std::vector<Sensor*> runs;
+    double lo = s.temp_min_c, hi = s.temp_max_c;
+    for (std::size_t r = 0; r < others.size(); ++r) {
+      const Sensor* m = Match(others[r], s);
+      if (!m || !m->reason.empty()) {
+        s.reason = "not calibrated in " + a.inputs[r + 1] + (m ? ": " + m->reason : ": no such sensor");
+        break;
+      }
+      runs.push_back(const_cast<Sensor*>(m));
+      lo = std::max(lo, m->temp_min_c), hi = std::min(hi, m->temp_max_c);
+    }
+    if (!s.reason.empty()) continue;
+    if (hi - lo < a.min_span_c) {
+      s.reason = "the -i logs share only " + FormatNumber(lo, 4) + ".." + FormatNumber(hi, 4) + " C < --min-span";
+      continue;
+    }
+    runs.insert(runs.begin(), &s);
+    for (Sensor* r : runs) {  // again over the common range (the block means are kept: n = 1)
+      r->models.clear(), r->cubics.clear(), r->cost_rms.clear(), r->steady_rms.clear(), r->warm_up_rms.clear();
+      r->expected.clear(), r->cubics_time.clear(), r->cubics_temperature.clear(), r->weights.clear();
+      r->weight_choices.clear();
+      Calibrate(r, a, std::pair{lo, hi});
+      if (!r->reason.empty()) {
+        s.reason = r->reason;
+        break;
+      }
+    }
+    if (!s.reason.empty()) continue;
+    for (std::size_t k = 0; k < s.cubics.size(); ++k) {
+      // auto: one weighting for the axis over all runs, from their combined expected errors; a
+      // run given twice (the same values) is one run's noise, counted once.
+      std::vector<StaticWeightChoice> choices;
+      bool all = true;
+      for (std::size_t r = 0; r < runs.size(); ++r) {
+        all &= runs[r]->weight_choices[k].has_value();
+        bool repeat = false;
+        for (std::size_t q = 0; q < r; ++q)
+          repeat |= runs[q]->values[k] == runs[r]->values[k] && runs[q]->temp_c == runs[r]->temp_c;
+        if (runs[r]->weight_choices[k] && !repeat) choices.push_back(*runs[r]->weight_choices[k]);
+      }
+      if (a.static_weight == "auto" && all) {
+        s.weight_choices[k] = CombineStaticWeightChoices(choices);
+        s.weights[k] = StaticWeightName(s.weight_choices[k]->chosen);
+      }
+      for (std::size_t j = 0; j < 4; ++j) {
+        double sum = 0.0;
+        for (const Sensor* r : runs)
+          sum += (s.weights[k] == "time" ? r->cubics_time[k] : r->cubics_temperature[k]).coeff[j];
+        s.cubics[k].coeff[j] = sum / static_cast<double>(runs.size());
+      }
+    }
+    s.runs_combined = static_cast<int>(runs.size());
+  }
+  return Status::Ok();
+}
+
+}  // namespace
+}  // namespace calibrate_internal
+
+bool CalibrateOptions::IsValid(std::string* error) const {
+  auto fail = [&](const std::string& m) {
+    if (error) *error = "CalibrateOptions::" + m;
+    return false;
+  };
+  if (format != "px4" && format != "ardupilot") return fail("format = '" + format + "': must be px4 or ardupilot");
+  if (!(fit_rate_hz > 0.0)) return fail("fit_rate_hz = " + FormatNumber(fit_rate_hz, 4) + ": must be > 0 Hz");
+  if (!(min_span_c >= 0.0)) return fail("min_span_c = " + FormatNumber(min_span_c, 4) + ": must be >= 0 C");
+  if (!(block_s > 0.0)) return fail("block_s = " + FormatNumber(block_s, 4) + ": must be > 0 s");
+  if (!ParseCubicCondition(optimise_for)) return fail("optimise_for = '" + optimise_for + "': must be steady, warm-up or both");
+  if (static_weight != "auto" && static_weight != "time" && static_weight != "temperature")
+    return fail("static_weight = '" + static_weight + "': must be auto, temperature or time");
+  return true;
+}
+
+bool CalibrateResult::AnyCalibrated() const {
+  return std::any_of(sensors.begin(), sensors.end(), [](const CalibratedSensor& s) { return s.calibrated(); });
+}
+
+Result<CalibrateResult> CalibrateLogs(const std::vector<std::string>& logs, const CalibrateOptions& options) {
+  using namespace calibrate_internal;
+  std::string why;
+  if (!options.IsValid(&why)) return InvalidArgument(why);
+  if (logs.empty()) return InvalidArgument("CalibrateLogs: no log given");
+  CalibrateResult result;
+  result.inputs = logs;
+  result.options = options;
+  Args a;
+  static_cast<CalibrateOptions&>(a) = options;
+  a.inputs = logs;
+  a.input = logs.front();
+  a.notes = &result.notes;
+  const LogFormat format = DetectLogFormat(a.input);
+  if (format == LogFormat::kCsv)
+    return InvalidInput(a.input + ": not a PX4 ULog or ArduPilot DataFlash log (by its first bytes)");
+  if ((format == LogFormat::kULog) != (a.format == "px4"))
+    return InvalidArgument("--format " + a.format + " for a " + std::string(LogFormatName(format)) +
+                           " log: PX4 parameters come from a ULog, ArduPilot's from a DataFlash log");
+  auto sensors = format == LogFormat::kULog ? SensorsOfULog(a.input, a.fit_rate_hz) : SensorsOfDataFlash(a.input, a.fit_rate_hz, a.notes);
+  if (!sensors.ok()) return sensors.error();
+  for (Sensor& s : *sensors) Calibrate(&s, a);
+  if (Status st = CombineRuns(a, format, &*sensors); !st.ok()) return st.error();
+  result.sensors = std::move(*sensors);
+  if (!result.AnyCalibrated()) return result;
+  if (Status st = Validate(a, format, &result.sensors); !st.ok()) return st.error();
+  Result<std::string> text = ParameterText(a, result.sensors);
+  if (!text.ok()) return text.error();
+  result.parameter_text = std::move(*text);
+  return result;
+}
+
+}  // namespace gyrocomp

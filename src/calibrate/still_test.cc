@@ -1,0 +1,102 @@
+// DetectStill on simulated ordinary flights (gyrocomp/sim/flight.h): power-on at ambients over
+// 0..35 C, 1..10 min still while self-heating, 5..20 min of flight with manoeuvres, vibration and
+// airflow cooling, landing, minutes still; a per-power-on offset of 0.05 deg/s per gyro axis and
+// 20 mg per accel axis. Done when: no sample of motion is used, >= 90 % of the true still time is
+// used, with and without the log's armed state.
+#include "gyrocomp/calibrate/still.h"
+
+#include <cstdio>
+
+#include <gtest/gtest.h>
+
+#include "gyrocomp/sim/flight.h"
+
+namespace gyrocomp {
+namespace {
+
+struct Score {
+  std::size_t motion_used = 0;
+  double still_true_s = 0.0, still_used_s = 0.0;
+};
+
+Score ScoreOf(const FlightRun& run, const StillDetection& d, double fs) {
+  Score s;
+  for (std::size_t i = 0; i < run.time_s.size(); ++i) {
+    if (d.still[i] && !run.truly_still[i]) ++s.motion_used;
+    if (run.truly_still[i]) s.still_true_s += 1.0 / fs;
+    if (run.truly_still[i] && d.still[i]) s.still_used_s += 1.0 / fs;
+  }
+  return s;
+}
+
+TEST(DetectStill, OrdinaryFlightsNoMotionUsedAndNinetyPercentOfStillTime) {
+  for (std::uint64_t seed = 1; seed <= 6; ++seed) {
+    FlightSimOptions o;
+    o.seed = seed;
+    o.ambient_c = 35.0 * static_cast<double>(seed - 1) / 5.0;  // 0, 7, 14, 21, 28, 35 C
+    o.still_before_s = 60.0 + 108.0 * static_cast<double>(seed - 1);  // 1 .. 10 min
+    o.flight_s = 300.0 + 180.0 * static_cast<double>(seed - 1);       // 5 .. 20 min
+    o.still_after_s = 120.0 + 30.0 * static_cast<double>(seed % 3);
+    Result<FlightRun> run = SimulateFlight(o);
+    ASSERT_TRUE(run.ok()) << run.error().message;
+    for (bool with_armed : {true, false}) {
+      Result<StillDetection> d = DetectStill(run->time_s, run->gyro_rad_s, run->accel_m_s2, run->temp_c,
+                                             with_armed ? run->armed : std::vector<bool>{});
+      ASSERT_TRUE(d.ok()) << d.error().message;
+      const Score s = ScoreOf(*run, *d, o.fs_hz);
+      std::printf("seed %d armed state %s: still used %.1f of %.1f s (%.1f %%), motion samples used %zu\n",
+                  static_cast<int>(seed), with_armed ? "given" : "unknown", s.still_used_s, s.still_true_s,
+                  100.0 * s.still_used_s / s.still_true_s, s.motion_used);
+      EXPECT_EQ(s.motion_used, 0u) << d->BriefReport();
+      EXPECT_GE(s.still_used_s, 0.9 * s.still_true_s) << d->BriefReport();
+      ASSERT_EQ(d->segments.size(), 2u) << d->BriefReport();  // before take-off, after landing
+      EXPECT_GT(d->segments[0].temp_max_c - d->segments[0].temp_min_c, 0.0);
+      ASSERT_FALSE(d->rejected.empty());
+      EXPECT_NE(d->rejected[0].reason.find(with_armed ? "armed" : "motion"), std::string::npos) << d->rejected[0].reason;
+    }
+  }
+}
+
+TEST(DetectStill, AChamberRunIsStillThroughout) {
+  FlightSimOptions o;
+  o.still_before_s = 1200.0;
+  o.armed_ground_s = o.flight_s = o.landed_armed_s = o.still_after_s = 0.0;
+  Result<FlightRun> run = SimulateFlight(o);
+  ASSERT_TRUE(run.ok());
+  Result<StillDetection> d = DetectStill(run->time_s, run->gyro_rad_s, run->accel_m_s2, run->temp_c, {});
+  ASSERT_TRUE(d.ok());
+  ASSERT_EQ(d->segments.size(), 1u) << d->BriefReport();
+  EXPECT_GE(d->still_s, 0.99 * d->total_s) << d->BriefReport();
+}
+
+TEST(DetectStill, ASlowSteadyTurnIsNotStill) {
+  // 5 deg/s about z for a minute in the middle of 5 still minutes: no variance, a mean rate.
+  FlightSimOptions o;
+  o.still_before_s = 300.0;
+  o.armed_ground_s = o.flight_s = o.landed_armed_s = o.still_after_s = 0.0;
+  Result<FlightRun> run = SimulateFlight(o);
+  ASSERT_TRUE(run.ok());
+  for (std::size_t i = 0; i < run->time_s.size(); ++i)
+    if (run->time_s[i] >= 120.0 && run->time_s[i] < 180.0) run->gyro_rad_s[2][i] += 5.0 * 3.14159265358979 / 180.0;
+  Result<StillDetection> d = DetectStill(run->time_s, run->gyro_rad_s, run->accel_m_s2, run->temp_c, {});
+  ASSERT_TRUE(d.ok());
+  for (std::size_t i = 0; i < run->time_s.size(); ++i) {
+    if (run->time_s[i] >= 120.0 && run->time_s[i] < 180.0) {
+      ASSERT_FALSE(d->still[i]) << run->time_s[i];
+    }
+  }
+  ASSERT_EQ(d->rejected.size(), 1u);
+  EXPECT_NE(d->rejected[0].reason.find("turning"), std::string::npos) << d->rejected[0].reason;
+}
+
+TEST(StillDetectorOptions, OutOfRangeNamesTheField) {
+  StillDetectorOptions o;
+  std::string why;
+  EXPECT_TRUE(o.IsValid(&why));
+  o.window_s = 0.0;
+  EXPECT_FALSE(o.IsValid(&why));
+  EXPECT_NE(why.find("StillDetectorOptions::window_s"), std::string::npos) << why;
+}
+
+}  // namespace
+}  // namespace gyrocomp

@@ -137,6 +137,10 @@ class Parser {
   // type's length fits in the file and is followed by another header or the end of the file.
   bool HeaderAt(std::size_t at, int extra_type = -1) const;
   bool RecordAt(std::size_t at) const;
+  // A header with one part damaged and a valid header where the record would end: A3 or 95
+  // flipped (the type, intact, gives the length), or A3 95 intact with a type no FMT defined (some
+  // defined type's length reaches the next header). An intact record before it is then kept.
+  bool DamagedHeaderAt(std::size_t at) const;
   std::optional<std::size_t> Resync(std::size_t from) const;
   void NoteDamage(std::size_t begin, std::size_t resume, const std::string& what);
   // "IMU 1" for an IMU record (instance from field I, or the message name), else the name.
@@ -180,6 +184,24 @@ bool Parser::RecordAt(std::size_t at) const {
   const std::size_t len = static_cast<std::size_t>(layouts_.at(type).fmt.length);
   if (len > n_ - at) return false;
   return HeaderAt(at + len, type == kFmtType ? d_[at + kHeaderBytes] : -1);
+}
+
+bool Parser::DamagedHeaderAt(std::size_t at) const {
+  if (at >= n_ || n_ - at < kHeaderBytes) return false;
+  const bool h1 = d_[at] == kHead1, h2 = d_[at + 1] == kHead2;
+  const auto it = layouts_.find(d_[at + 2]);
+  if (h1 != h2 && it != layouts_.end()) {
+    return HeaderAt(at + static_cast<std::size_t>(it->second.fmt.length));
+  }
+  if (h1 && h2 && it == layouts_.end()) {
+    for (const auto& [type, l] : layouts_) {
+      if (l.fmt.length >= static_cast<int>(kHeaderBytes) && at + static_cast<std::size_t>(l.fmt.length) < n_ &&
+          n_ - at - static_cast<std::size_t>(l.fmt.length) >= kHeaderBytes && HeaderAt(at + static_cast<std::size_t>(l.fmt.length))) {
+        return true;
+      }
+    }
+  }
+  return false;
 }
 
 std::optional<std::size_t> Parser::Resync(std::size_t from) const {
@@ -285,7 +307,7 @@ Result<DataFlashContents> Parser::Run() {
     }
     // A record is taken only when a valid header (or the end of the file) follows it: a flipped
     // type byte naming another message of another length is not decoded as that message.
-    if (recover && !HeaderAt(pos + len, type == kFmtType ? d_[pos + kHeaderBytes] : -1)) {
+    if (recover && !HeaderAt(pos + len, type == kFmtType ? d_[pos + kHeaderBytes] : -1) && !DamagedHeaderAt(pos + len)) {
       skip(l.fmt.name + " record not followed by a record header");
       continue;
     }

@@ -187,6 +187,9 @@ bool Parser::PlausibleAt(std::size_t at, std::size_t end, bool loose) const {
 bool Parser::FollowedByValid(std::size_t after, std::size_t end) const {
   if (after == end || PlausibleAt(after, end, true)) return true;
   if (after > end || end - after < kMessageHeaderBytes) return false;
+  // A message of a known type cut by the end of the segment: the last record, truncated (an
+  // appended-data offset moved by a deleted record lands here too).
+  if (KnownType(static_cast<char>(d_[after + 2])) && U16(d_ + after) > end - after - kMessageHeaderBytes) return true;
   const std::size_t next = after + kMessageHeaderBytes + U16(d_ + after);
   return next == end || (next < end && PlausibleAt(next, end, true));
 }

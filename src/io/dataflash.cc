@@ -217,6 +217,8 @@ std::string Parser::TopicOf(const Layout& l, const std::uint8_t* payload) const 
   int instance = name == "IMU2" ? 1 : (name == "IMU3" ? 2 : 0);
   if (const auto i = FieldIndex(l, "I"); i && l.decodable) {
     if (const auto v = Numeric(l.fmt.format[*i], payload + l.offsets[*i])) instance = static_cast<int>(*v);
+    // A damaged record's I may be anything: only an instance the log has is named.
+    if (imu_index_.count(instance) == 0) return name + " ?";
   }
   return name + " " + std::to_string(instance);
 }
@@ -233,9 +235,12 @@ void Parser::NoteDamage(std::size_t begin, std::size_t resume, const std::string
   while (at < resume) {
     const auto it = resume - at >= kHeaderBytes && d_[at] == kHead1 && d_[at + 1] == kHead2
                         ? layouts_.find(d_[at + 2]) : layouts_.end();
-    if (it != layouts_.end() && static_cast<std::size_t>(it->second.fmt.length) <= resume - at) {
-      ++d.rows_lost[TopicOf(it->second, d_ + at + kHeaderBytes)];
-      at += static_cast<std::size_t>(it->second.fmt.length);
+    if (it != layouts_.end()) {
+      // An intact header: its record (cut short when it runs past the range).
+      const std::size_t len = static_cast<std::size_t>(it->second.fmt.length);
+      ++d.rows_lost[len <= n_ - at ? TopicOf(it->second, d_ + at + kHeaderBytes) : it->second.fmt.name + " ?"];
+      if (len > resume - at) break;
+      at += len;
       continue;
     }
     const Layout* only = nullptr;

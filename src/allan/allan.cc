@@ -368,7 +368,12 @@ void MarkUnsupported(const AllanCurve& c, const AllanOptions& options, bool usab
     mark("arw_fit_deg_per_sqrt_h", "fit_over_fewer_than_2_taus",
          "the -1/2 region has " + std::to_string(arw_taus) + " tau, a fit needs " + std::to_string(kMinTausForFit));
   }
-  if (t->rrw_deg_per_h_per_sqrt_h) {
+  if (!t->arw_fit_deg_per_sqrt_h) {
+    mark("arw_fit_deg_per_sqrt_h", "no_minus_half_region", "no -1/2 region: no usable tau before the minimum has a slope near -1/2");
+  }
+  if (!t->rrw_deg_per_h_per_sqrt_h) {
+    mark("rrw_deg_per_h_per_sqrt_h", "no_plus_half_region", "no +1/2 region: no usable tau after the minimum has a slope near +1/2");
+  } else {
     if (rrw_taus < kMinTausForFit) {
       mark("rrw_deg_per_h_per_sqrt_h", "fit_over_fewer_than_2_taus",
            "the +1/2 region has " + std::to_string(rrw_taus) + " tau, a fit needs " + std::to_string(kMinTausForFit));

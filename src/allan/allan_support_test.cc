@@ -53,7 +53,7 @@ TEST(AllanSupportTest, MinimumAndBiasInstabilityNeedThreeTaus) {
   EXPECT_TRUE(r->terms.Supported("adev_min_deg_per_h"));
 }
 
-// The EDF-qualified minimum: no tau of a 1-10 sample log reaches EDF 10 (the 6-sample
+// The EDF-qualified minimum: no tau of a 1-10 sample log reaches EDF 10 (a 6-sample
 // log printed "EDF >= 10: 596.1 deg/h"); it is n/a with its reason, and so are the figures
 // anchored on it.
 TEST(AllanSupportTest, UsableMinimumNeedsATauWithTheStatedEdf) {
@@ -106,7 +106,7 @@ TEST(AllanSupportTest, ArwFitNeedsTwoTaus) {
 }
 
 // RRW = sigma(3 s) on the +1/2 line: never from a one-tau fit, never past the record. A random
-// walk of 0.97 s at 50 Hz (the case: a fit over [0.04, 0.04] projected to 3 s) is n/a.
+// walk of 0.97 s at 50 Hz (a fit over [0.04, 0.04] s was once projected to 3 s) is n/a.
 TEST(AllanSupportTest, RrwIsNeverProjectedPastTheRecord) {
   std::mt19937 rng(6);
   std::normal_distribution<double> g(0.0, 1.0);

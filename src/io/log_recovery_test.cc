@@ -166,7 +166,7 @@ class ULogRecoveryTest : public ::testing::TestWithParam<const char*> {
   std::size_t target_ = 0;
 };
 
-// The issue's first example: one flipped msg id (pyulog keeps every other row).
+// A flipped msg id (pyulog keeps every other row).
 TEST_P(ULogRecoveryTest, FlippedMsgIdLosesOnlyThatRow) {
   std::string bad = bytes_;
   const Record& r = recs_[target_];
@@ -440,7 +440,7 @@ TEST(DataFlashRecoveryTest, RandomHeaderDamageNeverInventsARow) {
 
 
 // pymavlink's own test log and MethodicConfigurator's (../shared/fieldlogs/ardupilot, not
-// vendored: licences) with the damage of the issue at the middle IMU record; pymavlink's DFReader
+// vendored: licences) with one damaged byte at the middle IMU record; pymavlink's DFReader
 // kept (measured on the same files) 44 + 45 and 9 + 10 IMU rows with a flipped A3, and 22 + 22 and
 // 5 + 5 with a type byte no FMT defines (it stops there). gyrocomp keeps every row but the damaged one.
 TEST(DataFlashRecoveryTest, RealLogsKeepAtLeastWhatPymavlinkKeeps) {

@@ -51,6 +51,22 @@ if [ ! -e "$seeds/.done" ]; then
   cp tests/bags/rosbag2/talker_mcap/talker.mcap "$seeds/mcap/"
   touch "$seeds/.done"
 fi
+# Record-level fuzzing of ULog / DataFlash (fuzz/fuzz_records.h): the originals each harness
+# checks recovered rows against ($GYROCOMP_FUZZ_ORIGINALS, ids 1.. in name order; id 0 is the
+# harness's built-in simulated log), and one tagged seed per original ("GCSEED", id, the log).
+if [ ! -e "$seeds/.done_records" ]; then
+  for kind in ulog dataflash; do
+    mkdir -p "$seeds/originals/$kind"
+    cp "$seeds/$kind"/* "$seeds/originals/$kind/" 2>/dev/null || true
+    id=0
+    printf 'GCSEED\x00' > "$seeds/$kind/tagged_0"
+    for f in $(ls "$seeds/originals/$kind" | sort); do
+      id=$((id + 1))
+      { printf "GCSEED\\x$(printf %02x $id)"; cat "$seeds/originals/$kind/$f"; } > "$seeds/$kind/tagged_$id"
+    done
+  done
+  touch "$seeds/.done_records"
+fi
 # Numeric harnesses (hostile numbers): one small seed per shape x stage mask (fuzz_numeric_support.h):
 # length byte, shape byte, then bytes that the harness reads as decades, values and options.
 if [ ! -e "$seeds/numeric/.done" ]; then
@@ -95,6 +111,11 @@ for fz in "${fuzzers[@]}"; do
   # fuzz/regressions/<fuzzer>/: inputs that once crashed or broke the invariant, replayed first.
   regressions=()
   [ -d "fuzz/regressions/$fz" ] && regressions=("fuzz/regressions/$fz")
+  case $fz in
+    fuzz_ulog) export GYROCOMP_FUZZ_ORIGINALS=$(realpath "$seeds/originals/ulog") ;;
+    fuzz_dataflash) export GYROCOMP_FUZZ_ORIGINALS=$(realpath "$seeds/originals/dataflash") ;;
+    *) unset GYROCOMP_FUZZ_ORIGINALS ;;
+  esac
   if ! "$build/$fz" "$corpus" "$seeds/${corpus_of[$fz]}" "${regressions[@]}" -max_total_time="$seconds" -rss_limit_mb=2048 \
       -max_len=65536 -timeout=10 -artifact_prefix="$crashes/" -print_final_stats=1 2>"$build/$fz.log"; then
     echo "$fz: FAILED, see $build/$fz.log and $crashes/" >&2

@@ -1,5 +1,6 @@
 // gyrocomp allan: overlapping Allan deviation and noise terms of one or more rate columns.
 #include <iostream>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -13,6 +14,7 @@
 #include "gyrocomp/io/bag.h"
 #include "gyrocomp/io/flight_log.h"
 #include "gyrocomp/io/io.h"
+#include "gyrocomp/io/log_damage.h"
 #include "result_json.h"
 
 namespace gyrocomp::cli {
@@ -230,6 +232,25 @@ Result<std::vector<std::pair<std::string, std::string>>> NoiseFiles(const AllanA
   return files;
 }
 
+// AllanNoiseTerms::unsupported on a result's JSON: each figure the curve cannot carry (and the tau
+// that goes with it) becomes null, with "<key>_reason" (the reason key), "<key>_why" (what is
+// missing) and, when a longer record would carry it, "<key>_needs_record_s".
+void ApplySupport(const AllanResult& r, nlohmann::json* j) {
+  static const std::map<std::string, std::vector<std::string>> companions = {
+      {"adev_min_deg_per_h", {"tau_at_min_s"}},
+      {"adev_min_usable_deg_per_h", {"tau_at_min_usable_s"}},
+      {"rrw_deg_per_h_per_sqrt_h", {}}};
+  for (const auto& [key, u] : r.terms.unsupported) {
+    (*j)[key] = nullptr;
+    (*j)[key + "_reason"] = u.reason;
+    (*j)[key + "_why"] = u.text;
+    if (u.needs_record_s) (*j)[key + "_needs_record_s"] = *u.needs_record_s;
+    if (const auto it = companions.find(key); it != companions.end()) {
+      for (const std::string& c : it->second) (*j)[c] = nullptr;
+    }
+  }
+}
+
 int Run(const AllanArgs& a) {
   int ppd = a.allan.points_per_decade;
   const std::optional<TauGrid> grid = ParseTauGrid(a.taus, &ppd);
@@ -268,6 +289,7 @@ int Run(const AllanArgs& a) {
   nlohmann::json j;
   if (results.size() == 1) {
     j = AllanJson(results.front());
+    ApplySupport(results.front(), &j);
     if (!out->deviations.empty()) AddDeviationJson(out->deviations.front(), &j);
   } else {
     j["fs_hz"] = log.fs_hz;
@@ -275,11 +297,13 @@ int Run(const AllanArgs& a) {
     j["axes"] = nlohmann::json::object();
     for (std::size_t i = 0; i < results.size(); ++i) {
       j["axes"][results[i].axis] = AllanJson(results[i]);
+      ApplySupport(results[i], &j["axes"][results[i].axis]);
       if (!out->deviations.empty()) AddDeviationJson(out->deviations[i], &j["axes"][results[i].axis]);
     }
   }
   j["input"] = log.source;
   j["sampling"] = log.sampling.BriefReport();
+  j["damage"] = DamageJson(loaded->damage);
   std::vector<std::pair<std::string, std::string>> files;
   if (noise_file || !out->accel.empty()) {
     Result<SensorNoise> noise = NoiseFigures(a, *out, log);

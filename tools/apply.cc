@@ -112,6 +112,9 @@ int Run(const ApplyArgs& a) {
       SetColumn(kApplyName, &out, one ? "predicted_drift_hi_dps" : log.axis_names[k] + "_predicted_drift_hi", band->hi);
     } else {
       j["band_level"] = nullptr;
+      j["band_level_reason"] = "model_has_no_band";
+      j["band_level_why"] = "the model file holds no prediction band (written before bands existed): refit it "
+                            "with gyrocomp fit to get one";
       if (k == 0) Note(kApplyName, "note: " + a.model_path + " has no prediction band (written before gyrocomp's issue 23); "
                                   "no _lo/_hi columns: refit it to get one");
     }

@@ -49,6 +49,9 @@ void AddLogOptions(CLI::App* app, LogOptions* o, bool input_required) {
                   "Memory the log may take when read or resampled, GB (refused with what it needs beyond)")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
+  app->add_flag("--strict", o->strict,
+                "ULog / DataFlash: refuse a damaged log at its first bad record (exit 2, naming the byte offset) "
+                "instead of skipping to the next valid record with a warning");
 }
 
 CLI::Validator IntegerRange(std::int64_t lo, std::int64_t hi, const std::string& source) {
@@ -107,7 +110,7 @@ Result<LoadedLog> LoadLog(const std::string& command, const LogOptions& options,
     return InvalidArgument("--rate-unit " + options.rate_unit + ": " + options.input +
                            " is a flight-controller log, whose rates are rad/s (drop --rate-unit)");
   }
-  Result<LogTableRead> read = ReadLogTable(options.input, spec);
+  Result<LogTableRead> read = ReadLogTable(options.input, spec, options.strict);
   if (!read) return read.error();
   spec = read->spec;
   // A CSV read for some of its columns only (LogSpec::keep_cols): the log's columns move out of
@@ -117,7 +120,8 @@ Result<LoadedLog> LoadLog(const std::string& command, const LogOptions& options,
   Result<GyroLog> log = take ? TakeGyroLog(&read->table, spec) : LoadGyroLog(read->table, spec);
   if (!log) return log.error();
   AttachFlightLogInfo(*read, &*log);
-  LoadedLog out{std::move(read->table), std::move(*log)};
+  LoadedLog out{std::move(read->table), std::move(*log), {}};
+  if (read->flight) out.damage = read->flight->damage;
   if (out.log.sampling.resampled) {
     Result<Table> resampled = ResampleTable(out.table, spec.time_col, out.log.fs_hz);
     if (!resampled) return resampled.error();

@@ -22,6 +22,7 @@
 #include <nlohmann/json.hpp>
 
 #include "gyrocomp/io/gyro_log.h"
+#include "gyrocomp/io/log_damage.h"
 #include "gyrocomp/io/output.h"
 #include "gyrocomp/core/status.h"
 
@@ -54,11 +55,12 @@ struct LogOptions {
   std::optional<std::string> topic;
   std::string time_source = "header";
   bool rate_unit_given = false;  // --rate-unit was on the command line
+  bool strict = false;  // --strict: a damaged ULog / DataFlash record is an error (ReadLogTable's strict)
   double max_memory_gb = 8.0;  // LogSpec::max_memory_bytes, CsvReadOptions::max_memory_bytes
 };
 
 // Adds -i/--input, --time-col, --rate-col, --temp-col, --fs, --rate-unit, --resample, --instance,
-// --max-memory
+// --max-memory, --strict
 // to `app`.
 void AddLogOptions(CLI::App* app, LogOptions* options, bool input_required = true);
 
@@ -71,6 +73,7 @@ Result<LogSpec> ToLogSpec(const LogOptions& options);
 struct LoadedLog {
   Table table;
   GyroLog log;
+  std::vector<LogDamage> damage;  // byte ranges of a damaged ULog / DataFlash log skipped (--json "damage")
 };
 // ReadLogTable (CSV, ULog or DataFlash by magic bytes) + (ResampleTable) + LoadGyroLog. Prints
 // what resampling did, as a note, when it did. With spec.keep_cols set, a CSV is read for the

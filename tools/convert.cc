@@ -8,6 +8,7 @@
 #include "gyrocomp/io/bag_log.h"
 #include "gyrocomp/io/flight_log.h"
 #include "gyrocomp/io/io.h"
+#include "gyrocomp/io/log_damage.h"
 
 namespace gyrocomp::cli {
 namespace {
@@ -21,6 +22,7 @@ struct ConvertArgs {
   std::string json_path;
   std::optional<std::string> topic;   // ROS bag: the sensor_msgs/Imu topic
   std::string time_source = "header";  // ROS bag: header | receive
+  bool strict = false;                 // a damaged ULog / DataFlash record is an error
 };
 
 // A ROS bag's IMU topic (issue 25): --topic, --time.
@@ -39,7 +41,7 @@ int Run(const ConvertArgs& a) {
     return ReportError(kConvertName, InvalidInput(a.input + ": not a PX4 ULog, ArduPilot DataFlash log or ROS bag (by its "
                                                      "first bytes); convert reads flight-controller logs and bags"));
   }
-  Result<FlightLogTable> log = format == LogFormat::kRosBag ? ReadBag(a) : ReadFlightLog(a.input, a.instance);
+  Result<FlightLogTable> log = format == LogFormat::kRosBag ? ReadBag(a) : ReadFlightLog(a.input, a.instance, a.strict);
   if (!log.ok()) return ReportError(kConvertName, log.error());
   for (const std::string& w : log->warnings) Note(kConvertName, w);
   const std::size_t rows = log->table.num_rows();
@@ -55,6 +57,7 @@ int Run(const ConvertArgs& a) {
     j["columns"] = log->table.names;
     j["output"] = a.output;
     j["warnings"] = log->warnings;
+    j["damage"] = DamageJson(log->damage);
     if (Status s = WriteJson(a.json_path, j); !s.ok()) return ReportError(kConvertName, s.error());
   }
   Note(kConvertName, log->origin + ": " + std::to_string(rows) + " rows -> " + a.output);
@@ -65,10 +68,15 @@ Command MakeConvert(CLI::App& app) {
   auto a = std::make_shared<ConvertArgs>();
   CLI::App* sub = app.add_subcommand(kConvertName, "Write the gyro rows of a PX4 ULog or ArduPilot DataFlash log, or a ROS bag's IMU topic, as CSV");
   sub->footer(
-      "Columns: time_s (log timestamps / 1e6), x_rad_s, y_rad_s, z_rad_s (as logged), temp_c (absent\n"
-      "for ULog sensor_combined). ULog: sensor_gyro multi_id N (sensor_combined when there is no\n"
-      "sensor_gyro); DataFlash: IMU instance N (old logs: IMU, IMU2, IMU3). No sampling checks: the\n"
-      "rows are what the reader sees. Example: gyrocomp convert -i log.ulg --instance 0 -o gyro0.csv\n"
+      "Columns: time_s (log timestamps / 1e6), x_rad_s, y_rad_s, z_rad_s, temp_c (absent for ULog\n"
+      "sensor_combined). ULog: sensor_gyro multi_id N (sensor_combined when there is no sensor_gyro),\n"
+      "x/y/z as logged (PX4's sensor frame). DataFlash: IMU instance N (old logs: IMU, IMU2, IMU3),\n"
+      "x/y/z rotated from ArduPilot's board frame back to the sensor frame (the rotation\n"
+      "AHRS_ORIENTATION names is undone) and, with INS_TCALn_ENABLE = 1, the firmware's thermal\n"
+      "correction added back (both said on stderr when done). No sampling checks: the rows are what\n"
+      "the reader sees. A damaged ULog / DataFlash record is skipped to the next valid record (a\n"
+      "warning gives the byte ranges and rows lost; --strict refuses instead).\n"
+      "Example: gyrocomp convert -i log.ulg --instance 0 -o gyro0.csv\n"
       "ROS bags (ROS 1, MCAP, rosbag2 .db3 / folder): time_s (header stamp, or --time receive),\n"
       "x_rad_s, y_rad_s, z_rad_s (angular_velocity), x_m_s2, y_m_s2, z_m_s2 (linear_acceleration),\n"
       "temp_c (a sensor_msgs/Temperature topic joined by nearest time). gyrocomp convert -i imu.mcap --topic /imu0 -o imu.csv");
@@ -79,6 +87,8 @@ Command MakeConvert(CLI::App& app) {
   sub->add_option("--time", a->time_source, "ROS bag: row time from the header stamp (header) or receive time (receive)")
       ->check(CLI::IsMember({"header", "receive"}))
       ->capture_default_str();
+  sub->add_flag("--strict", a->strict,
+                "Refuse a damaged ULog / DataFlash log at its first bad record (exit 2, naming the byte offset)");
   AddOutputOption(sub, "-o,--output", &a->output, "Output CSV (.gz: gzip; '-' = stdout)")->required();
   AddOutputOption(sub, "--json", &a->json_path, "Write what was converted as JSON ('-' = stdout)");
   return {sub, [a] { return Run(*a); }};

@@ -9,6 +9,7 @@
 #include "commands.h"
 #include "gyrocomp/io/bag.h"
 #include "gyrocomp/io/flight_log.h"
+#include "gyrocomp/io/log_damage.h"
 #include "table_printer.h"
 
 namespace gyrocomp::cli {
@@ -19,6 +20,7 @@ constexpr const char* kInspectName = "inspect";
 struct InspectArgs {
   std::string input;
   std::string json_path;
+  bool strict = false;
 };
 
 // One gyro instance: rows, time span, mean sample rate, temperature range.
@@ -70,6 +72,25 @@ nlohmann::json InspectULog(const ULogContents& log) {
     }
   }
   j["gyro_instances"] = gyros;
+  // Every sensor kind and instance: gyro (sensor_gyro; sensor_combined when it is the only one),
+  // accel (sensor_accel), baro (sensor_baro), each with its device_id as logged.
+  nlohmann::json sensors = nlohmann::json::array();
+  for (nlohmann::json g : gyros) {
+    g["type"] = "gyro";
+    sensors.push_back(g);
+  }
+  for (const ULogAccelSeries& a : log.accels) {
+    nlohmann::json s = InstanceJson("sensor_accel", a.multi_id, a.timestamp_us, a.temperature_c, a.device_id);
+    s["type"] = "accel";
+    sensors.push_back(s);
+  }
+  for (const ULogBaroSeries& b : log.baros) {
+    nlohmann::json s = InstanceJson("sensor_baro", b.multi_id, b.timestamp_us, b.temperature_c, b.device_id);
+    s["type"] = "baro";
+    sensors.push_back(s);
+  }
+  j["sensors"] = sensors;
+  j["damage"] = DamageJson(log.damage);
   std::size_t dropout_ms = 0;
   for (const ULogDropout& d : log.dropouts) dropout_ms += d.duration_ms;
   j["dropouts"] = {{"count", log.dropouts.size()}, {"total_ms", dropout_ms}};
@@ -84,9 +105,43 @@ nlohmann::json InspectDataFlash(const DataFlashContents& log) {
   nlohmann::json j;
   j["format"] = "dataflash";
   j["messages"] = log.message_counts;
+  // Device ids: ArduPilot's INS_GYR_ID, INS_GYR2_ID, INS_GYR3_ID (INS_ACC*_ID for accels) hold
+  // the id of IMU instance 0, 1, 2 (AP_InertialSensor::var_info); BARO{n}_DEVID of baro n-1.
+  auto param_id = [&](const std::string& name) -> std::optional<std::uint32_t> {
+    const auto it = log.parameters.find(name);
+    if (it == log.parameters.end() || it->second <= 0) return std::nullopt;
+    return static_cast<std::uint32_t>(it->second);
+  };
+  auto ins_id = [&](const char* kind, int instance) {
+    return param_id(std::string("INS_") + kind + (instance == 0 ? "" : std::to_string(instance + 1)) + "_ID");
+  };
   nlohmann::json gyros = nlohmann::json::array();
-  for (const DataFlashImuSeries& s : log.imus) gyros.push_back(InstanceJson(s.message, s.instance, s.time_us, s.temp_c, {}));
+  nlohmann::json sensors = nlohmann::json::array();
+  for (const DataFlashImuSeries& s : log.imus) {
+    nlohmann::json g = InstanceJson(s.message, s.instance, s.time_us, s.temp_c, ins_id("GYR", s.instance));
+    gyros.push_back(g);
+    g["type"] = "gyro";
+    sensors.push_back(g);
+    if (!s.acc_x_m_s2.empty() || s.gyr_x_rad_s.empty()) {
+      nlohmann::json a = InstanceJson(s.message, s.instance, s.time_us, s.temp_c, ins_id("ACC", s.instance));
+      a["type"] = "accel";
+      sensors.push_back(a);
+    }
+  }
+  // Barometers: the BARO message's records (the reader keeps no baro rows) and BARO{n}_DEVID.
+  for (const char* name : {"BARO", "BAR2", "BAR3"}) {
+    const auto it = log.message_counts.find(name);
+    if (it == log.message_counts.end() || it->second == 0) continue;
+    const int n = name[3] == 'O' ? 0 : name[3] - '1';
+    sensors.push_back({{"type", "baro"}, {"source", name}, {"instance", n}, {"rows", it->second},
+                       {"device_id", param_id("BARO" + std::to_string(n + 1) + "_DEVID")
+                                         ? nlohmann::json(*param_id("BARO" + std::to_string(n + 1) + "_DEVID"))
+                                         : nlohmann::json()},
+                       {"sample_rate_hz", nullptr}, {"temp_range_c", nullptr}, {"time_span_s", nullptr}});
+  }
   j["gyro_instances"] = gyros;
+  j["sensors"] = sensors;
+  j["damage"] = DamageJson(log.damage);
   // ArduPilot thermal calibration: INS_TCAL{n}_ENABLE for IMU n-1.
   j["compensation_parameters"] = CompensationJson(log.parameters, "INS_TCAL");
   j["warnings"] = log.warnings;
@@ -130,15 +185,23 @@ void PrintText(const nlohmann::json& j) {
     std::cout << j["messages"].size() << " message types\n";
   }
   std::vector<std::vector<std::string>> rows;
-  for (const auto& g : j["gyro_instances"]) {
+  for (const auto& g : j["sensors"]) {
     const auto& t = g["temp_range_c"];
-    rows.push_back({g["source"].get<std::string>(), std::to_string(g["instance"].get<int>()),
+    rows.push_back({g["type"].get<std::string>(), g["source"].get<std::string>(), std::to_string(g["instance"].get<int>()),
                     std::to_string(g["rows"].get<std::size_t>()),
                     g["device_id"].is_null() ? "-" : std::to_string(g["device_id"].get<std::uint32_t>()),
                     FormatNumber(g["sample_rate_hz"].is_null() ? std::nullopt : std::optional<double>(g["sample_rate_hz"].get<double>())),
                     t.is_null() ? "none" : FormatNumber(t[0].get<double>()) + " .. " + FormatNumber(t[1].get<double>())});
   }
-  std::cout << FormatTable({"gyro", "instance", "rows", "device_id", "rate_hz", "temp_c"}, rows);
+  std::cout << FormatTable({"sensor", "source", "instance", "rows", "device_id", "rate_hz", "temp_c"}, rows);
+  if (j["damage"].empty()) {
+    std::cout << "damage: none found\n";
+  } else {
+    std::size_t bytes = 0;
+    for (const auto& d : j["damage"]) bytes += d["bytes"].get<std::size_t>();
+    std::cout << "damage: " << j["damage"].size() << " byte range(s), " << bytes
+              << " bytes skipped (see the warning; every range in --json \"damage\")\n";
+  }
   std::cout << "compensation parameters: " << (j["compensation_parameters"].empty() ? "none found" : j["compensation_parameters"].dump())
             << "\n";
   for (const auto& w : j["warnings"]) std::cout << "warning: " << w.get<std::string>() << "\n";
@@ -148,13 +211,17 @@ int Run(const InspectArgs& a) {
   nlohmann::json j;
   switch (DetectLogFormat(a.input)) {
     case LogFormat::kULog: {
-      Result<ULogContents> log = ReadULog(a.input);
+      ULogReadOptions options;
+      options.strict = a.strict;
+      Result<ULogContents> log = ReadULog(a.input, options);
       if (!log.ok()) return ReportError(kInspectName, log.error());
       j = InspectULog(*log);
       break;
     }
     case LogFormat::kDataFlash: {
-      Result<DataFlashContents> log = ReadDataFlash(a.input);
+      DataFlashReadOptions options;
+      options.strict = a.strict;
+      Result<DataFlashContents> log = ReadDataFlash(a.input, options);
       if (!log.ok()) return ReportError(kInspectName, log.error());
       j = InspectDataFlash(*log);
       break;
@@ -183,13 +250,17 @@ Command MakeInspect(CLI::App& app) {
   auto a = std::make_shared<InspectArgs>();
   CLI::App* sub = app.add_subcommand(kInspectName, "List what a PX4 ULog or ArduPilot DataFlash log, or a ROS bag, holds");
   sub->footer(
-      "Prints the topics (ULog) or message types (DataFlash), the gyro instances with rows, device id,\n"
-      "mean sample rate and temperature range, and the thermal-compensation parameters found\n"
+      "Prints the topics (ULog) or message types (DataFlash), every sensor instance (gyro, accel, baro)\n"
+      "with rows, device id (ULog device_id; DataFlash INS_GYR*_ID / INS_ACC*_ID / BARO*_DEVID), mean\n"
+      "sample rate and temperature range, the damage found (byte ranges skipped, rows lost), and the\n"
+      "thermal-compensation parameters found\n"
       "(PX4 TC_G_ENABLE / TC_G{i}_ID, ArduPilot INS_TCAL{n}_ENABLE). Example: gyrocomp inspect -i log.ulg\n"
       "ROS bags (ROS 1, MCAP, rosbag2 .db3 or folder): every topic with type, encoding, messages and\n"
       "mean rate (receive times). Example: gyrocomp inspect -i imu.mcap");
   AddInputOption(sub, "-i,--input", &a->input, "Input log (ULog, DataFlash or ROS bag, recognised by its first bytes)")->required();
   AddOutputOption(sub, "--json", &a->json_path, "Write the listing as JSON ('-' = stdout, then no text)");
+  sub->add_flag("--strict", a->strict,
+                "Refuse a damaged ULog / DataFlash log at its first bad record (exit 2, naming the byte offset)");
   return {sub, [a] { return Run(*a); }};
 }
 

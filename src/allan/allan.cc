@@ -312,6 +312,81 @@ double ChiSquareQuantile(double p, double dof) {
   return x;
 }
 
+namespace {
+
+std::string FormatTau(double tau_s) {
+  std::ostringstream os;
+  os.precision(4);
+  os << tau_s << " s";
+  return os.str();
+}
+
+// The record length (s) whose overlapping ADEV reaches tau: m = tau fs needs N >= 2 m + 1 samples
+// (n = N + 1 - 2m >= 2 terms, as allantools keeps), i.e. (N - 1) / fs >= 2 tau.
+double RecordForTau(double tau_s) { return 2.0 * tau_s; }
+
+// AllanNoiseTerms::unsupported (see allan.h for the minimums).
+void MarkUnsupported(const AllanCurve& c, const AllanOptions& options, bool usable_qualified, std::size_t jmin,
+                     AllanNoiseTerms* t) {
+  auto mark = [&](const char* key, std::string reason, std::string text, std::optional<double> needs = std::nullopt) {
+    t->unsupported.try_emplace(key, AllanNoiseTerms::Unsupported{std::move(reason), std::move(text), needs});
+  };
+  const bool all_zero = std::all_of(c.adev_dps.begin(), c.adev_dps.end(), [](double a) { return a == 0.0; });
+  const double dt = c.m.empty() || c.m.front() <= 0 ? 0.0 : c.tau_s.front() / static_cast<double>(c.m.front());
+  if (c.size() < kMinTausForMinimum) {
+    // Octave grid: the third tau is 4 samples; 2 * 4 + 1 samples reach it.
+    const std::string text = std::to_string(c.size()) + " tau" + (c.size() == 1 ? "" : "s") + ", a minimum needs " +
+                             std::to_string(kMinTausForMinimum) + " (at least 9 samples)";
+    const std::optional<double> needs = dt > 0 ? std::optional<double>(8.0 * dt) : std::nullopt;
+    mark("adev_min_deg_per_h", "fewer_than_3_taus", text, needs);
+    mark("bias_instability_deg_per_h", "fewer_than_3_taus", text, needs);
+  }
+  const bool have_edf = c.edf.size() == c.size();
+  if (have_edf && !usable_qualified) {
+    std::ostringstream text;
+    text << "no tau has EDF >= " << options.min_edf_for_terms << " (largest EDF "
+         << (c.edf.empty() ? 0.0 : *std::max_element(c.edf.begin(), c.edf.end())) << ")";
+    for (const char* key : {"adev_min_usable_deg_per_h", "arw_deg_per_sqrt_h", "arw_fit_deg_per_sqrt_h",
+                            "rrw_deg_per_h_per_sqrt_h"}) {
+      mark(key, "no_tau_with_edf_ge_min_edf", text.str());
+    }
+  }
+  if (!t->arw_deg_per_sqrt_h) {
+    mark("arw_deg_per_sqrt_h", "record_too_short_for_tau", "sigma(" + FormatTau(options.arw_tau_s) + ") is past the record",
+         RecordForTau(options.arw_tau_s));
+  }
+  if (all_zero) return;  // a constant record: ARW and RRW are known to be 0 (set above)
+  // The -1/2 fit region: usable taus up to the minimum with slope -1/2.
+  std::size_t arw_taus = 0, rrw_taus = 0;
+  for (std::size_t j = 0; j < c.size(); ++j) {
+    const bool usable = !have_edf || !usable_qualified || c.edf[j] >= options.min_edf_for_terms;
+    if (!usable) continue;
+    if (j <= jmin && std::abs(c.slope[j] + 0.5) <= options.slope_tolerance) ++arw_taus;
+    if (j > jmin && std::abs(c.slope[j] - 0.5) <= options.slope_tolerance) ++rrw_taus;
+  }
+  if (t->arw_fit_deg_per_sqrt_h && arw_taus < kMinTausForFit) {
+    mark("arw_fit_deg_per_sqrt_h", "fit_over_fewer_than_2_taus",
+         "the -1/2 region has " + std::to_string(arw_taus) + " tau, a fit needs " + std::to_string(kMinTausForFit));
+  }
+  if (!t->arw_fit_deg_per_sqrt_h) {
+    mark("arw_fit_deg_per_sqrt_h", "no_minus_half_region", "no -1/2 region: no usable tau before the minimum has a slope near -1/2");
+  }
+  if (!t->rrw_deg_per_h_per_sqrt_h) {
+    mark("rrw_deg_per_h_per_sqrt_h", "no_plus_half_region", "no +1/2 region: no usable tau after the minimum has a slope near +1/2");
+  } else {
+    if (rrw_taus < kMinTausForFit) {
+      mark("rrw_deg_per_h_per_sqrt_h", "fit_over_fewer_than_2_taus",
+           "the +1/2 region has " + std::to_string(rrw_taus) + " tau, a fit needs " + std::to_string(kMinTausForFit));
+    } else if (options.rrw_tau_s > c.tau_s.back() * (1.0 + 1e-9)) {
+      mark("rrw_deg_per_h_per_sqrt_h", "record_too_short_for_tau",
+           "sigma(" + FormatTau(options.rrw_tau_s) + ") is past the longest tau " + FormatTau(c.tau_s.back()),
+           RecordForTau(options.rrw_tau_s));
+    }
+  }
+}
+
+}  // namespace
+
 AllanNoiseTerms ExtractNoiseTerms(const AllanCurve& c, const AllanOptions& options) {
   AllanNoiseTerms t;
   if (c.size() == 0) return t;
@@ -336,6 +411,7 @@ AllanNoiseTerms ExtractNoiseTerms(const AllanCurve& c, const AllanOptions& optio
   for (std::size_t j = 0; j < c.size(); ++j) {
     if (!have_edf || c.edf[j] >= options.min_edf_for_terms) usable.push_back(j);
   }
+  const bool usable_qualified = !usable.empty();
   if (usable.empty()) {
     for (std::size_t j = 0; j < c.size(); ++j) usable.push_back(j);
   }
@@ -400,6 +476,7 @@ AllanNoiseTerms ExtractNoiseTerms(const AllanCurve& c, const AllanOptions& optio
     const double k_dps_per_sqrt_s = std::exp(sum / wsum) / std::sqrt(options.rrw_tau_s / 3.0);
     t.rrw_deg_per_h_per_sqrt_h = units::DpsPerSqrtSecToDphPerSqrtHour(k_dps_per_sqrt_s);
   }
+  MarkUnsupported(c, options, usable_qualified, jmin, &t);
   return t;
 }
 
@@ -557,22 +634,43 @@ Result<std::vector<AllanResult>> ComputeAllan(const GyroLog& log, const AllanOpt
 std::string AllanResult::BriefReport() const {
   std::ostringstream os;
   os.precision(4);
+  // A figure the curve cannot carry: "n/a (reason[; needs a record of at least X s])".
+  auto na = [&](const std::string& key) -> bool {
+    const auto it = terms.unsupported.find(key);
+    if (it == terms.unsupported.end()) return false;
+    os << "n/a (" << it->second.text;
+    if (it->second.needs_record_s) os << "; needs a record of at least " << *it->second.needs_record_s << " s";
+    os << ")";
+    return true;
+  };
   os << (axis.empty() ? std::string("rate") : axis) << ": " << n_samples << " samples at " << fs_hz
      << " Hz, " << curve.size() << " taus; ARW ";
-  if (terms.arw_deg_per_sqrt_h) {
-    os << *terms.arw_deg_per_sqrt_h << " deg/sqrt(h) (sigma(1 s), " << terms.arw_method << ")";
-  } else {
-    os << "n/a";
+  if (!na("arw_deg_per_sqrt_h")) {
+    if (terms.arw_deg_per_sqrt_h) {
+      os << *terms.arw_deg_per_sqrt_h << " deg/sqrt(h) (sigma(1 s), " << terms.arw_method << ")";
+    } else {
+      os << "n/a";
+    }
   }
-  os << "; ADEV min " << terms.adev_min_deg_per_h << " deg/h at tau " << terms.tau_at_min_s << " s"
-     << (terms.min_at_longest_tau ? " (longest tau: floor not reached)" : "") << " (EDF >= "
-     << terms.min_edf << ": " << terms.adev_min_usable_deg_per_h << " deg/h at " << terms.tau_at_min_usable_s
-     << " s" << (terms.min_usable_at_longest_usable_tau ? ", longest usable tau" : "") << ")"
-     << "; B = min/0.664 = " << terms.bias_instability_deg_per_h << " deg/h; RRW ";
-  if (terms.rrw_deg_per_h_per_sqrt_h) {
-    os << *terms.rrw_deg_per_h_per_sqrt_h << " deg/h/sqrt(h) (+1/2 fit, sigma(3 s))";
-  } else {
-    os << "n/a (no +1/2 region)";
+  os << "; ADEV min ";
+  if (!na("adev_min_deg_per_h")) {
+    os << terms.adev_min_deg_per_h << " deg/h at tau " << terms.tau_at_min_s << " s"
+       << (terms.min_at_longest_tau ? " (longest tau: floor not reached)" : "");
+  }
+  os << " (EDF >= " << terms.min_edf << ": ";
+  if (!na("adev_min_usable_deg_per_h")) {
+    os << terms.adev_min_usable_deg_per_h << " deg/h at " << terms.tau_at_min_usable_s << " s"
+       << (terms.min_usable_at_longest_usable_tau ? ", longest usable tau" : "");
+  }
+  os << "); B = min/0.664 = ";
+  if (!na("bias_instability_deg_per_h")) os << terms.bias_instability_deg_per_h << " deg/h";
+  os << "; RRW ";
+  if (!na("rrw_deg_per_h_per_sqrt_h")) {
+    if (terms.rrw_deg_per_h_per_sqrt_h) {
+      os << *terms.rrw_deg_per_h_per_sqrt_h << " deg/h/sqrt(h) (+1/2 fit, sigma(3 s))";
+    } else {
+      os << "n/a (no +1/2 region)";
+    }
   }
   os << "; " << seconds << " s";
   return os.str();

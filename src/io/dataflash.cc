@@ -2,6 +2,7 @@
 // characters: ArduPilot libraries/AP_Logger/LogStructure.h; edge behaviour: pymavlink DFReader.py.
 #include "gyrocomp/io/dataflash.h"
 #include "gyrocomp/io/io.h"
+#include "gyrocomp/io/log_damage.h"
 #include "gyrocomp/io/mapped_file.h"
 
 #include <algorithm>
@@ -95,6 +96,13 @@ std::vector<std::string> SplitComma(const std::string& s) {
   return out;
 }
 
+// "file: byte N: what" -> "what" (a damage entry gives the place itself).
+std::string WithoutPlace(const std::string& message) {
+  const auto b = message.find(": byte ");
+  const auto c = b == std::string::npos ? std::string::npos : message.find(": ", b + 7);
+  return c == std::string::npos ? message : message.substr(c + 2);
+}
+
 // A known message type: its FMT and the byte offset of each field within the payload.
 struct Layout {
   DataFlashFormat fmt;
@@ -123,6 +131,20 @@ class Parser {
     return InvalidInput(out_.source + ": byte " + std::to_string(at) + ": " + what);
   }
   std::optional<Error> AddFormat(std::size_t at, const std::uint8_t* p);
+  // Recovery (DataFlashReadOptions::strict false). HeaderAt: A3 95 and a type some FMT defined
+  // (or `extra_type`, the type a FMT record being checked defines) at `at`; a tail of fewer than 3
+  // bytes that starts like a header also passes (a cut last record). RecordAt: a header whose
+  // type's length fits in the file and is followed by another header or the end of the file.
+  bool HeaderAt(std::size_t at, int extra_type = -1) const;
+  bool RecordAt(std::size_t at) const;
+  // A header with one part damaged and a valid header where the record would end: A3 or 95
+  // flipped (the type, intact, gives the length), or A3 95 intact with a type no FMT defined (some
+  // defined type's length reaches the next header). An intact record before it is then kept.
+  bool DamagedHeaderAt(std::size_t at) const;
+  std::optional<std::size_t> Resync(std::size_t from) const;
+  void NoteDamage(std::size_t begin, std::size_t resume, const std::string& what);
+  // "IMU 1" for an IMU record (instance from field I, or the message name), else the name.
+  std::string TopicOf(const Layout& l, const std::uint8_t* payload) const;
   void TakeImu(const Layout& l, const std::uint8_t* p);
   void TakeParameter(const Layout& l, const std::uint8_t* p, std::size_t at);
   // ImuRow fields: time, gyro x y z, accel x y z, T.
@@ -148,6 +170,97 @@ class Parser {
   std::map<int, std::size_t> imu_index_;  // instance -> index in out_.imus
 };
 
+bool Parser::HeaderAt(std::size_t at, int extra_type) const {
+  if (at >= n_) return at == n_;
+  if (n_ - at < kHeaderBytes) return d_[at] == kHead1 && (n_ - at < 2 || d_[at + 1] == kHead2);
+  if (d_[at] != kHead1 || d_[at + 1] != kHead2) return false;
+  const int type = d_[at + 2];
+  return type == extra_type || layouts_.count(type) > 0;
+}
+
+bool Parser::RecordAt(std::size_t at) const {
+  if (!HeaderAt(at) || n_ - at < kHeaderBytes) return false;
+  const int type = d_[at + 2];
+  const std::size_t len = static_cast<std::size_t>(layouts_.at(type).fmt.length);
+  if (len > n_ - at) return false;
+  return HeaderAt(at + len, type == kFmtType ? d_[at + kHeaderBytes] : -1);
+}
+
+bool Parser::DamagedHeaderAt(std::size_t at) const {
+  if (at >= n_ || n_ - at < kHeaderBytes) return false;
+  const bool h1 = d_[at] == kHead1, h2 = d_[at + 1] == kHead2;
+  const auto it = layouts_.find(d_[at + 2]);
+  if (h1 != h2 && it != layouts_.end()) {
+    return HeaderAt(at + static_cast<std::size_t>(it->second.fmt.length));
+  }
+  if (h1 && h2 && it == layouts_.end()) {
+    for (const auto& [type, l] : layouts_) {
+      if (l.fmt.length >= static_cast<int>(kHeaderBytes) && at + static_cast<std::size_t>(l.fmt.length) < n_ &&
+          n_ - at - static_cast<std::size_t>(l.fmt.length) >= kHeaderBytes && HeaderAt(at + static_cast<std::size_t>(l.fmt.length))) {
+        return true;
+      }
+    }
+  }
+  return false;
+}
+
+std::optional<std::size_t> Parser::Resync(std::size_t from) const {
+  for (std::size_t at = from; at + kHeaderBytes <= n_; ++at) {
+    if (d_[at] == kHead1 && RecordAt(at)) return at;
+  }
+  return std::nullopt;
+}
+
+std::string Parser::TopicOf(const Layout& l, const std::uint8_t* payload) const {
+  const std::string& name = l.fmt.name;
+  if (name != "IMU" && name != "IMU2" && name != "IMU3") return name;
+  int instance = name == "IMU2" ? 1 : (name == "IMU3" ? 2 : 0);
+  if (const auto i = FieldIndex(l, "I"); i && l.decodable) {
+    if (const auto v = Numeric(l.fmt.format[*i], payload + l.offsets[*i])) instance = static_cast<int>(*v);
+    // A damaged record's I may be anything: only an instance the log has is named.
+    if (imu_index_.count(instance) == 0) return name + " ?";
+  }
+  return name + " " + std::to_string(instance);
+}
+
+void Parser::NoteDamage(std::size_t begin, std::size_t resume, const std::string& what) {
+  LogDamage d;
+  d.begin = begin;
+  d.end = resume;
+  d.what = what;
+  // Walk the skipped bytes by their headers while those stay inside the range. A record whose
+  // header is damaged is told by its length when the gap to the next header is the length of one
+  // message only (a flipped type byte, a flipped A3 95).
+  std::size_t at = begin;
+  while (at < resume) {
+    const auto it = resume - at >= kHeaderBytes && d_[at] == kHead1 && d_[at + 1] == kHead2
+                        ? layouts_.find(d_[at + 2]) : layouts_.end();
+    if (it != layouts_.end()) {
+      // An intact header: its record (cut short when it runs past the range).
+      const std::size_t len = static_cast<std::size_t>(it->second.fmt.length);
+      ++d.rows_lost[len <= n_ - at ? TopicOf(it->second, d_ + at + kHeaderBytes) : it->second.fmt.name + " ?"];
+      if (len > resume - at) break;
+      at += len;
+      continue;
+    }
+    const Layout* only = nullptr;
+    int matches = 0;
+    for (const auto& [type, l] : layouts_) {
+      if (static_cast<std::size_t>(l.fmt.length) == resume - at && (!only || only->fmt.name != l.fmt.name)) {
+        ++matches;
+        only = &l;
+      }
+    }
+    if (matches == 1 && resume - at >= kHeaderBytes) {
+      ++d.rows_lost[TopicOf(*only, d_ + at + kHeaderBytes)];
+    } else {
+      ++d.records_unidentified;
+    }
+    break;
+  }
+  out_.damage.push_back(std::move(d));
+}
+
 Result<DataFlashContents> Parser::Run() {
   Layout fmt;
   fmt.fmt = {kFmtType, kFmtLength, "FMT", "BBnNZ", {"Type", "Length", "Name", "Format", "Columns"}};
@@ -160,24 +273,60 @@ Result<DataFlashContents> Parser::Run() {
                               std::to_string(n_ - pos) + " of 3 header bytes) dropped");
       break;
     }
+    const bool recover = !options_.strict;
+    // Recovery: skip from a damaged record to the next valid one (NoteDamage tells the rows).
+    auto skip = [&](const std::string& what) {
+      const std::optional<std::size_t> next = Resync(pos + 1);
+      NoteDamage(pos, next.value_or(n_), what);
+      pos = next.value_or(n_);
+    };
     if (d_[pos] != kHead1 || d_[pos + 1] != kHead2) {
+      if (recover) {
+        skip("no record header (A3 95)");
+        continue;
+      }
       return Bad(pos, "no record header (A3 95) here: the file is corrupt or not a DataFlash log");
     }
     const int type = d_[pos + 2];
     const auto it = layouts_.find(type);
-    if (it == layouts_.end()) return Bad(pos, "record of message type " + std::to_string(type) + " that no FMT defined");
+    if (it == layouts_.end()) {
+      if (recover) {
+        skip("record of message type " + std::to_string(type) + " that no FMT defined");
+        continue;
+      }
+      return Bad(pos, "record of message type " + std::to_string(type) + " that no FMT defined");
+    }
     const Layout& l = it->second;
     const std::size_t len = static_cast<std::size_t>(l.fmt.length);
     if (len > n_ - pos) {
+      if (recover) {
+        if (const auto next = Resync(pos + 1)) {
+          NoteDamage(pos, *next, l.fmt.name + " record of " + std::to_string(len) + " bytes runs past valid records");
+          pos = *next;
+          continue;
+        }
+      }
       out_.warnings.push_back(out_.source + ": byte " + std::to_string(pos) + ": truncated last record (" + l.fmt.name +
                               ", " + std::to_string(n_ - pos) + " of " + std::to_string(len) + " bytes) dropped");
       break;
+    }
+    // A record is taken only when a valid header (or the end of the file) follows it: a flipped
+    // type byte naming another message of another length is not decoded as that message.
+    if (recover && !HeaderAt(pos + len, type == kFmtType ? d_[pos + kHeaderBytes] : -1) && !DamagedHeaderAt(pos + len)) {
+      skip(l.fmt.name + " record not followed by a record header");
+      continue;
     }
     const std::uint8_t* p = d_ + pos + kHeaderBytes;
     ++out_.num_records;
     ++out_.message_counts[l.fmt.name];
     if (type == kFmtType) {
-      if (auto e = AddFormat(pos, p)) return *e;
+      if (auto e = AddFormat(pos, p)) {
+        if (!recover) return *e;
+        --out_.num_records;
+        --out_.message_counts[l.fmt.name];
+        skip(WithoutPlace(e->message));
+        continue;
+      }
     } else if (l.decodable && l.fmt.name == "PARM") {
       TakeParameter(l, p, pos);
     } else if (l.decodable && (l.fmt.name == "IMU" || l.fmt.name == "IMU2" || l.fmt.name == "IMU3")) {
@@ -187,6 +336,7 @@ Result<DataFlashContents> Parser::Run() {
     if (release_ && pos - released_ >= (std::size_t{64} << 20)) release_(released_ = pos);
   }
   for (auto& [instance, w] : windows_) FlushWindow(instance);
+  if (const std::string w = DamageWarning(out_.source, out_.damage); !w.empty()) out_.warnings.push_back(w);
   std::sort(out_.imus.begin(), out_.imus.end(),
             [](const DataFlashImuSeries& a, const DataFlashImuSeries& b) { return a.instance < b.instance; });
   return std::move(out_);

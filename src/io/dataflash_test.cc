@@ -129,6 +129,13 @@ Result<DataFlashContents> Parse(const std::string& b) {
   return ParseDataFlash(reinterpret_cast<const std::uint8_t*>(b.data()), b.size(), "mem.bin");
 }
 
+// DataFlashReadOptions::strict: the first damaged record is an error (recovery: log_recovery_test.cc).
+Result<DataFlashContents> ParseStrict(const std::string& b) {
+  DataFlashReadOptions options;
+  options.strict = true;
+  return ParseDataFlash(reinterpret_cast<const std::uint8_t*>(b.data()), b.size(), "mem.bin", options);
+}
+
 TEST(DataFlashTest, BuiltLogIsReadWithInstancesAndParameters) {
   const std::string bytes = BuildLog(100);
   ASSERT_TRUE(HasDataFlashMagic(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()));
@@ -175,26 +182,26 @@ TEST(DataFlashTest, EveryTruncationDropsOnlyTheCutRecord) {
   }
 }
 
-TEST(DataFlashTest, CorruptLogsAreRefusedWithTheByteOffset) {
+TEST(DataFlashTest, StrictRefusesCorruptLogsWithTheByteOffset) {
   const std::string good = BuildLog(3);
   const std::size_t first_imu = 3 * 89 + (3 + 8 + 16 + 4);
   std::string bad = good;
   bad[first_imu + 1] = 0x00;  // broken A3 95 header
-  Result<DataFlashContents> r = Parse(bad);
+  Result<DataFlashContents> r = ParseStrict(bad);
   ASSERT_FALSE(r.ok());
   EXPECT_NE(r.error().message.find("mem.bin: byte " + std::to_string(first_imu) + ": no record header"),
             std::string::npos)
       << r.error().message;
   bad = good;
   bad[first_imu + 2] = 0x50;  // a type no FMT defined
-  r = Parse(bad);
+  r = ParseStrict(bad);
   ASSERT_FALSE(r.ok());
   EXPECT_NE(r.error().message.find("byte " + std::to_string(first_imu) + ": record of message type 80"),
             std::string::npos)
       << r.error().message;
   bad = good;
   bad[2 * 89 + 4] = 30;  // IMU's FMT length disagrees with its format
-  r = Parse(bad);
+  r = ParseStrict(bad);
   ASSERT_FALSE(r.ok());
   EXPECT_NE(r.error().message.find("byte 178: FMT for 'IMU': format 'QBffff' needs 28 bytes, its length says 30"),
             std::string::npos)

@@ -348,7 +348,7 @@ Result<DataFlashImuSeries> ToSensorFrame(const DataFlashContents& log, const Dat
 
 }  // namespace
 
-Result<FlightLogTable> ReadFlightLog(const std::string& path, std::optional<int> instance) {
+Result<FlightLogTable> ReadFlightLog(const std::string& path, std::optional<int> instance, bool strict) {
   switch (DetectLogFormat(path)) {
     case LogFormat::kULog: {
       // Only the gyro rows (and, with an instance named, only its values) are kept, and they
@@ -356,16 +356,23 @@ Result<FlightLogTable> ReadFlightLog(const std::string& path, std::optional<int>
       ULogReadOptions options;
       options.keep_accel_baro = false;
       options.gyro_instance = instance;
+      options.strict = strict;
       Result<ULogContents> log = ReadULog(path, options);
       if (!log) return log.error();
-      return FromULog(*log, instance, true);
+      std::vector<LogDamage> damage = std::move(log->damage);
+      Result<FlightLogTable> t = FromULog(*log, instance, true);
+      if (t) t->damage = std::move(damage);
+      return t;
     }
     case LogFormat::kDataFlash: {
       DataFlashReadOptions options;  // only the chosen IMU's values (issue 24: memory)
       options.imu_instance = instance;
+      options.strict = strict;
       Result<DataFlashContents> log = ReadDataFlash(path, options);
       if (!log) return log.error();
-      return FlightLogFromDataFlash(*log, instance);
+      Result<FlightLogTable> t = FlightLogFromDataFlash(*log, instance);
+      if (t) t->damage = log->damage;
+      return t;
     }
     case LogFormat::kRosBag: {  // issue 25: the IMU topic of a ROS bag (gyrocomp/io/bag_log.h)
       Result<BagImuTable> bag = ReadBagImu(path, BagReadOptions{});
@@ -377,7 +384,7 @@ Result<FlightLogTable> ReadFlightLog(const std::string& path, std::optional<int>
   }
 }
 
-Result<LogTableRead> ReadLogTable(const std::string& path, const LogSpec& spec) {
+Result<LogTableRead> ReadLogTable(const std::string& path, const LogSpec& spec, bool strict) {
   LogTableRead out;
   out.spec = spec;
   out.format = DetectLogFormat(path);
@@ -396,7 +403,7 @@ Result<LogTableRead> ReadLogTable(const std::string& path, const LogSpec& spec) 
     out.table = std::move(*table);
     return out;
   }
-  Result<FlightLogTable> flight = ReadFlightLog(path, spec.instance);
+  Result<FlightLogTable> flight = ReadFlightLog(path, spec.instance, strict);
   if (!flight) return flight.error();
   if (spec.on_warning) {
     for (const std::string& w : flight->warnings) spec.on_warning(w);

@@ -1,6 +1,7 @@
 // PX4 ULog reader (include/gyrocomp/io/ulog.h). Section numbers ("spec: ...") refer to the
 // PX4 User Guide page "ULog File Format"; behaviour at the edges follows PX4/pyulog core.py.
 #include "gyrocomp/io/ulog.h"
+#include "gyrocomp/io/log_damage.h"
 #include "gyrocomp/io/mapped_file.h"
 #include "gyrocomp/io/io.h"
 
@@ -20,6 +21,17 @@ namespace {
 constexpr std::uint8_t kMagic[7] = {0x55, 0x4C, 0x6F, 0x67, 0x01, 0x12, 0x35};
 constexpr std::size_t kHeaderBytes = 16;
 constexpr std::size_t kMessageHeaderBytes = 3;  // uint16 msg_size, uint8 msg_type
+// spec "Synchronization message" ('S'): uint8 sync_magic[8].
+constexpr std::uint8_t kSyncMagic[8] = {0x2F, 0x73, 0x13, 0x20, 0x25, 0x0C, 0xBB, 0x12};
+// The message types of the spec. In recovery, a record of another type is taken as the spec asks
+// (skipped) only when the record after it is one of these.
+bool KnownType(char t) {
+  switch (t) {
+    case 'A': case 'B': case 'C': case 'D': case 'F': case 'I': case 'L': case 'M': case 'O': case 'P':
+    case 'Q': case 'R': case 'S': return true;
+    default: return false;
+  }
+}
 // Nested formats are flattened; a deeper nesting than this is taken for a format loop.
 constexpr int kMaxNestingDepth = 16;
 // Flattening steps per subscription (fields and nested elements visited); a format whose arrays
@@ -106,6 +118,20 @@ class Parser {
     out_.warnings.push_back(out_.source + ": byte " + std::to_string(offset) + ": " + what);
   }
   std::optional<Error> ParseAll();
+  // Recovery (ULogReadOptions::strict false): a record at `at` that passes every check this
+  // reader can make before parsing it (header in the segment, known type, the type's own sizes
+  // and markers, a 'D' for a subscribed msg_id with a size its format allows). `loose` waives
+  // the 'D' subscription check (for the record after a candidate, which may follow the 'A').
+  bool PlausibleAt(std::size_t at, std::size_t end, bool loose) const;
+  // The first offset in [from, end) where a plausible record starts and is followed by another
+  // one (or ends the segment exactly); nullopt when there is none.
+  std::optional<std::size_t> Resync(std::size_t from, std::size_t end) const;
+  // `after` (the end of a record) is the segment's end, a plausible record (loose), or a record
+  // header whose size leads to one of those (one damaged header right after an intact record
+  // does not take that record with it).
+  bool FollowedByValid(std::size_t after, std::size_t end) const;
+  // Records [begin, resume) as skipped, with the rows lost in it where the topic can be told.
+  void NoteDamage(std::size_t begin, std::size_t resume, const std::string& what);
   std::optional<Error> ParseMessage(char type, std::size_t at, const std::uint8_t* p, std::size_t len);
   std::optional<Error> ParseFlagBits(std::size_t at, const std::uint8_t* p, std::size_t len);
   std::optional<Error> ParseFormat(std::size_t at, const std::uint8_t* p, std::size_t len);
@@ -132,6 +158,96 @@ class Parser {
   std::size_t flatten_steps_ = 0;
 };
 
+bool Parser::PlausibleAt(std::size_t at, std::size_t end, bool loose) const {
+  if (at >= end || end - at < kMessageHeaderBytes) return false;
+  const std::size_t len = U16(d_ + at);
+  const char type = static_cast<char>(d_[at + 2]);
+  if (len > end - at - kMessageHeaderBytes || !KnownType(type)) return false;
+  const std::uint8_t* p = d_ + at + kMessageHeaderBytes;
+  switch (type) {
+    case 'B': return false;  // only ever the first message
+    case 'S': return len == sizeof kSyncMagic && std::memcmp(p, kSyncMagic, sizeof kSyncMagic) == 0;
+    case 'O': case 'R': return len == 2;
+    case 'L': return len >= 9 && p[0] >= '0' && p[0] <= '7';  // uint8 log_level ('0'..'7'), uint64 timestamp
+    case 'C': return len >= 11 && p[0] >= '0' && p[0] <= '7';  // + uint16 tag
+    case 'F': return len >= 2 && std::memchr(p, ':', len) != nullptr;
+    case 'A': return len >= 4 && (loose || formats_.count(std::string(reinterpret_cast<const char*>(p + 3), len - 3)) > 0);
+    case 'I': case 'P': return len >= 1 && p[0] > 0 && p[0] <= len - 1;
+    case 'M': case 'Q': return len >= 2 && p[1] > 0 && p[1] <= len - 2;
+    case 'D': {
+      if (len < 2) return false;
+      if (loose) return true;
+      const auto it = subs_.find(U16(p));
+      return it != subs_.end() && len - 2 >= it->second.min_size && len - 2 <= it->second.max_size;
+    }
+    default: return false;
+  }
+}
+
+bool Parser::FollowedByValid(std::size_t after, std::size_t end) const {
+  if (after == end || PlausibleAt(after, end, true)) return true;
+  if (after > end || end - after < kMessageHeaderBytes) return false;
+  // A message of a known type cut by the end of the segment: the last record, truncated (an
+  // appended-data offset moved by a deleted record lands here too).
+  if (KnownType(static_cast<char>(d_[after + 2])) && U16(d_ + after) > end - after - kMessageHeaderBytes) return true;
+  const std::size_t next = after + kMessageHeaderBytes + U16(d_ + after);
+  return next == end || (next < end && PlausibleAt(next, end, true));
+}
+
+std::optional<std::size_t> Parser::Resync(std::size_t from, std::size_t end) const {
+  for (std::size_t at = from; at + kMessageHeaderBytes <= end; ++at) {
+    if (!PlausibleAt(at, end, false)) continue;
+    const std::size_t next = at + kMessageHeaderBytes + U16(d_ + at);
+    if (next == end || PlausibleAt(next, end, true)) return at;
+  }
+  return std::nullopt;
+}
+
+void Parser::NoteDamage(std::size_t begin, std::size_t resume, const std::string& what) {
+  LogDamage d;
+  d.begin = begin;
+  d.end = resume;
+  d.what = what;
+  // Walk the skipped bytes by their own record headers while those stay inside the range; a 'D'
+  // is given to its subscription, or to the only subscription whose data size matches (a damaged
+  // msg_id), else counted as unidentified.
+  std::size_t at = begin;
+  while (at < resume) {
+    if (resume - at < kMessageHeaderBytes) {
+      ++d.records_unidentified;
+      break;
+    }
+    const std::size_t len = U16(d_ + at);
+    const char type = static_cast<char>(d_[at + 2]);
+    if (len > resume - at - kMessageHeaderBytes || !KnownType(type)) {
+      ++d.records_unidentified;
+      break;
+    }
+    if (type == 'D' && len >= 2) {
+      const std::size_t size = len - 2;
+      std::optional<std::size_t> topic;
+      if (const auto it = subs_.find(U16(d_ + at + kMessageHeaderBytes));
+          it != subs_.end() && size >= it->second.min_size && size <= it->second.max_size) {
+        topic = it->second.topic;
+      } else {
+        int matches = 0;
+        for (const auto& [id, sub] : subs_) {
+          if (size >= sub.min_size && size <= sub.max_size) ++matches, topic = sub.topic;
+        }
+        if (matches != 1) topic.reset();
+      }
+      if (topic) {
+        const ULogTopic& t = out_.topics[*topic];
+        ++d.rows_lost[t.name + " " + std::to_string(t.multi_id)];
+      } else {
+        ++d.records_unidentified;
+      }
+    }
+    at += kMessageHeaderBytes + len;
+  }
+  out_.damage.push_back(std::move(d));
+}
+
 Result<ULogContents> Parser::Run() {
   if (n_ < kHeaderBytes) {
     return Bad(n_, "file too short for the 16-byte ULog header (" + std::to_string(n_) + " bytes)");
@@ -141,6 +257,7 @@ Result<ULogContents> Parser::Run() {
   out_.start_timestamp_us = U64(d_ + 8);
   if (auto e = ParseAll()) return *e;
   for (auto& [id, sub] : subs_) FlushWindow(sub);
+  if (const std::string w = DamageWarning(out_.source, out_.damage); !w.empty()) out_.warnings.push_back(w);
   return std::move(out_);
 }
 
@@ -178,14 +295,52 @@ std::optional<Error> Parser::ParseAll() {
     }
     const std::size_t len = U16(d_ + pos);
     const char type = static_cast<char>(d_[pos + 2]);
+    const bool recover = !options_.strict;
     if (len > end - pos - kMessageHeaderBytes) {
+      // A size running past the segment: the last record cut short, or (recovery) a damaged size
+      // field with valid records after it.
+      if (recover) {
+        if (const auto next = Resync(pos + 1, end)) {
+          NoteDamage(pos, *next, "message size " + std::to_string(len) + " runs past the end of the data");
+          pos = *next;
+          continue;
+        }
+      }
       Warn(pos, "truncated last record (type '" + std::string(1, type) + "', " +
                     std::to_string(end - pos - kMessageHeaderBytes) + " of " + std::to_string(len) +
                     " payload bytes) dropped");
       pos = end;
       continue;
     }
-    if (auto e = ParseMessage(type, pos, d_ + pos + kMessageHeaderBytes, len)) return e;
+    const std::size_t after = pos + kMessageHeaderBytes + len;
+    std::optional<Error> e;
+    if (recover && !first_message_ && !KnownType(type) && !FollowedByValid(after, end)) {
+      e = Bad(pos, "message type " + std::to_string(static_cast<unsigned>(static_cast<std::uint8_t>(type))) +
+                       " unknown and no valid message after it");
+    } else if (recover && !FollowedByValid(after, end)) {
+      // A record is decoded only when a valid message follows it: a size damaged into the next
+      // record would otherwise make a row of bytes from two records.
+      e = Bad(pos, "'" + std::string(1, type) + "' message of " + std::to_string(len) +
+                       " bytes not followed by a valid message (a damaged size or a cut record)");
+    } else {
+      e = ParseMessage(type, pos, d_ + pos + kMessageHeaderBytes, len);
+    }
+    if (e) {
+      if (!recover) return e;
+      // Resume right after the refused record when its size leads to a valid record (only the
+      // record itself was damaged, e.g. its msg_id), else at the next valid record after it.
+      std::optional<std::size_t> next;
+      if (after <= end && (after == end || PlausibleAt(after, end, true))) next = after;
+      if (!next) next = Resync(pos + 1, end);
+      std::string what = e->message;
+      if (const auto cut = what.find(": byte "); cut != std::string::npos) {
+        if (const auto colon = what.find(": ", cut + 7); colon != std::string::npos) what = what.substr(colon + 2);
+      }
+      NoteDamage(pos, next.value_or(end), what);
+      first_message_ = false;
+      pos = next.value_or(end);
+      continue;
+    }
     ++out_.num_messages;
     first_message_ = false;
     pos += kMessageHeaderBytes + len;

@@ -31,6 +31,13 @@ Result<ULogContents> Parse(const std::string& bytes) {
   return ParseULog(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size(), "mem.ulg");
 }
 
+// ULogReadOptions::strict: the first damaged record is an error (recovery: log_recovery_test.cc).
+Result<ULogContents> ParseStrict(const std::string& bytes) {
+  ULogReadOptions options;
+  options.strict = true;
+  return ParseULog(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size(), "mem.ulg", options);
+}
+
 // Exact equality (no tolerance): pyulog's CSV holds repr() of each float32 widened to double,
 // so strtod gives back the very value the reader must produce.
 void ExpectSeriesEqualsCsv(const ULogGyroSeries& g, const std::string& csv_path, bool with_temperature) {
@@ -145,17 +152,17 @@ TEST(ULogTest, TruncatedLastRecordIsDroppedWithItsOffset) {
   }
 }
 
-TEST(ULogTest, CorruptFilesAreRefusedWithTheByteOffset) {
+TEST(ULogTest, StrictRefusesCorruptFilesWithTheByteOffset) {
   const std::string bytes = Bytes(Fixture("sample_log_small.ulg"));
   {
-    Result<ULogContents> r = Parse(bytes.substr(0, 10));
+    Result<ULogContents> r = ParseStrict(bytes.substr(0, 10));
     ASSERT_FALSE(r.ok());
     EXPECT_NE(r.error().message.find("byte 10: file too short"), std::string::npos) << r.error().message;
   }
   {
     std::string bad = bytes;
     bad[3] = 'X';
-    Result<ULogContents> r = Parse(bad);
+    Result<ULogContents> r = ParseStrict(bad);
     ASSERT_FALSE(r.ok());
     EXPECT_NE(r.error().message.find("byte 0: not a ULog file"), std::string::npos) << r.error().message;
   }
@@ -166,7 +173,7 @@ TEST(ULogTest, CorruptFilesAreRefusedWithTheByteOffset) {
     while (bad[pos + 2] != 'D') pos += 3 + (static_cast<unsigned char>(bad[pos]) | (static_cast<unsigned char>(bad[pos + 1]) << 8));
     bad[pos + 3] = static_cast<char>(0xFF);
     bad[pos + 4] = static_cast<char>(0xFF);
-    Result<ULogContents> r = Parse(bad);
+    Result<ULogContents> r = ParseStrict(bad);
     ASSERT_FALSE(r.ok());
     EXPECT_NE(r.error().message.find("byte " + std::to_string(pos) + ": data ('D') for msg_id 65535 without a subscription"),
               std::string::npos)
@@ -174,7 +181,7 @@ TEST(ULogTest, CorruptFilesAreRefusedWithTheByteOffset) {
     // ... and a size that does not match its format.
     bad = bytes;
     bad[pos] = static_cast<char>(static_cast<unsigned char>(bad[pos]) - 1);
-    r = Parse(bad);
+    r = ParseStrict(bad);
     ASSERT_FALSE(r.ok());
     EXPECT_NE(r.error().message.find("byte " + std::to_string(pos) + ": data ('D') for"), std::string::npos)
         << r.error().message;
@@ -198,12 +205,12 @@ TEST(ULogTest, FormatBombIsRefused) {
   b += Message('F', "n2:n1[99999] b;");
   b += Message('F', "top:n2[99999] c;");
   b += Message('A', std::string("\0\0\0", 3) + "top");
-  Result<ULogContents> r = Parse(b);
+  Result<ULogContents> r = ParseStrict(b);
   ASSERT_FALSE(r.ok());
   EXPECT_NE(r.error().message.find("too many (nested) fields"), std::string::npos) << r.error().message;
   // A format that names itself.
   std::string c = b.substr(0, 16) + Message('F', "loop:loop x;") + Message('A', std::string("\0\0\0", 3) + "loop");
-  r = Parse(c);
+  r = ParseStrict(c);
   ASSERT_FALSE(r.ok());
   EXPECT_NE(r.error().message.find("nested deeper than"), std::string::npos) << r.error().message;
 }

@@ -16,6 +16,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <span>
 #include <string>
@@ -135,7 +136,27 @@ struct AllanNoiseTerms {
   // 0 when every ADEV is exactly 0 (a constant record).
   std::optional<double> rrw_deg_per_h_per_sqrt_h;
   std::optional<double> rrw_fit_tau_min_s, rrw_fit_tau_max_s;  // the region used
+
+  // Support: the figures the curve cannot carry, by JSON key ("adev_min_deg_per_h",
+  // "adev_min_usable_deg_per_h", "bias_instability_deg_per_h", "arw_deg_per_sqrt_h",
+  // "arw_fit_deg_per_sqrt_h", "rrw_deg_per_h_per_sqrt_h"), each with its reason. Such a figure is
+  // null in JSON (with "<key>_reason") and "n/a (reason)" on the console; its value above is not
+  // to be read. The minimums each figure needs:
+  //   the curve's minimum and B: kMinTausForMinimum taus (a minimum needs points on both sides);
+  //   the EDF-qualified minimum, both ARW figures and RRW: at least one tau with EDF >= min_edf;
+  //   ARW sigma(1 s): 1 s within the curve or below its first tau (read along -1/2 there);
+  //   the -1/2 and +1/2 fits: kMinTausForFit taus in their region;
+  //   RRW sigma(rrw_tau_s): rrw_tau_s within the curve (never projected past the record).
+  struct Unsupported {
+    std::string reason;                    // key: "fewer_than_3_taus", "no_tau_with_edf_ge_min_edf", ...
+    std::string text;                      // for a person: what is missing
+    std::optional<double> needs_record_s;  // the record length that would carry it, when that is what is missing
+  };
+  std::map<std::string, Unsupported> unsupported;
+  bool Supported(const std::string& key) const { return unsupported.count(key) == 0; }
 };
+inline constexpr std::size_t kMinTausForMinimum = 3;
+inline constexpr std::size_t kMinTausForFit = 2;
 
 struct AllanResult {
   std::string axis;             // rate column name ("" when unnamed)

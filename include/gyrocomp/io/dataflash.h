@@ -12,11 +12,11 @@
 // rotated to the board frame by ArduPilot), T (deg C), and in newer logs an instance field I;
 // older logs have separate messages IMU, IMU2, IMU3 (instances 0, 1, 2).
 //
-// Strictness: a record that does not start with A3 95 and a known message type, a FMT whose
-// length disagrees with its format string, or a message whose length is shorter than its FMT
-// says is an error naming the byte offset (DFReader would skip the bad bytes; this reader does
-// not guess). A last record cut by the end of the file is dropped with a warning giving its
-// offset, as DFReader does.
+// Damage: a record that does not start with A3 95 and a known message type, that is not followed
+// by a valid header, or a FMT whose length disagrees with its format string, is skipped up to the
+// next valid record (DataFlashReadOptions::strict: an error naming the byte offset instead).
+// A last record cut by the end of the file is dropped with a warning giving its offset, as
+// DFReader does.
 #pragma once
 
 #include <cstddef>
@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "gyrocomp/core/status.h"
+#include "gyrocomp/io/log_damage.h"
 
 namespace gyrocomp {
 
@@ -66,7 +67,9 @@ struct DataFlashContents {
   std::map<std::string, ParameterChange> parameters_changed_during_imu;
   std::vector<DataFlashImuSeries> imus;              // sorted by instance
   std::size_t num_records = 0;
-  std::vector<std::string> warnings;  // truncated last record
+  std::vector<std::string> warnings;  // truncated last record, damage (one line)
+  // Byte ranges skipped in recovery (DataFlashReadOptions::strict false), in file order.
+  std::vector<LogDamage> damage;
   std::string BriefReport() const;
 };
 
@@ -79,6 +82,12 @@ struct DataFlashReadOptions {
   // Issue 24 (memory): set, the other IMU instances keep their TimeUS only (row counts stay
   // right for messages; gyro, accel and T empty).
   std::optional<int> imu_instance;
+  // false (the default): a damaged record (no A3 95, a type no FMT defined, a record not followed
+  // by a valid header, a FMT that does not add up) is skipped up to the next record that is valid
+  // and followed by a valid header (DFReader skips bad bytes one at a time the same way); every
+  // intact record is kept and DataFlashContents::damage lists what was skipped. true: the first
+  // damaged record is an error naming its byte offset.
+  bool strict = false;
 };
 
 // Reads a whole DataFlash file (errors: cannot open -> kIo; malformed -> kInvalidInput,

@@ -55,6 +55,7 @@ struct FlightLogTable {
   int instance = 0;
   std::optional<std::uint32_t> device_id; // ULog sensor_gyro.device_id
   std::vector<std::string> warnings;      // reader warnings + compensation warnings
+  std::vector<LogDamage> damage;          // byte ranges the reader skipped (log_damage.h)
 };
 
 // Picks the instance (`instance`: nullopt = the only one) and builds the table. Errors name the
@@ -73,7 +74,9 @@ Result<DataFlashImuSeries> DataFlashImuToSensorFrame(const DataFlashContents& lo
                                                      std::vector<std::string>* notes);
 
 // ReadULog / ReadDataFlash by DetectLogFormat, then the above. kCsv -> kInvalidArgument.
-Result<FlightLogTable> ReadFlightLog(const std::string& path, std::optional<int> instance);
+// `strict`: a damaged record is an error (ULogReadOptions::strict, DataFlashReadOptions::strict)
+// instead of skipped and listed in FlightLogTable::damage.
+Result<FlightLogTable> ReadFlightLog(const std::string& path, std::optional<int> instance, bool strict = false);
 
 // Any supported log read into a Table, with the LogSpec adjusted to it. For a CSV: ReadCsv and
 // `spec` unchanged. For a flight log: time_col / temp_col become time_s / temp_c, the rate
@@ -86,7 +89,8 @@ struct LogTableRead {
   LogFormat format = LogFormat::kCsv;
   std::optional<FlightLogTable> flight;  // without its table (moved to `table`)
 };
-Result<LogTableRead> ReadLogTable(const std::string& path, const LogSpec& spec);
+// `strict`: as for ReadFlightLog (the damage skipped otherwise is in `flight->damage`).
+Result<LogTableRead> ReadLogTable(const std::string& path, const LogSpec& spec, bool strict = false);
 
 // Copies origin, device id and warnings of a flight log into `log` (no-op for CSV).
 void AttachFlightLogInfo(const LogTableRead& read, GyroLog* log);

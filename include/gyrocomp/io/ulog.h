@@ -11,11 +11,14 @@
 //   omitted), 'L' / 'C' log strings, 'S' sync, 'O' dropout (uint16 ms).
 //
 // Strictness: every length is checked against the message and the file. A message that does not
-// fit in what is left of its segment (the file, or up to the next appended-data offset) is a
-// truncated last record: dropped, with a warning giving its offset, as pyulog does. Anything
-// else malformed (bad magic, unknown incompat flag, a format that does not parse, data for an
-// unknown subscription, a data size outside the format's) is an error naming the byte offset.
-// Unknown message types are skipped (the spec asks readers to).
+// fit in what is left of its segment (the file, or up to the next appended-data offset), with no
+// valid message after it, is a truncated last record: dropped, with a warning giving its offset,
+// as pyulog does. A bad header (magic, unknown incompat flag) is an error naming the byte offset.
+// Any other malformed message (a format that does not parse, data for an unknown subscription, a
+// data size outside the format's) is skipped up to the next valid message (ULogReadOptions::
+// strict; spec "Synchronization message": readers resynchronise on damaged data), or with
+// `strict` an error naming the byte offset. Unknown message types are skipped (the spec asks
+// readers to) when a valid message follows them.
 #pragma once
 
 #include <cstddef>
@@ -26,6 +29,7 @@
 #include <vector>
 
 #include "gyrocomp/core/status.h"
+#include "gyrocomp/io/log_damage.h"
 
 namespace gyrocomp {
 
@@ -90,7 +94,9 @@ struct ULogContents {
   std::vector<ULogAccelSeries> accels;   // every sensor_accel subscription with rows
   std::vector<ULogBaroSeries> baros;     // every sensor_baro subscription with rows
   std::size_t num_messages = 0;
-  std::vector<std::string> warnings;  // truncated last record(s), device-id changes
+  std::vector<std::string> warnings;  // truncated last record(s), device-id changes, damage (one line)
+  // Byte ranges skipped in recovery (ULogReadOptions::strict false), in file order.
+  std::vector<LogDamage> damage;
   std::string BriefReport() const;
 };
 
@@ -108,6 +114,12 @@ struct ULogReadOptions {
   // ids stay right for messages; x, y, z and temperature are empty).
   bool keep_accel_baro = true;
   std::optional<int> gyro_instance;
+  // false (the default): a damaged record (a data message for no subscription or of the wrong
+  // size, a size running past the data into valid records, an unknown type followed by no valid
+  // message, a malformed definition) is skipped up to the next valid record (log_damage.h), the
+  // rows of every intact record are kept, and ULogContents::damage lists what was skipped.
+  // true: the first damaged record is an error naming its byte offset.
+  bool strict = false;
   bool IsValid(std::string* error) const { (void)error; return true; }
 };
 

@@ -1,0 +1,290 @@
+// Record-level mutator and recovery invariant for fuzz_ulog / fuzz_dataflash (fuzz_records.h).
+#include "fuzz_records.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <map>
+#include <random>
+#include <set>
+#include <tuple>
+
+#include "fuzz_support.h"
+#include "gyrocomp/io/dataflash.h"
+#include "gyrocomp/io/ulog.h"
+
+extern "C" std::size_t LLVMFuzzerMutate(std::uint8_t* data, std::size_t size, std::size_t max_size);
+
+namespace gyrocomp::fuzz {
+namespace {
+
+using Row = std::tuple<std::uint64_t, std::uint64_t, std::uint64_t, std::uint64_t, std::uint64_t>;
+std::uint64_t Bits(double v) {
+  std::uint64_t b;
+  std::memcpy(&b, &v, sizeof b);
+  return b;
+}
+double At(const std::vector<double>& v, std::size_t i) { return i < v.size() ? v[i] : 0.0; }
+
+// Every sensor row a reader gives (any topic, any instance: a record moved by a damaged id is
+// still a row of the log).
+std::set<Row> Rows(LogKind kind, const std::uint8_t* data, std::size_t size, bool* ok) {
+  std::set<Row> out;
+  *ok = false;
+  if (kind == LogKind::kULog) {
+    Result<ULogContents> log = ParseULog(data, size, "fuzz");
+    if (!log) return out;
+    *ok = true;
+    for (const auto* list : {&log->gyros, &log->combined}) {
+      for (const ULogGyroSeries& g : *list) {
+        for (std::size_t i = 0; i < g.timestamp_us.size(); ++i) {
+          out.emplace(g.timestamp_us[i], Bits(g.x_rad_s[i]), Bits(g.y_rad_s[i]), Bits(g.z_rad_s[i]),
+                      Bits(At(g.temperature_c, i)));
+        }
+      }
+    }
+    for (const ULogAccelSeries& a : log->accels) {
+      for (std::size_t i = 0; i < a.timestamp_us.size(); ++i) {
+        out.emplace(a.timestamp_us[i], Bits(a.x_m_s2[i]), Bits(a.y_m_s2[i]), Bits(a.z_m_s2[i]),
+                    Bits(At(a.temperature_c, i)));
+      }
+    }
+    for (const ULogBaroSeries& b : log->baros) {
+      for (std::size_t i = 0; i < b.timestamp_us.size(); ++i) {
+        out.emplace(b.timestamp_us[i], Bits(b.pressure_pa[i]), 0, 0, Bits(At(b.temperature_c, i)));
+      }
+    }
+    return out;
+  }
+  Result<DataFlashContents> log = ParseDataFlash(data, size, "fuzz");
+  if (!log) return out;
+  *ok = true;
+  for (const DataFlashImuSeries& s : log->imus) {
+    for (std::size_t i = 0; i < s.time_us.size(); ++i) {
+      out.emplace(s.time_us[i], Bits(s.gyr_x_rad_s[i]), Bits(s.gyr_y_rad_s[i]), Bits(s.gyr_z_rad_s[i]),
+                  Bits(At(s.temp_c, i)));
+    }
+  }
+  return out;
+}
+
+struct Original {
+  std::string name;
+  std::string bytes;
+  std::set<Row> rows;
+};
+std::vector<Original>& Originals() {
+  static std::vector<Original> o;
+  return o;
+}
+
+std::string BuiltIn(LogKind kind) {
+  if (kind == LogKind::kULog) {
+    ULogWriteInput in;
+    for (int k = 0; k < 3; ++k) {
+      ULogSensorWriteSeries s;
+      s.topic = k == 2 ? "sensor_accel" : "sensor_gyro";
+      s.multi_id = k == 2 ? 0 : k;
+      s.device_id = 2424842u + static_cast<std::uint32_t>(k);
+      for (int i = 0; i < 40; ++i) {
+        s.timestamp_us.push_back(1000000 + 4000 * static_cast<std::uint64_t>(i) + static_cast<std::uint64_t>(k));
+        s.x.push_back(0.001f * static_cast<float>(i + k));
+        s.y.push_back(-0.02f * static_cast<float>(k));
+        s.z.push_back(0.5f);
+        s.temperature_c.push_back(30.0f + 0.05f * static_cast<float>(i));
+      }
+      in.series.push_back(s);
+    }
+    Result<std::string> b = EncodeULog(in);
+    return b ? *b : std::string();
+  }
+  DataFlashWriteInput in;
+  for (int k = 0; k < 2; ++k) {
+    DataFlashImuWriteInput imu;
+    imu.instance = k;
+    for (int i = 0; i < 40; ++i) {
+      imu.time_us.push_back(1000000 + 2500 * static_cast<std::uint64_t>(i));
+      imu.gyr_x_rad_s.push_back(0.001f * static_cast<float>(i));
+      imu.gyr_y_rad_s.push_back(0.1f * static_cast<float>(k));
+      imu.gyr_z_rad_s.push_back(-0.3f);
+      imu.temp_c.push_back(25.0f + 0.1f * static_cast<float>(i));
+    }
+    in.imus.push_back(imu);
+  }
+  Result<std::string> b = EncodeDataFlash(in);
+  return b ? *b : std::string();
+}
+
+// Record boundaries (offset, size with header) of a log, up to the first that cannot be walked.
+std::vector<std::pair<std::size_t, std::size_t>> Records(LogKind kind, const std::uint8_t* d, std::size_t n) {
+  std::vector<std::pair<std::size_t, std::size_t>> out;
+  if (kind == LogKind::kULog) {
+    std::size_t pos = 16;
+    while (pos + 3 <= n) {
+      const std::size_t len = d[pos] | (d[pos + 1] << 8);
+      if (pos + 3 + len > n) break;
+      out.emplace_back(pos, 3 + len);
+      pos += 3 + len;
+    }
+    return out;
+  }
+  std::map<int, std::size_t> len = {{0x80, 89}};
+  std::size_t pos = 0;
+  while (pos + 3 <= n && d[pos] == 0xA3 && d[pos + 1] == 0x95) {
+    const auto it = len.find(d[pos + 2]);
+    if (it == len.end() || it->second < 3 || pos + it->second > n) break;
+    if (d[pos + 2] == 0x80 && pos + 5 <= n) len[d[pos + 3]] = d[pos + 4];
+    out.emplace_back(pos, it->second);
+    pos += it->second;
+  }
+  return out;
+}
+
+bool Tagged(const std::uint8_t* d, std::size_t n) {
+  return n >= kTagBytes && std::memcmp(d, kTag, kTagBytes - 1) == 0 && d[kTagBytes - 1] < Originals().size();
+}
+
+std::size_t Emit(const std::string& s, std::uint8_t* out, std::size_t max) {
+  const std::size_t n = std::min(s.size(), max);
+  std::memcpy(out, s.data(), n);
+  return n;
+}
+
+std::string WithTag(std::uint8_t id, const std::string& log) {
+  std::string s(kTag, kTagBytes - 1);
+  s.push_back(static_cast<char>(id));
+  return s + log;
+}
+
+}  // namespace
+
+void InitOriginals(LogKind kind) {
+  auto& o = Originals();
+  if (!o.empty()) return;
+  std::vector<std::pair<std::string, std::string>> logs = {{"built-in", BuiltIn(kind)}};
+  if (const char* dir = std::getenv("GYROCOMP_FUZZ_ORIGINALS")) {
+    std::vector<std::filesystem::path> files;
+    std::error_code ec;
+    for (const auto& e : std::filesystem::directory_iterator(dir, ec)) files.push_back(e.path());
+    std::sort(files.begin(), files.end());
+    for (const auto& f : files) {
+      std::ifstream in(f, std::ios::binary);
+      logs.emplace_back(f.string(), std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>()));
+    }
+  }
+  for (auto& [name, bytes] : logs) {
+    bool ok = false;
+    std::set<Row> rows = Rows(kind, reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size(), &ok);
+    if (!ok || o.size() >= 255) continue;  // an original must read
+    o.push_back({name, std::move(bytes), std::move(rows)});
+  }
+}
+
+void RunRecordHarness(LogKind kind, const std::uint8_t* data, std::size_t size) {
+  InitOriginals(kind);
+  const bool tagged = Tagged(data, size);
+  const std::uint8_t* log = tagged ? data + kTagBytes : data;
+  const std::size_t n = tagged ? size - kTagBytes : size;
+  if (kind == LogKind::kULog) {
+    (void)ParseULog(log, n, "fuzz");
+  } else {
+    (void)ParseDataFlash(log, n, "fuzz");
+  }
+  MemoryFile file(log, n);
+  ReadFlightLog(file.path());
+  if (!tagged) return;
+  const Original& orig = Originals()[data[kTagBytes - 1]];
+  bool ok = false;
+  const std::set<Row> rows = Rows(kind, log, n, &ok);
+  // A log cut inside its definitions / header may be refused; the rows never invented.
+  for (const Row& r : rows) {
+    if (orig.rows.count(r) == 0) {
+      std::fprintf(stderr, "recovery invariant broken: a row (timestamp %llu) that %s does not have\n",
+                   static_cast<unsigned long long>(std::get<0>(r)), orig.name.c_str());
+      std::abort();
+    }
+  }
+}
+
+std::size_t MutateRecords(LogKind kind, std::uint8_t* data, std::size_t size, std::size_t max_size, unsigned seed) {
+  InitOriginals(kind);
+  std::minstd_rand rng(seed);
+  if (!Tagged(data, size)) {
+    // Now and then start again from a tagged original; otherwise byte-level mutation.
+    if (rng() % 8 == 0) {
+      const auto id = static_cast<std::uint8_t>(rng() % Originals().size());
+      return Emit(WithTag(id, Originals()[id].bytes), data, max_size);
+    }
+    return LLVMFuzzerMutate(data, size, max_size);
+  }
+  std::string s(reinterpret_cast<const char*>(data + kTagBytes), size - kTagBytes);
+  const std::string tag(reinterpret_cast<const char*>(data), kTagBytes);
+  const auto recs = Records(kind, reinterpret_cast<const std::uint8_t*>(s.data()), s.size());
+  if (recs.size() < 2) return Emit(tag + Originals()[data[kTagBytes - 1]].bytes, data, max_size);
+  const std::size_t i = rng() % recs.size();
+  const auto [off, len] = recs[i];
+  switch (rng() % 6) {
+    case 0:  // delete
+      s.erase(off, len);
+      break;
+    case 1:  // duplicate
+      s.insert(off, s.substr(off, len));
+      break;
+    case 2:  // swap with the next record ("flip")
+      if (i + 1 < recs.size()) {
+        const auto [off2, len2] = recs[i + 1];
+        s = s.substr(0, off) + s.substr(off2, len2) + s.substr(off, len) + s.substr(off2 + len2);
+      }
+      break;
+    case 3:  // truncate inside the record
+      s.resize(off + rng() % len);
+      break;
+    case 4:  // cut the record short (its tail deleted): its size then runs into the next
+      if (len > 3) s.erase(off + 3 + rng() % (len - 3), 1 + rng() % std::min<std::size_t>(8, len - 3));
+      break;
+    default:  // damage the header so the record must be refused
+      if (kind == LogKind::kULog) {
+        if (s[off + 2] == 'D' && len >= 5) {
+          s[off + 3] = s[off + 4] = static_cast<char>(0xFF);  // msg_id 65535: no subscription
+        } else {
+          s[off + 2] = static_cast<char>(0x01);  // not a ULog message type
+        }
+      } else {
+        s[off + (rng() % 2)] = 0x00;  // A3 95 broken
+      }
+      break;
+  }
+  return Emit(tag + s, data, max_size);
+}
+
+std::size_t CrossOverRecords(LogKind kind, const std::uint8_t* a, std::size_t a_size, const std::uint8_t* b,
+                             std::size_t b_size, std::uint8_t* out, std::size_t max_out, unsigned seed) {
+  InitOriginals(kind);
+  std::minstd_rand rng(seed);
+  if (Tagged(a, a_size) && Tagged(b, b_size) && a[kTagBytes - 1] == b[kTagBytes - 1]) {
+    // The records of a up to one of its boundaries, then b's from one of its boundaries.
+    const auto ra = Records(kind, a + kTagBytes, a_size - kTagBytes);
+    const auto rb = Records(kind, b + kTagBytes, b_size - kTagBytes);
+    if (!ra.empty() && !rb.empty()) {
+      const std::size_t cut_a = ra[rng() % ra.size()].first + kTagBytes;
+      const std::size_t cut_b = rb[rng() % rb.size()].first + kTagBytes;
+      std::string s(reinterpret_cast<const char*>(a), cut_a);
+      s.append(reinterpret_cast<const char*>(b) + cut_b, b_size - cut_b);
+      return Emit(s, out, max_out);
+    }
+  }
+  if (Tagged(a, a_size)) return Emit(std::string(reinterpret_cast<const char*>(a), a_size), out, max_out);
+  // Untagged: a's head and b's tail, byte level.
+  const std::size_t cut_a = a_size ? rng() % (a_size + 1) : 0;
+  const std::size_t cut_b = b_size ? rng() % (b_size + 1) : 0;
+  std::string s(reinterpret_cast<const char*>(a), cut_a);
+  s.append(reinterpret_cast<const char*>(b) + cut_b, b_size - cut_b);
+  if (Tagged(reinterpret_cast<const std::uint8_t*>(s.data()), s.size())) s[0] = 'g';  // never tagged by chance
+  return Emit(s, out, max_out);
+}
+
+}  // namespace gyrocomp::fuzz

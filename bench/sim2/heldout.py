@@ -14,7 +14,7 @@ predicted_drift_lo_dps .. predicted_drift_hi_dps (the 90% band apply writes).
 
 Usage:
   bench/sim2/heldout.py [--gyrocomp PATH] [--seeds 6] [--structures a,b] [--quick] [--jobs 2]
-                        [--out bench/sim2/out] [--keep]
+                        [--out bench/sim2/out] [--keep] [--cals paper,two-direction,stairs,rate-cycles]
 GYROCOMP env var (default build/gyrocomp) names the binary when --gyrocomp is not given.
 """
 import argparse
@@ -58,7 +58,9 @@ def rms(x):
 
 
 def job(args):
-    structure, seed, gyro, outdir, keep = args
+    structure, seed, gyro, outdir, keep, cals = args
+    global CALS
+    CALS = cals
     wd = os.path.join(outdir, 'work', f'{structure}_s{seed}')
     os.makedirs(wd, exist_ok=True)
     log = os.path.join(wd, 'log.txt')
@@ -182,10 +184,17 @@ def main():
     ap.add_argument('--jobs', type=int, default=2, help='parallel processes (at most 2 on the shared machine)')
     ap.add_argument('--out', default=os.path.join(os.path.dirname(os.path.abspath(__file__)), 'out'))
     ap.add_argument('--keep', action='store_true', help='keep the simulated and compensated CSVs')
+    ap.add_argument('--cals', default='paper,two-direction',
+                    help='calibration profiles (sim2.PROFILES; must include paper, the reference)')
     a = ap.parse_args()
     if a.quick and '--seeds' not in sys.argv:
         a.seeds = 2
     structures = a.structures.split(',')
+    global CALS
+    CALS = a.cals.split(',')
+    if 'paper' not in CALS or any(c not in sim2.PROFILES or c in HELDOUT for c in CALS):
+        sys.exit(f'heldout.py: --cals {a.cals}: calibration profiles from {", ".join(sim2.PROFILES)}, '
+                 f'not {", ".join(HELDOUT)}, including paper')
     for s in structures:
         if s not in sim2.STRUCTURES:
             sys.exit(f'heldout.py: unknown structure {s!r} (have {", ".join(sim2.STRUCTURES)})')
@@ -193,7 +202,7 @@ def main():
         sys.exit(f'heldout.py: no gyrocomp binary at {a.gyrocomp} (set --gyrocomp or GYROCOMP)')
     gyro = os.path.abspath(a.gyrocomp)
     os.makedirs(a.out, exist_ok=True)
-    jobs = [(s, seed, gyro, a.out, a.keep) for s in structures for seed in range(a.first_seed, a.first_seed + a.seeds)]
+    jobs = [(s, seed, gyro, a.out, a.keep, CALS) for s in structures for seed in range(a.first_seed, a.first_seed + a.seeds)]
     t0 = time.time()
     print(f'heldout.py: {len(jobs)} jobs ({len(structures)} structures x {a.seeds} seeds), {a.jobs} processes, {gyro}',
           file=sys.stderr)

@@ -161,9 +161,9 @@ std::size_t ChooseStructured(const DriftInputs& inputs, std::span<const double> 
   for (std::size_t i = two_states ? 3 : 2; i < c.size(); ++i) {
     if (!c[i].model || incumbent.empty()) continue;
     const std::vector<double> challenger = BlockFoldRmse(inputs, target, c[i], o);
-    const PairedGain g = PairedFoldGain(incumbent, challenger);
-    why << "; " << c[i].score.name << " gains " << FormatNumber(g.mean, 4) << " +- " << FormatNumber(g.sd, 4);
-    if (!g.ChallengerWins()) continue;
+    const TermGain g = PairedTermGain(incumbent, challenger);
+    why << "; " << c[i].score.name << " gains " << FormatNumber(g.gain, 4) << " +- " << FormatNumber(g.Sd(), 4);
+    if (!KernelWins(g)) continue;
     best = i;
     incumbent = challenger;
   }

@@ -131,7 +131,58 @@ def job(args):
     if not keep:
         for prof in CALS + HELDOUT:
             os.remove(os.path.join(wd, f'{prof}.csv'))
+    with open(os.path.join(wd, 'record.json'), 'w') as f:
+        json.dump(rec, f, indent=1)
     print(f'  {structure} seed {seed}: {rec["wall_s"]:.0f} s', file=sys.stderr, flush=True)
+    return rec
+
+
+def record_from_workdir(structure, seed, outdir, cals):
+    """A finished job's record: its record.json, else rebuilt from the fit/apply JSONs it left
+    (RMS and coverage as apply computed them against true_drift_dps; the oracle recomputed).
+    None when the job has not finished."""
+    wd = os.path.join(outdir, 'work', f'{structure}_s{seed}')
+    p = os.path.join(wd, 'record.json')
+    if os.path.exists(p):
+        with open(p) as f:
+            rec = json.load(f)
+        if all(f'auto_{c}' in rec['fits'] for c in cals):
+            return rec
+        return None
+    need = [os.path.join(wd, f'apply_{k}_{c}_{h}.json') for k in ('auto', 'poly') for c in cals for h in HELDOUT]
+    if not all(os.path.exists(x) for x in need):
+        return None
+    rec = dict(structure=structure, seed=seed, fits={}, results={}, rebuilt_from_cli_json=True)
+    for k in ('auto', 'poly'):
+        for c in cals:
+            with open(os.path.join(wd, f'{k}_{c}.fit.json')) as f:
+                fd = json.load(f)
+            rec['fits'][f'{k}_{c}'] = dict(model=fd.get('model'), inputs=fd.get('inputs'),
+                                           cv_rmse_dps=fd.get('cv_rmse_dps'),
+                                           excluded=[e.get('term') for e in fd.get('excluded_terms', []) or []])
+    runs = {p: sim2.simulate(structure, p, seed) for p in cals + HELDOUT}
+    ocoef = {}
+    for c in cals:
+        X = np.column_stack([np.ones(len(runs[c]['rate_dps'])), sim2.oracle_basis(structure, runs[c])])
+        ocoef[c] = np.linalg.lstsq(X, runs[c]['rate_dps'], rcond=None)[0]
+    for h in HELDOUT:
+        truth = runs[h]['true_drift_dps']
+        res = {}
+        for k in ('auto', 'poly'):
+            for c in cals:
+                with open(os.path.join(wd, f'apply_{k}_{c}_{h}.json')) as f:
+                    ad = json.load(f)
+                r = dict(rms_mdps=1e3 * ad['rmse_vs_true_drift_dps'], cli_rmse_mdps=1e3 * ad['rmse_vs_true_drift_dps'],
+                         cli_band_coverage=ad.get('band_coverage_of_true_drift_dps'), band_level=ad.get('band_level'))
+                if ad.get('band_coverage_of_true_drift_dps') is not None:
+                    r['band_coverage'] = ad['band_coverage_of_true_drift_dps']
+                res[f'{k}_{c}'] = r
+        for c in cals:
+            X = np.column_stack([np.ones(len(truth)), sim2.oracle_basis(structure, runs[h])])
+            e = X @ ocoef[c] - truth
+            res[f'oracle_{c}'] = dict(rms_mdps=1e3 * rms(e), mean_mdps=1e3 * float(np.mean(e)))
+        rec['results'][h] = res
+    rec['oracle_coef'] = {c: v.tolist() for c, v in ocoef.items()}
     return rec
 
 
@@ -184,6 +235,9 @@ def main():
     ap.add_argument('--jobs', type=int, default=2, help='parallel processes (at most 2 on the shared machine)')
     ap.add_argument('--out', default=os.path.join(os.path.dirname(os.path.abspath(__file__)), 'out'))
     ap.add_argument('--keep', action='store_true', help='keep the simulated and compensated CSVs')
+    ap.add_argument('--summarise-only', action='store_true',
+                    help='no new jobs: summarise the finished jobs found in --out (a partial run too)')
+    ap.add_argument('--resume', action='store_true', help='reuse the finished jobs found in --out')
     ap.add_argument('--cals', default='paper,two-direction',
                     help='calibration profiles (sim2.PROFILES; must include paper, the reference)')
     a = ap.parse_args()
@@ -198,11 +252,35 @@ def main():
     for s in structures:
         if s not in sim2.STRUCTURES:
             sys.exit(f'heldout.py: unknown structure {s!r} (have {", ".join(sim2.STRUCTURES)})')
+    seeds = list(range(a.first_seed, a.first_seed + a.seeds))
+    if a.summarise_only or a.resume:
+        done = {}
+        for st in structures:
+            for seed in seeds:
+                r = record_from_workdir(st, seed, a.out, CALS)
+                if r is not None:
+                    done[(st, seed)] = r
+        print(f'heldout.py: {len(done)} finished jobs found in {a.out}', file=sys.stderr)
+    else:
+        done = {}
+    if a.summarise_only:
+        records = [done[k] for k in sorted(done, key=lambda k: (structures.index(k[0]), k[1]))]
+        rows, table = summarise(records, structures)
+        nseed = {st: sum(1 for k in done if k[0] == st) for st in structures}
+        head = (f'PARTIAL/summary-only: finished seeds per structure {nseed}. RMS error of the predicted drift vs '
+                f'the true drift on the held-out run, mdps: median [min-max] over seeds; ratios per seed, then '
+                f'median [min-max]. Band: auto\'s 90% band, share of held-out samples whose true drift lies inside.\n\n')
+        with open(os.path.join(a.out, 'heldout_summary_only.json'), 'w') as f:
+            json.dump(dict(summary=rows, records=records, structures=structures, seeds=seeds), f, indent=1)
+        with open(os.path.join(a.out, 'heldout_summary_only.md'), 'w') as f:
+            f.write(head + table + '\n')
+        print(head + table)
+        return
     if not os.access(a.gyrocomp, os.X_OK):
         sys.exit(f'heldout.py: no gyrocomp binary at {a.gyrocomp} (set --gyrocomp or GYROCOMP)')
     gyro = os.path.abspath(a.gyrocomp)
     os.makedirs(a.out, exist_ok=True)
-    jobs = [(s, seed, gyro, a.out, a.keep, CALS) for s in structures for seed in range(a.first_seed, a.first_seed + a.seeds)]
+    jobs = [(s, seed, gyro, a.out, a.keep, CALS) for s in structures for seed in seeds if (s, seed) not in done]
     t0 = time.time()
     print(f'heldout.py: {len(jobs)} jobs ({len(structures)} structures x {a.seeds} seeds), {a.jobs} processes, {gyro}',
           file=sys.stderr)
@@ -212,6 +290,7 @@ def main():
     else:
         with Pool(n) as pool:
             records = pool.map(job, jobs, chunksize=1)
+    records = sorted(records + list(done.values()), key=lambda r: (structures.index(r['structure']), r['seed']))
     wall = time.time() - t0
     rows, table = summarise(records, structures)
     out = dict(gyrocomp=gyro, seeds=list(range(a.first_seed, a.first_seed + a.seeds)), structures=structures,

@@ -11,9 +11,9 @@
 // uncertainty, else the simpler model stands. Pairing removes what both models share on a fold
 // (the flicker wander no model predicts), so the test reads only the difference the term makes.
 //
-// Used by --model auto for every candidate term (dT/dt gain, lag, memory) and by the hybrid's
-// kernel test (which asks the stricter gain > sd, Eq. H-1), and by the calibration's pooled
-// thermal fit for its dT/dt term. Units: those of the fold RMSEs given (deg/s for a gyro).
+// --model auto admits its memory and lag terms by Eq. A-4 (and reports dT/dt's paired gain, which
+// Eq. I-1 decides); the hybrid's kernel test asks the stricter gain > Sd() (Eq. H-1). Units: those
+// of the fold RMSEs given (deg/s for a gyro).
 #pragma once
 
 #include <cstddef>

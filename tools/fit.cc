@@ -146,6 +146,15 @@ nlohmann::json AxisJson(const FitArgs& a, const DriftModel& m) {
   j["excluded_terms"] = nlohmann::json::array();
   for (const ExcludedTerm& e : s.excluded_terms)
     j["excluded_terms"].push_back({{"term", e.term}, {"reason", e.reason}, {"would_identify", e.would_identify}});
+  // auto: each structured term's paired segment-CV gain +- SE over the simpler model (Eq. A-4).
+  j["term_admissions"] = nlohmann::json::array();
+  for (const TermAdmission& t : s.term_admissions) {
+    auto finite = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); };
+    j["term_admissions"].push_back({{"term", t.term}, {"candidate", t.candidate}, {"simpler", t.simpler},
+                                    {"gain", t.gain.pairs ? finite(t.gain.gain) : nlohmann::json()},
+                                    {"gain_se", t.gain.pairs ? finite(t.gain.se) : nlohmann::json()},
+                                    {"segments", t.gain.pairs}, {"admitted", t.admitted}, {"note", t.note}});
+  }
   if (const auto& b = m.band)
     j["band"] = {{"level", b->level}, {"expected_rms", b->expected_rms}, {"model_form_rms", b->model_form_rms},
                  {"noise", {{"white", b->noise.h0}, {"flicker", b->noise.h_1}, {"random_walk", b->noise.h_2}}}};
@@ -221,6 +230,10 @@ int Run(FitArgs a) {
     if (a.json_path != "-") {
       if (!feature_report.empty()) std::cout << "VMD modes: " << feature_report << "\n";
       std::cout << model->rate_col << ": " << model->summary.BriefReport() << "\n";
+      // auto: each candidate term's paired gain +- SE over the simpler model, admitted or rejected.
+      const bool dps = model->unit == "deg/s";
+      for (const TermAdmission& t : model->summary.term_admissions)
+        std::cout << "  term " << t.BriefReport(dps ? 1000.0 : 1.0, dps ? "mdps" : model->unit) << "\n";
       if (const auto& b = model->band)
         std::cout << "expected drift error on a next run like this one: RMS " << b->expected_rms << " " << model->unit
                   << " (90% band, model-form part " << b->model_form_rms << "; noise " << b->noise.BriefReport()

@@ -108,13 +108,13 @@ Result<KernelTest> TestKernel(const FitData& d, const DriftFitOptions& o, const 
   if (!a.ok()) return a.error();
   auto b = CrossValidate(d.xd, d.yd, blocks, HybridFitPredict(o.polynomial)(chosen), &hybrid);
   if (!b.ok()) return b.error();
-  const PairedGain g = PairedFoldGain(structured, hybrid);
+  const TermGain g = PairedTermGain(structured, hybrid);
   KernelTest t;
-  t.keep = g.ChallengerWins();
+  t.keep = KernelWins(g);
   std::ostringstream m;
   m << "hybrid: kernel " << (t.keep ? "kept" : "dropped") << ": its CV gain over the structured part on "
-    << g.blocks << " contiguous blocks is " << FormatNumber(g.mean) << " +- " << FormatNumber(g.sd) << " (mean +- block-to-block SD; kept "
-    << "only when mean > SD)";
+    << g.pairs << " contiguous blocks is " << FormatNumber(g.gain) << " +- " << FormatNumber(g.Sd()) << " (mean +- block-to-block SD; SE "
+    << FormatNumber(g.se) << "; kept only when mean > SD)";
   if (!t.keep) m << "; the model is its structured part: the kernel would learn noise (flicker wander), not drift";
   t.decision = m.str();
   return t;
@@ -186,17 +186,6 @@ Status FitPolynomialAllan(const FitData& d, const DriftInputs& inputs, const Dri
 }
 
 }  // namespace
-
-PairedGain PairedFoldGain(std::span<const double> incumbent, std::span<const double> challenger) {
-  PairedGain g;
-  g.blocks = std::min(incumbent.size(), challenger.size());
-  const double k = static_cast<double>(g.blocks);
-  double ss = 0.0;
-  for (std::size_t i = 0; i < g.blocks; ++i) g.mean += (incumbent[i] - challenger[i]) / k;
-  for (std::size_t i = 0; i < g.blocks; ++i) ss += std::pow(incumbent[i] - challenger[i] - g.mean, 2);
-  g.sd = g.blocks > 1 ? std::sqrt(ss / (k - 1.0)) : std::numeric_limits<double>::infinity();
-  return g;
-}
 
 CvPlan GainTestPlan(std::size_t n, const DriftFitOptions& o) { return BlockPlan(n, o.cv_folds, /*in_range_only=*/true); }
 

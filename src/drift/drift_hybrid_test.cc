@@ -210,27 +210,28 @@ TEST(DriftModelHybrid, KernelNotSearchedOnARunThatDoesNotHeatAndCool) {
   EXPECT_EQ(forced->kind, DriftModelKind::kHybrid);
 }
 
-// Eq. H-1 in closed form: gains g = incumbent - challenger; the challenger wins iff mean(g) > SD(g).
+// Eq. H-1 in closed form: gains g = incumbent - challenger; the kernel wins iff mean(g) > SD(g)
+// (the stricter threshold; term_admission_test.cc checks Eq. A-4's mean(g) > SE(g)).
 TEST(DriftModelHybrid, PairedFoldGainClosedForm) {
-  using drift_internal::PairedFoldGain;
+  using drift_internal::KernelWins;
   const std::vector<double> incumbent = {3.0, 3.0, 3.0, 3.0};
   // Steady gain 0.1 on every block: SD 0, wins.
-  auto g = PairedFoldGain(incumbent, std::vector<double>{2.9, 2.9, 2.9, 2.9});
-  EXPECT_NEAR(g.mean, 0.1, 1e-15);
-  EXPECT_NEAR(g.sd, 0.0, 1e-15);
-  EXPECT_EQ(g.blocks, 4u);
-  EXPECT_TRUE(g.ChallengerWins());
+  auto g = PairedTermGain(incumbent, std::vector<double>{2.9, 2.9, 2.9, 2.9});
+  EXPECT_NEAR(g.gain, 0.1, 1e-15);
+  EXPECT_NEAR(g.Sd(), 0.0, 1e-15);
+  EXPECT_EQ(g.pairs, 4u);
+  EXPECT_TRUE(KernelWins(g));
   // Gains {1, -0.5, 1, -0.5}: mean 0.25, SD sqrt(4 * 0.75^2 / 3) = 0.866: loses.
-  g = PairedFoldGain(incumbent, std::vector<double>{2.0, 3.5, 2.0, 3.5});
-  EXPECT_NEAR(g.mean, 0.25, 1e-15);
-  EXPECT_NEAR(g.sd, std::sqrt(4 * 0.5625 / 3.0), 1e-15);
-  EXPECT_FALSE(g.ChallengerWins());
+  g = PairedTermGain(incumbent, std::vector<double>{2.0, 3.5, 2.0, 3.5});
+  EXPECT_NEAR(g.gain, 0.25, 1e-15);
+  EXPECT_NEAR(g.Sd(), std::sqrt(4 * 0.5625 / 3.0), 1e-15);
+  EXPECT_FALSE(KernelWins(g));
   // Gains {0.3, 0.1, 0.2, 0.2}: mean 0.2, SD sqrt(0.02 / 3) = 0.0816: wins.
-  g = PairedFoldGain(incumbent, std::vector<double>{2.7, 2.9, 2.8, 2.8});
-  EXPECT_NEAR(g.sd, std::sqrt(0.02 / 3.0), 1e-15);
-  EXPECT_TRUE(g.ChallengerWins());
+  g = PairedTermGain(incumbent, std::vector<double>{2.7, 2.9, 2.8, 2.8});
+  EXPECT_NEAR(g.Sd(), std::sqrt(0.02 / 3.0), 1e-15);
+  EXPECT_TRUE(KernelWins(g));
   // One block: no spread to judge by, never wins.
-  EXPECT_FALSE(PairedFoldGain(std::vector<double>{3.0}, std::vector<double>{1.0}).ChallengerWins());
+  EXPECT_FALSE(KernelWins(PairedTermGain(std::vector<double>{3.0}, std::vector<double>{1.0})));
 }
 
 // auto on a calibration run that only cools (and heats once, briefly): the memory and lag

@@ -11,6 +11,7 @@
 #include <Eigen/Core>
 
 #include "gyrocomp/drift/drift_model.h"
+#include "gyrocomp/drift/term_admission.h"
 
 namespace gyrocomp::drift_internal {
 
@@ -56,16 +57,9 @@ CvPlan SegmentPlan(std::span<const double> rate_c_per_s, int folds, double thres
 Result<double> CrossValidate(const Columns& x, std::span<const double> y, const CvPlan& plan,
                              const FitPredict& fit_predict, std::vector<double>* fold_rmse = nullptr);
 
-// Eq. H-1: the paired per-block gain g_k = incumbent_k - challenger_k of two models' fold RMSEs
-// on the same contiguous-block plan; the challenger wins iff mean(g) > SD(g) (its gain exceeds
-// its own block-to-block spread). SD is +inf with fewer than 2 blocks.
-struct PairedGain {
-  double mean = 0.0;
-  double sd = 0.0;
-  std::size_t blocks = 0;
-  bool ChallengerWins() const { return mean > sd; }
-};
-PairedGain PairedFoldGain(std::span<const double> incumbent, std::span<const double> challenger);
+// Eq. H-1, the kernel's test: the paired per-block gain of term_admission.h (Eqs. A-1..A-3) with
+// the stricter threshold gain > Sd() (its gain exceeds its own block-to-block spread, t > sqrt(K)).
+inline bool KernelWins(const TermGain& g) { return g.pairs >= 2 && g.gain > g.Sd(); }
 // The contiguous-block plan Eq. H-1 is scored on: cv_folds blocks, in-range scoring.
 CvPlan GainTestPlan(std::size_t n, const DriftFitOptions& o);
 

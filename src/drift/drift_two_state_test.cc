@@ -147,8 +147,8 @@ TEST(DriftTwoState, ModelFileRoundTripAndCausalEvaluator) {
 }
 
 // auto (docs/drift_model.md "Selection that predicts the next run", rule 1): the two-state
-// candidate is fitted when Eq. I-1 keeps the gain and Eq. I-3 allows a memory, and is then the
-// structured baseline (the lag and the memory alone challenge it under Eq. H-1); on the paper's
+// candidate is fitted when Eq. I-1 keeps the gain and Eq. I-3 allows a memory, and enters when its
+// paired segment gain over poly(T, dT/dt) beats its SE (Eq. A-4); on the paper's
 // cooling staircase (Eq. I-3 fails) it is skipped, and the selection reason says so.
 TEST(DriftTwoState, AutoChoosesItOnATwoRateStaircaseAndSkipsItOnTheCoolingRun) {
   DriftFitOptions o;
@@ -159,8 +159,10 @@ TEST(DriftTwoState, AutoChoosesItOnATwoRateStaircaseAndSkipsItOnTheCoolingRun) {
   EXPECT_EQ(m->inputs, DriftInputSet::kTempRateAndMemory) << m->summary.selection_reason;
   EXPECT_NE(m->summary.selection_reason.find("auto chose poly(temp,dtemp,memory)"), std::string::npos)
       << m->summary.selection_reason;
-  EXPECT_NE(m->summary.selection_reason.find("structured state: poly(temp,dtemp,memory) (Eq. I-1 keeps"),
+  // Eq. A-4: the memory entered on poly(T, dT/dt) because its paired segment gain beat its SE.
+  EXPECT_NE(m->summary.selection_reason.find("+memory (poly(temp,dtemp,memory) over poly(temp,dtemp)): gain"),
             std::string::npos) << m->summary.selection_reason;
+  EXPECT_NE(m->summary.selection_reason.find("segments), admitted"), std::string::npos) << m->summary.selection_reason;
   const SimulatedRun paper = SimRun(ThermalProfileKind::kPaper, 1);
   auto p = FitDriftModel({paper.temp_c, paper.fs_hz}, paper.rate_dps, o);
   ASSERT_TRUE(p.ok()) << p.error().message;

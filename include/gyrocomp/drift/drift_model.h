@@ -40,6 +40,7 @@
 #include "gyrocomp/core/status.h"
 #include "gyrocomp/drift/noise_model.h"
 #include "gyrocomp/drift/svr.h"
+#include "gyrocomp/drift/term_admission.h"
 #include "gyrocomp/drift/temperature_rate.h"
 #include "gyrocomp/drift/thermal_state.h"
 
@@ -239,6 +240,20 @@ struct ExcludedTerm {
   std::string would_identify;  // what calibration run would identify it
 };
 
+// auto: one candidate term's admission test (term_admission.h, Eq. A-4): the paired
+// leave-one-segment-out CV gain of the model with the term over the simpler model it extends.
+struct TermAdmission {
+  std::string term;       // "dT/dt", "memory", "lag"
+  std::string candidate;  // the model with the term, e.g. "poly(temp,dtemp)"
+  std::string simpler;    // the model it extends, e.g. "poly(temp)"
+  TermGain gain;          // target units; pairs = 0 when not tested (see note)
+  bool admitted = false;
+  std::string note;       // why it was not tested, "" otherwise
+  // "+dT/dt (poly(temp,dtemp) over poly(temp)): gain 0.12 +- 0.05 mdps (7 segments), admitted";
+  // gain and SE times `scale`, labelled `unit`.
+  std::string BriefReport(double scale = 1.0, const std::string& unit = "") const;
+};
+
 // What the fit did: the numbers the CLI, the report and the model file show.
 struct DriftFitSummary {
   DriftModelKind model = DriftModelKind::kPolynomial;
@@ -270,6 +285,9 @@ struct DriftFitSummary {
   std::optional<double> lag_tau_s;  // temp,lag: the tau used (fitted or given)
   // auto: every candidate scored, and why the chosen one won.
   std::vector<DriftCandidateScore> candidates;
+  // auto: each structured term's admission test, in the nested order poly(T) -> +dT/dt ->
+  // +memory / +lag (Eq. A-4). Not written to the model file (selection_reason carries the text).
+  std::vector<TermAdmission> term_admissions;
   std::string selection_reason;
   // What this calibration run can identify (heating and cooling coverage), for the fit summary.
   std::string identifiability;

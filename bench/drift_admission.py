@@ -1,0 +1,170 @@
+#!/usr/bin/env python3
+"""The default (`fit`, auto) against poly(T, dT/dt) on held-out runs of two simulator families.
+
+For each family, drift structure, calibration profile and seed: simulate the calibration run, fit
+the default and poly(T, dT/dt) on it, and poly(T, dT/dt) on the one-direction (paper) profile of
+the same structure and seed (the reference); apply the three to a held-out heating run and a
+held-out cooling run (other seeds: independent noise) and read the RMS error against the true drift,
+the default's band coverage of the true drift and the model auto chose.
+
+Families:
+  own   gyrocomp's simulator (`gyrocomp simulate`): structures A-D of bench/drift_heldout.sh;
+        calibrations paper (one direction: a cooling staircase) and heat-cool (two directions);
+        held out: ramp -40 -> 60 C (heating) and the paper staircase (cooling).
+  sim2  bench/sim2/sim2.py, written apart from gyrocomp's model code: structures lag2, preisach,
+        memory, rate-temp (smooth-nonpoly with STRUCTS); calibrations paper (one direction: a heating
+        staircase) and two-direction (25 -> 60 -> -40 -> 60 C); held out: heating and cooling.
+
+Usage: G=build/gyrocomp D=admission SEEDS="1 2 3 4 5 6" FAMILIES="own sim2" JOBS=2 \
+           /usr/bin/python3 bench/drift_admission.py [-v]
+Options (environment): STRUCTS="A B lag2 memory" keeps those structures; CALS="one two" keeps those
+calibrations. Prints per-run rows (-v) and the summary tables of docs/drift_model.md
+"Selection that predicts the next run".
+"""
+import concurrent.futures
+import json
+import os
+import statistics as st
+import subprocess
+import sys
+
+G = os.environ.get("G", "gyrocomp")
+# GP: the binary for everything but the default's fit (simulate, poly fits, apply); the same as G
+# unless given. SKIP_AUTO=1: only the simulations and the poly(T, dT/dt) fits and their errors.
+GP = os.environ.get("GP", G)
+SKIP_AUTO = os.environ.get("SKIP_AUTO") == "1"
+D = os.environ.get("D", "admission")
+SEEDS = [int(s) for s in os.environ.get("SEEDS", "1 2 3 4 5 6").split()]
+FAMILIES = os.environ.get("FAMILIES", "own sim2").split()
+JOBS = int(os.environ.get("JOBS", "2"))
+VERBOSE = "-v" in sys.argv
+SIM2 = os.path.join(os.path.dirname(os.path.abspath(__file__)), "sim2", "sim2.py")
+
+OWN = {
+    "A": "",
+    "B": "--hysteresis-width 10 --hysteresis-coeff 4e-3 --dtemp-coeff 0.5",
+    "C": "--thermal-lag 1500 --dtemp-coeff 4",
+    "D": "--hysteresis-coeff 0 --thermal-lag 300 --dtemp-coeff 2.5 --drift-poly 0.01,-1e-3,3e-5,1e-7",
+}
+OWN_PROFILES = {"one": "--profile paper", "two": "--profile heat-cool",
+                "heat": "--profile ramp --room-temp -40 --ramp-end 60", "cool": "--profile paper"}
+SIM2_STRUCTS = ["lag2", "preisach", "memory", "rate-temp"]
+SIM2_PROFILES = {"one": "paper", "two": "two-direction", "heat": "heating", "cool": "cooling"}
+CALS = os.environ.get("CALS", "one two").split()
+SEED_OFFSET = {"one": 0, "two": 0, "heat": 10, "cool": 20}
+
+
+def run(cmd):
+    r = subprocess.run(cmd, shell=True, capture_output=True, text=True)
+    if r.returncode != 0:
+        raise RuntimeError(f"{cmd}: {r.stderr.strip()}")
+    return r.stdout
+
+
+def simulate(family, struct, profile, seed, path):
+    if os.path.exists(path):
+        return
+    s = seed + SEED_OFFSET[profile]
+    if family == "own":
+        run(f"{GP} simulate {OWN_PROFILES[profile]} --fs 1 --seed {s} {OWN[struct]} -o {path}")
+    else:
+        run(f"/usr/bin/python3 {SIM2} --structure {struct} --profile {SIM2_PROFILES[profile]} --seed {s} -o {path}")
+
+
+def apply(model, data, out, g=None):
+    if not (os.path.exists(out + ".json") and os.path.getmtime(out + ".json") > os.path.getmtime(model)):
+        run(f"{g or GP} apply -m {model} -i {data} -o {out}.csv --json {out}.json")
+        os.remove(out + ".csv")
+    j = json.load(open(out + ".json"))
+    return j["rmse_vs_true_drift_dps"], j.get("band_coverage_of_true_drift_dps")
+
+
+def one(job):
+    family, struct, cal, seed = job
+    p = f"{D}/{family}.{struct}.{seed}"
+    c = f"{p}.{cal}"
+    if not os.path.exists(c + ".poly.json"):
+        run(f"{GP} fit -i {c}.csv --model poly --inputs temp,dtemp -o {c}.poly.json")
+    ref = f"{p}.one.poly.json"  # poly(T, dT/dt) on the paper profile
+    if cal != "one":
+        ref = f"{c}.ref.json"
+        if not os.path.exists(ref):
+            run(f"{GP} fit -i {p}.one.csv --model poly --inputs temp,dtemp -o {ref}")
+    if SKIP_AUTO:
+        for held in ("heat", "cool"):
+            apply(c + ".poly.json", f"{p}.{held}.csv", f"{c}.poly.{held}")
+            apply(ref, f"{p}.{held}.csv", f"{c}.ref.{held}")
+        return []
+    run(f"{G} fit -i {c}.csv -o {c}.auto.json --json {c}.auto.fit.json")
+    fit = json.load(open(c + ".auto.fit.json"))
+    admitted = [t["term"] for t in fit.get("term_admissions", []) if t["admitted"]]
+    rows = []
+    for held in ("heat", "cool"):
+        rmse, cov = apply(c + ".auto.json", f"{p}.{held}.csv", f"{c}.auto.{held}", G)
+        prmse, _ = apply(c + ".poly.json", f"{p}.{held}.csv", f"{c}.poly.{held}")
+        rrmse, _ = apply(ref, f"{p}.{held}.csv", f"{c}.ref.{held}")
+        rows.append(dict(f=family, s=struct, cal=cal, seed=seed, held=held, model=f"{fit['model']}({fit['inputs']})",
+                         terms="+".join(admitted) or "-", auto=rmse, poly=prmse, ref=rrmse, cov=cov))
+    return rows
+
+
+def summary(rows):
+    print("| family | structure | calibration | held out | default chose (runs) | default (mdps) | "
+          "poly(T,dT/dt) same run (mdps) | default - poly, paired (mdps) | default / poly per seed | "
+          "poly(T,dT/dt) on paper (mdps) | default / paper-poly | coverage |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
+    keys = sorted({(r["f"], r["s"], r["cal"], r["held"]) for r in rows})
+    for k in keys:
+        g = [r for r in rows if (r["f"], r["s"], r["cal"], r["held"]) == k]
+        sd = lambda v: st.stdev(v) if len(v) > 1 else 0.0
+        a, p, rf = ([1e3 * r[x] for r in g] for x in ("auto", "poly", "ref"))
+        diff = [x - y for x, y in zip(a, p)]
+        chose = {}
+        for r in g:
+            chose[r["model"]] = chose.get(r["model"], 0) + 1
+        cov = [r["cov"] for r in g if r["cov"] is not None]
+        cov_text = f"{100 * st.mean(cov):.0f}%" if cov else "-"
+        print(f"| {k[0]} | {k[1]} | {k[2]}-direction | {'heating' if k[3] == 'heat' else 'cooling'} | "
+              f"{', '.join(f'{m} x{n}' for m, n in sorted(chose.items()))} | {st.mean(a):.2f} +- {sd(a):.2f} | "
+              f"{st.mean(p):.2f} +- {sd(p):.2f} | {st.mean(diff):+.2f} +- {sd(diff):.2f} | "
+              f"{', '.join(f'{x / y:.2f}' for x, y in zip(a, p))} | {st.mean(rf):.2f} +- {sd(rf):.2f} | "
+              f"{st.mean(a) / st.mean(rf):.2f} | {cov_text} |")
+    print()
+    print("| family | coverage (all runs) | lowest run | runs |")
+    print("|---|---|---|---|")
+    for f in sorted({r["f"] for r in rows}):
+        cov = [r["cov"] for r in rows if r["f"] == f and r["cov"] is not None]
+        print(f"| {f} | {100 * st.mean(cov):.1f}% | {100 * min(cov):.1f}% | {len(cov)} |")
+
+
+def main():
+    os.makedirs(D, exist_ok=True)
+    keep = os.environ.get("STRUCTS", "").split()
+    jobs = []
+    for family in FAMILIES:
+        structs = list(OWN) if family == "own" else SIM2_STRUCTS + (["smooth-nonpoly"] if "smooth-nonpoly" in keep else [])
+        for s in structs:
+            if keep and s not in keep:
+                continue
+            for cal in CALS:
+                for seed in SEEDS:
+                    jobs.append((family, s, cal, seed))
+    runs = sorted({(f, s, seed, prof) for f, s, cal, seed in jobs for prof in ("one", cal, "heat", "cool")})
+    with concurrent.futures.ThreadPoolExecutor(JOBS) as ex:
+        list(ex.map(lambda r: simulate(r[0], r[1], r[3], r[2], f"{D}/{r[0]}.{r[1]}.{r[2]}.{r[3]}.csv"), runs))
+    rows = []
+    with concurrent.futures.ThreadPoolExecutor(JOBS) as ex:
+        for rs in ex.map(one, jobs):
+            rows += rs
+            if VERBOSE:
+                for r in rs:
+                    print(f"| {r['f']} | {r['s']} | {r['cal']} | {r['seed']} | {r['held']} | {r['model']} | {r['terms']} | "
+                          f"{1e3 * r['auto']:.2f} | {1e3 * r['poly']:.2f} | {1e3 * r['ref']:.2f} | "
+                          f"{100 * (r['cov'] or 0):.0f}% |", flush=True)
+    if rows:
+        json.dump(rows, open(f"{D}/rows.json", "w"))
+        summary(rows)
+
+
+if __name__ == "__main__":
+    main()

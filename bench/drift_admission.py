@@ -18,7 +18,7 @@ Families:
 Usage: G=build/gyrocomp D=admission SEEDS="1 2 3 4 5 6" FAMILIES="own sim2" JOBS=2 \
            /usr/bin/python3 bench/drift_admission.py [-v]
 Options (environment): STRUCTS="A B lag2 memory" keeps those structures; CALS="one two" keeps those
-calibrations. Prints per-run rows (-v) and the summary tables of docs/drift_model.md
+calibrations. Prints per-run rows (-v) and the summary tables of docs/explanation/drift-models.md
 "Selection that predicts the next run".
 """
 import concurrent.futures

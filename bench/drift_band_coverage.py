@@ -9,7 +9,7 @@ coverage of the true drift, its half-width and the realised RMSE from `apply --j
 Usage: G=build/gyrocomp D=bandcov SEEDS="1 2 3 4 5 6" FS=1 /usr/bin/python3 bench/drift_band_coverage.py [-v]
 Options (environment): TWO_DIRECTION=1 adds the heat-cool, stairs and rate-cycles calibrations, ONLY=<profile>
 keeps one calibration profile, STRUCTS="A B C E" keeps those structures.
-Prints per-run rows (with -v) and the summary tables of docs/drift_model.md "Prediction bands".
+Prints per-run rows (with -v) and the summary tables of docs/explanation/prediction-bands.md.
 """
 import json
 import os

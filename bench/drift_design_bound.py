@@ -3,7 +3,7 @@
 on one calibration run of <= 14.25 h, reach 0.8x the held-out drift RMSE of poly(T, dT/dt) fitted on
 the paper's cooling run? And on which profile?
 
-The simulator's drift (docs/simulator.md, src/sim/simulator.cc BiasDriftDps) is
+The simulator's drift (docs/explanation/simulator.md, src/sim/simulator.cc BiasDriftDps) is
     drift = c0 + c1 d + c2 d^2 + c3 d^3 + k_dot r + k_h (T - P_w(T)),   d = T - 25 C,
 with T the true sensor temperature, r = (u - T) / lag its true rate and P_w the play operator of
 the true width w. Given T, r and w (which no real estimator has), that is LINEAR in its six
@@ -30,7 +30,7 @@ Usage: /usr/bin/python3 bench/drift_design_bound.py [--build build] [--seeds 1,2
        [--structs A,B,C,E] [--profiles paper,stairs,...] [--no-analytic]
        /usr/bin/python3 bench/drift_design_bound.py --plan-check [--structs ...]
            (the expected value and 3-seed scatter of `gyrocomp plan`'s simulated figure)
-Prints the table of docs/drift_model.md "What any estimator can reach: the design bound".
+Prints the table of docs/explanation/drift-models.md "What any estimator can reach: the design bound".
 Only numpy and `gyrocomp simulate`.
 """
 import argparse

@@ -1,5 +1,5 @@
 #!/bin/sh
-# Held-out drift table of docs/drift_model.md (issue 11): for each drift structure and seed, fit on
+# Held-out drift table of docs/explanation/drift-models.md (issue 11): for each drift structure and seed, fit on
 # a simulated cooling run (paper profile), test on a heating run (ramp -40 -> 60 C) and a second
 # cooling run, both of other seeds. Prints one markdown row per (structure, seed, model).
 # cs-svr and hybrid run with GEN cuckoo-search generations (default 4, auto's budget; the paper

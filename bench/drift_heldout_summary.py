@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Summary of bench/drift_heldout.sh tables (docs/drift_model.md): per structure and model the
+"""Summary of bench/drift_heldout.sh tables (docs/explanation/drift-models.md): per structure and model the
 mean and seed-to-seed SD of the heating and cooling-2 RMSE, and each run's ratio to
 poly(T, dT/dt). Later tables override earlier rows of the same (structure, seed, model).
 Usage: /usr/bin/python3 bench/drift_heldout_summary.py table.md [more.md ...]

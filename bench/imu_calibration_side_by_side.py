@@ -30,7 +30,7 @@ time-weighted curve, and temperature: each temperature alike; and with --runs K 
 calibration runs of the board, `calibrate -i` repeated, auto / temperature / time), and the true static curve (the simulator's bias cubic, the best a static cubic can do
 against its own static part). Printed: mean over seeds and axes, the seed spread (SD of the
 per-seed means), per-axis win counts of gyrocomp against each script and the RMS ratios.
-Figures and the scripts' commits: docs/export.md, "Side by side with the autopilots' scripts".
+Figures and the scripts' commits: docs/explanation/flight-controller-export.md, "Side by side with the autopilots' scripts".
 """
 import argparse
 import math

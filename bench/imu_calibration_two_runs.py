@@ -7,7 +7,7 @@ On the bias(T)-only structure (calibration data = cubic(T) + noise), fits a leas
 to one calibration run and to two (independent seeds), and scores both on held-out heating and
 cooling runs as bench/imu_calibration_side_by_side.py does (gyro, RMS of 10 s means, mean
 removed, deg/s). If the excess over the true curve, sqrt(RMS^2 - RMS_true^2), falls by about
-1/sqrt(2) with two runs, it is the calibration run's own slow noise. Figures: docs/export.md.
+1/sqrt(2) with two runs, it is the calibration run's own slow noise. Figures: docs/explanation/flight-controller-export.md.
 """
 import argparse
 import os

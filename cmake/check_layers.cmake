@@ -1,4 +1,4 @@
-# The layering rule of docs/architecture.md: a stage never includes a later stage.
+# The layering rule of docs/explanation/architecture.md: a stage never includes a later stage.
 #
 # gyrocomp_check_layers(<source dir> <stages in data-flow order>) reads every file under
 # src/<stage>/ and include/gyrocomp/<stage>/, collects its `#include "gyrocomp/<other>/..."`

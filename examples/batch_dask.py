@@ -20,7 +20,7 @@ comes back: the records never cross the network.
 
 DIR/summary.csv has one row per unit; DIR/summary.html shows the table with outliers flagged: a
 figure whose robust z-score |x - median| / (1.4826 MAD) exceeds --outlier-z (default 3.5) across
-the batch and which is at least --outlier-rel (default 25%) away from the median. Units that fail keep a row with the error and empty figures. docs/batch.md explains the
+the batch and which is at least --outlier-rel (default 25%) away from the median. Units that fail keep a row with the error and empty figures. docs/guides/many-units.md explains the
 figures and how the work scales.
 """
 

@@ -4,7 +4,7 @@
 #   --browser   also install Debian's chromium (used by the report's headless-browser test)
 #   --allan-variance-ros   also the Debian ROS 1 / ROS 2 headers needed to build ori-drs/allan_variance_ros
 #               outside catkin, and rosmaster / scipy / matplotlib to run it, for
-#               bench/allan_variance_ros_side_by_side.sh (docs/kalibr.md; not needed by CI)
+#               bench/allan_variance_ros_side_by_side.sh (docs/guides/imu-noise.md; not needed by CI)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 

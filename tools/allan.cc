@@ -170,7 +170,7 @@ struct SensorNoise {
   std::vector<KalibrAxisNoise> gyro, accel;
 };
 
-// Kalibr's continuous-time figures of every axis (docs/kalibr.md).
+// Kalibr's continuous-time figures of every axis (docs/guides/imu-noise.md).
 Result<SensorNoise> NoiseFigures(const AllanArgs& a, const AllanOutputs& out, const GyroLog& log) {
   SensorNoise n;
   std::vector<KalibrAxisNoise>& gyro = n.gyro;
@@ -381,9 +381,9 @@ Command MakeAllan(CLI::App& app) {
       "  --deviation mdev|hdev|ohdev|totdev: also that curve, exactly as allantools computes it\n"
       "    (JSON <kind>_tau_s, <kind>_dps, <kind>_lo_dps, ...; -o writes that curve). Hadamard\n"
       "    (hdev, ohdev) is blind to a linear rate drift (a temperature ramp).\n"
-      "  --kalibr-yaml imu.yaml: Kalibr's noise densities (rad/s/sqrt(Hz), rad/s^2/sqrt(Hz); docs/kalibr.md).\n"
+      "  --kalibr-yaml imu.yaml: Kalibr's noise densities (rad/s/sqrt(Hz), rad/s^2/sqrt(Hz); docs/guides/imu-noise.md).\n"
       "  --openvins-yaml / --vins-yaml: the same figures for OpenVINS (continuous) and VINS-Fusion\n"
-      "    (discrete per-sample, x sqrt(fs)); docs/kalibr.md cites each convention.\n"
+      "    (discrete per-sample, x sqrt(fs)); docs/guides/imu-noise.md cites each convention.\n"
       "  ROS bag input (-i imu.bag / .mcap / .db3 / folder, --topic /imu0): the gyro axes x_rad_s,\n"
       "    y_rad_s, z_rad_s and the accelerometer axes x_m_s2, y_m_s2, z_m_s2 at once (JSON accel_axes,\n"
       "    gyro_noise).\n"
@@ -408,7 +408,7 @@ Command MakeAllan(CLI::App& app) {
   AddOutputOption(sub, "--openvins-yaml", &args->openvins_yaml_path,
                   "Write an OpenVINS kalibr_imu_chain.yaml (continuous-time densities) to FILE");
   AddOutputOption(sub, "--vins-yaml", &args->vins_yaml_path,
-                  "Write VINS-Fusion's acc_n / gyr_n / acc_w / gyr_w (discrete: x sqrt(fs); docs/kalibr.md) to FILE");
+                  "Write VINS-Fusion's acc_n / gyr_n / acc_w / gyr_w (discrete: x sqrt(fs); docs/guides/imu-noise.md) to FILE");
   sub->add_option("--rostopic", args->rostopic, "rostopic written in the noise files (default: --topic, else /imu0)")
       ->each([args](const std::string&) { args->rostopic_given = true; })
       ->capture_default_str();

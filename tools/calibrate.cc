@@ -1,5 +1,5 @@
 // gyrocomp calibrate: every gyro, accelerometer (and PX4 barometer) of a flight log fitted and
-// written as ONE parameter file the autopilot loads (docs/export.md, docs/cli.md). The work is the
+// written as ONE parameter file the autopilot loads (docs/explanation/flight-controller-export.md, docs/reference/cli-contract.md). The work is the
 // calibrate stage's (gyrocomp/calibrate/calibrate.h: sensors, block means, fit, projection,
 // combining runs, validation, the parameter text); this file reads the options, prints the table
 // and writes the files.

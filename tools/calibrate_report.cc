@@ -45,7 +45,7 @@ nlohmann::json SensorsTable(const nlohmann::json& summary) {
           {"rows", rows},
           {"note", "Per axis (x / y / z), firmware unit (gyro rad/s, accel m/s^2, baro Pa). Expected error: the "
                    "exported cubic's expected next-run RMS, RMS of sqrt((cubic - model)^2 + sd^2), sd the model's "
-                   "prediction band / z, at steady temperature and along the calibration run's heating (docs/export.md). "
+                   "prediction band / z, at steady temperature and along the calibration run's heating (docs/explanation/flight-controller-export.md). "
                    "Optimised for: " + summary["optimised_for"].get<std::string>() + "."}};
 }
 
@@ -64,7 +64,7 @@ nlohmann::json CoefficientTable(const nlohmann::json& summary) {
           {"columns", {"sensor", "axis", "ref (deg C)", "range (deg C)", "c0", "c1", "c2", "c3"}},
           {"rows", rows},
           {"note", "offset(T) = c0 + c1 dT + c2 dT^2 + c3 dT^3, dT = clamp(T) - ref, firmware unit, sensor frame; the "
-                   "constant removed as the file needs (docs/export.md). The parameter file holds them as float32."}};
+                   "constant removed as the file needs (docs/explanation/flight-controller-export.md). The parameter file holds them as float32."}};
 }
 
 nlohmann::json ValidationTable(const nlohmann::json& summary) {

@@ -184,7 +184,7 @@ Command MakeDecompose(CLI::App& app) {
       "updates. Modes are in the algorithm's order (mode k started from init centre frequency k).\n"
       "Sample entropy: Richman-Moorman, m = --m, r = --r x each mode's SD, strict '<', computed on the\n"
       "middle --entropy-max-samples samples of each mode (as `process`), exact fast counting.\n"
-      "Classes (--rule standard, docs/classification.md): SE < 0.3 drift, 0.3..0.5 mixed, > 0.5 noise,\n"
+      "Classes (--rule standard, docs/explanation/classification.md): SE < 0.3 drift, 0.3..0.5 mixed, > 0.5 noise,\n"
       "  and the lowest-frequency mode (mean, bias, slowest drift) is never noise.\n"
       "  --rule paper: SE < 2 drift, 2..4.2 mixed, > 4.2 noise (the paper's scale; on the standard\n"
       "  scale white noise is ~2.18 and its VMD modes ~0.6, so 'noise' never fires).\n"
@@ -222,7 +222,7 @@ Command MakeDecompose(CLI::App& app) {
       ->group(g);
   sub->add_flag("--entropy-all", args->entropy_all, "Sample entropy on every sample of each mode")->group(g);
   g = "Classification";
-  sub->add_option("--rule", args->rule, "Thresholds: standard (docs/classification.md) or paper (2 / 4.2)")
+  sub->add_option("--rule", args->rule, "Thresholds: standard (docs/explanation/classification.md) or paper (2 / 4.2)")
       ->group(g)->check(CLI::IsMember({"standard", "paper"}))->capture_default_str();
   sub->add_option("--drift-max-se", args->drift_max_se, "Override: SE below this is drift")->group(g);
   sub->add_option("--noise-min-se", args->noise_min_se, "Override: SE above this is noise-only")->group(g);

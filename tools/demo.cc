@@ -29,7 +29,7 @@ namespace {
 
 constexpr const char* kDemoName = "demo";
 
-// The demo's reduced search budgets (docs/cli.md, demo): cuckoo-search nests of every searched
+// The demo's reduced search budgets (docs/reference/cli-contract.md, demo): cuckoo-search nests of every searched
 // model, generations of auto's searched candidates (hybrid, cs-svr) and of the paper's CS-SVR
 // branch. --full-budget keeps `process`' defaults (15 nests; auto 4 generations; cs-svr 10).
 constexpr int kDemoNests = 6;

@@ -69,7 +69,7 @@ SideBySideTable DemoTable(const std::vector<DemoVariant>& ours, const std::strin
            "it). Drift RMSE: the model's prediction against the simulator's true drift; held-out: the models "
            "fitted on this run applied to " + held_out_label + ". Paper: Chang, Cao & Shen 2020, Section 4.3.1, "
            "Figure 13 and the abstract (its drift errors and bandwidth are not published). Not applicable: the "
-           "rule of docs/pipeline.md (bandwidth known, taus >= 1/(2 bandwidth), ADEV slope within 0.2 of -1/2 for "
+           "rule of docs/explanation/pipeline.md (bandwidth known, taus >= 1/(2 bandwidth), ADEV slope within 0.2 of -1/2 for "
            "ARW, +1/2 for RRW).";
   return t;
 }

@@ -296,7 +296,7 @@ Command MakeDenoise(CLI::App& app) {
       "JSON (--json): per axis method, summary, rmse_before/after_dps (with --truth-col),\n"
       "  arw_before/after_deg_per_sqrt_h (sigma(1 s) x 60), adev_min_before/after_deg_per_h,\n"
       "  bandwidth_hz and delay_s (with --bandwidth). A lower ARW bought by a narrower bandwidth is\n"
-      "  low-pass filtering: read the two together (docs/denoising.md).");
+      "  low-pass filtering: read the two together (docs/explanation/denoising.md).");
   return {sub, [args] { return Run(*args); }};
 }
 

@@ -1,6 +1,6 @@
 // gyrocomp fit: fit a temperature-drift model (auto | poly | svr | grid-svr | cs-svr | hybrid) on a
 // calibration run, one per rate column, and save them in one JSON model file for `gyrocomp apply`
-// (method.md section 4; cli.md; docs/drift_model.md).
+// (method.md section 4; cli.md; docs/explanation/drift-models.md).
 #include <cmath>
 #include <iostream>
 #include <memory>
@@ -216,7 +216,7 @@ int Run(FitArgs a) {
   // One model per axis (--rate-col gx,gy,gz), all in one model file.
   DriftModelSet set;
   set.device_id = log.device_id;  // PX4 ULog: for export --format px4 (TC_G<i>_ID)
-  // A flight log's gyro: the model file's "sensor" (docs/design-imu-trust.md), which export
+  // A flight log's gyro: the model file's "sensor" (docs/reference/model-file.md), which export
   // --index follows. Rate columns other than the gyro's (--target COLUMN) name no sensor.
   if (log.instance && !target_is_column) set.sensor = SensorIdentity{"gyro", *log.instance, log.device_id, "sensor"};
   std::string feature_report;
@@ -366,7 +366,7 @@ Command MakeFit(CLI::App& app) {
   sub->add_option("--noise-model", a->noise_model,
                   "poly: white (ordinary least squares, default) | allan (generalised least squares with white + "
                   "flicker + random walk fitted to the Allan variance of the OLS residual; helps only where the "
-                  "polynomial's form is right: docs/drift_model.md)")
+                  "polynomial's form is right: docs/explanation/drift-models.md)")
       ->check(CLI::IsMember({"white", "allan"}))->group(d)->capture_default_str();
   sub->add_option("--gls-block", a->fit.gls_block_s, "--noise-model allan: block-mean period of the GLS fit, s")
       ->group(d)->capture_default_str();

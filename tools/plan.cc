@@ -1,5 +1,5 @@
 // gyrocomp plan: compare chamber profiles for a unit by the drift error they leave on the next
-// run, per hour of chamber time (issue 23; docs/drift_model.md "Calibration design").
+// run, per hour of chamber time (issue 23; docs/explanation/calibration-design.md).
 //
 // For each profile and seed: simulate the calibration run with the unit's noise (datasheet
 // numbers, IEEE 952) and drift family (simulator flags), fit the default model, and on two
@@ -36,10 +36,10 @@ constexpr double kMinPilotSpanC = 5.0;
 struct PlanArgs {
   SimulatorOptions unit;  // noise and drift family; profile and seed set per run
   // stairs on request: its simulated error is above rate-cycles' (A: 19.8 against 12.5 mdps,
-  // docs/drift_model.md "What any estimator can reach"; its band covers 79.3%, "Sixth session").
-  // rate-cycles: the design of the least calibration-noise error (docs/drift_model.md "What any estimator can reach"); with 10 seeds
+  // docs/explanation/drift-models.md "What any estimator can reach"; its band covers 79.3%, "Sixth session").
+  // rate-cycles: the design of the least calibration-noise error (docs/explanation/drift-models.md "What any estimator can reach"); with 10 seeds
   // plan's predictions hold within 25% of the simulated error on all 20 structure x profile
-  // pairs for A, B, C, E (docs/drift_model.md "Seventh session").
+  // pairs for A, B, C, E (docs/explanation/drift-models.md "Seventh session").
   std::string profiles = "paper,heat-cool,rate-cycles,cycle,ramp";
   std::string drift_poly;
   int seeds = 3;
@@ -70,7 +70,7 @@ struct Outcome {
   // What the recommendation ranks: the larger of the predicted and the simulated error, so that a
   // profile must both say and reach a small error. By the predicted error alone (its 10% window
   // within the seed scatter), 5 seeds of structure B recommended heat-cool, predicted 14.3 mdps and
-  // simulated 22.8, over rate-cycles' 14.1 / 10.5 (docs/drift_model.md "Seventh session").
+  // simulated 22.8, over rate-cycles' 14.1 / 10.5 (docs/explanation/drift-models.md "Seventh session").
   double score() const { return std::max(predicted(), simulated()); }
   // Relative standard error of simulated() from the seed-to-seed scatter of the per-seed mean
   // squares (delta method: SE(sqrt m) / sqrt m = SE(m) / (2 m)); NaN with one seed. The simulated

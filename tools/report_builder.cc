@@ -282,7 +282,7 @@ nlohmann::json DriftModelTable(const DriftModel& m) {
           {"note", "C and sigma in the SVR's scaled units (standardised inputs by default). "
                    "Expected next-run error: RMS of the 90% prediction band's standard deviation over this record "
                    "(parameter uncertainty under the measured noise, model-form spread, left-out dT/dt gain; "
-                   "docs/drift_model.md \"Prediction bands\"); empty when the model has no band."}};
+                   "docs/explanation/drift-models.md \"Prediction bands\"); empty when the model has no band."}};
 }
 
 // One table per comparison group (Section 4.3): denoising, drift models, serial vs parallel.

@@ -28,7 +28,7 @@ nlohmann::json ModesJson(const std::vector<ModeReport>& modes);
 nlohmann::json BandwidthJson(const BandwidthResult& b);
 
 nlohmann::json DriftSummaryJson(const DriftFitSummary& s);
-// A drift model on another run (validate, fit --validate): keys documented in docs/cli.md.
+// A drift model on another run (validate, fit --validate): keys documented in docs/reference/cli-contract.md.
 nlohmann::json DriftValidationJson(const DriftValidation& v);
 
 // One row of `compare` (gyrocomp/compare.h).

@@ -1,4 +1,4 @@
-// gyrocomp simulate: the thermal-chamber experiment with ground truth (docs/simulator.md).
+// gyrocomp simulate: the thermal-chamber experiment with ground truth (docs/explanation/simulator.md).
 #include <cmath>
 #include <cstdlib>
 #include <iostream>
@@ -157,7 +157,7 @@ Command MakeSimulate(CLI::App& app) {
       "(--profile-csv FILE: columns time_s and chamber_temp_c or temp_c, one row per breakpoint,\n"
       "linear in between).\n"
       "Noise in datasheet units (IEEE 952); bias instability = flicker floor / 0.664, made of a sum of\n"
-      "Gauss-Markov processes (docs/simulator.md). Same options and --seed: identical output.\n"
+      "Gauss-Markov processes (docs/explanation/simulator.md). Same options and --seed: identical output.\n"
       "-o run.ulg writes a PX4 ULog instead: a board of --imus IMUs as sensor_gyro (rad/s) and sensor_accel\n"
       "(m/s^2, gravity on z) multi_id 0.., float32, realistic PX4 device ids, and sensor_baro (Pa);\n"
       "IMU 0's gyro x is the run, y and z --seed + 1 and + 2. -o run.bin writes an ArduPilot DataFlash\n"

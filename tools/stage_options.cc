@@ -34,7 +34,7 @@ void AddPipelineOptions(CLI::App* app, PipelineCliOptions* c) {
       ->check(IntegerRange(100, 1'000'000'000'000, "PipelineOptions::entropy_max_samples"))->group(g);
 
   g = "Classification";
-  app->add_option("--rule", c->rule, "drift/mixed/noise thresholds: standard (docs/classification.md) or paper (SE < 2 drift, > 4.2 noise)")
+  app->add_option("--rule", c->rule, "drift/mixed/noise thresholds: standard (docs/explanation/classification.md) or paper (SE < 2 drift, > 4.2 noise)")
       ->group(g)->check(CLI::IsMember({"standard", "paper"}))->capture_default_str();
   app->add_option("--drift-max-se", c->drift_max_se, "Override: SE below this is drift")->group(g);
   app->add_option("--noise-min-se", c->noise_min_se, "Override: SE above this is noise-only")->group(g);

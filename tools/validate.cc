@@ -1,4 +1,4 @@
-// gyrocomp validate: a saved drift model on a run it was not fitted on (docs/drift_model.md,
+// gyrocomp validate: a saved drift model on a run it was not fitted on (docs/explanation/drift-models.md,
 // drift_validate.h): residual drift, what the model missed, ADEV at long taus, errors against
 // the truth when present, and how far the run leaves the calibration's conditions.
 #include <cmath>
@@ -127,7 +127,7 @@ Command MakeValidate(CLI::App& app) {
       "beside the raw rate's; the residual's least-squares slopes against T and dT/dt (what the\n"
       "model missed); ADEV of compensated and raw rates at tau >= --min-tau; RMSE against the truth\n"
       "column when present; the share of samples with T and dT/dt outside the fitted ranges.\n"
-      "JSON keys: docs/cli.md (validate).\n"
+      "JSON keys: docs/reference/cli-contract.md (validate).\n"
       "Example: gyrocomp validate -m model.json -i other_run.csv --json validate.json --report validate.html");
   AddInputOption(sub, "-m,--model", &a->model_path, "Model file written by gyrocomp fit")->required();
   AddLogOptions(sub, &a->log);

@@ -69,7 +69,7 @@ nlohmann::json ValidationReportTable(const std::vector<ValidationSection>& secti
   std::string note =
       "Residual drift: the compensated rate in block means, about its mean (raw: the same for the raw rate); "
       "slopes: least squares of the residual block means on T and dT/dt (what the model missed; 0 = nothing "
-      "left); ADEV: overlapping, tau >= the validation's min tau. Keys: docs/cli.md (validate).";
+      "left); ADEV: overlapping, tau >= the validation's min tau. Keys: docs/reference/cli-contract.md (validate).";
   for (const ValidationSection& s : sections) {
     if (s.model) note += " " + s.label + ": " + s.model->selection_reason;
   }

@@ -1,6 +1,6 @@
 // Everything gyrocomp offers, for users who want one include. Each stage also has its own
 // header (include/gyrocomp/STAGE/NAME.h); including only what you use builds faster.
-// Stages in the order data flows (docs/architecture.md).
+// Stages in the order data flows (docs/explanation/architecture.md).
 #pragma once
 
 #include "gyrocomp/core/status.h"

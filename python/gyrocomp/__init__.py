@@ -1,4 +1,4 @@
-"""gyrocomp: remove noise and temperature drift from MEMS gyro output (docs/python.md).
+"""gyrocomp: remove noise and temperature drift from MEMS gyro output (docs/guides/python.md).
 
 Every function takes numpy arrays (float64, used in place when contiguous) and options as keyword
 arguments named as the C++ Options fields, with the C++ defaults. Results are objects with named

@@ -1,4 +1,4 @@
-"""Dask: a cancelled Dask task stops the gyrocomp call it is running (docs/python.md).
+"""Dask: a cancelled Dask task stops the gyrocomp call it is running (docs/guides/python.md).
 
 Dask does not interrupt a running task: ``future.cancel()`` (or dropping the last reference to the
 future) only marks it cancelled on its worker, and the task's thread runs on. Inside a task, pass

@@ -135,7 +135,7 @@ void BindAllan(py::module_& m) {
         return KalibrImuYaml({g}, {}, fs_hz, yo);
       },
       py::arg("rate_dps"), py::arg("fs_hz"), py::arg("rostopic") = KalibrYamlOptions{}.rostopic,
-      "Kalibr imu.yaml text for one gyro axis (docs/kalibr.md).");
+      "Kalibr imu.yaml text for one gyro axis (docs/guides/imu-noise.md).");
 }
 
 }  // namespace gyrocomp::python

@@ -1,5 +1,5 @@
 // gyrocomp.calibrate: the calibrate stage (gyrocomp/calibrate/calibrate.h): every sensor of one
-// board's flight logs, per-sensor results and the parameter file's text (docs/python.md).
+// board's flight logs, per-sensor results and the parameter file's text (docs/guides/python.md).
 #include "bindings.h"
 
 #include "gyrocomp/calibrate/calibrate.h"

@@ -81,14 +81,14 @@ DriftFitOptions ReadFitOptions(Kwargs& kw) {
   if (!model.is_none()) {
     const std::string name = py::str(model);
     const auto k = ParseDriftModelKind(name);
-    if (!k) throw py::value_error("fit_drift_model(): model=" + name + ": not a drift model kind (docs/drift_model.md)");
+    if (!k) throw py::value_error("fit_drift_model(): model=" + name + ": not a drift model kind (docs/explanation/drift-models.md)");
     o.model = *k;
   }
   py::object inputs = kw.Take("inputs");
   if (!inputs.is_none()) {
     const std::string name = py::str(inputs);
     const auto k = ParseDriftInputSet(name);
-    if (!k) throw py::value_error("fit_drift_model(): inputs=" + name + ": not an input set (docs/drift_model.md)");
+    if (!k) throw py::value_error("fit_drift_model(): inputs=" + name + ": not an input set (docs/explanation/drift-models.md)");
     o.inputs = *k;
   }
   kw.Get("train_period_s", &o.train_period_s);
@@ -106,7 +106,7 @@ DriftFitOptions ReadFitOptions(Kwargs& kw) {
 
 namespace {
 
-// DriftValidation as a dict whose keys are those of `gyrocomp validate --json` (docs/cli.md).
+// DriftValidation as a dict whose keys are those of `gyrocomp validate --json` (docs/reference/cli-contract.md).
 py::dict ValidationDict(const DriftValidation& v) {
   py::dict d;
   d["n_samples"] = v.num_samples;
@@ -154,7 +154,7 @@ void BindDrift(py::module_& m) {
       "A saved drift model on a run it was not fitted on, as `gyrocomp validate` (one axis): residual drift, "
       "slopes, ADEV at long taus, error against the truth when given, the band's coverage. Keywords "
       "(DriftValidationOptions): block_s, min_tau_s, causal. Keys as in validate --json.");
-  py::class_<DriftModel>(m, "DriftModel", "A fitted temperature-drift model (docs/drift_model.md).")
+  py::class_<DriftModel>(m, "DriftModel", "A fitted temperature-drift model (docs/explanation/drift-models.md).")
       .def(
           "predict",
           [](const DriftModel& model, const DoubleArray& temp_c, double fs_hz) {

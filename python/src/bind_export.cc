@@ -87,7 +87,7 @@ void BindExport(py::module_& m) {
       },
       py::arg("cubics_dps"), py::kw_only(), py::arg("device_id") = py::none(), py::arg("index") = 0,
       py::arg("comments") = std::vector<std::string>{},
-      "PX4 TC_G<index>_* parameter file text from three axis cubics in deg/s (docs/export.md).");
+      "PX4 TC_G<index>_* parameter file text from three axis cubics in deg/s (docs/explanation/flight-controller-export.md).");
 
   m.def(
       "ardupilot_thermal_params",
@@ -97,7 +97,7 @@ void BindExport(py::module_& m) {
         return Unwrap(WriteArduPilotThermalParams(CubicsRadps(cubics_dps), o, comments));
       },
       py::arg("cubics_dps"), py::kw_only(), py::arg("imu") = 1, py::arg("comments") = std::vector<std::string>{},
-      "ArduPilot INS_TCAL<imu>_* parameter file text from three axis cubics in deg/s (docs/export.md).");
+      "ArduPilot INS_TCAL<imu>_* parameter file text from three axis cubics in deg/s (docs/explanation/flight-controller-export.md).");
 }
 
 }  // namespace gyrocomp::python

@@ -25,7 +25,7 @@ void ReadWaveletFields(Kwargs& kw, std::string* wavelet, std::optional<int>* lev
   kw.Get("wavelet", wavelet);
   kw.Get("level", level);
   GetEnum(kw, "extension", extension, ParseExtensionMode, "symmetric, periodization, periodic or zero");
-  GetEnum(kw, "threshold", rule, ParseThresholdRule, "a threshold rule name (docs/denoising.md)");
+  GetEnum(kw, "threshold", rule, ParseThresholdRule, "a threshold rule name (docs/explanation/denoising.md)");
   GetEnum(kw, "threshold_mode", mode, ParseThresholdMode, "soft or hard");
   kw.Get("noise_sigma", noise_sigma);
 }

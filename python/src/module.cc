@@ -1,5 +1,5 @@
 // gyrocomp._core: the compiled half of the Python package (python/gyrocomp/__init__.py wraps the
-// dicts returned here into result objects). docs/python.md.
+// dicts returned here into result objects). docs/guides/python.md.
 #include "bindings.h"
 
 namespace gyrocomp::python {

@@ -3,7 +3,7 @@
 Each case runs the call in a child interpreter, sends SIGINT once the child says the call is
 running, and checks that the child saw KeyboardInterrupt from inside the call (not after it ran to
 the end: the calls take tens of seconds here) and left no file in its folder. The latency (signal
-to exit) is printed, not asserted (docs/performance.md has the measured figures).
+to exit) is printed, not asserted (docs/explanation/performance.md has the measured figures).
 """
 import os
 import signal

@@ -1,4 +1,4 @@
-// Kalibr imu.yaml from Allan analyses (include/gyrocomp/allan/kalibr.h, docs/kalibr.md).
+// Kalibr imu.yaml from Allan analyses (include/gyrocomp/allan/kalibr.h, docs/guides/imu-noise.md).
 #include "gyrocomp/allan/kalibr.h"
 
 #include <algorithm>
@@ -78,7 +78,7 @@ std::string KalibrImuYaml(const std::vector<KalibrAxisNoise>& gyro, const std::v
   std::ostringstream os;
   os << "# IMU noise for Kalibr, written by gyrocomp allan"
      << (options.source.empty() ? std::string() : " from " + options.source) << ".\n"
-     << "# Continuous-time densities from the Allan deviation (docs/kalibr.md):\n"
+     << "# Continuous-time densities from the Allan deviation (docs/guides/imu-noise.md):\n"
      << "#   noise_density = N, sigma_ADEV(tau) = N / sqrt(tau)  (gyro: ARW deg/sqrt(h) / 60 * pi/180)\n"
      << "#   random_walk   = K, sigma_ADEV(tau) = K sqrt(tau / 3) (gyro: RRW deg/h/sqrt(h) / 216000 * pi/180)\n"
      << "# Kalibr reads one scalar per sensor: the largest axis is given. These are measured values;\n"

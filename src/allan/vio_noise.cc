@@ -1,4 +1,4 @@
-// OpenVINS and VINS-Fusion IMU noise files (include/gyrocomp/allan/vio_noise.h, docs/kalibr.md).
+// OpenVINS and VINS-Fusion IMU noise files (include/gyrocomp/allan/vio_noise.h, docs/guides/imu-noise.md).
 #include "gyrocomp/allan/vio_noise.h"
 
 #include <algorithm>
@@ -47,7 +47,7 @@ std::string OpenVinsImuChainYaml(const std::vector<KalibrAxisNoise>& gyro, const
   os << "%YAML:1.0\n"
      << "# OpenVINS kalibr_imu_chain.yaml, written by gyrocomp allan"
      << (options.source.empty() ? std::string() : " from " + options.source) << ".\n"
-     << "# Continuous-time densities (Kalibr's convention, docs/kalibr.md); the largest axis of each sensor.\n"
+     << "# Continuous-time densities (Kalibr's convention, docs/guides/imu-noise.md); the largest axis of each sensor.\n"
      << "# Measured values: OpenVINS and Kalibr advise inflating them for estimation.\n";
   AxisComments(os, "gyroscope", gyro);
   AxisComments(os, "accelerometer", accel);
@@ -81,7 +81,7 @@ std::string VinsFusionImuYaml(const std::vector<KalibrAxisNoise>& gyro, const st
   os << "# VINS-Fusion IMU noise (config keys), written by gyrocomp allan"
      << (options.source.empty() ? std::string() : " from " + options.source) << ", topic " << options.rostopic << ".\n"
      << "# Discrete per-sample figures at " << Exact(fs_hz) << " Hz: value = continuous density x sqrt(fs)\n"
-     << "# (integration_base.h scales the noise by dt; docs/kalibr.md). Continuous (Kalibr) values:\n"
+     << "# (integration_base.h scales the noise by dt; docs/guides/imu-noise.md). Continuous (Kalibr) values:\n"
      << "#   acc_n " << Exact(an) << " m/s^2/sqrt(Hz), gyr_n " << Exact(gn) << " rad/s/sqrt(Hz), acc_w " << Exact(aw)
      << " m/s^3/sqrt(Hz), gyr_w " << Exact(gw) << " rad/s^2/sqrt(Hz)\n"
      << "# Measured values; VINS-Fusion's sample configs use much larger (tuned, inflated) ones.\n";

@@ -355,7 +355,7 @@ Status Validate(const Args& a, LogFormat format, std::vector<Sensor>* all) {
 // device id; type and instance where a log has no device id; Match), logs of another board
 // refused, every match calibrated over the range all of them cover, and the cubics
 // averaged coefficient by coefficient (one range and reference): the calibration runs' noise
-// averages out as 1/sqrt(runs) (docs/export.md). Models, bands and costs stay the first run's.
+// averages out as 1/sqrt(runs) (docs/explanation/flight-controller-export.md). Models, bands and costs stay the first run's.
 Status CombineRuns(const Args& a, LogFormat format, std::vector<Sensor>* primary) {
   if (a.inputs.size() < 2) return Status::Ok();
   std::vector<std::vector<Sensor>> others;

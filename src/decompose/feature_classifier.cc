@@ -1,5 +1,5 @@
 // Classification of VMD modes into drift / mixed / noise features: see
-// include/gyrocomp/feature_classifier.h and docs/classification.md (design and evidence).
+// include/gyrocomp/feature_classifier.h and docs/explanation/classification.md (design and evidence).
 #include "gyrocomp/decompose/feature_classifier.h"
 
 #include <algorithm>
@@ -42,7 +42,7 @@ ClassifierOptions ClassifierOptions::Paper() {
 
 ClassifierOptions ClassifierOptions::Standard() {
   // Calibrated on the standard SE scale (m = 2, r = 0.2 SD of each mode) with VMD's reference
-  // defaults (alpha = 2000): see docs/classification.md for the measurements behind each number.
+  // defaults (alpha = 2000): see docs/explanation/classification.md for the measurements behind each number.
   ClassifierOptions o;
   o.rule_name = "standard";
   o.drift_max_se = 0.3;

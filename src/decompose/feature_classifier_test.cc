@@ -109,7 +109,7 @@ TEST(FeatureClassifier, SumFeaturesAddsTheModesOfEachClass) {
   EXPECT_EQ(f.noise, (std::vector<double>{8, 8, 8}));
 }
 
-// ---- the default rule on records whose content is known (docs/classification.md) -------------
+// ---- the default rule on records whose content is known (docs/explanation/classification.md) -------------
 
 double Corr2(const std::vector<double>& a, const std::vector<double>& b) {
   double ma = 0, mb = 0;
@@ -181,7 +181,7 @@ TEST(FeatureClassifier, PaperChamberSimulationDriftModeIsDriftAndTheRestNoise) {
 TEST(FeatureClassifier, AdisRecordBiasWanderIsMixedNotDrift) {
   // ADIS16405 run 1 (static, room temperature, no chamber): its lowest mode is bias wander
   // (flicker / rate random walk), not a temperature drift. 150,000 samples (25 min) of gx keep the test
-  // short; docs/classification.md has the full-record numbers.
+  // short; docs/explanation/classification.md has the full-record numbers.
   const std::string path = testing::RealdataPath("adis16405_run1.csv.gz");
   if (path.empty()) GTEST_SKIP() << "../shared/realdata is absent (licensed data, not in the repository)";
   LogSpec spec;

@@ -26,7 +26,7 @@ using Item = std::uint32_t;  // an index of x
 // kFast takes the sorted window (sample_entropy_window.h) when it compares at most this many
 // coordinates per template and at least half the values are distinct. Measured (one thread,
 // sample_entropy_benchmark BM_SampleEntropyCounter and BM_SampleEntropyOfVmdModes;
-// docs/performance.md, "Sample entropy and the decompose whole process"): the window
+// docs/explanation/performance.md, "Sample entropy and the decompose whole process"): the window
 // costs ~0.03 ns per coordinate check with 16-bit ranks (<= 65,536 distinct values), ~0.05 ns
 // with 32-bit ones; range counting 0.67-1.3 us per template on continuous values at
 // N = 20k-200k (crossover ~18,000-22,000 checks per template), but only ~0.1-0.16 us with heavy

@@ -73,7 +73,7 @@ BENCHMARK(BM_Vmd)
 // DecomposeVmd's schedule, 1 = the stopping sums on every update (VmdTuning::stop_schedule off),
 // 2 = one update only (max_iterations 2): the fixed costs. The per-update cost of a real
 // decomposition is (time of /0 - time of /2) / (updates of /0 - 1), which leaves out the
-// transforms, planning and allocation (docs/performance.md).
+// transforms, planning and allocation (docs/explanation/performance.md).
 void BM_VmdCpu(benchmark::State& state) {
   const auto x = GyroLike(static_cast<std::size_t>(state.range(0)));
   gyrocomp::VmdOptions opt;

@@ -23,7 +23,7 @@ namespace {
 // baseline paths a native ymm / xmm vector, the kernels walking each block of kLanes bins in
 // kLanes / width passes, lanes [h, h + width) at a time (UpdateChunk, BinSubChunk). GCC compiles
 // the 64-byte vector on a 256-bit target through the stack (3.0 ns per bin-update with AVX2,
-// 3.5 with SSE2, against 0.6 with AVX-512; docs/performance.md).
+// 3.5 with SSE2, against 0.6 with AVX-512; docs/explanation/performance.md).
 typedef double Vec __attribute__((vector_size(kLanes * sizeof(double))));
 typedef double Vec4 __attribute__((vector_size(4 * sizeof(double))));
 typedef double Vec2 __attribute__((vector_size(2 * sizeof(double))));

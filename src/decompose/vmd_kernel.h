@@ -119,7 +119,7 @@ enum class StopSums { kNone, kAbsolute, kRelative };
 // bin into a buffer on the stack, then Eq. (4). The reciprocals depend only on the bin and the
 // centre frequencies, so the passes give the same bits as one; separated, each pass's vectors are
 // independent of each other and the out-of-order core overlaps them (0.67 vs 0.82 ns per
-// bin-update at N = 20k; docs/performance.md). Without it, one pass (iterates in memory).
+// bin-update at N = 20k; docs/explanation/performance.md). Without it, one pass (iterates in memory).
 constexpr std::size_t kRecipBins = 256;
 void UpdateBinChunk(const BinChunk& c, std::size_t n, int num_modes, const double* omega, double alpha,
                     bool batch_inversion, StopSums stop, LaneSums* sums);
@@ -158,7 +158,7 @@ struct VmdTuning {
   // iteration run again.
   // Defaults: no rerun on the four golden inputs, the 20k / 40k soak and side-by-side records,
   // two MPU-6050 logs (K = 4, 6) and two pure tones, computing the sums on 16-52% of the updates
-  // (docs/performance.md).
+  // (docs/explanation/performance.md).
   bool stop_schedule = true;
   // The first updates always compute the sums: early on the value can rise and then collapse
   // by 1e9 within three updates (two pure tones), which no measured fall predicts.

@@ -68,7 +68,7 @@ struct VmdSpectrum {
   ComplexBuffer spec_buf;
   Plan forward;
   // The inverse plan, made on a helper thread while the forward transform and the iterations run
-  // (FFTW_ESTIMATE planning at T = 40,000 costs 3-4 ms, ~40x the transform; docs/performance.md):
+  // (FFTW_ESTIMATE planning at T = 40,000 costs 3-4 ms, ~40x the transform; docs/explanation/performance.md):
   // InversePlan() waits for it. The future's destructor waits too, on every return path.
   std::future<Plan> inverse_pending;
   Plan inverse;

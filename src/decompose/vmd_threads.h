@@ -35,7 +35,7 @@ void RunThreads(int threads, Fn&& fn) {
 // thread saved at N = 20k: a sleeping vCPU takes tens of microseconds to wake in a VM. Spinning
 // alone is a disaster when the two threads share a CPU (another process on the second core, or
 // the scheduler not having moved the new worker yet): a spinner burns the time its partner needs
-// (2-7x slower rounds, docs/performance.md, "The second core"). So the pool also watches itself: a round
+// (2-7x slower rounds, docs/explanation/performance.md, "The second core"). So the pool also watches itself: a round
 // on all threads that took longer than the caller's share times the thread count (what the
 // caller alone would have needed) is a loss; after two such rounds in a row the caller runs the
 // next rounds alone (the workers blocked), then tries all threads again, waiting twice as long

@@ -177,7 +177,7 @@ TermAdmission TestTerm(const char* term, const Candidate& simpler, const std::ve
 // leave-one-segment-out CV gain over the simpler model exceeds the SE of those paired gains
 // (Eq. A-4, term_admission.h); otherwise the simpler model stands. Of +memory and +lag, the admitted one with the larger gain enters. Lowest CV alone chose
 // poly(T, dT/dt, memory) on a 1 % CV gain and was six times worse than poly(T, dT/dt) on held-out
-// runs of a simulator written apart from this code (docs/drift_model.md).
+// runs of a simulator written apart from this code (docs/explanation/drift-models.md).
 std::size_t ChooseStructured(const DriftInputs& inputs, std::span<const double> target, const DriftFitOptions& o,
                              const CvPlan& plan, std::vector<Candidate>* all, std::vector<TermAdmission>* tests) {
   std::vector<Candidate>& c = *all;  // order: temp, temp+dtemp, temp+dtemp+memory, temp+lag, temp+memory
@@ -368,7 +368,7 @@ Result<DriftModel> FitAuto(const DriftInputs& inputs, std::span<const double> ta
     // settles only after ~tau, so a long tau is a direction memory, identified only by a run that
     // both heats and cools. On paper-profile runs (one short heating leg) auto chose lags of
     // 638-5314 s that fitted the cooling blocks and were 1.6-5.1x worse than poly(T, dT/dt) on
-    // the next heating run (docs/drift_model.md, docs/notes/issue-11-s3-i11gls.md).
+    // the next heating run (docs/explanation/drift-models.md, docs/notes/issue-11-s3-i11gls.md).
     if ((in == DriftInputSet::kTempAndMemory || in == DriftInputSet::kTempAndLag) && !memory) {
       all.push_back(Skipped(DriftModelKind::kPolynomial, in, c,
                             "skipped: the run does not both heat and cool over enough of its range (Eq. I-3)"));
@@ -392,7 +392,7 @@ Result<DriftModel> FitAuto(const DriftInputs& inputs, std::span<const double> ta
     // identifies: the kernel has no memory input, so it can only stand the hysteresis in for a
     // function of dT/dt, which another run at other rates does not share. On 24 rate-cycles
     // calibrations (4 structures x 6 seeds) cs-svr won the segment CV on 8 and was worse than
-    // poly(T, dT/dt, memory) on all 16 held-out runs of those 8 (docs/drift_model.md, "Fifth
+    // poly(T, dT/dt, memory) on all 16 held-out runs of those 8 (docs/explanation/drift-models.md, "Fifth
     // session"). The hybrid (the two-state polynomial plus a kernel that passes Eq. H-1) stays.
     const bool pure_kernels = kernels && all[best_poly].inputs != DriftInputSet::kTempRateAndMemory;
     const std::string why_not_pure =
@@ -417,7 +417,7 @@ Result<DriftModel> FitAuto(const DriftInputs& inputs, std::span<const double> ta
   // A kernel candidate must beat the best structured one by one standard error of the latter's
   // fold scores: the CV error is dominated by the flicker bias no model can predict, and a
   // searched model's CV score is optimistic (its parameters were chosen on it), so a small CV
-  // gain does not buy a gain on the next run (docs/drift_model.md).
+  // gain does not buy a gain on the next run (docs/explanation/drift-models.md).
   const double se = FoldStandardError(inputs, target, all[best_poly], plan, c);
   std::size_t best = best_poly;
   for (std::size_t i = 0; i < all.size(); ++i) {

@@ -1,4 +1,4 @@
-// Prediction bands (issue 23; docs/drift_model.md "Prediction bands"): how far the next run's
+// Prediction bands (issue 23; docs/explanation/prediction-bands.md): how far the next run's
 // true drift may lie from a fitted model's prediction.
 //
 //   Eq. B-1  var_i = a_i' C a_i + m^2,   band_i = center_i +- z sqrt(var_i),  z = 1.6449 (90%),
@@ -19,14 +19,14 @@
 //            record length of its white and flicker parts (IEEE 952: h0 / (2 T) + 2 ln2 h_-1; the
 //            random walk is not extrapolated, see above): run-to-run bias repeatability. Without
 //            it the parameter part was 4.2-7.1 mdps on structure A's rate-cycles runs against a
-//            realised 9-11 (docs/drift_model.md, "Sixth session").
+//            realised 9-11 (docs/explanation/drift-models.md, "Sixth session").
 //   Eq. B-2b The run's trend: the same slow noise tilts the run; the difference of its two
 //            halves' means has the variance 2 AVAR(T / 2) of the white and flicker parts, of
 //            which the floored Sigma holds less; the rest enters Sigma as a random linear trend in
 //            time. A term that is one step in time on the run (the memory, or a dT/dt that
 //            reverses once: a one-cycle run) takes it into its coefficient: without it the band
 //            was 0.75x the realised error of structure C's one-cycle calibrations (`plan`'s one
-//            pair outside 25%), with it 0.80x (docs/drift_model.md, "Seventh session").
+//            pair outside 25%), with it 0.80x (docs/explanation/drift-models.md, "Seventh session").
 //   Eq. B-3  m^2 = min(var(y), max(0, MSE_cv - E0)): the model form's spread, e.g. a hysteresis
 //            or a lag the form cannot follow. MSE_cv: the structured form refitted on every fold
 //            of the plan the fit scored on, pooled over the held-out points (a next run's error is
@@ -49,7 +49,7 @@
 //            segments, each fold a whole direction) the CV of Eq. B-3 is scored on contiguous
 //            blocks: the segment form gave m = 0-57 mdps by seed against a realised 7-29 on
 //            structure C's heat-cool and stairs runs (`plan` 1.43x there). With both, `plan`
-//            held within 25% on 19 of 20 pairs (docs/drift_model.md, "Sixth session"; with
+//            held within 25% on 19 of 20 pairs (docs/explanation/drift-models.md, "Sixth session"; with
 //            Eq. B-2b all 20, "Seventh session").
 //   Eq. B-3k A model without a structured part (svr, cs-svr): its CV is not linear in the target;
 //            m^2 = CV^2 - R_seg(0) - mean a'Ca as before, R_seg(0) the Eq. G-2 variance of a
@@ -62,7 +62,7 @@
 //            -1 C/min on the cooling holds. g^2 alone: its expectation over runs is already
 //            g_true^2 + Var(g); g^2 + SE^2 (Eq. I-1's jackknife SE) counted the noise twice and
 //            made `plan` over-predict a plain cubic's error on heat-cool / ramp by 1.7-1.8x
-//            (docs/drift_model.md "Prediction bands": coverage 84.6% with g^2, 87.2% before).
+//            (docs/explanation/prediction-bands.md: coverage 84.6% with g^2, 87.2% before).
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -266,7 +266,7 @@ Status AttachBand(const DriftInputs& inputs, std::span<const double> target, con
                                                                  duration_s / 20.0));
   DriftBandModel band;
   band.noise = ResidualNoise(residual, inputs.fs_hz, period_s, o.noise_psd);
-  band.coverage_check = "docs/drift_model.md, Prediction bands (issue 23): held-out simulated runs";
+  band.coverage_check = "docs/explanation/drift-models.md, Prediction bands (issue 23): held-out simulated runs";
   double param_var = 0.0;
   Eigen::MatrixXd cov;
   if (m->structured) {

@@ -280,7 +280,7 @@ Result<DriftModel> FitPrepared(const FitData& d, const DriftInputs& inputs, Drif
   } else if (kind == DriftModelKind::kHybrid && o.hybrid_kernel_test && !MemoryIdentifiable(inputs, o)) {
     // Eq. H-1 scores the kernel on blocks of the run, i.e. on the direction(s) it covers. On the
     // simulated paper-profile runs (one short heating leg) it kept 5 kernels of 24, and all 5 were
-    // worse than the polynomial on the next heating run (1.04-2.13x; docs/drift_model.md): not
+    // worse than the polynomial on the next heating run (1.04-2.13x; docs/explanation/drift-models.md): not
     // searched, the model is its structured part.
     if (Status st = DropKernel(d, o, plan, &model); !st.ok()) return st.error();
     s.kernel_decision =

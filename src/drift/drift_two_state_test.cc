@@ -12,7 +12,7 @@ namespace {
 
 constexpr double kTrueGain = 1.5;  // deg/s per C/s (simulator default)
 
-// A run of the simulator's drift cubic(T) + k_dot dT/dt + k_h (T - P_w(T)) (docs/simulator.md),
+// A run of the simulator's drift cubic(T) + k_dot dT/dt + k_h (T - P_w(T)) (docs/explanation/simulator.md),
 // with a hysteresis of 8e-3 deg/s/C x 4 C (+-16 mdps) and reduced flicker (10 deg/h).
 SimulatedRun SimRun(ThermalProfileKind kind, std::uint64_t seed) {
   SimulatorOptions so;
@@ -146,7 +146,7 @@ TEST(DriftTwoState, ModelFileRoundTripAndCausalEvaluator) {
   EXPECT_NE(refused.error().message.find("powers outside"), std::string::npos) << refused.error().message;
 }
 
-// auto (docs/drift_model.md "Selection that predicts the next run", rule 1): the two-state
+// auto (docs/explanation/drift-models.md "Selection that predicts the next run", rule 1): the two-state
 // candidate is fitted when Eq. I-1 keeps the gain and Eq. I-3 allows a memory, and enters when its
 // paired segment gain over poly(T, dT/dt) beats its SE (Eq. A-4); on the paper's
 // cooling staircase (Eq. I-3 fails) it is skipped, and the selection reason says so.
@@ -174,7 +174,7 @@ TEST(DriftTwoState, AutoChoosesItOnATwoRateStaircaseAndSkipsItOnTheCoolingRun) {
 }
 
 // With both states identified, the pure kernels in (T, dT/dt) are not fitted (they lack the memory
-// the structured model carries; docs/drift_model.md "Fifth session": on rate-cycles cs-svr won the
+// the structured model carries; docs/explanation/drift-models.md "Fifth session": on rate-cycles cs-svr won the
 // segment CV on 8 of 24 calibrations and lost on all 16 of their held-out runs); the hybrid is.
 // Without the two-state baseline (the paper run) they are fitted as before.
 TEST(DriftTwoState, PureKernelsAreNotFittedBesideTheTwoStateModel) {

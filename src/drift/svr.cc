@@ -32,7 +32,7 @@ namespace {
 // only at the end of svm_train (the Solver's and solve_epsilon_svr's O(l) arrays, the model
 // struct) is lost: a bounded leak, O(samples) doubles once per cancel. The alternatives were
 // worse: a fit on a detached thread keeps the CPU busy and outlives the caller's buffers, and a
-// smaller training set changes the models. Measured (docs/performance.md): the longest single
+// smaller training set changes the models. Measured (docs/explanation/performance.md): the longest single
 // svm_train of `fit --model cs-svr` on the 5 M-sample paper run takes up to 0.65 s.
 struct SolverStopped {};
 thread_local const CancellationToken* t_fit_cancel = nullptr;

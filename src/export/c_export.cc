@@ -128,7 +128,7 @@ void EmitSvr(std::ostringstream& s, const Names& n, int k, const SvrModel& m) {
     s << "  (void)mem;\n";
   if (nsv > 0) {
     // Compensated (Kahan) sum: the terms cancel (|sum| << sum |terms|), which float alone would
-    // not survive (docs/export.md). Do not compile with -ffast-math: it removes the compensation.
+    // not survive (docs/explanation/flight-controller-export.md). Do not compile with -ffast-math: it removes the compensation.
     s << "  {\n    int i, j;\n    " << n.real << " comp = " << n.R(0.0) << ";\n    for (i = 0; i < " << nsv
       << "; ++i) {\n      " << n.real << " d2 = " << n.R(0.0) << ", term, y, sum;\n      for (j = 0; j < " << nin
       << "; ++j) {\n        const " << n.real << " d = z[j] - " << a << "_sv[i * " << nin

@@ -125,7 +125,7 @@ TEST_F(CalibrateValidationCli, ScoresEveryCubicWithTheFirmwareFormulaOnTheValida
       EXPECT_NEAR(v["raw_rms"][a].get<double>(), RawScore(axes[a]), 1e-9 * RawScore(axes[a])) << pre << a;
       // On the opposite-direction run the cubic and the full model remove most of the accel's
       // drift (0.02 m/s^2 against a 4e-4 m/s^2 flicker floor) and part of the gyro's (a static
-      // drift here, of the order of the gyro's own flicker: docs/export.md).
+      // drift here, of the order of the gyro's own flicker: docs/explanation/flight-controller-export.md).
       const double keep = gyro ? 0.9 : 0.1;
       EXPECT_LT(v["cubic_rms"][a].get<double>(), keep * v["raw_rms"][a].get<double>()) << pre << a;
       EXPECT_LT(v["full_model_rms"][a].get<double>(), keep * v["raw_rms"][a].get<double>()) << pre << a;

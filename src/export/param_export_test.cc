@@ -1,5 +1,5 @@
 // PX4 and ArduPilot parameter files evaluated with the firmware's own formulas (written here from
-// the sources cited in param_export.h and docs/export.md), compared with the model's prediction;
+// the sources cited in param_export.h and docs/explanation/flight-controller-export.md), compared with the model's prediction;
 // and the cubic projection they rest on.
 #include "gyrocomp/export/param_export.h"
 

@@ -1,5 +1,5 @@
 // The chamber-experiment simulator: sensor thermal lag, temperature-dependent bias with rate and
-// hysteresis terms, IEEE 952 noise terms. Model and units: docs/simulator.md.
+// hysteresis terms, IEEE 952 noise terms. Model and units: docs/explanation/simulator.md.
 #include "gyrocomp/sim/simulator.h"
 #include "gyrocomp/sim/board_boot.h"
 

@@ -208,7 +208,7 @@ Result<ThermalSchedule> MakeThermalSchedule(const ThermalProfileOptions& o) {
       return b.Take();
     }
     case ThermalProfileKind::kRateCycles: {
-      // Issue 23, docs/drift_model.md "What any estimator can reach": the calibration run's slow
+      // Issue 23, docs/explanation/drift-models.md "What any estimator can reach": the calibration run's slow
       // (flicker, random-walk) noise is what limits the next run's error; every reversal of the
       // temperature decorrelates the drift's shape from it, so four full-range cycles in the time
       // of the paper's one sweep leave the least of it (bench/drift_design_bound.py: 0.56-0.95x of

@@ -302,7 +302,7 @@ TEST(SimulatorRoundTrip, BiasInstabilityFlickerFloor) {
   }
   // Simulated: 40 h at 2 Hz with white noise (ARW 1 deg/sqrt(h): it meets the floor near 9 s,
   // where the flicker is still rising, so the curve has no dip below the floor; with much less
-  // white noise the minimum falls below 0.664 B at ~10 s, see docs/simulator.md). Over tau in
+  // white noise the minimum falls below 0.664 B at ~10 s, see docs/explanation/simulator.md). Over tau in
   // [64, 2048] s the ADEV must
   // follow the model: the EDF-weighted mean of ln(adev / model) is within 3x its standard error
   // bound (mean of 1/sqrt(2 EDF), fully-correlated case).

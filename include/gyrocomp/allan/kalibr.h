@@ -1,4 +1,4 @@
-// Noise figures for Kalibr's IMU configuration (imu.yaml), from Allan analyses (docs/kalibr.md).
+// Noise figures for Kalibr's IMU configuration (imu.yaml), from Allan analyses (docs/guides/imu-noise.md).
 //
 // Kalibr (ethz-asl/kalibr, wiki "IMU Noise Model") wants continuous-time noise densities:
 //   gyroscope_noise_density  sigma_g  [rad/s/sqrt(Hz)]   = the ARW coefficient N of the ADEV,

@@ -1,5 +1,5 @@
 // IMU noise files for two visual-inertial estimators, from the same per-axis figures as Kalibr's
-// imu.yaml (gyrocomp/allan/kalibr.h; conventions and citations in docs/kalibr.md).
+// imu.yaml (gyrocomp/allan/kalibr.h; conventions and citations in docs/guides/imu-noise.md).
 //
 // OpenVINS (rpng/open_vins, config/*/kalibr_imu_chain.yaml, read by ov_msckf's
 // parse_imu / VioManagerOptions): Kalibr's continuous-time keys and units, unchanged
@@ -12,7 +12,7 @@
 // per-sample standard deviation and ACC_W a per-sample bias increment divided by dt: the
 // discrete figures acc_n = N sqrt(fs), acc_w = K sqrt(fs). The file gives those as the keys and
 // the continuous N, K in comments (many users paste Kalibr's continuous values, sqrt(fs) times
-// smaller; docs/kalibr.md).
+// smaller; docs/guides/imu-noise.md).
 #pragma once
 
 #include <string>

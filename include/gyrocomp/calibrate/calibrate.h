@@ -1,5 +1,5 @@
 // Thermal calibration of every gyro, accelerometer (and PX4 barometer) of a flight log, written
-// as ONE parameter file the autopilot loads (docs/export.md; the CLI is `gyrocomp calibrate`).
+// as ONE parameter file the autopilot loads (docs/explanation/flight-controller-export.md; the CLI is `gyrocomp calibrate`).
 //
 // Per sensor: the rows in the sensor frame (the readers undo ArduPilot's board rotation and
 // thermal correction), block means at fit_rate_hz, the library's default FitDriftModel (auto),

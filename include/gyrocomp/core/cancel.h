@@ -2,7 +2,7 @@
 // signal handlers: the owner of the process (the CLI's main, a Python interpreter) decides what
 // sets the flag.
 //
-// Some long calls poll a token themselves (latencies: docs/performance.md, "Cancellation"):
+// Some long calls poll a token themselves (latencies: docs/explanation/performance.md, "Cancellation"):
 // VmdOptions::cancel (before every update), SampleEntropyOptions::cancel (inside the pair counting,
 // every counting thread), SvrOptions::cancel (inside LIBSVM's solver, from its print hook; svr.cc),
 // CuckooSearchOptions::cancel (before every evaluation, and passed to every SVR fit of the search

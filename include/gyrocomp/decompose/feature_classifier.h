@@ -9,7 +9,7 @@
 // drift_max_frequency_hz; otherwise it is mixed), and (keep_lowest_mode, default) the mode of
 // lowest centre frequency is never noise.
 //
-// Two presets (docs/classification.md gives the design and the evidence):
+// Two presets (docs/explanation/classification.md gives the design and the evidence):
 //   - Paper(): the paper's thresholds 2 / 4.2. On the standard SE scale (m = 2, r = 0.2 SD of
 //     each mode) white noise scores about 2.18, so "noise" (> 4.2) never fires: kept for
 //     comparison with the paper only.

@@ -90,12 +90,12 @@ struct VmdOptions {
   // Return update n (the last) instead of update n-1 (reference behaviour).
   bool return_last_iterate = false;
   // Acceleration of the centre frequencies for long records (the reference iteration stalls above
-  // ~100k samples; docs/performance.md, "Long records: centre-frequency extrapolation"). Every
+  // ~100k samples; docs/explanation/performance.md, "Long records: centre-frequency extrapolation"). Every
   // `omega_extrapolation_period` updates (>= 3), each w_k whose last three values w0, w1, w2
   // approach a limit geometrically (r = (w2 - w1) / (w1 - w0) in (0, 0.995)) is moved to the Aitken
   // limit w2 + (w2 - w1) r / (1 - r), clamped to [0, 0.5]; the modes follow in the next updates. A
   // fixed point of the reference iteration is one of this one too (there the differences vanish),
-  // so it converges to the same decomposition, in ~4.5x fewer updates (docs/performance.md), but
+  // so it converges to the same decomposition, in ~4.5x fewer updates (docs/explanation/performance.md), but
   // its path, iteration count and where within tol it stops differ from vmdpy's. Applied only to
   // records of at least `omega_extrapolation_min_samples` samples, so shorter ones follow the
   // reference exactly. nullopt = never (the reference iteration at every length).

@@ -44,7 +44,7 @@ const char* FlpInitialWeightsName(FlpInitialWeights w);
 // Parameters of the variable-step FLP (Eqs. 14-16).
 struct FlpOptions {
   // Defaults of order, beta and alpha: chosen by a sweep on simulated records with known truth,
-  // for WFLP (FLP on the level-4 approximation); docs/denoising.md has the sweep table. For FLP
+  // for WFLP (FLP on the level-4 approximation); docs/explanation/denoising.md has the sweep table. For FLP
   // alone on raw samples, order 16-32 with beta 0.003 did better on every record tried.
   // Prediction order N (number of taps, Eq. 14). Dimensionless, >= 1 (at most 4096). Larger N
   // averages more past samples (narrower bandwidth, longer lag).

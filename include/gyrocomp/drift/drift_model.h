@@ -103,7 +103,7 @@ struct SvrSearchOptions {
   // Also search epsilon (target SDs when scaled) within these bounds; otherwise SvrOptions::epsilon.
   std::optional<SearchDimension> epsilon;
   // Cuckoo search settings (nests, pa, beta, step, generations, seed, threads). The defaults
-  // below fit a 14 h, 5 Hz record within 60 s on 2 cores (see docs/drift_model.md).
+  // below fit a 14 h, 5 Hz record within 60 s on 2 cores (see docs/explanation/drift-models.md).
   CuckooSearchOptions cuckoo = DefaultSvrCuckooOptions();
   // Grid-search budget (evaluations); automatic = the cuckoo search's budget
   // num_nests * (1 + 2 * max_generations), split as a square grid over C x sigma.
@@ -177,7 +177,7 @@ struct DriftFitOptions {
   // ordinary least squares on every sample. kAllan: generalised least squares (Eq. G-3) on block
   // means of gls_block_s, with the white + flicker + random-walk model (Eq. G-0) fitted to the
   // Allan variance of the OLS residual (Eq. G-1) and its block-mean covariance (Eq. G-2); the
-  // CV score is of the GLS fit. Measured (docs/drift_model.md "Noise model of the fit"): it
+  // CV score is of the GLS fit. Measured (docs/explanation/drift-noise-model.md): it
   // lowers the held-out error in expectation only where the polynomial's form is right (the
   // best linear unbiased estimator: 0.90-0.93x heating RMS, simulated runs) and raises it where
   // the residual is misfit (hysteresis: 1.2x); no test on the calibration run alone told them
@@ -233,7 +233,7 @@ struct RateCurve {
 };
 
 // A candidate term the calibration run does not identify, left out of the model (drift_identify.cc,
-// docs/drift_model.md "What a run identifies"). Written into the model file's "training".
+// docs/explanation/drift-models.md "What a run identifies"). Written into the model file's "training".
 struct ExcludedTerm {
   std::string term;            // "dT/dt gain" | "lag tau" | "memory" | "kernel" | "degree"
   std::string reason;          // the test and the numbers it failed on
@@ -329,7 +329,7 @@ struct DriftBand {
   double level = 0.9;
 };
 
-// What the band is made of, stored per axis in the model file ("band"; docs/drift_model.md
+// What the band is made of, stored per axis in the model file ("band"; docs/explanation/drift-models.md
 // "Prediction bands"). Eq. B-1: var_i = a_i' C a_i + model_form_rms^2, half-width z(level)
 // sqrt(var_i), a_i the structured part's terms at sample i (standardised inputs).
 struct DriftBandModel {
@@ -428,7 +428,7 @@ Result<DriftModel> FitDriftModel(const DriftInputs& inputs, std::span<const doub
 // "scaler", "model", "training") is still read, and predicts bit-identically.
 inline constexpr int kDriftModelSchemaVersion = 2;
 
-// Which sensor of a flight log the axes model (issue 22; docs/design-imu-trust.md): the optional
+// Which sensor of a flight log the axes model (issue 22; docs/reference/model-file.md): the optional
 // top-level key "sensor": {"type": "gyro" | "accel" | "baro", "instance": ULog multi_id /
 // DataFlash IMU I, "device_id": PX4 only, "frame": "sensor" (board rotation undone by the reader)}.
 struct SensorIdentity {

@@ -4,7 +4,7 @@
 //   S(f) = h0 + h_1 / f + h_2 / f^2            ((target units)^2 / Hz, f in Hz)      Eq. G-0
 // fitted to the Allan variance of a residual (Eq. G-1), and the covariance of its block means that
 // follows from it (Eq. G-2). The polynomial drift fit uses it for generalised least squares
-// (DriftFitOptions::noise_model = kAllan; docs/drift_model.md "Noise model of the fit").
+// (DriftFitOptions::noise_model = kAllan; docs/explanation/drift-noise-model.md).
 //
 // Why: on a single calibration run the flicker of the gyro wanders over hours, like the drift;
 // ordinary least squares weighs every sample as independent and absorbs that wander into the
@@ -12,7 +12,7 @@
 // runs). Weighting by the inverse noise covariance is the best linear unbiased estimator when
 // the noise model is right and the polynomial's form is right (Gauss-Markov); when the form is
 // wrong (hysteresis the polynomial cannot represent), the misfit looks like flicker and GLS
-// re-weights it: measured worse there (docs/drift_model.md).
+// re-weights it: measured worse there (docs/explanation/drift-models.md).
 #pragma once
 
 #include <cstddef>

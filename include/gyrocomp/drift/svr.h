@@ -53,7 +53,7 @@ struct SvrOptions {
   // Polled inside LIBSVM's solver (issue 24), every min(2 x samples, 1000) iterations (its
   // progress print): once cancelled, FitSvr throws Cancelled on the calling thread. The solver's
   // working arrays of that fit are not freed (LIBSVM has no way out but an exception: O(samples)
-  // doubles, once per cancel; docs/performance.md). nullptr: not polled. Not owned.
+  // doubles, once per cancel; docs/explanation/performance.md). nullptr: not polled. Not owned.
   const CancellationToken* cancel = nullptr;
 
   // gamma actually used for `num_inputs` input columns (resolves sigma / the default).

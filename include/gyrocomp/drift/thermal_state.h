@@ -22,8 +22,8 @@
 //
 // Two states (issue 23): `temp,dtemp,memory` takes the rate of Eq. TS-1 AND the memory of
 // Eq. TS-3 (computed from the same L1, L2): the drift cubic(T) + k_dot dT/dt + k_h (T - P_w(T))
-// of a unit with a die gain and a hysteresis together (docs/simulator.md "Deterministic drift")
-// needs both; with one state the gain absorbs the hysteresis (docs/drift_model.md). Its primary
+// of a unit with a die gain and a hysteresis together (docs/explanation/simulator.md "Deterministic drift")
+// needs both; with one state the gain absorbs the hysteresis (docs/explanation/drift-models.md). Its primary
 // state s is the rate (batch: the centred slope; causal: Eq. TS-1), the memory m is a second,
 // always causal, column.
 //

@@ -1,5 +1,5 @@
 // A generated, dependency-free C99 evaluator of drift models: the firmware form that keeps the
-// whole model (docs/export.md).
+// whole model (docs/explanation/flight-controller-export.md).
 //
 // The generated <prefix>.h / <prefix>.c hold the model's numbers as constant tables and
 //     void <prefix>_init(<prefix>_state *state);
@@ -15,10 +15,10 @@
 // operation is float (no double promotion).
 //
 // It computes what DriftModel::Predict(inputs, causal = true) computes (same formulas; the states
-// carried as small numbers, see docs/export.md):
+// carried as small numbers, see docs/explanation/flight-controller-export.md):
 // in double within rounding (tests: 1e-12 of the drift span); in float within 1e-5 of the span
 // plus the model's own conditioning (an SVR whose terms cancel: its sum is compensated, Kahan,
-// but each term keeps its float rounding; docs/export.md gives the measured figures).
+// but each term keeps its float rounding; docs/explanation/flight-controller-export.md gives the measured figures).
 #pragma once
 
 #include <string>

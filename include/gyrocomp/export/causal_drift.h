@@ -1,5 +1,5 @@
 // Causal evaluation of a drift model: what firmware computes, one sample at a time, with only the
-// past (issue 12 part 2; docs/export.md).
+// past (issue 12 part 2; docs/explanation/flight-controller-export.md).
 //
 // The thermal states and their causal updates are issue 11's (gyrocomp/drift/thermal_state.h,
 // Eqs. TS-1..TS-3; DriftModel::Predict(inputs, causal = true), DriftEvaluator). This header adds

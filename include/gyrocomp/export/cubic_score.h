@@ -1,6 +1,6 @@
 // How good an exported firmware cubic is: on a run it was not fitted on (the firmware's own
 // formula, float32) and, before any such run, from the model's prediction band (issue 22 item 4,
-// issue 23's DriftModel::PredictBand). docs/export.md, "Expected error and validation".
+// issue 23's DriftModel::PredictBand). docs/explanation/flight-controller-export.md, "Expected error and validation".
 #pragma once
 
 #include <cstddef>

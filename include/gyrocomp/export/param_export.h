@@ -1,4 +1,4 @@
-// Parameter files for the autopilots' own gyro thermal compensation (docs/export.md, with the
+// Parameter files for the autopilots' own gyro thermal compensation (docs/explanation/flight-controller-export.md, with the
 // firmware sources each convention is read from).
 //
 // PX4 (src/modules/temperature_compensation/TemperatureCompensation.cpp, calc_thermal_offsets_3D;

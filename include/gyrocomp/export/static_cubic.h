@@ -1,5 +1,5 @@
 // The static curve of a calibration run, estimated with every temperature weighted alike
-// (issue 22, docs/export.md "Each temperature weighted alike").
+// (issue 22, docs/explanation/flight-controller-export.md "Each temperature weighted alike").
 //
 // The firmware's cubic is a static curve applied equally at every temperature. A least-squares
 // fit over the run's samples weighs each temperature by the time the run spent there: the holds

@@ -1,4 +1,4 @@
-// Which estimator of the static curve to export, per axis (issue 22, docs/export.md "Choosing
+// Which estimator of the static curve to export, per axis (issue 22, docs/explanation/flight-controller-export.md "Choosing
 // the weighting per axis (--static-weight auto)").
 //
 // Two linear estimators of the firmware's cubic from one calibration run (y = the run's values):

@@ -1,5 +1,5 @@
 // The autopilots' form of a drift model: a cubic in temperature alone (PX4 TC_G*, ArduPilot
-// INS_TCAL*), and the least-squares projection of any DriftModel onto it (docs/export.md).
+// INS_TCAL*), and the least-squares projection of any DriftModel onto it (docs/explanation/flight-controller-export.md).
 //
 // Projection: the model is evaluated on a uniform grid of `grid_points` temperatures over the
 // range [temp_min_c, temp_max_c] (the calibrated range: clamped outside, as the firmware does),
@@ -8,7 +8,7 @@
 // and the cubic in dT = T - ref_temp_c that minimises the squared error over the grid is kept.
 // A grid uniform in T weighs every temperature of the range alike; the model itself was fitted
 // on every sample (time-weighted), unlike PX4's process_sensor_caldata.py, which fits the means
-// of 2000 equal-width temperature bins (docs/export.md).
+// of 2000 equal-width temperature bins (docs/explanation/flight-controller-export.md).
 //
 // What that loses is measured, not assumed: CubicProjectionCost compares the full model (its own
 // centred prediction, dT/dt included) with the cubic on a record (the calibration run, a

@@ -9,7 +9,7 @@
 // One gyro instance is taken: ULog sensor_gyro multi_id N / DataFlash IMU instance N (old logs:
 // IMU, IMU2, IMU3 = 0, 1, 2). With several instances and no choice, the reader refuses and lists
 // them. A ULog without sensor_gyro data falls back to sensor_combined (no temperature: a warning).
-// Frames and compensation (docs/export.md cites the firmware lines):
+// Frames and compensation (docs/explanation/flight-controller-export.md cites the firmware lines):
 // - PX4 sensor_gyro is the driver's output, before the sensors module applies TC_G* and CAL_GYRO*
 //   (calibration::Gyroscope::Correct): raw, in the sensor frame, whatever TC_G_ENABLE says. Only
 //   sensor_combined (corrected) with TC_G_ENABLE = 1 draws a warning.

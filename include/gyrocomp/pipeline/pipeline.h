@@ -48,7 +48,7 @@ struct PipelineOptions {
   // from the middle of the record); nullopt = all samples. Exact SampEn is O(N log^2 N) here,
   // so this only trims time on very long records.
   std::optional<std::size_t> entropy_max_samples = kDefaultEntropyMaxSamples;
-  // drift / mixed / noise thresholds: the standard-scale rule by default (docs/classification.md).
+  // drift / mixed / noise thresholds: the standard-scale rule by default (docs/explanation/classification.md).
   ClassifierOptions classifier = ClassifierOptions::Standard();
   // If no mode is classified drift, the mode with the lowest centre frequency becomes the drift
   // feature (the compensation branch needs one); recorded in the result. Off: no compensation.

@@ -1,5 +1,5 @@
 // Whether a noise term read off an Allan deviation curve means what its name says
-// (docs/pipeline.md, "The not-applicable rule"). A processed record's ADEV is shaped by the
+// (docs/explanation/pipeline.md, "The not-applicable rule"). A processed record's ADEV is shaped by the
 // processing: a record band-limited to B carries 2B independent values per second (the sampling
 // theorem), so averages over less than 1/(2B) seconds are not independent and their ADEV shows the
 // filter: sigma(1 s) of a 0.17 Hz output is not an angle random walk coefficient, and a "+1/2

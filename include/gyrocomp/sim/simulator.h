@@ -11,7 +11,7 @@
 //                       resolution rounding, whose error is part of true_noise_dps)
 // Deterministic for a seed on every platform: std::mt19937_64 (fully specified by the standard)
 // and our own normal generator (Marsaglia polar method), never std::normal_distribution.
-// The model, its units and the flicker construction: docs/simulator.md.
+// The model, its units and the flicker construction: docs/explanation/simulator.md.
 #pragma once
 
 #include <array>
@@ -28,7 +28,7 @@
 namespace gyrocomp {
 
 // The chamber's set-point schedule. kHeatCool, kStairs and kRateCycles are calibration designs
-// (`gyrocomp plan` compares profiles for a calibration: docs/cli.md).
+// (`gyrocomp plan` compares profiles for a calibration: docs/reference/cli-contract.md).
 enum class ThermalProfileKind {
   kPaper,  // paper Section 4.1: room hold, heat to hot, hold, 10 C steps down to cold, each held
   kSoak,   // constant at soak_temp_c for soak_duration_s
@@ -42,7 +42,7 @@ enum class ThermalProfileKind {
   kRateCycles,  // cold soak (room_hold_s / 2 at cold), 4 full-range cycles cold -> hot -> cold
                 // with hold_s / 3 at both ends; cycles 1 and 3 heat at 2 ramp_rate and cool at
                 // ramp_rate, 2 and 4 the reverse: many reversals and two rates each way (13.2 h);
-                // the design of docs/drift_model.md "What any estimator can reach"
+                // the design of docs/explanation/drift-models.md "What any estimator can reach"
   kUser,      // the user's chamber schedule: user_time_s / user_temp_c (simulate --profile-csv)
 };
 // "paper" | "soak" | "ramp" | "cycle" | "heat-cool" | "stairs" | "rate-cycles" | "user".
@@ -121,7 +121,7 @@ struct NoiseOptions {
   // decade; the variance is set so the ADEV of the sum equals 0.664 B at the geometric middle of
   // the band (ripple about +-1% for 2 per decade). The floor is flat within 2% from 20x the
   // shortest to 1/6 of the longest correlation time; below, the flicker fades like a rate random
-  // walk (so sigma(1 s) stays the ARW's). See docs/simulator.md.
+  // walk (so sigma(1 s) stays the ARW's). See docs/explanation/simulator.md.
   double flicker_min_corr_s = 10.0;
   double flicker_max_corr_s = 1.0e5;  // longest correlation time, s
   int flicker_per_decade = 2;         // processes per decade of correlation time

@@ -29,8 +29,8 @@ struct AllanArgs {
   std::string csv_path;
   std::string deviation = "adev";
   std::string kalibr_yaml_path;
-  std::string openvins_yaml_path;  // OpenVINS kalibr_imu_chain.yaml (issue 25)
-  std::string vins_yaml_path;      // VINS-Fusion acc_n / gyr_n / acc_w / gyr_w (issue 25)
+  std::string openvins_yaml_path;  // OpenVINS kalibr_imu_chain.yaml
+  std::string vins_yaml_path;      // VINS-Fusion acc_n / gyr_n / acc_w / gyr_w
   std::string rostopic = KalibrYamlOptions{}.rostopic;
   bool rostopic_given = false;
   std::string accel_cols;  // comma-separated, m/s^2 (only for --kalibr-yaml)
@@ -276,7 +276,7 @@ int Run(const AllanArgs& a) {
   Result<LogSpec> spec = ToLogSpec(a.log);
   if (!spec.ok()) return ReportError(kAllanName, spec.error());
   spec->min_samples = 3;  // one tau needs 3 samples
-  // Without --accel-col a CSV's other columns are not used (issue 24: memory); with it, the
+  // Without --accel-col a CSV's other columns are not used (memory); with it, the
   // accelerometer log is loaded from the whole table.
   if (a.accel_cols.empty()) spec->keep_cols.emplace();
   Result<LoadedLog> loaded = LoadLog(kAllanName, a.log, *spec);

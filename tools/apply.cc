@@ -34,7 +34,7 @@ double Rmse(const std::vector<double>& a, const std::vector<double>& b) {
   return a.empty() ? 0.0 : std::sqrt(ss / static_cast<double>(a.size()));
 }
 
-// Issue 15: never an absurd or non-finite drift (a model far outside its range, coefficients at
+// Never an absurd or non-finite drift (a model far outside its range, coefficients at
 // the edge of double): refused with the row and temperature, never written with exit 0.
 Status CheckPlausibleDrift(const std::string& model_path, const GyroLog& log, const std::vector<double>& predicted) {
   for (std::size_t i = 0; i < predicted.size(); ++i) {
@@ -91,7 +91,7 @@ int Run(const ApplyArgs& a) {
     j["fraction_outside_fitted_range"] = range.fraction_outside;
     // When the record carries the true drift (simulator output), score the prediction.
     if (truth >= 0) j["rmse_vs_" + a.truth_col] = Rmse(*predicted, out.columns[truth]);
-    // The 90% band (issue 23; cli.md "apply (bands)"): a model file written before it has none.
+    // The 90% band (cli.md "apply (bands)"): a model file written before it has none.
     if (model->band) {
       Result<DriftBand> band = model->PredictBand(inputs, a.causal);
       if (!band.ok()) return ReportError(kApplyName, band.error());
@@ -115,7 +115,7 @@ int Run(const ApplyArgs& a) {
       j["band_level_reason"] = "model_has_no_band";
       j["band_level_why"] = "the model file holds no prediction band (written before bands existed): refit it "
                             "with gyrocomp fit to get one";
-      if (k == 0) Note(kApplyName, "note: " + a.model_path + " has no prediction band (written before gyrocomp's issue 23); "
+      if (k == 0) Note(kApplyName, "note: " + a.model_path + " has no prediction band (a schema-1 model file, written before prediction bands); "
                                   "no _lo/_hi columns: refit it to get one");
     }
     axes.push_back(j);

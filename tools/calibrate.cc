@@ -3,12 +3,16 @@
 // calibrate stage's (gyrocomp/calibrate/calibrate.h: sensors, block means, fit, projection,
 // combining runs, validation, the parameter text); this file reads the options, prints the table
 // and writes the files.
+#include <cmath>
 #include <iostream>
+#include <sstream>
+#include <algorithm>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "commands.h"
+#include "console.h"
 #include "calibrate_report.h"
 #include "calibrate_sensor.h"
 #include "gyrocomp/calibrate/calibrate.h"
@@ -20,13 +24,102 @@ namespace {
 
 using namespace calibrate;  // kCalibrateName, CalibrateArgs, Sensor, the outputs (calibrate_sensor.h)
 
+// A sensor's figure in the unit a person reads: gyro in mdps or deg/s, accel in mg, baro in Pa.
+std::string Readable(const Sensor& s, double firmware_value) {
+  if (s.type == "gyro") return RateRadS(firmware_value);
+  if (s.type == "accel") return Figure(firmware_value / 9.80665e-3) + " mg";
+  return Figure(firmware_value) + " " + s.unit;
+}
+
+// RMS over a sensor's axes of per-axis figures.
+double AxisRms(const std::vector<double>& per_axis) {
+  double sum = 0.0;
+  for (double v : per_axis) sum += v * v;
+  return per_axis.empty() ? NAN : std::sqrt(sum / static_cast<double>(per_axis.size()));
+}
+
+// The drift the run shows without compensation: per axis the RMS of its block means about their
+// mean (firmware unit), RMS over the axes.
+double UncompensatedRms(const Sensor& s) {
+  std::vector<double> per_axis;
+  for (const std::vector<double>& v : s.values) {
+    if (v.empty()) continue;
+    double mean = 0.0;
+    for (double x : v) mean += x;
+    mean /= static_cast<double>(v.size());
+    double ss = 0.0;
+    for (double x : v) ss += (x - mean) * (x - mean);
+    per_axis.push_back(std::sqrt(ss / static_cast<double>(v.size())));
+  }
+  return AxisRms(per_axis);
+}
+
+// The expected next-run error of the exported cubics (the condition --optimise-for chose), RMS
+// over the axes; NaN without a band.
+double ExpectedRms(const Sensor& s, bool warm_up) {
+  std::vector<double> per_axis;
+  for (const std::optional<CubicExpectedError>& e : s.expected) {
+    if (!e) return NAN;
+    if (warm_up && e->warm_up) per_axis.push_back(e->warm_up->total_rms);
+    else per_axis.push_back(e->steady.total_rms);
+  }
+  return AxisRms(per_axis);
+}
+
+// The default summary: a header (what was read), one line per sensor (uncompensated drift against
+// the expected next-run error of its exported cubic), the next step when a sensor was skipped.
+// --verbose prints the full table (projection cost, static weighting, validation per axis).
+void PrintSummary(const CalibrateArgs& a, const CalibrateResult& r) {
+  int calibrated = 0;
+  double lo = INFINITY, hi = -INFINITY;
+  for (const Sensor& s : r.sensors) {
+    if (!s.calibrated()) continue;
+    ++calibrated;
+    lo = std::min(lo, s.temp_min_c);
+    hi = std::max(hi, s.temp_max_c);
+  }
+  std::string head = std::to_string(r.inputs.size()) + (r.inputs.size() == 1 ? " log (" : " logs (") + a.input +
+                     (r.inputs.size() > 1 ? ", ..." : "") + "), " + a.format + ": " + std::to_string(calibrated) +
+                     " of " + std::to_string(r.sensors.size()) + " sensors calibrated";
+  if (calibrated > 0) head += " over " + Figure(lo) + " .. " + Figure(hi) + " C";
+  Headline(kCalibrateName, head);
+  const bool warm_up = a.optimise_for == "warm-up";
+  bool skipped = false;
+  for (const Sensor& s : r.sensors) {
+    std::ostringstream line;
+    line << s.type << " " << s.instance;
+    if (s.device_id) line << " (id " << *s.device_id << ")";
+    line << ": ";
+    if (!s.calibrated()) {
+      skipped = true;
+      line << WarnColour("skipped") << ", " << s.reason;
+    } else {
+      const double before = UncompensatedRms(s), after = ExpectedRms(s, warm_up);
+      line << "drift " << Readable(s, before) << " uncompensated -> " << Readable(s, after)
+           << " expected on the next run";
+      if (before > 0.0 && std::isfinite(after)) line << " (" << Figure(after / before, 2) << "x)";
+      if (!std::isfinite(after)) line << " (no band: " << s.band_reason << ")";
+      if (s.validation && s.validation->reason.empty()) {
+        line << "; on the validation run " << Readable(s, AxisRms(s.validation->raw)) << " -> "
+             << Readable(s, AxisRms(s.validation->cubic));
+      }
+    }
+    Line(line.str());
+  }
+  if (skipped) {
+    Line("next: a skipped sensor needs a run whose temperature spans at least --min-span (" + Figure(a.min_span_c) +
+         " C) with enough rows; see the reason beside it");
+  }
+}
+
 int Run(const CalibrateArgs& a) {
   if (!(a.fit_rate_hz > 0.0) || !(a.min_span_c >= 0.0) || !(a.block_s > 0.0))
     return ReportError(kCalibrateName, InvalidArgument("--fit-rate must be > 0 Hz, --min-span >= 0 C and --block > 0 s"));
   Result<CalibrateResult> r = CalibrateLogs(a.inputs, a);
   if (!r.ok()) return ReportError(kCalibrateName, r.error());
   for (const std::string& n : r->notes) Note(kCalibrateName, n);
-  std::cerr << r->BriefReport();
+  if (a.verbose) std::cerr << r->BriefReport();
+  else PrintSummary(a, *r);
   if (!r->AnyCalibrated()) return ReportError(kCalibrateName, InvalidInput(a.input + ": no sensor could be calibrated (reasons above)"));
   const std::vector<Sensor>* sensors = &r->sensors;
   if (Status st = WriteModels(a, *sensors); !st.ok()) return ReportError(kCalibrateName, st.error());
@@ -46,7 +139,8 @@ int Run(const CalibrateArgs& a) {
     const ReportData report = BuildCalibrateReport(j, CubicCurves(*sensors));
     if (Status st = WriteText(a.report_path, RenderReportHtml(report)); !st.ok()) return ReportError(kCalibrateName, st.error());
   }
-  Note(kCalibrateName, "-> " + a.output);
+  if (a.verbose) Note(kCalibrateName, "-> " + a.output);
+  else Wrote({a.output, a.json_path, a.report_path, a.models_dir});
   return kExitOk;
 }
 
@@ -76,6 +170,8 @@ Command MakeCalibrate(CLI::App& app) {
                  "A second log of the same board (same format as -i): every exported cubic (firmware formula) and "
                  "the full model scored on it, per axis");
   AddOutputOption(sub, "--report", &a->report_path, "Write an HTML report to FILE (self-contained, opens offline)");
+  sub->add_flag("-v,--verbose", a->verbose,
+                "The full table per sensor and axis (projection cost, expected error steady and warm-up, static weighting)");
   sub->add_option("--block", a->block_s, "--validation: residual block means, s")->capture_default_str();
   sub->add_option("--fit-rate", a->fit_rate_hz, "Rows per second the fit sees (block means), Hz")->capture_default_str();
   sub->add_option("--optimise-for", a->optimise_for,

@@ -1,4 +1,4 @@
-// The HTML report of `gyrocomp calibrate --report` (issue 22): the report stage's tables and
+// The HTML report of `gyrocomp calibrate --report`: the report stage's tables and
 // chart (gyrocomp/report/report.h) filled from the command's JSON summary (docs/reference/cli-contract.md,
 // calibrate), so the report shows exactly what the JSON says.
 #pragma once

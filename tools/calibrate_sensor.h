@@ -33,6 +33,7 @@ struct CalibrateArgs : CalibrateOptions {
   std::string models_dir;
   std::string json_path;
   std::string report_path;  // HTML report
+  bool verbose = false;     // the full per-axis table instead of one line per sensor
 };
 
 using Sensor = CalibratedSensor;

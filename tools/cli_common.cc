@@ -244,7 +244,7 @@ Status CleanJson(nlohmann::json& j, const std::string& where) {
 }
 
 // What a destination resolves to, so that two options writing the same place are refused
-// before any work (issue 24): "-" is standard output (so it matches /dev/stdout or a link to
+// before any work: "-" is standard output (so it matches /dev/stdout or a link to
 // it), an existing file its device and inode, a new name its canonical path. "" for what may
 // take several outputs: /dev/null and a terminal.
 std::string OutputIdentity(const std::string& path) {

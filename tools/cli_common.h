@@ -50,7 +50,7 @@ struct LogOptions {
   std::optional<double> resample_hz;
   // ULog / DataFlash: gyro instance (sensor_gyro multi_id, IMU instance); nullopt = the only one.
   std::optional<int> instance;
-  // ROS bags (issue 25): the sensor_msgs/Imu topic (nullopt = the only one) and the row time,
+  // ROS bags: the sensor_msgs/Imu topic (nullopt = the only one) and the row time,
   // "header" (header.stamp) or "receive" (the bag's record time).
   std::optional<std::string> topic;
   std::string time_source = "header";
@@ -127,7 +127,7 @@ void WarnIfTemperatureFlat(const std::string& command, const GyroLog& log);
 // A validator for an integer option that counts something (samples, frequencies, points, modes):
 // refused at parse time, before any work (exit 2), unless it is an integer in [lo, hi]; the
 // message names the range and what states it ("0: must be an integer in [1, 1e+09]
-// (BandwidthOptions::num_frequencies)"; CLI11 prefixes the option). Issue 24: `denoise
+// (BandwidthOptions::num_frequencies)"; CLI11 prefixes the option). `denoise
 // --bandwidth-segment 0` ran and exited 0.
 CLI::Validator IntegerRange(std::int64_t lo, std::int64_t hi, const std::string& source);
 

@@ -25,7 +25,7 @@ struct ConvertArgs {
   bool strict = false;                 // a damaged ULog / DataFlash record is an error
 };
 
-// A ROS bag's IMU topic (issue 25): --topic, --time.
+// A ROS bag's IMU topic: --topic, --time.
 Result<FlightLogTable> ReadBag(const ConvertArgs& a) {
   LogSpec spec;
   spec.topic = a.topic;

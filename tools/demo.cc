@@ -303,7 +303,7 @@ int Run(const DemoArgs& a) {
   if (Status s = ResolvePipelineOptions(&pipe); !s) return ReportError(kDemoName, s.error());
   int cs_svr_generations = 0;
   const std::string budget = ApplyDemoBudget(a, &pipe.options, &cs_svr_generations);
-  // Options first: a refused --fs must not leave an empty --out folder behind (issue 24).
+  // Options first: a refused --fs must not leave an empty --out folder behind.
   SimulatorOptions sim;
   sim.fs_hz = a.fs_hz;
   sim.seed = a.seed;
@@ -313,7 +313,7 @@ int Run(const DemoArgs& a) {
   const bool existed = std::filesystem::exists(a.out_dir, ec);
   std::filesystem::create_directories(a.out_dir, ec);
   if (ec) return ReportError(kDemoName, IoError(a.out_dir + ": cannot create directory: " + ec.message()));
-  // A failed run leaves no folder it created (issue 24): its temporaries are discarded first.
+  // A failed run leaves no folder it created: its temporaries are discarded first.
   // Listed for the signal handler too (RemoveLiveTemporaryFiles: a Ctrl-C mid-run).
   struct RemoveCreatedFolder {
     std::string dir;

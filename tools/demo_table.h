@@ -1,4 +1,4 @@
-// The demo's side-by-side table (issue 11 section 6): the raw record, the paper's pipeline
+// The demo's side-by-side table: the raw record, the paper's pipeline
 // (CS-SVR drift branch), gyrocomp's default (auto drift branch) and the paper's published figures,
 // with the drift error against the simulator's truth on the run and on a held-out run. Figures the
 // processing makes meaningless are cells with a not-applicable reason (gyrocomp/report/

@@ -121,7 +121,7 @@ int Run(const DenoiseArgs& a) {
   if (!method.ok()) return ReportError(kDenoiseName, method.error());
   Result<LogSpec> spec = ToLogSpec(a.log);
   if (!spec.ok()) return ReportError(kDenoiseName, spec.error());
-  Result<LogTableRead> read = ReadLogTable(a.log.input, *spec);  // CSV, ULog or DataFlash (issue 12)
+  Result<LogTableRead> read = ReadLogTable(a.log.input, *spec);  // CSV, ULog or DataFlash
   if (!read.ok()) return ReportError(kDenoiseName, read.error());
   Result<Table> table = std::move(read->table);
   Result<GyroLog> log = LoadGyroLog(*table, read->spec);
@@ -268,7 +268,7 @@ Command MakeDenoise(CLI::App& app) {
   sub->add_flag("--bandwidth", a.bandwidth,
                 "Measure the -3 dB bandwidth and delay by adding test sines to a segment of the record")
       ->group(g);
-  // Issue 24: 0 ran the measurement on an all-zero background and exited 0. The floor is
+  // 0 would run the measurement on an all-zero background and exited 0. The floor is
   // BandwidthOptions::num_samples's (>= 256; MeasureBandwidth's window is 80% of it, >= 128).
   sub->add_option("--bandwidth-segment", a.bandwidth_segment, "Samples of the record used as background")
       ->check(IntegerRange(256, 1'000'000'000, "BandwidthOptions::num_samples"))

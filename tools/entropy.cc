@@ -31,7 +31,7 @@ int Run(EntropyArgs a) {
   std::string why;
   if (!a.options.IsValid(&why)) return ReportError(kEntropyName, InvalidArgument(why));
   CsvReadOptions read;
-  read.columns = std::vector<std::string>{a.col};  // the one column used (issue 24: memory)
+  read.columns = std::vector<std::string>{a.col};  // the one column used (memory)
   Result<Table> table = ReadCsv(a.input, read);
   if (!table.ok()) return ReportError(kEntropyName, table.error());
   const int j = table->Find(a.col);

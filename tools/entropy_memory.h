@@ -4,7 +4,7 @@
 // glibc serves blocks of 128 KiB and more with fresh mmap'd pages (each first touch a page fault,
 // zeroed by the kernel) and trims freed heap tops; sample entropy and the VMD allocate many
 // N-sized buffers per mode, so at N = 20k a `decompose` run spent ~25% of its CPU time in page
-// faults (docs/explanation/performance.md, "decompose whole process, session 3"). Blocks up to 32 MiB now come
+// faults (docs/explanation/performance.md, "decompose whole process"). Blocks up to 32 MiB now come
 // from the heap and up to 64 MiB of free heap is kept; larger blocks (the VMD of a long record)
 // are still mapped and unmapped, so the peak memory of long records does not grow. Not glibc:
 // nothing changes.

@@ -1,4 +1,4 @@
-// gyrocomp export: put a drift model on the device (issue 12; docs/explanation/flight-controller-export.md). PX4 and ArduPilot
+// gyrocomp export: put a drift model on the device (docs/explanation/flight-controller-export.md). PX4 and ArduPilot
 // parameter files (the model projected onto the autopilot's cubic in T, with the cost measured)
 // or a generated C99 evaluator of the full model with the causal dT/dt estimator inside.
 #include <algorithm>
@@ -126,7 +126,7 @@ Result<GyroLog> ReadRun(const LogOptions& options) {
   Result<LogSpec> spec = ToLogSpec(options);
   if (!spec.ok()) return spec.error();
   spec->temp_required = true;
-  spec->keep_cols.emplace();  // only the log: time, rates, temperature (issue 24: memory)
+  spec->keep_cols.emplace();  // only the log: time, rates, temperature (memory)
   Result<LoadedLog> loaded = LoadLog(kExportName, options, *spec);
   if (!loaded.ok()) return loaded.error();
   return std::move(loaded->log);

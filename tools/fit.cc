@@ -174,7 +174,7 @@ Result<nlohmann::json> ValidateOn(const FitArgs& a, const DriftModelSet& set) {
   Result<LogSpec> spec = ToLogSpec(other);
   if (!spec.ok()) return spec.error();
   spec->temp_required = true;
-  spec->keep_cols = std::vector<std::string>{"true_drift_dps"};  // the log and the truth only (issue 24: memory)
+  spec->keep_cols = std::vector<std::string>{"true_drift_dps"};  // the log and the truth only (memory)
   Result<LoadedLog> loaded = LoadLog(kFitName, other, *spec);
   if (!loaded.ok()) return loaded.error();
   nlohmann::json out = nlohmann::json::array();
@@ -205,7 +205,7 @@ int Run(FitArgs a) {
   spec->rates_required = !target_is_column;
   if (target_is_column && spec->rate_cols.size() != 1)
     return ReportError(kFitName, InvalidArgument("--rate-col: with --target COLUMN give one rate column"));
-  spec->keep_cols.emplace();  // the log and what Target reads (issue 24: memory)
+  spec->keep_cols.emplace();  // the log and what Target reads (memory)
   if (target_is_column) spec->keep_cols->push_back(a.target);
   if (!a.known_rate_col.empty()) spec->keep_cols->push_back(a.known_rate_col);
   Result<LoadedLog> loaded = LoadLog(kFitName, a.log, *spec);
@@ -247,7 +247,7 @@ int Run(FitArgs a) {
     if (!v.ok()) return ReportError(kFitName, v.error());
     validation = std::move(*v);
   }
-  // Through the run's output transaction (issue 15) the model set of issue 11.
+  // Through the run's output transaction the model set.
   if (Status s = WriteText(a.model_path, DriftModelSetToJson(set)); !s.ok()) return ReportError(kFitName, s.error());
   if (!a.json_path.empty()) {
     // One axis: its summary at the top level (as before); always: "axes" with one entry per axis.

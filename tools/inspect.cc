@@ -148,7 +148,7 @@ nlohmann::json InspectDataFlash(const DataFlashContents& log) {
   return j;
 }
 
-// A ROS bag (issue 25): every topic with its type, encoding, message count and mean rate (by
+// A ROS bag: every topic with its type, encoding, message count and mean rate (by
 // receive time); the IMU topics are the ones `--topic` chooses from.
 nlohmann::json InspectBag(const BagListing& bag) {
   nlohmann::json j;

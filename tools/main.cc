@@ -66,7 +66,7 @@ void CheckSeedOptions(CLI::App& app) {
   }
 }
 
-// Numeric options (issue 24): every FLOAT or INT option of every subcommand refuses, at parse time
+// Numeric options: every FLOAT or INT option of every subcommand refuses, at parse time
 // (before any work), NaN, infinities and magnitudes above kMaxOptionMagnitude; the options below
 // are refused outside their valid range, which is the library's (the IsValid named beside each),
 // with the range in the message. Other bounds are the library's IsValid, checked by each command
@@ -171,7 +171,7 @@ void CheckNumericOptions(CLI::App& app) {
 
 // The first argument that is not an option names the subcommand: an unknown one is refused here,
 // before CLI11 sees it, because with --help CLI11 would print the top-level help and exit 0
-// (issue 24: scripts could not tell whether a subcommand exists).
+// (so that scripts can tell whether a subcommand exists).
 Status CheckSubcommandName(CLI::App& app, int argc, char** argv) {
   if (argc < 2) return Status::Ok();
   const std::string first = argv[1];

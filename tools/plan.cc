@@ -1,5 +1,5 @@
 // gyrocomp plan: compare chamber profiles for a unit by the drift error they leave on the next
-// run, per hour of chamber time (issue 23; docs/explanation/calibration-design.md).
+// run, per hour of chamber time (docs/explanation/calibration-design.md).
 //
 // For each profile and seed: simulate the calibration run with the unit's noise (datasheet
 // numbers, IEEE 952) and drift family (simulator flags), fit the default model, and on two
@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <span>
 #include <cmath>
+#include <iomanip>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -19,6 +20,7 @@
 #include <vector>
 
 #include "commands.h"
+#include "console.h"
 #include "gyrocomp/allan/allan.h"
 #include "gyrocomp/core/format.h"
 #include "gyrocomp/drift/drift_model.h"
@@ -36,14 +38,15 @@ constexpr double kMinPilotSpanC = 5.0;
 struct PlanArgs {
   SimulatorOptions unit;  // noise and drift family; profile and seed set per run
   // stairs on request: its simulated error is above rate-cycles' (A: 19.8 against 12.5 mdps,
-  // docs/explanation/drift-models.md "What any estimator can reach"; its band covers 79.3%, "Sixth session").
+  // docs/explanation/drift-models.md "What any estimator can reach"; its band covers 79.3%).
   // rate-cycles: the design of the least calibration-noise error (docs/explanation/drift-models.md "What any estimator can reach"); with 10 seeds
   // plan's predictions hold within 25% of the simulated error on all 20 structure x profile
-  // pairs for A, B, C, E (docs/explanation/drift-models.md "Seventh session").
+  // pairs for A, B, C, E (docs/explanation/drift-models.md).
   std::string profiles = "paper,heat-cool,rate-cycles,cycle,ramp";
   std::string drift_poly;
   int seeds = 3;
   std::string json_path;
+  bool verbose = false;  // the full table (models, left-out terms, per-direction RMS, SE)
   // The unit from recordings (plan_unit.h): a pilot chamber run (its drift family, and the noise
   // of its residual unless given otherwise) and an Allan run (a static recording).
   std::string pilot_path, pilot_col = "rate_dps", pilot_temp_col = "temp_c", pilot_time_col = "time_s";
@@ -70,7 +73,7 @@ struct Outcome {
   // What the recommendation ranks: the larger of the predicted and the simulated error, so that a
   // profile must both say and reach a small error. By the predicted error alone (its 10% window
   // within the seed scatter), 5 seeds of structure B recommended heat-cool, predicted 14.3 mdps and
-  // simulated 22.8, over rate-cycles' 14.1 / 10.5 (docs/explanation/drift-models.md "Seventh session").
+  // simulated 22.8, over rate-cycles' 14.1 / 10.5 (docs/explanation/drift-models.md).
   double score() const { return std::max(predicted(), simulated()); }
   // Relative standard error of simulated() from the seed-to-seed scatter of the per-seed mean
   // squares (delta method: SE(sqrt m) / sqrt m = SE(m) / (2 m)); NaN with one seed. The simulated
@@ -339,16 +342,31 @@ int RunPlan(PlanArgs& a) {
   nlohmann::json j;
   j["unit"] = UnitJson(a);
   j["profiles"] = nlohmann::json::array();
-  if (a.json_path != "-") std::cout << UnitLine(a) << "\n";
-  if (a.json_path != "-")
+  const bool print = a.json_path != "-";
+  if (print && a.verbose) {
+    std::cout << UnitLine(a) << "\n";
     std::cout << "| profile | hours | model(s) | left out | predicted RMS heat / cool (deg/s) | simulated RMS heat / cool "
                  "| predicted / simulated | simulated: 1 SE (seeds) | predicted x hours |\n|---|---|---|---|---|---|---|---|---|\n";
+  } else if (print) {
+    const SimulatorOptions& u = a.unit;
+    std::cout << "unit: ARW " << Figure(u.noise.arw_deg_per_sqrt_h) << " deg/sqrt(h), bias instability "
+              << Figure(u.noise.bias_instability_deg_per_h) << " deg/h (" << a.noise_source << "); drift family from "
+              << a.family_source << "; " << Figure(u.profile.cold_temp_c) << " .. " << Figure(u.profile.hot_temp_c)
+              << " C\n";
+    std::cout << "  profile        hours   expected next-run drift error, predicted / simulated (heating and cooling)\n";
+  }
   for (const Outcome& o : all) {
-    if (a.json_path != "-")
+    if (print && a.verbose) {
       std::cout << "| " << o.profile << " | " << o.hours << " | " << Join(o.models) << " | " << Join(o.excluded) << " | "
                 << o.predicted_heat << " / " << o.predicted_cool << " | " << o.simulated_heat << " / " << o.simulated_cool
                 << " | " << o.predicted() / o.simulated() << " | " << SePercent(o.simulated_rel_se()) << " | "
                 << o.predicted() * o.hours << " |\n";
+    } else if (print) {
+      std::ostringstream row;
+      row << "  " << std::left << std::setw(14) << o.profile << " " << std::setw(7) << Figure(o.hours) << " "
+          << RateDps(o.predicted()) << " / " << RateDps(o.simulated()) << (&o == pick ? "   <- recommended" : "");
+      std::cout << row.str() << "\n";
+    }
     j["profiles"].push_back({{"profile", o.profile}, {"hours", o.hours}, {"models", o.models}, {"left_out", o.excluded},
                              {"predicted_rms_heating", o.predicted_heat}, {"predicted_rms_cooling", o.predicted_cool},
                              {"simulated_rms_heating", o.simulated_heat}, {"simulated_rms_cooling", o.simulated_cool},
@@ -358,10 +376,15 @@ int RunPlan(PlanArgs& a) {
   }
   j["recommended"] = pick->profile;
   j["seeds"] = a.seeds;
-  if (a.json_path != "-")
+  if (print && a.verbose) {
     std::cout << "recommended: " << pick->profile << " (" << pick->hours << " h): predicted next-run drift error RMS "
               << pick->predicted() << " deg/s (simulated " << pick->simulated()
               << "); the lowest of max(predicted, simulated), the shortest within 10% of it\n";
+  } else if (print) {
+    std::cout << "recommended: " << pick->profile << " (" << Figure(pick->hours) << " h), "
+              << RateDps(std::max(pick->predicted(), pick->simulated()))
+              << " expected on the next run (the lowest of max(predicted, simulated); the shortest within 10%)\n";
+  }
   if (!a.json_path.empty())
     if (Status s = WriteJson(a.json_path, j); !s.ok()) return ReportError(kPlanName, s.error());
   return kExitOk;
@@ -391,6 +414,8 @@ Command MakePlan(CLI::App& app) {
       ->check(IntegerRange(1, 50, "plan: noise seeds per profile"))->capture_default_str();
   sub->add_option("--fs", o.fs_hz, "Sample rate of the simulated runs, Hz")->check(CLI::PositiveNumber)->capture_default_str();
   AddOutputOption(sub, "--json", &a->json_path, "Write the comparison as JSON ('-' = stdout)");
+  sub->add_flag("-v,--verbose", a->verbose,
+                "The full table: models fitted, terms left out, predicted and simulated RMS per direction, their SE");
   std::vector<CLI::Option*> unit;  // the unit's flags: each overrides --pilot / --noise-from
   unit.push_back(sub->add_option("--arw", o.noise.arw_deg_per_sqrt_h, "Angle random walk, deg/sqrt(h)")->capture_default_str());
   unit.push_back(sub->add_option("--bias-instability", o.noise.bias_instability_deg_per_h, "Bias instability, deg/h")->capture_default_str());

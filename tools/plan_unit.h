@@ -1,5 +1,5 @@
 // gyrocomp plan: the drift family of a pilot run's fitted model in the simulator's terms
-// (issue 23: "its noise from an Allan run or from datasheet numbers, its drift structure from a
+// ("its noise from an Allan run or from datasheet numbers, its drift structure from a
 // pilot run or a stated family"; docs/explanation/calibration-design.md).
 #pragma once
 

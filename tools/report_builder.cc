@@ -213,7 +213,7 @@ nlohmann::json ModesJson(const PipelineResult& r, const std::vector<double>& hou
   return modes;
 }
 
-// The model's prediction band (issue 23, DriftModel::PredictBand) over the record, as block means
+// The model's prediction band (DriftModel::PredictBand) over the record, as block means
 // of its lower and upper edges on the same blocks as the prediction: model_lo_dps / model_hi_dps,
 // band_level. A model without a band (or a band that cannot be evaluated) adds nothing.
 void AddDriftBand(const DriftModel& m, const PipelineResult& r, const ReportContext& ctx, std::size_t points,

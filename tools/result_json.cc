@@ -24,7 +24,7 @@ nlohmann::json AllanTermsJson(const AllanResult& r) {
   j["rrw_fit_tau_range_s"] = {Num(t.rrw_fit_tau_min_s), Num(t.rrw_fit_tau_max_s)};
   j["bias_instability_deg_per_h"] = Num(t.bias_instability_deg_per_h);
   j["rrw_deg_per_h_per_sqrt_h"] = Num(t.rrw_deg_per_h_per_sqrt_h);
-  // A figure that cannot be computed is null with "<key>_reason" beside it (issue 24).
+  // A figure that cannot be computed is null with "<key>_reason" beside it.
   if (!t.arw_deg_per_sqrt_h) {
     j["arw_deg_per_sqrt_h_reason"] = "tau = 1 s is beyond the longest tau of the curve (record too short)";
   }
@@ -165,7 +165,7 @@ nlohmann::json DriftValidationJson(const DriftValidation& v) {
   j["fraction_dtemp_outside_fitted_range"] = v.fraction_dtemp_outside;
   j["temp_below_fitted_c"] = v.excursion.below_c;
   j["temp_above_fitted_c"] = v.excursion.above_c;
-  // Issue 23: the prediction band on this run (null when the model file has none).
+  // The prediction band on this run (null when the model file has none).
   j["band_level"] = Num(v.band_level);
   j["band_half_width_rms_dps"] = Num(v.band_half_width_rms);
   j["band_coverage_of_true_drift"] = Num(v.band_coverage_truth);

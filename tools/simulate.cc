@@ -52,7 +52,7 @@ Status WriteBoardLog(const std::string& path, const SimulateArgs& a, bool ulog) 
 }
 
 // --profile-csv FILE: a CSV with a header and the columns time_s and chamber_temp_c (or temp_c),
-// one row per breakpoint of the chamber schedule (issue 23). Errors name the file and the row.
+// one row per breakpoint of the chamber schedule. Errors name the file and the row.
 Status ReadUserProfile(const std::string& path, ThermalProfileOptions* p) {
   Result<Table> t = ReadCsv(path);
   if (!t.ok()) return t.error();

@@ -6,7 +6,7 @@
 
 namespace gyrocomp::cli {
 
-// Integer counts are refused at parse time outside their range (IntegerRange, issue 24); the
+// Integer counts are refused at parse time outside their range (IntegerRange); the
 // ranges are the library's IsValid (named in each message).
 void AddPipelineOptions(CLI::App* app, PipelineCliOptions* c) {
   PipelineOptions& o = c->options;

@@ -45,7 +45,7 @@ nlohmann::json ValidationReportTable(const std::vector<ValidationSection>& secti
   add("RMSE vs true drift (deg/s)", [](const DriftValidation& v) {
     return v.rmse_vs_true_drift ? Num(*v.rmse_vs_true_drift) : nlohmann::json("no truth column");
   });
-  // The prediction band (issue 23): its width and how much of the truth / the block means it held.
+  // The prediction band: its width and how much of the truth / the block means it held.
   add("90% band half-width RMS (deg/s)", [](const DriftValidation& v) {
     return v.band_half_width_rms ? Num(*v.band_half_width_rms) : nlohmann::json("no band in the model file");
   });

@@ -1,4 +1,4 @@
-// The validation section of the HTML report (issue 11 section 4): a drift model on a run it was
+// The validation section of the HTML report: a drift model on a run it was
 // not fitted on (DriftValidation, gyrocomp/drift/drift_validate.h). Shared by `validate --report`
 // (a report of its own) and the held-out section of `demo`'s report.
 #pragma once

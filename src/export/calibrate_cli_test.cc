@@ -92,7 +92,7 @@ TEST_F(CalibrateCli, Px4FileHoldsEverySensorAndTheFirmwareFormulaGivesTheCubic) 
   std::string out;
   ASSERT_EQ(Run("calibrate -i " + log + " --format px4 -o " + dir_ + "/tc.params --models " + dir_ +
                     "/models --json " + dir_ + "/cal.json", &out), 0) << out;
-  EXPECT_NE(out.find("gyro    2"), std::string::npos) << out;  // the console table
+  EXPECT_NE(out.find("gyro 2 (id "), std::string::npos) << out;  // the console summary, one line per sensor
   const auto p = ReadQgc(ReadAll(dir_ + "/tc.params"));
   const nlohmann::json j = testing::ReadJsonFile(dir_ + "/cal.json");
   ASSERT_EQ(j["sensors"].size(), 7u);  // 3 gyros, 3 accels, 1 baro

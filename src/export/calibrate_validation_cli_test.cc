@@ -93,7 +93,7 @@ TEST_F(CalibrateValidationCli, ScoresEveryCubicWithTheFirmwareFormulaOnTheValida
   const std::string val = Simulate("val.ulg", 12, "--room-temp 60 --ramp-end 10" + stat);
   std::string out;
   ASSERT_EQ(Run("calibrate -i " + cal + " --format px4 -o " + dir_ + "/tc.params --json " + dir_ + "/c.json --validation " +
-                    val + " --report " + dir_ + "/r.html", &out), 0) << out;
+                    val + " --report " + dir_ + "/r.html --verbose", &out), 0) << out;
   EXPECT_NE(out.find("validation run: RMS of block means"), std::string::npos) << out;
   const nlohmann::json j = testing::ReadJsonFile(dir_ + "/c.json");
   EXPECT_EQ(j["validation_run"], val);
@@ -227,7 +227,7 @@ TEST_F(CalibrateValidationCli, AutoStaticWeightExportsTheChosenEstimatorPerAxis)
   for (const char* w : {"", "time", "temperature"}) {
     const std::string weight = w, name = "w_" + weight;
     ASSERT_EQ(Run("calibrate -i " + a + " --format px4 -o " + dir_ + "/" + name + ".params --json " + dir_ + "/" + name +
-                      ".json" + (weight.empty() ? "" : " --static-weight " + weight), &out), 0) << out;
+                      ".json" + (weight.empty() ? " --verbose" : " --static-weight " + weight), &out), 0) << out;
     j[w] = testing::ReadJsonFile(dir_ + "/" + name + ".json");
     if (!*w) {
       EXPECT_NE(out.find("static weight"), std::string::npos) << out;

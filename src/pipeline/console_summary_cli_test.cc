@@ -70,5 +70,40 @@ TEST_F(ConsoleSummaryCli, ValidatePrintsTheResidualBesideTheUncompensatedDrift) 
   EXPECT_TRUE(Has(out, "slope vs T")) << "--verbose keeps the slopes:\n" << out;
 }
 
+// A 3-IMU board: a header, one line per sensor (3 gyros, 3 accels, a baro) and the files written.
+TEST_F(ConsoleSummaryCli, CalibratePrintsAHeaderOneLinePerSensorAndTheFileWritten) {
+  std::string out;
+  ASSERT_EQ(Run("simulate --profile ramp --imus 3 --fs 100 --log-rate 20 --seed 3 --room-temp -10 --ramp-end 50"
+                " --duration 7200 -o " + dir_ + "/board.ulg", &out), 0) << out;
+  ASSERT_EQ(Run("calibrate -i " + dir_ + "/board.ulg --format px4 -o " + dir_ + "/tc.params", &out), 0) << out;
+  const std::vector<std::string> lines = Lines(out);
+  ASSERT_EQ(lines.size(), 1u + 7u + 1u) << out;
+  EXPECT_TRUE(Has(lines[0], "gyrocomp calibrate: 1 log (") && Has(lines[0], "7 of 7 sensors calibrated")) << out;
+  for (int k = 1; k <= 3; ++k) {
+    EXPECT_TRUE(Has(lines[k], "gyro ") && Has(lines[k], "mdps uncompensated -> ") && Has(lines[k], "expected on the next run"))
+        << lines[k];
+  }
+  for (int k = 4; k <= 6; ++k) EXPECT_TRUE(Has(lines[k], "accel ") && Has(lines[k], " mg")) << lines[k];
+  EXPECT_TRUE(Has(lines[7], "baro 0") && Has(lines[7], " Pa")) << lines[7];
+  EXPECT_EQ(lines[8], "  wrote " + dir_ + "/tc.params");
+  ASSERT_EQ(Run("calibrate -i " + dir_ + "/board.ulg --format px4 -o " + dir_ + "/tc2.params --verbose", &out), 0) << out;
+  EXPECT_TRUE(Has(out, "static weight") && Has(out, "expected next-run error of the cubic")) << out;
+}
+
+// plan: the unit, one row per profile with the expected next-run error (predicted / simulated),
+// the recommendation; --verbose keeps the full table.
+TEST_F(ConsoleSummaryCli, PlanPrintsOneRowPerProfileAndTheRecommendation) {
+  std::string out;
+  ASSERT_EQ(Run("plan --profiles ramp,paper --seeds 1 --fs 0.2", &out), 0) << out;
+  const std::vector<std::string> lines = Lines(out);
+  ASSERT_EQ(lines.size(), 5u) << out;
+  EXPECT_TRUE(Has(lines[0], "unit: ARW ") && Has(lines[0], " C")) << out;
+  EXPECT_TRUE(Has(lines[2], "  ramp ") && (Has(lines[2], "mdps") || Has(lines[2], "deg/s"))) << out;
+  EXPECT_TRUE(Has(lines[3], "  paper ")) << out;
+  EXPECT_TRUE(Has(lines[4], "recommended: ") && Has(lines[4], "expected on the next run")) << out;
+  ASSERT_EQ(Run("plan --profiles ramp --seeds 1 --fs 0.2 --verbose", &out), 0) << out;
+  EXPECT_TRUE(Has(out, "| ramp |") && Has(out, "predicted / simulated")) << out;
+}
+
 }  // namespace
 }  // namespace gyrocomp

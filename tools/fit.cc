@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "commands.h"
+#include "console.h"
 #include "gyrocomp/drift/drift_model.h"
 #include "gyrocomp/drift/drift_validate.h"
 #include "gyrocomp/decompose/feature_classifier.h"
@@ -32,6 +33,7 @@ struct FitArgs {
   bool search_epsilon = false;
   bool cv_all = false;
   bool keep_kernel = false;
+  bool verbose = false;  // the fit's full explanation (candidates, identifiability, data support, noise)
   std::optional<double> known_rate_dps;
   std::string known_rate_col;
   int modes = VmdOptions{}.num_modes;
@@ -194,6 +196,36 @@ Result<nlohmann::json> ValidateOn(const FitArgs& a, const DriftModelSet& set) {
   return out;
 }
 
+// One axis on stdout. Default: the model chosen, its fitted range and CV error beside the drift
+// span, each candidate term's paired gain +- SE (admitted or rejected), the expected error on the
+// next run and the terms left out; --verbose: the fit's full BriefReport and the band's noise.
+void PrintAxis(const DriftModel& model, const std::string& feature_report, bool verbose) {
+  const DriftFitSummary& s = model.summary;
+  const bool dps = model.unit == "deg/s";
+  auto figure = [&](double v) { return dps ? RateDps(v) : Figure(v) + " " + model.unit; };
+  if (!feature_report.empty() && verbose) std::cout << "VMD modes: " << feature_report << "\n";
+  if (verbose) {
+    std::cout << model.rate_col << ": " << s.BriefReport() << "\n";
+  } else {
+    std::cout << model.rate_col << ": " << DriftModelKindName(s.model) << "(" << DriftInputSetName(s.inputs) << ") over "
+              << Figure(s.temp_min_c) << " .. " << Figure(s.temp_max_c) << " C, " << s.num_samples << " samples; CV error "
+              << figure(s.cv_rmse) << " against a drift span of " << figure(s.drift_span) << "\n";
+  }
+  // auto: each candidate term's paired gain +- SE over the simpler model, admitted or rejected.
+  for (const TermAdmission& t : s.term_admissions)
+    std::cout << "  term " << t.BriefReport(dps ? 1000.0 : 1.0, dps ? "mdps" : model.unit) << "\n";
+  if (const auto& b = model.band) {
+    std::cout << "  expected drift error on a next run like this one: " << figure(b->expected_rms) << " RMS (90% band)";
+    if (verbose) std::cout << ", model-form part " << b->model_form_rms << "; noise " << b->noise.BriefReport();
+    std::cout << "\n";
+  }
+  if (!verbose && !s.excluded_terms.empty()) {
+    std::string left;
+    for (const ExcludedTerm& e : s.excluded_terms) left += (left.empty() ? "" : ", ") + e.term;
+    std::cout << "  left out (the run does not identify them; --verbose says why): " << left << "\n";
+  }
+}
+
 int Run(FitArgs a) {
   if (Status st = ResolveOptions(a); !st.ok()) return ReportError(kFitName, st.error());
   DriftFitOptions& o = a.fit;
@@ -227,18 +259,7 @@ int Run(FitArgs a) {
     Result<DriftModel> model = FitDriftModel({log.temp_c, log.fs_hz}, *target, o);
     if (!model.ok()) return ReportError(kFitName, model.error());
     model->rate_col = k < log.axis_names.size() ? log.axis_names[k] : o.target_name;
-    if (a.json_path != "-") {
-      if (!feature_report.empty()) std::cout << "VMD modes: " << feature_report << "\n";
-      std::cout << model->rate_col << ": " << model->summary.BriefReport() << "\n";
-      // auto: each candidate term's paired gain +- SE over the simpler model, admitted or rejected.
-      const bool dps = model->unit == "deg/s";
-      for (const TermAdmission& t : model->summary.term_admissions)
-        std::cout << "  term " << t.BriefReport(dps ? 1000.0 : 1.0, dps ? "mdps" : model->unit) << "\n";
-      if (const auto& b = model->band)
-        std::cout << "expected drift error on a next run like this one: RMS " << b->expected_rms << " " << model->unit
-                  << " (90% band, model-form part " << b->model_form_rms << "; noise " << b->noise.BriefReport()
-                  << ")\n";
-    }
+    if (a.json_path != "-") PrintAxis(*model, feature_report, a.verbose);
     set.axes.push_back(std::move(*model));
   }
   nlohmann::json validation;
@@ -349,6 +370,8 @@ Command MakeFit(CLI::App& app) {
   sub->add_option("--auto-generations", a->fit.auto_select.search_generations,
                   "auto: cuckoo-search generations of its cs-svr and hybrid candidates")
       ->check(IntegerRange(1, 1'000'000, "DriftAutoOptions::search_generations"))->group(s)->capture_default_str();
+  sub->add_flag("-v,--verbose", a->verbose,
+                "The fit's full explanation: every candidate's score, what the run identifies, the data support, the band's noise");
   sub->add_flag("--keep-kernel", a->keep_kernel,
                 "hybrid: keep the kernel even when it does not beat the structured part by more than the "
                 "block-to-block spread of its CV gain (default: dropped then, and the model is its structured part)")

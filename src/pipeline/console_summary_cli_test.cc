@@ -70,6 +70,23 @@ TEST_F(ConsoleSummaryCli, ValidatePrintsTheResidualBesideTheUncompensatedDrift) 
   EXPECT_TRUE(Has(out, "slope vs T")) << "--verbose keeps the slopes:\n" << out;
 }
 
+// fit: the model, its range and CV error beside the drift span, each candidate term's paired gain
+// +- SE, the expected next-run error, the terms left out, the file written; --verbose: every
+// candidate's score and what the run identifies.
+TEST_F(ConsoleSummaryCli, FitPrintsTheModelEachTermsGainAndTheExpectedError) {
+  std::string out;
+  ASSERT_EQ(Run("fit -i " + dir_ + "/run.csv -o " + dir_ + "/auto.json", &out), 0) << out;
+  const std::vector<std::string> lines = Lines(out);
+  ASSERT_GE(lines.size(), 3u) << out;
+  EXPECT_LE(lines.size(), 15u) << out;
+  EXPECT_TRUE(Has(lines[0], "rate_dps: poly(") && Has(lines[0], "CV error") && Has(lines[0], "drift span")) << out;
+  EXPECT_TRUE(Has(out, "  term +dT/dt") && Has(out, " +- ")) << "each candidate term's gain +- SE:\n" << out;
+  EXPECT_TRUE(Has(out, "expected drift error on a next run like this one: ")) << out;
+  EXPECT_EQ(lines.back(), "model written to " + dir_ + "/auto.json") << out;
+  ASSERT_EQ(Run("fit -i " + dir_ + "/run.csv -o " + dir_ + "/auto2.json --verbose", &out), 0) << out;
+  EXPECT_TRUE(Has(out, "auto chose") && Has(out, "calibration run: ")) << out;
+}
+
 // A 3-IMU board: a header, one line per sensor (3 gyros, 3 accels, a baro) and the files written.
 TEST_F(ConsoleSummaryCli, CalibratePrintsAHeaderOneLinePerSensorAndTheFileWritten) {
   std::string out;

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Side by side: gyrocomp calibrate vs PX4's process_sensor_caldata.py and ArduPilot's
 tempcal_IMU.py on simulated boards, scored on held-out runs with each firmware's own formula
-(issue 22).
+(docs/explanation/accuracy-calibration.md "Side by side with the autopilots' scripts").
 
     bench/imu_calibration_side_by_side.py [--build build] [--seeds 5] [--fs 10]
         [--px4-script PX4/Tools/process_sensor_caldata.py] [--pyulog DIR]

@@ -296,7 +296,7 @@ def main():
                             run_name, wins, 3 * len(a), ratio, np.mean([x.mean() for x in t]) / np.mean([x.mean() for x in b])))
                 if cells:
                     print("  %s %s, %s vs %s: %s" % (structure, sensor, mine, script, "; ".join(cells)))
-        # Done-when 3: the mean over the held-out heating and cooling runs, against the true curve's
+        # The mean over the held-out heating and cooling runs, against the true curve's
         # and each script's; and the worst ratio in the scripts' own (heating) direction.
         for structure in structures:
             def hc(n, run_names=("heating", "cooling")):

@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""Coverage of the drift model's 90% prediction band on held-out simulated runs (issue 23).
+"""Coverage of the drift model's 90% prediction band on held-out simulated runs
+(docs/explanation/prediction-bands.md "Coverage on held-out runs").
 
 For each drift structure, seed and calibration profile: simulate the calibration run, fit the
 default model (`gyrocomp fit`, auto) and poly(T), apply both to a held-out run in the opposite

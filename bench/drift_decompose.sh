@@ -1,5 +1,5 @@
 #!/bin/sh
-# Decomposition of the held-out drift error (issue 11): the runs of bench/drift_heldout.sh with one
+# Decomposition of the held-out drift error: the runs of bench/drift_heldout.sh with one
 # simulator term switched off at a time, fitted with poly(T, dT/dt) (and MODELS, e.g. "poly hybrid";
 # hybrid-keep = the hybrid with its kernel always kept, --keep-kernel).
 # Prints one row per (structure, variant, seed, model): heating and cooling-2 RMSE against the

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
-"""Oracle bound (issue 23, done-when 3): can ANY estimator of the simulator's own drift form, fitted
-on one calibration run of <= 14.25 h, reach 0.8x the held-out drift RMSE of poly(T, dT/dt) fitted on
-the paper's cooling run? And on which profile?
+"""Oracle bound (docs/explanation/calibration-design.md "What any estimator can reach"): can ANY
+estimator of the simulator's own drift form, fitted on one calibration run of <= 14.25 h, reach 0.8x
+the held-out drift RMSE of poly(T, dT/dt) fitted on the paper's cooling run? And on which profile?
 
 The simulator's drift (docs/explanation/simulator.md, src/sim/simulator.cc BiasDriftDps) is
     drift = c0 + c1 d + c2 d^2 + c3 d^3 + k_dot r + k_h (T - P_w(T)),   d = T - 25 C,

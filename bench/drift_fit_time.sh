@@ -1,6 +1,6 @@
 #!/bin/sh
-# Wall and CPU time of `gyrocomp fit` on the 14.25 h, 5 Hz paper run (issue 11: auto <= 60 s on
-# the 2-core machine). Not a test: timings never decide a test.
+# Wall and CPU time of `gyrocomp fit` on the 14.25 h, 5 Hz paper run (target: auto <= 60 s
+# on the 2-core machine). Not a test: timings never decide a test.
 # Usage: G=build/gyrocomp D=/tmp/fit-time sh bench/drift_fit_time.sh [models...]   (poly-allan: poly(T, dT/dt) by GLS)
 set -e
 G=${G:-gyrocomp}

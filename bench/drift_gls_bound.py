@@ -1,6 +1,7 @@
 #!/usr/bin/python3
-"""Bound (issue 11, third session): how much better than ordinary least squares can ANY fit of
-poly(T, dT/dt) do on the next run, when the noise is the simulator's and the form is right?
+"""Bound (docs/explanation/drift-noise-model.md "The bound of any weighting"): how much better than
+ordinary least squares can ANY fit of poly(T, dT/dt) do on the next run, when the noise is the
+simulator's and the form is right?
 
 Gauss-Markov: generalised least squares with the exact noise covariance (GLS-exact) is the best
 linear unbiased estimator of the coefficients. This draws R independent realisations of the noise
@@ -20,7 +21,7 @@ With FEASIBLE > 0 it also draws FEASIBLE realisations at 1 Hz (the same noise mo
 sample by sample) and adds pgls: GLS with the noise model of bench/drift_gls_param_probe.py
 (h0, h_-1, h_-2 fitted to the Allan variance of the draw's own 1 Hz OLS residual): how close the
 feasible estimator comes to the bound (slow: about 0.5 s per draw).
-Only numpy. Not a test; a measurement (docs/notes/issue-11-s3-i11gls.md).
+Only numpy. Not a test; a measurement (docs/explanation/drift-noise-model.md).
 Usage: /usr/bin/python3 bench/drift_gls_bound.py DIR TAG[,TAG...] [DRAWS=200] [BLOCK=60] [SEED=1] [FEASIBLE=0]
 """
 import math

@@ -1,5 +1,5 @@
 #!/bin/sh
-# Held-out drift table of docs/explanation/drift-models.md (issue 11): for each drift structure and seed, fit on
+# Held-out drift table of docs/explanation/drift-models.md: for each drift structure and seed, fit on
 # a simulated cooling run (paper profile), test on a heating run (ramp -40 -> 60 C) and a second
 # cooling run, both of other seeds. Prints one markdown row per (structure, seed, model).
 # cs-svr and hybrid run with GEN cuckoo-search generations (default 4, auto's budget; the paper
@@ -21,7 +21,7 @@ structure() {  # name -> simulator flags
     A) echo "" ;;                                                              # defaults
     B) echo "--hysteresis-width 10 --hysteresis-coeff 4e-3 --dtemp-coeff 0.5" ;; # strong hysteresis
     C) echo "--thermal-lag 1500 --dtemp-coeff 4" ;;                            # slow die, strong rate
-    # D: not tuned on (added by the second issue-11 session after the changes were made): no
+    # D: not tuned on (added after the model changes were made): no
     # hysteresis (poly(T, dT/dt)'s form is right), fast sensor, another cubic and rate gain.
     D) echo "--hysteresis-coeff 0 --thermal-lag 300 --dtemp-coeff 2.5 --drift-poly 0.01,-1e-3,3e-5,1e-7" ;;
   esac

@@ -1,6 +1,7 @@
 #!/usr/bin/python3
-"""Bound (issue 22, done-when 3): how close to the true static curve can ANY cubic fitted on the
-side-by-side bench's calibration run come on its held-out heating and cooling runs?
+"""Bound (docs/explanation/accuracy-calibration.md "The bound of one run, and several calibration
+runs"): how close to the true static curve can ANY cubic fitted on the side-by-side bench's
+calibration run come on its held-out heating and cooling runs?
 
 The bench (bench/imu_calibration_side_by_side.py) scores the residual a parameter set leaves on a
 held-out run as the RMS of 10 s block means with their mean removed. For a cubic b_hat fitted on

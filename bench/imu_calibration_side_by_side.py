@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Side by side: gyrocomp calibrate vs PX4's process_sensor_caldata.py and ArduPilot's
 tempcal_IMU.py on simulated boards, scored on held-out runs with each firmware's own formula
-(issue 22).
+(docs/explanation/accuracy-calibration.md "Side by side with the autopilots' scripts").
 
     bench/imu_calibration_side_by_side.py [--build build] [--seeds 5] [--fs 10]
         [--px4-script PX4/Tools/process_sensor_caldata.py] [--pyulog DIR]
@@ -296,7 +296,7 @@ def main():
                             run_name, wins, 3 * len(a), ratio, np.mean([x.mean() for x in t]) / np.mean([x.mean() for x in b])))
                 if cells:
                     print("  %s %s, %s vs %s: %s" % (structure, sensor, mine, script, "; ".join(cells)))
-        # Done-when 3: the mean over the held-out heating and cooling runs, against the true curve's
+        # The mean over the held-out heating and cooling runs, against the true curve's
         # and each script's; and the worst ratio in the scripts' own (heating) direction.
         for structure in structures:
             def hc(n, run_names=("heating", "cooling")):

@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""Is the gap between any single-run cubic and the true static curve estimation noise? (issue 22)
+"""Is the gap between any single-run cubic and the true static curve estimation noise?
+(docs/explanation/accuracy-calibration.md "The bound of one run, and several calibration runs")
 
     /usr/bin/python3 bench/imu_calibration_two_runs.py --pyulog DIR [--build build] [--seeds 5]
 

@@ -1,4 +1,4 @@
-// libFuzzer harness (issue 24): finite doubles of the shapes in fuzz_numeric_support.h as the
+// libFuzzer harness: finite doubles of the shapes in fuzz_numeric_support.h as the
 // temperature and the target of the drift stage: FitDriftModel (poly, svr, cs-svr and grid-svr
 // with tiny budgets, every input set), batch and causal prediction, the model file round trip
 // (what fit writes, apply must load), thermal states, the noise model, the cubic projection, the

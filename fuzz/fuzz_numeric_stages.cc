@@ -1,4 +1,4 @@
-// libFuzzer harness (issue 24): finite doubles of the shapes in fuzz_numeric_support.h into the
+// libFuzzer harness: finite doubles of the shapes in fuzz_numeric_support.h into the
 // signal stages: Allan (every deviation kind), VMD (N <= 256, at most 24 iterations, one thread,
 // so each run is bounded), sample entropy, the feature classifier, wavelet / FLP / WFLP.
 // Invariant: a Status error with a message, or every result finite (sample entropy may be +inf

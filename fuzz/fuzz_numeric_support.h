@@ -1,5 +1,5 @@
-// Turns fuzzer bytes into a series of finite doubles with the shapes that break numerical code
-// (issue 24): subnormals, 1e-308..1e308, constants, alternating extremes, steps, a single spike,
+// Turns fuzzer bytes into a series of finite doubles with the shapes that break numerical code:
+// subnormals, 1e-308..1e308, constants, alternating extremes, steps, a single spike,
 // 1..10 samples, exact powers of two, quantised values. Header-only, shared by the numeric
 // harnesses. A failed invariant prints what and aborts (libFuzzer keeps the input).
 #pragma once

@@ -13,8 +13,8 @@ void BindSimulator(py::module_& m);
 void BindStages(py::module_& m);    // VMD, sample entropy, wavelet / FLP / WFLP
 void BindDrift(py::module_& m);
 void BindPipeline(py::module_& m);
-void BindExport(py::module_& m);
-void BindIo(py::module_& m);          // issue 12's readers      // issue 12's export stage
+void BindExport(py::module_& m);      // the export stage
+void BindIo(py::module_& m);          // the log and bag readers
 void BindCalibrate(py::module_& m);   // the calibrate stage
 
 // Options structs from keyword arguments (each reads its own fields; the caller calls Done()).

@@ -465,7 +465,7 @@ AllanNoiseTerms ExtractNoiseTerms(const AllanCurve& c, const AllanOptions& optio
     }
   }
   // A rate with no noise at all (every ADEV exactly 0: a constant record) has no -1/2 or +1/2
-  // region to fit, but its white and random-walk terms are known: 0 (issue 24: was null).
+  // region to fit, but its white and random-walk terms are known: 0 (not null).
   const bool all_zero = std::all_of(c.adev_dps.begin(), c.adev_dps.end(), [](double a) { return a == 0.0; });
   if (all_zero) {
     t.arw_fit_deg_per_sqrt_h = 0.0;
@@ -484,7 +484,7 @@ namespace {
 
 // A curve near the largest double (rates within a factor ~3600 of it) is finite in deg/s, but its
 // confidence bounds or its noise terms in deg/h (x 3600) are not: refused rather than returned
-// as infinities (issue 24, found by fuzz_numeric_stages).
+// as infinities (found by fuzz_numeric_stages).
 Status CheckRepresentable(const AllanResult& r) {
   const AllanNoiseTerms& t = r.terms;
   bool ok = std::all_of(r.curve.adev_hi_dps.begin(), r.curve.adev_hi_dps.end(), [](double v) { return std::isfinite(v); });

@@ -1,4 +1,4 @@
-// Allan deviation and simulator timings (issue 2: 5 million samples with octave taus in about a
+// Allan deviation and simulator timings (target: 5 million samples with octave taus in about a
 // second; simulating 14 h at 100 Hz in seconds).
 //   build-<you>/allan_benchmark
 //   build-<you>/allan_benchmark --benchmark_filter=AllanOctave/5000000
@@ -41,7 +41,7 @@ BENCHMARK(BM_AllanOctave)->Arg(200000)->Arg(1000000)->Arg(5000000)->Unit(benchma
 BENCHMARK(BM_AllanDecade)->Arg(5000000)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_AllanPerDecade10)->Arg(5000000)->Unit(benchmark::kMillisecond);
 
-// Each deviation kind at N = 1 M, octave taus (issue 14: each well under a second).
+// Each deviation kind at N = 1 M, octave taus (target: each well under a second).
 void BM_Deviation(benchmark::State& state) {
   const auto kind = static_cast<gyrocomp::DeviationKind>(state.range(0));
   const auto y = WhiteNoise(1000000);

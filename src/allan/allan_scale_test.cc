@@ -1,6 +1,7 @@
-// Allan deviation at the edges of the double range (issue 15 part 2): ADEV is scale-equivariant,
-// adev(s y) = |s| adev(y), and ComputeAllan normalises internally, so a record scaled by 1e300 or
-// 1e-300 gives the same curve times the scale instead of inf / 0 / NaN.
+// Allan deviation at the edges of the double range (docs/reference/cli-contract.md "Values and
+// options at the edges"): ADEV is scale-equivariant, adev(s y) = |s| adev(y), and ComputeAllan
+// normalises internally, so a record scaled by 1e300 or 1e-300 gives the same curve times the scale
+// instead of inf / 0 / NaN.
 #include <cmath>
 #include <vector>
 
@@ -56,7 +57,7 @@ TEST(AllanScale, AlternatingNearTheLargestDoubleIsFinite) {
   EXPECT_TRUE(std::isfinite(r->terms.bias_instability_deg_per_h));
 }
 
-// Issue 24 (fuzz_numeric_stages): at +-1e308 the curve is finite in deg/s but its noise terms in
+// Found by fuzz_numeric_stages: at +-1e308 the curve is finite in deg/s but its noise terms in
 // deg/h (x 3600) and its upper confidence bounds are not; they were returned as infinities with
 // a success status. Now refused, with the reason.
 TEST(AllanScale, TermsBeyondTheDoubleRangeAreRefusedNotInfinite) {

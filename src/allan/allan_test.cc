@@ -409,7 +409,7 @@ TEST(AllanAxes, OneResultPerAxisNamedAfterItsColumn) {
   EXPECT_NE(r.error().message.find("17"), std::string::npos) << r.error().message;
 }
 
-// The axes of an IMU in parallel (issue 25): each result is the one ComputeAllan gives the axis
+// The axes of an IMU in parallel: each result is the one ComputeAllan gives the axis
 // alone, bit for bit, for any thread count; an error names the lowest failing axis.
 TEST(AllanAxes, ParallelAxesAreTheSameBitsAsEachAxisAlone) {
   std::vector<std::vector<double>> rates;
@@ -535,7 +535,7 @@ TEST_F(AllanCli, SeveralAxesAndBadInput) {
   EXPECT_NE(out.find("--taus fortnightly"), std::string::npos) << out;
 }
 
-// Issue 24: AllanOptions::cancel is polled before every tau.
+// AllanOptions::cancel is polled before every tau.
 TEST(AllanCancel, ACancelledTokenStopsTheCurve) {
   std::vector<double> y(10000);
   for (std::size_t i = 0; i < y.size(); ++i) y[i] = ((static_cast<int>(i * 7919 % 101)) - 50) / 50.0;

@@ -233,7 +233,7 @@ Result<DeviationCurve> ComputeDeviation(std::span<const double> rate, double fs_
   d.edf_method = kind == DeviationKind::kTotdev ? kTotdevEdfMethod : kCountEdfMethod;
   AddIntervals(rate, options, &d);
   // The curve is finite; a confidence bound above it can still overflow near the largest double
-  // (issue 24, fuzz_numeric_stages: hdev hi = inf at +-1.8e308). Refused, not returned as inf.
+  // (fuzz_numeric_stages: hdev hi = inf at +-1.8e308). Refused, not returned as inf.
   for (std::size_t j = 0; j < d.size(); ++j) {
     if (!std::isfinite(d.hi_dps[j]) || !std::isfinite(d.lo_dps[j])) {
       return InvalidInput(std::string(name) + ": the confidence bound at tau = " + std::to_string(d.tau_s[j]) +

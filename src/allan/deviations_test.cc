@@ -128,7 +128,7 @@ TEST(DeviationKinds, NamesRoundTripAndErrors) {
   EXPECT_EQ(r.error().kind, ErrorKind::kInvalidInput);
 }
 
-// Issue 24 (fuzz_numeric_stages): a record alternating near the largest double gave a finite
+// Found by fuzz_numeric_stages: a record alternating near the largest double gave a finite
 // Hadamard deviation but an infinite upper confidence bound with a success status. Every kind:
 // refused with a message, or every value finite.
 TEST(Deviations, NearTheLargestDoubleIsRefusedOrFinite) {

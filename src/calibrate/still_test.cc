@@ -1,7 +1,7 @@
 // DetectStill on simulated ordinary flights (gyrocomp/sim/flight.h): power-on at ambients over
 // 0..35 C, 1..10 min still while self-heating, 5..20 min of flight with manoeuvres, vibration and
 // airflow cooling, landing, minutes still; a per-power-on offset of 0.05 deg/s per gyro axis and
-// 20 mg per accel axis. Done when: no sample of motion is used, >= 90 % of the true still time is
+// 20 mg per accel axis. Checked: no sample of motion is used, >= 90 % of the true still time is
 // used, with and without the log's armed state.
 #include "gyrocomp/calibrate/still.h"
 

@@ -129,7 +129,7 @@ Result<SvrChoice> SearchSvrCuckoo(const Columns& x, std::span<const double> y, c
   const SvrSearchOptions& s = options.search;
   std::vector<SearchDimension> dims = {s.C, s.sigma};
   if (s.epsilon) dims.push_back(*s.epsilon);
-  // Every fit of the search and the final refit poll the search's token (issue 24).
+  // Every fit of the search and the final refit poll the search's token.
   SvrOptions base = options.svr;
   if (s.cuckoo.cancel != nullptr) base.cancel = s.cuckoo.cancel;
   // Fitness: blocked CV RMSE (method.md section 4); a failed fit counts as +infinity.

@@ -32,7 +32,7 @@ struct Case {
 
 // Standard functions, standard domains, Yang & Deb's settings (25 nests, pa 0.25, beta 1.5,
 // step 0.01). Budget = 25 * (1 + 2 * generations) evaluations. Tolerances: a sweep over seeds
-// 1..30 (docs/notes/issue-5.md) gave worst-case best values sphere2 2.8e-12, sphere10 6.5e-17,
+// 1..30 gave worst-case best values sphere2 2.8e-12, sphere10 6.5e-17,
 // rosenbrock2 1.7e-7, rosenbrock5 9.8e-15, rastrigin2 1.0e-7, rastrigin5 6.1e-5, ackley2 2.2e-6,
 // ackley10 8.3e-10; each tolerance is 16 to 1e5 times that worst case, yet far below the
 // nearest local minima (Rastrigin about 0.99, Ackley above 1), so landing in a local minimum or a
@@ -156,7 +156,7 @@ TEST(CuckooSearch, RejectsBadOptions) {
   EXPECT_NE(r.error().message.find("'C'"), std::string::npos);
 }
 
-// Issue 24: a cancel is honoured between evaluations, not only between generations: no new
+// A cancel is honoured between evaluations, not only between generations: no new
 // parameter set starts once the token is cancelled, and the search throws Cancelled.
 TEST(CuckooSearchCancel, StopsWithinAGenerationAndThrows) {
   CancellationToken token;

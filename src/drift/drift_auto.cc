@@ -344,7 +344,7 @@ Result<DriftModel> FitAuto(const DriftInputs& inputs, std::span<const double> ta
   for (DriftInputSet in : {DriftInputSet::kTemp, DriftInputSet::kTempAndRate, DriftInputSet::kTempRateAndMemory,
                            DriftInputSet::kTempAndLag, DriftInputSet::kTempAndMemory}) {
     c.inputs = in;
-    // poly(T, dT/dt, memory) (issue 23): a unit with a die gain and a hysteresis together needs
+    // poly(T, dT/dt, memory): a unit with a die gain and a hysteresis together needs
     // both states; with one, the gain absorbs the hysteresis on a two-rate run. Fitted only when
     // Eq. I-1 keeps the gain AND Eq. I-3 allows a memory, and one more coefficient fits Eq. I-0.
     if (in == DriftInputSet::kTempRateAndMemory) {
@@ -368,7 +368,7 @@ Result<DriftModel> FitAuto(const DriftInputs& inputs, std::span<const double> ta
     // settles only after ~tau, so a long tau is a direction memory, identified only by a run that
     // both heats and cools. On paper-profile runs (one short heating leg) auto chose lags of
     // 638-5314 s that fitted the cooling blocks and were 1.6-5.1x worse than poly(T, dT/dt) on
-    // the next heating run (docs/explanation/drift-models.md, docs/notes/issue-11-s3-i11gls.md).
+    // the next heating run (docs/explanation/drift-models.md "Thermal states").
     if ((in == DriftInputSet::kTempAndMemory || in == DriftInputSet::kTempAndLag) && !memory) {
       all.push_back(Skipped(DriftModelKind::kPolynomial, in, c,
                             "skipped: the run does not both heat and cool over enough of its range (Eq. I-3)"));
@@ -392,8 +392,8 @@ Result<DriftModel> FitAuto(const DriftInputs& inputs, std::span<const double> ta
     // identifies: the kernel has no memory input, so it can only stand the hysteresis in for a
     // function of dT/dt, which another run at other rates does not share. On 24 rate-cycles
     // calibrations (4 structures x 6 seeds) cs-svr won the segment CV on 8 and was worse than
-    // poly(T, dT/dt, memory) on all 16 held-out runs of those 8 (docs/explanation/drift-models.md, "Fifth
-    // session"). The hybrid (the two-state polynomial plus a kernel that passes Eq. H-1) stays.
+    // poly(T, dT/dt, memory) on all 16 held-out runs of those 8 (docs/explanation/drift-models.md, "The selection
+    // rule"). The hybrid (the two-state polynomial plus a kernel that passes Eq. H-1) stays.
     const bool pure_kernels = kernels && all[best_poly].inputs != DriftInputSet::kTempRateAndMemory;
     const std::string why_not_pure =
         kernels ? "not fitted: the structured model carries both identified states (dT/dt and memory); a kernel "

@@ -1,4 +1,4 @@
-// Prediction bands (issue 23; docs/explanation/prediction-bands.md): how far the next run's
+// Prediction bands (docs/explanation/prediction-bands.md): how far the next run's
 // true drift may lie from a fitted model's prediction.
 //
 //   Eq. B-1  var_i = a_i' C a_i + m^2,   band_i = center_i +- z sqrt(var_i),  z = 1.6449 (90%),
@@ -19,14 +19,14 @@
 //            record length of its white and flicker parts (IEEE 952: h0 / (2 T) + 2 ln2 h_-1; the
 //            random walk is not extrapolated, see above): run-to-run bias repeatability. Without
 //            it the parameter part was 4.2-7.1 mdps on structure A's rate-cycles runs against a
-//            realised 9-11 (docs/explanation/drift-models.md, "Sixth session").
+//            realised 9-11 (bench/drift_band_coverage.py).
 //   Eq. B-2b The run's trend: the same slow noise tilts the run; the difference of its two
 //            halves' means has the variance 2 AVAR(T / 2) of the white and flicker parts, of
 //            which the floored Sigma holds less; the rest enters Sigma as a random linear trend in
 //            time. A term that is one step in time on the run (the memory, or a dT/dt that
 //            reverses once: a one-cycle run) takes it into its coefficient: without it the band
 //            was 0.75x the realised error of structure C's one-cycle calibrations (`plan`'s one
-//            pair outside 25%), with it 0.80x (docs/explanation/drift-models.md, "Seventh session").
+//            pair outside 25%), with it 0.80x (docs/explanation/calibration-design.md).
 //   Eq. B-3  m^2 = min(var(y), max(0, MSE_cv - E0)): the model form's spread, e.g. a hysteresis
 //            or a lag the form cannot follow. MSE_cv: the structured form refitted on every fold
 //            of the plan the fit scored on, pooled over the held-out points (a next run's error is
@@ -36,7 +36,7 @@
 //            the offset cancels from every held-out error, the trend does not). E0 carries everything the
 //            noise does to a CV: the held-out segment's own noise, each fold fit's parameter
 //            error (larger than the full fit's where a left-out segment is an extrapolation) and
-//            their correlation through the slow noise. Replaced (sixth session) CV_balanced^2 -
+//            their correlation through the slow noise. Replaces the earlier CV_balanced^2 -
 //            R_seg(0) - mean a'Ca, which let one draw of slow noise on a single-segment class
 //            (rate-cycles' initial soak, a third of the direction-balanced score) make m 32 mdps
 //            against a realised 4-7. Measured and not kept (less upward bias from max(0, .)
@@ -49,8 +49,8 @@
 //            segments, each fold a whole direction) the CV of Eq. B-3 is scored on contiguous
 //            blocks: the segment form gave m = 0-57 mdps by seed against a realised 7-29 on
 //            structure C's heat-cool and stairs runs (`plan` 1.43x there). With both, `plan`
-//            held within 25% on 19 of 20 pairs (docs/explanation/drift-models.md, "Sixth session"; with
-//            Eq. B-2b all 20, "Seventh session").
+//            held within 25% on 19 of 20 pairs; with Eq. B-2b all 20
+//            (docs/explanation/calibration-design.md "`plan` against the simulation").
 //   Eq. B-3k A model without a structured part (svr, cs-svr): its CV is not linear in the target;
 //            m^2 = CV^2 - R_seg(0) - mean a'Ca as before, R_seg(0) the Eq. G-2 variance of a
 //            block mean of the CV period about the mean of a left-out unit (duration / segments).
@@ -266,7 +266,7 @@ Status AttachBand(const DriftInputs& inputs, std::span<const double> target, con
                                                                  duration_s / 20.0));
   DriftBandModel band;
   band.noise = ResidualNoise(residual, inputs.fs_hz, period_s, o.noise_psd);
-  band.coverage_check = "docs/explanation/drift-models.md, Prediction bands (issue 23): held-out simulated runs";
+  band.coverage_check = "docs/explanation/prediction-bands.md, Coverage on held-out runs: held-out simulated runs";
   double param_var = 0.0;
   Eigen::MatrixXd cov;
   if (m->structured) {
@@ -320,7 +320,7 @@ double RateCurve::At(double temp_c) const {
 }
 
 Result<DriftBand> DriftModel::PredictBand(const DriftInputs& in, bool causal) const {
-  if (!band) return InvalidInput("drift model: no prediction band (a model file written before issue 23; refit it)");
+  if (!band) return InvalidInput("drift model: no prediction band (the model file predates prediction bands; refit it)");
   auto center = Predict(in, causal);
   if (!center.ok()) return center.error();
   DriftBand b;

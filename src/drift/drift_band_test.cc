@@ -1,4 +1,5 @@
-// Prediction bands (issue 23, drift_band.cc Eqs. B-1..B-4): what they cover, the model file, apply.
+// Prediction bands (docs/explanation/prediction-bands.md, drift_band.cc Eqs. B-1..B-4): what they
+// cover, the model file, apply.
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -200,7 +201,7 @@ TEST(DriftBand, FormCvLeavesOutNoWholeDirection) {
 }
 
 // The band is stored per axis and read back: the same band after a round trip; a version-1 file
-// (before issue 23) has none, and PredictBand says so instead of inventing one.
+// (written before prediction bands) has none, and PredictBand says so instead of inventing one.
 TEST(DriftBand, RoundTripsThroughTheModelFileAndOldFilesHaveNone) {
   const double fs = 0.2;
   const std::vector<double> temp = Staircase(fs);

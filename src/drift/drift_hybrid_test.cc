@@ -144,7 +144,7 @@ std::vector<double> PaperLike(double fs_hz) {
 // wander the lag state (whose tau is searched on the CV score) does not replace dT/dt, for three
 // seeds; on a drift of a die temperature lagging T by 1500 s it does when the calibration heats
 // and cools (two triangle cycles), and is not fitted at all from a paper-like run (one short
-// heating leg: a lag is a direction memory there, docs/notes/issue-11-s3-i11gls.md). (On these
+// heating leg: a lag is a direction memory there, docs/explanation/drift-models.md "Thermal states"). (On these
 // seeds the lowest CV agrees; the rule itself is checked in closed form in
 // PairedFoldGainClosedForm, and on the simulated runs of bench/drift_heldout.sh.)
 TEST(DriftModelAuto, LagStateReplacesRateOnlyWhenItGainsBeyondItsSpread) {
@@ -253,7 +253,7 @@ TEST(DriftModelAuto, ExplainsItsChoiceAndSkipsWhatTheRunCannotIdentify) {
   auto a = FitDriftModel({temp, fs_hz}, y, o);
   ASSERT_TRUE(a.ok()) << a.error().message;
   EXPECT_NE(a->kind, DriftModelKind::kAuto);
-  EXPECT_EQ(a->summary.candidates.size(), 8u);  // + poly(temp,dtemp,memory) (issue 23)
+  EXPECT_EQ(a->summary.candidates.size(), 8u);  // + poly(temp,dtemp,memory)
   EXPECT_NE(a->summary.selection_reason.find("auto chose"), std::string::npos);
   EXPECT_NE(a->summary.identifiability.find("NOT identifiable"), std::string::npos) << a->summary.identifiability;
   for (const DriftCandidateScore& c : a->summary.candidates)

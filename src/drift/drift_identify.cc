@@ -1,4 +1,4 @@
-// What a calibration run identifies (issue 23; docs/explanation/drift-models.md "What a run identifies"):
+// What a calibration run identifies (docs/explanation/drift-models.md "What a run identifies"):
 // the documented tests --model auto runs on the calibration run itself before a term may enter
 // a model. A term that fails is left out and recorded as an ExcludedTerm (term, reason, the run
 // that would identify it).

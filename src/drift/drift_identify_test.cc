@@ -1,4 +1,4 @@
-// What a calibration run identifies (issue 23, drift_identify.cc Eqs. I-0..I-3): plateau tables
+// What a calibration run identifies (drift_identify.cc Eqs. I-0..I-3): plateau tables
 // and few points, the dT/dt gain on heating-only and staircase runs, the excluded terms in the
 // model file.
 #include <algorithm>
@@ -24,10 +24,10 @@ bool Excluded(const DriftFitSummary& s, const std::string& term, const std::stri
   return false;
 }
 
-// A 25-row plateau-mean table (one row per plateau, 1200 s apart): 22 plateaus cooling 60 ->
-// -20 C, then 3 more at the cold end. Before issue 23 the default model failed on it: its
-// thermal-segment CV left the 3 cold rows alone to fit a cubic ("polynomial fit: 4
-// coefficients need at least 4 samples, got 3").
+// A 25-row plateau-mean table (one row per plateau, 1200 s apart): 22 plateaus cooling 60 -> -20 C,
+// then 3 more at the cold end. Before the identifiability tests (Eqs. I-0..I-3) the default model
+// failed on it: its thermal-segment CV left the 3 cold rows alone to fit a cubic ("polynomial fit:
+// 4 coefficients need at least 4 samples, got 3").
 TEST(DriftIdentify, PlateauTableOf25RowsGetsACubicOrLessAndSaysWhy) {
   std::mt19937 rng(4);
   std::normal_distribution<double> noise(0.0, 0.002);
@@ -48,7 +48,7 @@ TEST(DriftIdentify, PlateauTableOf25RowsGetsACubicOrLessAndSaysWhy) {
   EXPECT_GT(m->summary.drift_span, 0.05);
   // The cubic it fits follows the table: in-sample error near the noise.
   EXPECT_LT(m->summary.train_rmse, 0.004);
-  // With its band (issue 23 done-when 5): the table's noise (2 mdps a row) through a cubic.
+  // With its band (Eqs. B-1..B-4): the table's noise (2 mdps a row) through a cubic.
   ASSERT_TRUE(m->band.has_value()) << m->summary.data_support;
   EXPECT_GT(m->band->expected_rms, 0.0005);
   EXPECT_LT(m->band->expected_rms, 0.01);

@@ -100,7 +100,7 @@ bool PolynomialOptions::IsValid(std::string* error) const {
 bool SvrSearchOptions::IsValid(std::string* error) const {
   if (!ValidDimension(C, "C", error) || !ValidDimension(sigma, "sigma", error)) return false;
   if (epsilon && !ValidDimension(*epsilon, "epsilon", error)) return false;
-  // The searched values must be valid SvrOptions (issue 24: a fit must give a loadable model).
+  // The searched values must be valid SvrOptions (a fit must give a loadable model).
   auto within = [&](const SearchDimension& d, double lo, double hi, const char* range) {
     if (d.lower >= lo && d.upper <= hi) return true;
     if (error) *error = "SvrSearchOptions::" + d.name + " = [" + FormatNumber(d.lower) + ", " + FormatNumber(d.upper) +

@@ -1,5 +1,5 @@
 // Drift-model fitting time on the paper's chamber run (14.25 h at 5 Hz, simulator defaults):
-// `fit --model cs-svr` must finish within 60 s on 2 cores (issue 5). Counters: the blocked CV
+// `fit --model cs-svr` must finish within 60 s on 2 cores. Counters: the blocked CV
 // RMSE reached (deg/s) and the number of parameter sets tried, so budgets can be compared.
 //   ./drift_model_benchmark --benchmark_filter=CsSvr
 #include <benchmark/benchmark.h>

@@ -19,10 +19,10 @@ class FitApplyCli : public testing::CliTest {
 };
 
 // The golden SVR cases through the CLI: fit on train.csv (no time column: --fs 1), apply on the
-// golden temperature grid, compare with scikit-learn's predictions. No --train-period: the
-// 300-row table fits under --max-train and must never be block-averaged (issue 11 section 5;
-// before, it was fitted on 14 block means, 1e-1 of the span off). Tolerance 1e-6 of the
-// target's span, as in svr_test (same solver, same KKT tolerance; the CSV round trip is exact:
+// golden temperature grid, compare with scikit-learn's predictions. No --train-period: the 300-row
+// table fits under --max-train and must never be block-averaged (docs/reference/cli/fit.md,
+// --max-train; before, it was fitted on 14 block means, 1e-1 of the span off). Tolerance 1e-6 of
+// the target's span, as in svr_test (same solver, same KKT tolerance; the CSV round trip is exact:
 // shortest round-trip formatting).
 TEST_F(FitApplyCli, GoldenSvrCasesEndToEnd) {
   const nlohmann::json golden = testing::ReadJsonFile(testing::GoldenPath("svr/svr.json"));

@@ -10,7 +10,7 @@
 namespace gyrocomp {
 namespace {
 
-// tests/golden/drift_v1: model files written by gyrocomp before issue 11 and its predictions.
+// tests/golden/drift_v1: model files of format version 1 (written by earlier gyrocomp) and their predictions.
 // Equality is exact: the model arithmetic is unchanged for one-part models, and the CSVs hold
 // shortest round-trip doubles.
 TEST(DriftModelFileV1, LoadsAndPredictsBitIdentically) {

@@ -111,7 +111,7 @@ struct FitData {
 // |dT/dt| above which a sample is on a ramp (segment plan, identifiability), deg C / s: 0.06 C/min.
 inline constexpr double kSegmentRateThreshold = 1e-3;
 
-// What fit writes, apply must load (issue 24, fuzz_numeric_drift: a +-1.8e308 target gave a
+// What fit writes, apply must load (fuzz_numeric_drift: a +-1.8e308 target gave a
 // training RMSE of inf, written as null and refused at load): the model through its JSON and
 // back (drift_model_io.cc); kInvalidInput with the loader's reason otherwise.
 Status CheckModelLoads(const DriftModel& model);

@@ -51,7 +51,7 @@ json SummaryJson(const DriftFitSummary& s) {
             {"candidates", cands},
             {"selection_reason", s.selection_reason},
             {"identifiability", s.identifiability}};
-  // Issue 23 (optional on reading: older files have none).
+  // The excluded terms (optional on reading: older files have none).
   json excluded = json::array();
   for (const ExcludedTerm& e : s.excluded_terms)
     excluded.push_back({{"term", e.term}, {"reason", e.reason}, {"would_identify", e.would_identify}});
@@ -107,7 +107,7 @@ json ThermalStateJson(const DriftModel& m) {
       j["update"] = "r from the rate update (L1, L2, tau_r); if |r| > deadband: m += min(1, |r| dt / width) "
                     "(sign(r) - m); s = m; m = 0 at the first sample";
       break;
-    case DriftInputSet::kTempRateAndMemory:  // issue 23: both states, Eqs. TS-1 and TS-3
+    case DriftInputSet::kTempRateAndMemory:  // both states, Eqs. TS-1 and TS-3
       j["memory_column"] = kMemoryColumnName;
       j["batch"] = "s: centred least-squares slope over window_s (apply default); m: always causal";
       j["window_s"] = m.rate.window_s;
@@ -142,7 +142,7 @@ json AxisJson(const DriftModel& m) {
     json terms = json::array();
     for (const PolynomialTerm& t : p->terms) {
       terms.push_back({{"temp_power", t.temp_power}, {"dtemp_power", t.dtemp_power}, {"coefficient", t.coefficient}});
-      if (t.memory_power) terms.back()["memory_power"] = t.memory_power;  // optional (issue 23)
+      if (t.memory_power) terms.back()["memory_power"] = t.memory_power;  // optional
     }
     const bool mem = HasSecondMemoryState(m.inputs);
     j["structured"] = {{"type", "polynomial"},
@@ -252,7 +252,8 @@ void ReadThermalState(Reader& r, const json& ts, DriftModel* m) {
   if (r.ok() && (!m->rate.IsValid(&why) || !m->state.IsValid(&why))) r.Fail("thermal_state: " + why);
 }
 
-// "band" (issue 23): level in (0, 1), a terms x terms covariance, noise and spreads >= 0.
+// "band" (docs/reference/model-file.md "The band"): level in (0, 1), a terms x terms covariance,
+// noise and spreads >= 0.
 void ReadBand(Reader& r, const json& band, DriftModel* m) {
   if (!band.is_object()) return r.Fail("field 'band' must be an object");
   DriftBandModel b;
@@ -329,7 +330,7 @@ Result<DriftModel> ReadAxis(const json& axis, const std::string& where) {
   if (r.ok()) drift_internal::ReadTrainingSummary(r, *training, 2, want_poly, want_svr, &m.summary);
   if (r.ok() && m.inputs == DriftInputSet::kTempAndLag) m.summary.lag_tau_s = m.state.lag_tau_s;
   if (r.ok() && !(m.summary.temp_min_c <= m.summary.temp_max_c)) r.Fail("training.temp_min_c > training.temp_max_c");
-  if (r.ok() && axis.contains("band")) ReadBand(r, axis["band"], &m);  // optional: files before issue 23
+  if (r.ok() && axis.contains("band")) ReadBand(r, axis["band"], &m);  // optional: older files have none
   if (!r.ok()) return InvalidInput(r.error());
   return m;
 }
@@ -349,7 +350,7 @@ const DriftModel* DriftModelSet::ForAxis(std::string_view rate_col) const {
 
 namespace {
 
-// The top-level "sensor" key (issue 22; SensorIdentity in drift_model.h).
+// The top-level "sensor" key (docs/reference/model-file.md; SensorIdentity in drift_model.h).
 json SensorIdentityJson(const SensorIdentity& s) {
   json j = {{"type", s.type}, {"instance", s.instance}, {"frame", s.frame}};
   if (s.device_id) j["device_id"] = *s.device_id;
@@ -462,7 +463,7 @@ Status SaveDriftModel(const DriftModel& model, const std::string& path) {
 
 Result<DriftModelSet> LoadDriftModelSet(const std::string& path) {
   // Read with a size limit, whatever the file is (/dev/zero, a FIFO, a huge file): a model
-  // file is a few MB at most (issue 24: /dev/zero was read until std::bad_alloc).
+  // file is a few MB at most (/dev/zero was read until std::bad_alloc).
   constexpr std::size_t kMaxModelFileBytes = std::size_t{64} << 20;
   std::ifstream in(path, std::ios::binary);
   if (!in) return IoError(path + ": cannot open model file");

@@ -1,5 +1,5 @@
 // Readers shared by both schema versions, and the version 1 reader (one model at the top level,
-// written by gyrocomp before issue 11).
+// written by earlier gyrocomp).
 #include <limits>
 
 #include "model_file_reader.h"
@@ -36,7 +36,7 @@ void ReadVersion2Training(Reader& r, const json& training, DriftFitSummary& s) {
   s.state_max = r.Number(training, "state_max", "training.state_max");
   s.selection_reason = r.String(training, "selection_reason", "training.selection_reason");
   s.identifiability = r.String(training, "identifiability", "training.identifiability");
-  // Issue 23, optional (files before it have none).
+  // Optional (older files have none).
   if (training.contains("drift_span")) s.drift_span = r.Number(training, "drift_span", "training.drift_span");
   if (training.contains("data_support")) s.data_support = r.String(training, "data_support", "training.data_support");
   if (training.contains("excluded_terms")) {
@@ -99,7 +99,7 @@ PolynomialModel ReadPolynomialModel(Reader& r, const json& model, const AffineSc
       term.temp_power = static_cast<int>(r.Integer(t, "temp_power", path + ".terms[].temp_power"));
       term.dtemp_power = static_cast<int>(r.Integer(t, "dtemp_power", path + ".terms[].dtemp_power"));
       term.coefficient = r.Number(t, "coefficient", path + ".terms[].coefficient");
-      // Optional (issue 23): the memory of temp,dtemp,memory, linear, with 3 inputs only.
+      // Optional: the memory of temp,dtemp,memory, linear, with 3 inputs only.
       if (r.ok() && t.is_object() && t.contains("memory_power"))
         term.memory_power = static_cast<int>(r.Integer(t, "memory_power", path + ".terms[].memory_power"));
       if (r.ok() && (term.temp_power < 0 || term.temp_power > 5 || term.dtemp_power < 0 ||
@@ -140,7 +140,7 @@ SvrModel ReadSvrModel(Reader& r, const json& scaler, const json& model, const Af
           r.Fail("field '" + path + ".support_vectors' must hold numbers");
           break;
         }
-        // The documented rule for every model number (Reader::kMaxModelValue), here too (issue 24).
+        // The documented rule for every model number (Reader::kMaxModelValue), here too.
         if (!(std::abs(v.get<double>()) <= Reader::kMaxModelValue)) {
           r.Fail("field '" + path + ".support_vectors' = ... " + v.dump() + " ...: must hold numbers of magnitude <= 1e100");
           break;

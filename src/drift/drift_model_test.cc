@@ -313,7 +313,7 @@ TEST(DriftModelSimulator, PolynomialRecoversInjectedDrift) {
   EXPECT_LT(rmse, 0.004);
 }
 
-// DriftFitOptions::cancel (issue 24): polled between a fit's steps and handed to the SVR search;
+// DriftFitOptions::cancel: polled between a fit's steps and handed to the SVR search;
 // a cancelled fit throws Cancelled, it never returns a model.
 TEST(DriftModelCancel, ACancelledTokenStopsEveryKindOfFit) {
   const std::vector<double> temp = ChamberTemp(1.0, 2.0);

@@ -1,4 +1,4 @@
-// Issue 24: numbers at the edges of the double range in the drift stage (each case a crash class
+// Numbers at the edges of the double range in the drift stage (each case a crash class
 // found by fuzz/fuzz_numeric_drift.cc) and the option bounds that keep a fit loadable.
 #include <cmath>
 #include <limits>

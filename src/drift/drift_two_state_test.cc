@@ -1,4 +1,4 @@
-// poly(T, dT/dt, memory) (issue 23): the structured model with both thermal states.
+// poly(T, dT/dt, memory): the structured model with both thermal states.
 #include <cmath>
 #include <cstdio>
 
@@ -174,7 +174,7 @@ TEST(DriftTwoState, AutoChoosesItOnATwoRateStaircaseAndSkipsItOnTheCoolingRun) {
 }
 
 // With both states identified, the pure kernels in (T, dT/dt) are not fitted (they lack the memory
-// the structured model carries; docs/explanation/drift-models.md "Fifth session": on rate-cycles cs-svr won the
+// the structured model carries; docs/explanation/drift-models.md "The selection rule": on rate-cycles cs-svr won the
 // segment CV on 8 of 24 calibrations and lost on all 16 of their held-out runs); the hybrid is.
 // Without the two-state baseline (the paper run) they are fitted as before.
 TEST(DriftTwoState, PureKernelsAreNotFittedBesideTheTwoStateModel) {

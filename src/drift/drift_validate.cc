@@ -46,7 +46,7 @@ std::string DriftValidation::BriefReport() const {
   s << "; outside the fitted range: T " << 100.0 * fraction_temp_outside << "%, dT/dt "
     << 100.0 * fraction_dtemp_outside << "%";
   if (!band_level) {
-    s << "; the model has no prediction band (a file written before issue 23)";
+    s << "; the model has no prediction band (the model file predates prediction bands)";
   } else {
     s << "; " << 100.0 * *band_level << "% band: half-width RMS " << *band_half_width_rms;
     if (band_coverage_truth) s << ", covers " << 100.0 * *band_coverage_truth << "% of the true drift";

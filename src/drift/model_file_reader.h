@@ -99,7 +99,7 @@ PolynomialModel ReadPolynomialModel(Reader& r, const json& model, const AffineSc
                                     std::size_t num_inputs, const std::string& path);
 SvrModel ReadSvrModel(Reader& r, const json& scaler, const json& model, const AffineScaler& in_scaler,
                       std::size_t num_inputs, const std::string& path);
-// "training" (version 1 needs fit_time_s; version 2 has none and adds the issue-11 fields).
+// "training" (version 1 needs fit_time_s; version 2 has none and adds the thermal-state fields).
 void ReadTrainingSummary(Reader& r, const json& training, int version, bool has_poly, bool has_svr,
                          DriftFitSummary* summary);
 // A version 1 file (the whole model at the top level), format and version already checked.

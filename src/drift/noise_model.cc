@@ -120,7 +120,7 @@ Result<NoisePsd> FitNoisePsd(std::span<const double> x, double fs_hz, const Nois
   for (std::size_t i = 0; i < n; ++i) {
     if (!std::isfinite(x[i])) return InvalidInput("FitNoisePsd: non-finite value at sample " + std::to_string(i));
     // The coefficients are in x^2 units and a model file holds at most 1e100 (model_file_reader.h);
-    // beyond kMaxNoiseValue their products overflowed to inf (issue 24, fuzz_numeric_drift).
+    // beyond kMaxNoiseValue their products overflowed to inf (found by fuzz_numeric_drift).
     if (!(std::abs(x[i]) <= kMaxNoiseValue)) {
       return InvalidInput("FitNoisePsd: value " + FormatNumber(x[i], 4) + " at sample " + std::to_string(i) +
                           ": beyond 1e40 the noise coefficients (squared units) leave the range a model holds");

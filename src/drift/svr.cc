@@ -22,7 +22,7 @@
 namespace gyrocomp {
 namespace {
 
-// SvrOptions::cancel (issue 24). LIBSVM has no callback and no way to stop a fit, but its solver
+// SvrOptions::cancel. LIBSVM has no callback and no way to stop a fit, but its solver
 // calls the print function every min(l, 1000) iterations (info(".")); that function pointer is
 // process-wide, so it is set once (below) and reads the token of the fit running on its own
 // thread (thread_local: the cuckoo search fits on several threads at once). Once the token is
@@ -103,7 +103,7 @@ bool SvrOptions::IsValid(std::string* error) const {
     if (error) *error = "SvrOptions::" + what;
     return false;
   };
-  // Bounds (issue 24): every number of a fitted model must load again (model files refuse any
+  // Bounds: every number of a fitted model must load again (model files refuse any
   // magnitude above 1e100, model_file_reader.h). C bounds the dual coefficients and with them the
   // intercept (C = 1e300 gave an intercept of 1.4e159); gamma = 1/(2 sigma^2) above 1e6 or sigma
   // outside [1e-3, 1e3] (in input SDs when scaled) makes the kernel a delta or a constant; an

@@ -200,7 +200,7 @@ TEST(Svr, RejectsBadOptionsAndData) {
 }  // namespace
 }  // namespace gyrocomp
 
-// ---- cancellation (issue 24) ------------------------------------------------------------------
+// ---- cancellation ------------------------------------------------------------------------------
 
 #include <atomic>
 #include <chrono>

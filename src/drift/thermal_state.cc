@@ -110,7 +110,7 @@ Result<std::vector<double>> ComputeThermalState(std::span<const double> temp_c, 
                                                 const ThermalStateOptions& options, bool causal) {
   if (inputs == DriftInputSet::kTemp) return std::vector<double>(temp_c.size(), 0.0);
   // A temperature outside what a log may hold (LogSpec::min_temp_c / max_temp_c, gyro_log.h)
-  // makes the lags' differences overflow (issue 24, fuzz_numeric_drift: +-1.8e308 C gave -inf).
+  // makes the lags' differences overflow (fuzz_numeric_drift: +-1.8e308 C gave -inf).
   for (std::size_t i = 0; i < temp_c.size(); ++i) {
     if (!(temp_c[i] >= kMinStateTempC && temp_c[i] <= kMaxStateTempC)) {
       return InvalidInput("thermal state: temperature " + FormatNumber(temp_c[i]) + " C at sample " + std::to_string(i) +

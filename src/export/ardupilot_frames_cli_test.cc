@@ -1,7 +1,7 @@
 // `gyrocomp fit` + `export --format ardupilot` on ArduPilot DataFlash logs recorded on rotated
 // boards (every AHRS_ORIENTATION) and with thermal compensation on (INS_TCAL1_ENABLE = 1): the
 // exported INS_TCAL1_GYR* must equal those of the plain log (sensor frame, compensation off)
-// within float rounding, as tempcal_IMU.py's do (issue 22; the reproduction: AHRS_ORIENTATION = 8
+// within float rounding, as tempcal_IMU.py's do (the reproduction: AHRS_ORIENTATION = 8
 // gave GYR1_Y with the wrong sign).
 #include <algorithm>
 #include <cmath>

@@ -211,9 +211,9 @@ SimulatedRun HeldOut(std::uint64_t seed, double fs_hz) {
 
 // Nine axes, nine structures: poly and SVR on (T, dT/dt); poly degree 5 on T with the clamp
 // policy; SVR on T; poly on (T, lag), (T, memory) and (T, dT/dt, memory) and SVR on (T, dT/dt,
-// memory) (issue 23); a hybrid (the poly on (T, dT/dt) plus the
+// memory); a hybrid (the poly on (T, dT/dt) plus the
 // SVR on (T, dT/dt) as its kernel). Double: within 1e-12 of each axis's drift span; float: within
-// 1e-5 of it plus the model's own conditioning (issue 12).
+// 1e-5 of it plus the model's own conditioning.
 TEST_F(GeneratedCTest, AgreesWithTheLibraryCausalPrediction) {
   for (std::uint64_t seed : {31u, 32u}) {
     const SimulatedRun cal = export_test::ChamberRun(seed);
@@ -338,7 +338,7 @@ TEST_F(GeneratedCTest, RadPerSecondBuildAgreesWithApplyCausal) {
   EXPECT_LE(worst, tol);
 }
 
-// poly(T, dT/dt, memory) (issue 23) end to end: the model file of `fit --inputs
+// poly(T, dT/dt, memory) end to end: the model file of `fit --inputs
 // temp,dtemp,memory`, `apply --causal` and the C of `export --format c` give the same
 // compensated rate (double build, 1e-12 of the drift span).
 TEST_F(GeneratedCTest, TwoStateModelAgreesWithApplyCausal) {

@@ -1,9 +1,9 @@
-// `gyrocomp calibrate` end to end (issue 22): simulated 3-IMU boards as a PX4 ULog and an ArduPilot
-// DataFlash log -> one parameter file each; every coefficient evaluated with the firmware's own
-// formula (written here in float, as on the vehicle) equals gyrocomp's cubic (the JSON's) within
-// 2e-6 (rad/s, m/s^2); the file follows QGroundControl's format rules / loads with pymavlink's
-// MAVParmDict.load (when GYROCOMP_PYMAVLINK_DIR names a pymavlink source tree); a rotated board
-// gives the same parameters; nothing calibratable is an error with no file written.
+// `gyrocomp calibrate` end to end (docs/guides/calibrate-board.md): simulated 3-IMU boards as a PX4
+// ULog and an ArduPilot DataFlash log -> one parameter file each; every coefficient evaluated with
+// the firmware's own formula (written here in float, as on the vehicle) equals gyrocomp's cubic
+// (the JSON's) within 2e-6 (rad/s, m/s^2); the file follows QGroundControl's format rules / loads
+// with pymavlink's MAVParmDict.load (when GYROCOMP_PYMAVLINK_DIR names a pymavlink source tree); a
+// rotated board gives the same parameters; nothing calibratable is an error with no file written.
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>

@@ -1,5 +1,5 @@
 // `gyrocomp calibrate --validation RUN --report R` and the expected-error bands of `calibrate`
-// and `export` (issue 22): the validation scores are the firmware formula on the validation log,
+// and `export`: the validation scores are the firmware formula on the validation log,
 // recomputed here from the parameter file alone; the report holds the tables; a bad validation
 // run is exit 2 with no file; the bands are the library's ExpectedCubicError.
 #include <cmath>

@@ -1,6 +1,6 @@
-// Causal drift prediction (issue 11's thermal states, DriftModel::Predict(causal = true)) as the
-// exporters see it: equality with the centred prediction where no state is read, the shared
-// out-of-range policy, the delay reported.
+// Causal drift prediction (the thermal states of docs/explanation/drift-models.md,
+// DriftModel::Predict(causal = true)) as the exporters see it: equality with the centred prediction
+// where no state is read, the shared out-of-range policy, the delay reported.
 #include "gyrocomp/export/causal_drift.h"
 
 #include <cmath>

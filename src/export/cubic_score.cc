@@ -159,7 +159,7 @@ Result<CubicExpectedError> ExpectedCubicError(const DriftModel& model, const Tem
                                               const CubicExpectedErrorOptions& options) {
   std::string why;
   if (!options.IsValid(&why)) return InvalidArgument(why);
-  if (!model.band) return InvalidInput("drift model: no prediction band (a model file written before issue 23; refit it)");
+  if (!model.band) return InvalidInput("drift model: no prediction band (the model file predates prediction bands; refit it)");
   CubicExpectedError e;
   e.level = model.band->level;
   const double z = TwoSidedZ(e.level);

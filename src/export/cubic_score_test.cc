@@ -1,6 +1,6 @@
-// Scores of an exported cubic (issue 22): the firmware formulas against the cubic they carry,
-// the residual block RMS against a hand computation, and the expected next-run error against
-// its definition and the truth of held-out simulated runs.
+// Scores of an exported cubic (docs/explanation/accuracy-calibration.md): the firmware formulas
+// against the cubic they carry, the residual block RMS against a hand computation, and the expected
+// next-run error against its definition and the truth of held-out simulated runs.
 #include "gyrocomp/export/cubic_score.h"
 
 #include <cmath>
@@ -113,7 +113,7 @@ TEST_F(ExpectedError, AModelWithoutABandSaysSo) {
 
 // The expected steady error is an error bound in the right units: on held-out runs of the same
 // unit, the cubic's RMS error against the true static curve (state 0) is of its order (within a
-// factor 4 either way over 4 seeds: the band is calibrated by issue 23's coverage bench, this
+// factor 4 either way over 4 seeds: the band is calibrated by bench/drift_band_coverage.py, this
 // only catches a unit or scale slip).
 TEST_F(ExpectedError, IsOfTheOrderOfTheHeldOutErrorAgainstTheTrueCurve) {
   auto e = ExpectedCubicError(model_, cubic_, std::nullopt);

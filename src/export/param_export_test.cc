@@ -282,7 +282,7 @@ TEST(ThermalCubic, ProjectionOfACubicIsExact) {
   }
 }
 
-// Issue 24 (fuzz_numeric_drift): a model fitted on a temperature span of ~1e-303 C projected onto
+// Found by fuzz_numeric_drift: a model fitted on a temperature span of ~1e-303 C projected onto
 // infinite coefficients with a success status (c_k = fit coefficient / h^k, h^k underflowing).
 // Now a Status error naming the span; a narrow but representable span still projects.
 TEST(ThermalCubic, SpanTooNarrowForACubicIsAnErrorNamingIt) {

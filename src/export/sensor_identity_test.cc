@@ -1,4 +1,4 @@
-// The model file's top-level "sensor" key (issue 22, docs/reference/model-file.md): written, read
+// The model file's top-level "sensor" key (docs/reference/model-file.md): written, read
 // back, optional for older files, refused when malformed.
 #include <gtest/gtest.h>
 

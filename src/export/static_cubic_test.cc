@@ -1,4 +1,4 @@
-// The static curve with every temperature weighted alike (issue 22, static_cubic.h).
+// The static curve with every temperature weighted alike (static_cubic.h).
 #include "gyrocomp/export/static_cubic.h"
 
 #include <cmath>

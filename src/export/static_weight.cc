@@ -154,7 +154,7 @@ Result<StaticWeightChoice> ChooseStaticWeight(const DriftModel& model, const Dri
                                               const StaticWeightOptions& o) {
   std::string why;
   if (!o.IsValid(&why)) return InvalidArgument(why);
-  if (!model.band) return InvalidInput("drift model: no prediction band (a model file written before issue 23; refit it)");
+  if (!model.band) return InvalidInput("drift model: no prediction band (the model file predates prediction bands; refit it)");
   const double span = temp_max_c - temp_min_c;
   if (!(span > 0.0) || !std::isfinite(span)) return InvalidInput("static weight: empty or non-finite temperature range");
   if (!(run.fs_hz > 0.0) || run.temp_c.size() < 8) return InvalidInput("static weight: fewer than 8 samples or fs <= 0");

@@ -157,7 +157,7 @@ Result<TemperatureCubic> ProjectOntoCubic(const DriftModel& model, const CubicPr
   for (int k = 0; k < 4; ++k) cubic.coeff[k] = c(k) / std::pow(h, k);
   // c_k is the fit's coefficient in u = dT / h divided by h^k: on a span of ~1e-100 C or less
   // (a model fitted on a constant temperature up to rounding) h^k underflows and c_k overflows.
-  // No firmware cubic can hold it: refused, naming the span (issue 24).
+  // No firmware cubic can hold it: refused, naming the span.
   for (int k = 0; k < 4; ++k) {
     if (!std::isfinite(cubic.coeff[k])) {
       std::ostringstream s;

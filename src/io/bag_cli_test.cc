@@ -1,10 +1,10 @@
-// ROS bags end to end through the built CLI (issue 25): the same simulated six-axis IMU written
-// as a ROS 1 bag by Debian's python3-rosbag (none / bz2 / lz4 chunks), as MCAP (none / zstd /
-// lz4, written from the spec by tests/bags/make_imu_bags.py) and as a rosbag2 sqlite3 folder
-// reads back value for value (the values the script wrote; for ROS 1 also what Python rosbag
-// reads from the bag, the independent reference), and gives identical Allan results and noise
-// files in every format, equal to those of the CSV extract. Skipped, with the reason, when
-// python3-rosbag / python3-sensor-msgs / python3-roslz4 are not installed.
+// ROS bags end to end through the built CLI (docs/reference/input-formats.md "ROS bags"): the same
+// simulated six-axis IMU written as a ROS 1 bag by Debian's python3-rosbag (none / bz2 / lz4
+// chunks), as MCAP (none / zstd / lz4, written from the spec by tests/bags/make_imu_bags.py) and as
+// a rosbag2 sqlite3 folder reads back value for value (the values the script wrote; for ROS 1 also
+// what Python rosbag reads from the bag, the independent reference), and gives identical Allan
+// results and noise files in every format, equal to those of the CSV extract. Skipped, with the
+// reason, when python3-rosbag / python3-sensor-msgs / python3-roslz4 are not installed.
 #include <algorithm>
 #include <filesystem>
 #include <fstream>

@@ -1,5 +1,5 @@
 // Tests of reading only some columns of a CSV (CsvReadOptions::columns, LogSpec::keep_cols,
-// TakeGyroLog; issue 24: memory): the kept values are those of a whole read, bit for bit; a bad
+// TakeGyroLog; memory): the kept values are those of a whole read, bit for bit; a bad
 // cell in a dropped column is the same one-line error at the same line and column; messages
 // still name the file's columns; the kept columns are reserved once, close to their size.
 #include "gyrocomp/io/io.h"

@@ -432,7 +432,7 @@ void Parser::TakeImu(const Layout& l, const std::uint8_t* p) {
 
 void Parser::PushImu(DataFlashImuSeries& s, const ImuRow& r, bool has_t, bool has_acc) {
   s.time_us.push_back(static_cast<std::uint64_t>(std::llround(r[0])));
-  if (options_.imu_instance && s.instance != *options_.imu_instance) return;  // counted only (issue 24)
+  if (options_.imu_instance && s.instance != *options_.imu_instance) return;  // counted only
   s.gyr_x_rad_s.push_back(r[1]);
   s.gyr_y_rad_s.push_back(r[2]);
   s.gyr_z_rad_s.push_back(r[3]);

@@ -94,7 +94,7 @@ std::string_view LogFormatName(LogFormat format) {
 LogFormat DetectLogFormat(const std::string& path) {
   // Only regular files are peeked at: reading the first bytes of a pipe (stdin, `<(zcat x)`)
   // would take them away from the CSV reader.
-  if (DetectBagFormat(path) != BagFormat::kNone) return LogFormat::kRosBag;  // issue 25 (files and bag folders)
+  if (DetectBagFormat(path) != BagFormat::kNone) return LogFormat::kRosBag;  // files and bag folders
   std::error_code ec;
   if (path == "-" || !std::filesystem::is_regular_file(path, ec)) return LogFormat::kCsv;
   std::ifstream in(path, std::ios::binary);
@@ -109,7 +109,7 @@ LogFormat DetectLogFormat(const std::string& path) {
 namespace {
 
 // FlightLogFromULog; with `may_move` (ReadFlightLog's own contents, about to be dropped) the
-// picked series' columns move into the table instead of being copied (issue 24: memory).
+// picked series' columns move into the table instead of being copied (memory).
 Result<FlightLogTable> FromULog(const ULogContents& log, std::optional<int> instance, bool may_move) {
   const auto column = [may_move](const std::vector<double>& v) {
     return may_move ? std::move(const_cast<std::vector<double>&>(v)) : std::vector<double>(v);
@@ -352,7 +352,7 @@ Result<FlightLogTable> ReadFlightLog(const std::string& path, std::optional<int>
   switch (DetectLogFormat(path)) {
     case LogFormat::kULog: {
       // Only the gyro rows (and, with an instance named, only its values) are kept, and they
-      // move into the table: one gyro of a 1 GB log in well under 300 MB (issue 24).
+      // move into the table: one gyro of a 1 GB log in well under 300 MB.
       ULogReadOptions options;
       options.keep_accel_baro = false;
       options.gyro_instance = instance;
@@ -365,7 +365,7 @@ Result<FlightLogTable> ReadFlightLog(const std::string& path, std::optional<int>
       return t;
     }
     case LogFormat::kDataFlash: {
-      DataFlashReadOptions options;  // only the chosen IMU's values (issue 24: memory)
+      DataFlashReadOptions options;  // only the chosen IMU's values (memory)
       options.imu_instance = instance;
       options.strict = strict;
       Result<DataFlashContents> log = ReadDataFlash(path, options);
@@ -374,7 +374,7 @@ Result<FlightLogTable> ReadFlightLog(const std::string& path, std::optional<int>
       if (t) t->damage = log->damage;
       return t;
     }
-    case LogFormat::kRosBag: {  // issue 25: the IMU topic of a ROS bag (gyrocomp/io/bag_log.h)
+    case LogFormat::kRosBag: {  // the IMU topic of a ROS bag (gyrocomp/io/bag_log.h)
       Result<BagImuTable> bag = ReadBagImu(path, BagReadOptions{});
       if (!bag) return bag.error();
       return BagFlightLog(std::move(*bag));
@@ -388,11 +388,11 @@ Result<LogTableRead> ReadLogTable(const std::string& path, const LogSpec& spec, 
   LogTableRead out;
   out.spec = spec;
   out.format = DetectLogFormat(path);
-  if (out.format == LogFormat::kRosBag) return ReadBagLogTable(path, spec);  // issue 25
+  if (out.format == LogFormat::kRosBag) return ReadBagLogTable(path, spec);
   if (out.format == LogFormat::kCsv) {
     CsvReadOptions read;
     read.max_memory_bytes = spec.max_memory_bytes;
-    if (spec.keep_cols) {  // only the columns the caller uses (issue 24: memory)
+    if (spec.keep_cols) {  // only the columns the caller uses (memory)
       read.columns = *spec.keep_cols;
       read.columns->push_back(spec.time_col);
       read.columns->insert(read.columns->end(), spec.rate_cols.begin(), spec.rate_cols.end());

@@ -1,4 +1,4 @@
-// End-to-end checks of issue 15 parts 2-4 through the built CLI: numbers at the edges of the
+// End-to-end checks of docs/reference/cli-contract.md through the built CLI: numbers at the edges of the
 // double range are refused at load with file:line:column and the value (exit 2) or computed right,
 // never written as NaN with exit 0; options at the edges (sample rate, seeds, --resample memory,
 // /dev/zero) are refused with exit 2 before allocating; running a subcommand on its own output
@@ -71,7 +71,7 @@ TEST_F(HostileInputCliTest, TinyValuesAreComputedNotZeroedOrNaN) {
   ASSERT_TRUE(tiny["arw_deg_per_sqrt_h"].is_number());
 }
 
-// Issue 24: a valid record scaled to ~1e-302 crashed decompose and process (SIGSEGV in the VMD's
+// A valid record scaled to ~1e-302 crashed decompose and process (SIGSEGV in the VMD's
 // reconstruction) and left their temporaries. Now: exit 2, one line naming the cause and the
 // option that fixes it, nothing left in the folder; the relative rule decomposes it.
 TEST_F(HostileInputCliTest, RecordNear1eMinus302IsRefusedWithTheReasonNotASegfault) {

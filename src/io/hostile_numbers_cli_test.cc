@@ -1,8 +1,9 @@
-// Issue 24 through the built CLI: option values that can only fail are refused before any work
-// (exit 2, one line naming the option and its valid range), outputs that collide are refused
-// before any work, an unknown subcommand is an error even with --help, a model file is read with
-// a size limit and every number in it is bounded, a constant rate has ARW 0 and a figure that
-// cannot be computed is null with a reason, and a link to /dev/stdout is written through.
+// docs/reference/cli-contract.md "Numbers and options that can only fail" through the built CLI:
+// option values that can only fail are refused before any work (exit 2, one line naming the option
+// and its valid range), outputs that collide are refused before any work, an unknown subcommand is
+// an error even with --help, a model file is read with a size limit and every number in it is
+// bounded, a constant rate has ARW 0 and a figure that cannot be computed is null with a reason,
+// and a link to /dev/stdout is written through.
 #include <signal.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -58,7 +59,7 @@ class HostileNumbersCliTest : public testing::CliTest {
   }
 };
 
-// Issue 24: `fit --model svr --gamma 1e300` (also --epsilon, --C) exited 0 with a model that
+// Before: `fit --model svr --gamma 1e300` (also --epsilon, --C) exited 0 with a model that
 // `apply` refused; `decompose --tau 1e300` ran VMD to NaN.
 TEST_F(HostileNumbersCliTest, SvrAndVmdParametersOutsideTheirRangeAreRefusedBeforeWork) {
   const std::string log = NoisyLog();
@@ -203,7 +204,7 @@ TEST_F(HostileNumbersCliTest, RefusedDemoLeavesNoFolderItCreated) {
   EXPECT_TRUE(fs::is_directory(dir_ + "/old"));
 }
 
-// A signal mid-run removes the --out folder `demo` created (soak, issue 24: it stayed, empty):
+// A signal mid-run removes the --out folder `demo` created (found by the soak: it stayed, empty):
 // the signal handler's RemoveLiveTemporaryFiles removes listed folders once their temporaries are
 // gone. `demo --fs 50` runs for seconds; the signal is sent once the folder exists.
 TEST_F(HostileNumbersCliTest, SignalMidDemoLeavesNoFolderItCreated) {

@@ -1,6 +1,6 @@
 // End-to-end check of the log-reading contract of cli.md through the built CLI: every malformed
 // input gives exit status 2, ONE line on stderr "gyrocomp <cmd>: error: <file>:<line>:<col>: ...",
-// and no output file (not even a temporary one). Uses `allan` (the first -i command of issue 2)
+// and no output file (not even a temporary one). Uses `allan` (the first command to read -i)
 // as the carrier; the reading code is shared by every subcommand.
 #include <algorithm>
 #include <filesystem>

@@ -276,7 +276,7 @@ Status OutputSet::Declare(const std::string& path) {
   if (!final_path) return final_path.error();
   // The write-through rule is decided on what the name resolves to, not on its spelling: a link
   // to /dev/stdout (-> /proc/self/fd/1 -> "pipe:[...]", not a path) or to a FIFO is written
-  // through the link itself (issue 24).
+  // through the link itself.
   struct stat resolved;
   if (final_path->rfind("/dev/", 0) == 0 || final_path->rfind("/proc/", 0) == 0 ||
       (::stat(path.c_str(), &resolved) == 0 && (S_ISFIFO(resolved.st_mode) || S_ISCHR(resolved.st_mode)))) {

@@ -1,7 +1,7 @@
-// End-to-end checks of output safety through the built CLI (cli.md: "no partial output file is
-// ever left behind"; issue 15 part 1): an output naming an input, an empty name, a symbolic link,
-// a FIFO, /dev/null, /dev/full, a second output that cannot be written, non-UTF-8 file names in
-// JSON, and SIGINT / SIGTERM during a run.
+// End-to-end checks of output safety through the built CLI (docs/reference/cli-contract.md: "no
+// partial output file is ever left behind"; "Writing output files"): an output naming an input,
+// an empty name, a symbolic link, a FIFO, /dev/null, /dev/full, a second output that cannot be
+// written, non-UTF-8 file names in JSON, and SIGINT / SIGTERM during a run.
 #include <fcntl.h>
 #include <signal.h>
 #include <sys/stat.h>

@@ -117,7 +117,7 @@ TEST_F(Ros1BagTest, Ros1BagsNoneAndBz2ReadTheSameRowsAndRefuseDamage) {
       << r.error().message;
 }
 
-// Records what the reader announces of each channel (issue 25: the index's message counts let the
+// Records what the reader announces of each channel (the index's message counts let the
 // IMU columns be reserved once).
 class ChannelRecorder : public BagVisitor {
  public:

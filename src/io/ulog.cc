@@ -624,7 +624,7 @@ void Parser::FlushWindow(Subscription& s) {
 
 void Parser::PushRow(const Subscription& s, const RowValues& v) {
   const auto series = static_cast<std::size_t>(s.series);
-  if ((s.kind == 3 || s.kind == 4) && !options_.keep_accel_baro) return;  // ULogReadOptions (issue 24)
+  if ((s.kind == 3 || s.kind == 4) && !options_.keep_accel_baro) return;  // ULogReadOptions
   if (s.kind == 3) {
     ULogAccelSeries& a = out_.accels[series];
     a.timestamp_us.push_back(v.t);
@@ -640,7 +640,7 @@ void Parser::PushRow(const Subscription& s, const RowValues& v) {
   } else {
     ULogGyroSeries& g = (s.kind == 1 ? out_.gyros : out_.combined)[series];
     g.timestamp_us.push_back(v.t);
-    if (options_.gyro_instance && g.multi_id != *options_.gyro_instance) return;  // counted only (issue 24)
+    if (options_.gyro_instance && g.multi_id != *options_.gyro_instance) return;  // counted only
     g.x_rad_s.push_back(v.x);
     g.y_rad_s.push_back(v.y);
     g.z_rad_s.push_back(v.z);

@@ -1,4 +1,4 @@
-// The simulated board (issue 22): accelerometers with gravity and their own drift, several IMUs,
+// The simulated board (docs/guides/calibrate-board.md): accelerometers with gravity and their own drift, several IMUs,
 // a barometer, written as ULog and DataFlash logs the readers (and the autopilots' scripts) read.
 #include <cmath>
 #include <numeric>

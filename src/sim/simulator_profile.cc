@@ -173,7 +173,7 @@ Result<ThermalSchedule> MakeThermalSchedule(const ThermalProfileOptions& o) {
       return b.Take();
     }
     case ThermalProfileKind::kHeatCool: {
-      // Issue 23: both directions over the whole range, holds at both ends (a cold soak first,
+      // Both directions over the whole range, holds at both ends (a cold soak first,
       // as PX4's procedure starts), so a memory and a lag are identifiable (Eqs. I-2, I-3).
       ScheduleBuilder b(o.cold_temp_c, rate_c_per_s);
       b.Hold(o.room_hold_s);
@@ -184,7 +184,7 @@ Result<ThermalSchedule> MakeThermalSchedule(const ThermalProfileOptions& o) {
       return b.Take();
     }
     case ThermalProfileKind::kStairs: {
-      // Issue 23: a staircase up and one down, so that at every temperature the run holds and
+      // A staircase up and one down, so that at every temperature the run holds and
       // ramps (Eq. I-1: the dT/dt gain) in both directions (Eq. I-3: the memory). Heating: steps
       // of 2 step_c from cold to hot at ramp_rate; cooling: steps of 2 step_c offset by step_c
       // (plateaus between the heating ones) at ramp_rate / 2; every plateau held hold_s / 2.
@@ -208,7 +208,7 @@ Result<ThermalSchedule> MakeThermalSchedule(const ThermalProfileOptions& o) {
       return b.Take();
     }
     case ThermalProfileKind::kRateCycles: {
-      // Issue 23, docs/explanation/drift-models.md "What any estimator can reach": the calibration run's slow
+      // docs/explanation/calibration-design.md "What any estimator can reach": the calibration run's slow
       // (flicker, random-walk) noise is what limits the next run's error; every reversal of the
       // temperature decorrelates the drift's shape from it, so four full-range cycles in the time
       // of the paper's one sweep leave the least of it (bench/drift_design_bound.py: 0.56-0.95x of

@@ -1,4 +1,5 @@
-// Chamber profiles for calibration design (issue 23): heat-cool, stairs, the user's schedule (CSV).
+// Chamber profiles for calibration design (docs/guides/plan-chamber-run.md): heat-cool, stairs, the
+// user's schedule (CSV).
 #include <cmath>
 #include <filesystem>
 #include <fstream>

@@ -326,7 +326,7 @@ TEST(SimulatorRoundTrip, BiasInstabilityFlickerFloor) {
   }
   ASSERT_GE(count, 5);
   EXPECT_NEAR(sum / wsum, 0.0, 3.0 * se / count) << "bound " << se / count;
-  // And the reported bias instability lands near the injected B. Two conventions (issue 14):
+  // And the reported bias instability lands near the injected B. Two conventions:
   // - the default, the minimum of the whole curve (as allantools users and the paper read it),
   //   falls on this flicker-only record at one of the last taus in 8 of seeds 1-12 (16384 s ..
   //   65536 s, EDF 1 .. 6), at 0.19 .. 0.98 of the floor: a random dip of a point with one or
@@ -395,7 +395,7 @@ TEST(SimulatorRoundTrip, DefaultsReproduceThePapersRawFigures) {
   // on fs; 20 Hz keeps the test fast): ARW within 3% (0.7% standard error + ~0.5% flicker
   // leakage at 1 s), ADEV minimum within 10% (observed 29.1 .. 30.6 deg/h over seeds 1-6 at
   // 100 Hz; one point's standard error near tau = 100 s is ~3%). Re-derived for the whole-curve
-  // minimum (issue 14): the drift makes the curve rise after ~200 s, so the minimum of the whole
+  // minimum: the drift makes the curve rise after ~200 s, so the minimum of the whole
   // curve is the EDF-qualified one on this run: 29.35 .. 30.26 deg/h at 51 .. 205 s over seeds
   // 1-6 at 20 Hz (`gyrocomp simulate --fs 20 --seed S`, then `gyrocomp allan --json -`).
   SimulatorOptions o;

@@ -33,7 +33,8 @@
 
 namespace gyrocomp {
 
-enum class LogFormat { kCsv, kULog, kDataFlash, kRosBag };  // kRosBag: gyrocomp/io/bag_log.h (issue 25)
+// Format of a log file; kRosBag: gyrocomp/io/bag_log.h.
+enum class LogFormat { kCsv, kULog, kDataFlash, kRosBag };
 std::string_view LogFormatName(LogFormat format);  // "csv", "ulog", "dataflash", "rosbag"
 
 // The format of `path` from its first bytes (not its name). "-" (stdin), anything that is not a
@@ -44,15 +45,15 @@ LogFormat DetectLogFormat(const std::string& path);
 
 // Column names of a flight-log table.
 inline constexpr const char* kFlightTimeCol = "time_s";
-inline constexpr const char* kFlightRateCols[3] = {"x_rad_s", "y_rad_s", "z_rad_s"};
-inline constexpr const char* kFlightTempCol = "temp_c";
+inline constexpr const char* kFlightRateCols[3] = {"x_rad_s", "y_rad_s", "z_rad_s"};  // x, y, z angular rate, rad/s, sensor frame
+inline constexpr const char* kFlightTempCol = "temp_c";  // deg C; absent when the log has no temperature
 
 // One gyro instance of a flight log as a table, with where it came from.
 struct FlightLogTable {
-  Table table;
-  LogFormat format = LogFormat::kULog;
+  Table table;  // time_s, the rate columns and temp_c
+  LogFormat format = LogFormat::kULog;  // kULog or kDataFlash
   std::string origin;                     // "ULog sensor_gyro multi_id 0", "DataFlash IMU I=1"
-  int instance = 0;
+  int instance = 0;  // ULog multi_id or DataFlash IMU instance
   std::optional<std::uint32_t> device_id; // ULog sensor_gyro.device_id
   std::vector<std::string> warnings;      // reader warnings + compensation warnings
   std::vector<LogDamage> damage;          // byte ranges the reader skipped (log_damage.h)
@@ -61,6 +62,7 @@ struct FlightLogTable {
 // Picks the instance (`instance`: nullopt = the only one) and builds the table. Errors name the
 // file and list the instances when the choice is missing or wrong (kInvalidInput).
 Result<FlightLogTable> FlightLogFromULog(const ULogContents& log, std::optional<int> instance);
+// The same for a DataFlash log.
 Result<FlightLogTable> FlightLogFromDataFlash(const DataFlashContents& log, std::optional<int> instance);
 
 // One DataFlash IMU instance (gyro and accel) in the sensor frame, as ArduPilot's
@@ -84,9 +86,9 @@ Result<FlightLogTable> ReadFlightLog(const std::string& path, std::optional<int>
 // unit rad/s; the warnings are passed to spec.on_warning; temp_required without a temperature
 // column is an error saying which topic has none.
 struct LogTableRead {
-  Table table;
-  LogSpec spec;
-  LogFormat format = LogFormat::kCsv;
+  Table table;  // the log's columns
+  LogSpec spec;  // `spec` adjusted to the table
+  LogFormat format = LogFormat::kCsv;  // detected format
   std::optional<FlightLogTable> flight;  // without its table (moved to `table`)
 };
 // `strict`: as for ReadFlightLog (the damage skipped otherwise is in `flight->damage`).

@@ -135,14 +135,17 @@ struct DriftAutoOptions {
 
 // Settings of FitDriftModel: the model, its inputs, the search and the cross-validation.
 struct DriftFitOptions {
-  DriftModelKind model = DriftModelKind::kAuto;  // model to fit; kAuto scores the candidates and keeps the best
-  DriftInputSet inputs = DriftInputSet::kTemp;  // temperature alone or with a thermal state (dT/dt, lag, memory)
+  // Model to fit; kAuto scores the candidates and keeps the best.
+  DriftModelKind model = DriftModelKind::kAuto;
+  // Temperature alone or with a thermal state (dT/dt, lag excess, memory).
+  DriftInputSet inputs = DriftInputSet::kTemp;
   TemperatureRateOptions rate;  // how dT/dt is computed from temperature
   // Parameters of the lag / memory states and of the causal rate (thermal_state.h).
   ThermalStateOptions state;
   // kTempAndLag: fit lag_tau_s by the 1-D search of DriftAutoOptions instead of using state.lag_tau_s.
   bool fit_lag_tau = true;
-  OutOfRangePolicy out_of_range = OutOfRangePolicy::kExtrapolate;  // what the model does with a temperature outside the fitted range
+  // What the model does with a temperature outside the fitted range.
+  OutOfRangePolicy out_of_range = OutOfRangePolicy::kExtrapolate;
   // Cross-validation folds; automatic = kThermalSegments for hybrid and auto, kBlocks otherwise
   // (the paper's pipeline keeps its scoring).
   std::optional<DriftCvScheme> cv_scheme;
@@ -383,7 +386,8 @@ struct DriftModel {
   DriftInputSet inputs = DriftInputSet::kTemp;  // temperature alone or with a thermal state
   TemperatureRateOptions rate;        // batch dT/dt (kTempAndRate)
   ThermalStateOptions state;          // causal rate, lag and memory parameters
-  OutOfRangePolicy out_of_range = OutOfRangePolicy::kExtrapolate;  // what happens outside the fitted temperature range
+  // What the model does with a temperature outside the fitted range.
+  OutOfRangePolicy out_of_range = OutOfRangePolicy::kExtrapolate;
   // The two parts; the prediction is their sum (each absent part contributes 0):
   //   poly: structured only; svr / grid-svr / cs-svr: kernel only; hybrid: both, with the
   //   kernel's intercept and target offset folded into the structured constant (both 0 here).

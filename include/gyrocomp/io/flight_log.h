@@ -67,10 +67,10 @@ Result<FlightLogTable> FlightLogFromDataFlash(const DataFlashContents& log, std:
 
 // One DataFlash IMU instance (gyro and accel) in the sensor frame, as ArduPilot's
 // Tools/scripts/tempcal_IMU.py prepares it: the board rotation AHRS_ORIENTATION undone
-// (sensor = R^T board; every fixed rotation of rotations.h), then, with INS_TCAL<n>_ENABLE = 1,
+// (sensor = R^T board; every fixed rotation of rotations.h), then, with INS_TCAL{n}_ENABLE = 1,
 // correct_sensor's correction added back with the log's own coefficients (v += p(T - 35) -
-// p(Tcal - 35), T and Tcal = INS_GYR<n>_CALTEMP / INS_ACC<n>_CALTEMP clamped to [TMIN, TMAX]; the
-// accel divided by INS_ACC<n>SCAL first, since the firmware scales after correcting). What it did
+// p(Tcal - 35), T and Tcal = INS_GYR{n}_CALTEMP / INS_ACC{n}_CALTEMP clamped to [TMIN, TMAX]; the
+// accel divided by INS_ACC{n}SCAL first, since the firmware scales after correcting). What it did
 // is appended to `notes`. Errors: a custom or unknown AHRS_ORIENTATION, an ENABLE other than 0/1/2.
 Result<DataFlashImuSeries> DataFlashImuToSensorFrame(const DataFlashContents& log, const DataFlashImuSeries& imu,
                                                      std::vector<std::string>* notes);

@@ -50,10 +50,10 @@ struct DriftValidation {
   double fraction_temp_outside = 0.0;  // share of samples with T outside the fitted range
   double fraction_dtemp_outside = 0.0;  // share of samples with dT/dt outside the fitted range
   TemperatureExcursion excursion;  // how far and how long T left the fitted range
-  // The model's prediction band on this run (docs/explanation/prediction-bands.md; absent when the model has none): its
-  // level, RMS half-width, the share of samples whose true drift lies in it (truth given), and
-  // the share of residual block means (block_s) of the raw rate inside the band of block means
-  // (no truth: this also counts the run's own noise, so it reads low).
+  // The model's prediction band on this run (docs/explanation/prediction-bands.md; absent when
+  // the model has none): its level, RMS half-width, the share of samples whose true drift lies
+  // in it (truth given), and the share of residual block means (block_s) of the raw rate inside
+  // the band of block means (no truth: this also counts the run's own noise, so it reads low).
   std::optional<double> band_level;  // band level (probability)
   std::optional<double> band_half_width_rms;  // RMS half-width of the band, target units
   std::optional<double> band_coverage_truth;  // share of samples whose true drift is in the band

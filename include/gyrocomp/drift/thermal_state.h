@@ -54,7 +54,8 @@ const char* DriftInputSetName(DriftInputSet inputs);
 // "memory"; "" for kTemp. kTempRateAndMemory: "dtemp_c_per_s" (its second state's column is
 // kMemoryColumnName).
 const char* ThermalStateColumnName(DriftInputSet inputs);
-inline constexpr const char* kMemoryColumnName = "memory";  // column of the second state (memory) of kTempRateAndMemory
+// Column of the second state (memory) of kTempRateAndMemory.
+inline constexpr const char* kMemoryColumnName = "memory";
 // Whether the inputs carry the memory of Eq. TS-3 as a second state (kTempRateAndMemory).
 inline bool HasSecondMemoryState(DriftInputSet inputs) { return inputs == DriftInputSet::kTempRateAndMemory; }
 // Whether the inputs' states need the causal rate of Eq. TS-1 (rate, memory, or both).

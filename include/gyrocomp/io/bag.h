@@ -170,8 +170,10 @@ struct BagImuTable {
 
 // Column names of a bag table.
 inline constexpr const char* kBagTimeCol = "time_s";
-inline constexpr const char* kBagGyroCols[3] = {"x_rad_s", "y_rad_s", "z_rad_s"};  // x, y, z angular velocity, rad/s (sensor frame)
-inline constexpr const char* kBagAccelCols[3] = {"x_m_s2", "y_m_s2", "z_m_s2"};  // x, y, z linear acceleration, m/s^2 (sensor frame)
+// x, y, z angular velocity, rad/s (sensor frame).
+inline constexpr const char* kBagGyroCols[3] = {"x_rad_s", "y_rad_s", "z_rad_s"};
+// x, y, z linear acceleration, m/s^2 (sensor frame).
+inline constexpr const char* kBagAccelCols[3] = {"x_m_s2", "y_m_s2", "z_m_s2"};
 inline constexpr const char* kBagTempCol = "temp_c";  // deg C, present when a temperature topic was joined
 
 // Reads the IMU topic (BagReadOptions::topic) of a bag of any supported format as a table.

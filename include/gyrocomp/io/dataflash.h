@@ -71,7 +71,8 @@ struct DataFlashContents {
     double before = 0.0;  // PARM Value in force before the change
     double after = 0.0;  // PARM Value after it
   };
-  std::map<std::string, ParameterChange> parameters_changed_during_imu;  // parameter name -> its first change after the first IMU row
+  // Parameter name -> its first change after the first IMU row.
+  std::map<std::string, ParameterChange> parameters_changed_during_imu;
   std::vector<DataFlashImuSeries> imus;              // sorted by instance
   std::size_t num_records = 0;  // records read
   std::vector<std::string> warnings;  // truncated last record, damage (one line)

@@ -45,7 +45,8 @@ LogFormat DetectLogFormat(const std::string& path);
 
 // Column names of a flight-log table.
 inline constexpr const char* kFlightTimeCol = "time_s";
-inline constexpr const char* kFlightRateCols[3] = {"x_rad_s", "y_rad_s", "z_rad_s"};  // x, y, z angular rate, rad/s, sensor frame
+// x, y, z angular rate, rad/s, sensor frame.
+inline constexpr const char* kFlightRateCols[3] = {"x_rad_s", "y_rad_s", "z_rad_s"};
 inline constexpr const char* kFlightTempCol = "temp_c";  // deg C; absent when the log has no temperature
 
 // One gyro instance of a flight log as a table, with where it came from.

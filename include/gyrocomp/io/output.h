@@ -42,7 +42,8 @@
 
 namespace gyrocomp {
 
-// A command's output files written all or none: each is staged in a temporary beside its target and renamed over it on Commit().
+// A command's output files, written all or none: each is staged in a temporary beside its target
+// and renamed over it on Commit().
 class OutputSet {
  public:
   OutputSet();

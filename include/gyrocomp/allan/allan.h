@@ -54,8 +54,10 @@ enum class PowerLawNoise {
   kFlickerRate = -1,       // bias instability (flicker floor)
   kRandomWalkRate = -2,    // rate random walk
 };
+// Name for reports, e.g. "white rate (angle random walk)".
 const char* PowerLawNoiseName(PowerLawNoise noise);
 
+// Settings of ComputeAllan: the tau grid, the confidence level, how the noise terms are read.
 struct AllanOptions {
   // Tau grid (cli.md: --taus octave (default) | decade | all | N).
   TauGrid grid = TauGrid::kOctave;
@@ -74,16 +76,17 @@ struct AllanOptions {
   // fits use only taus with at least this many equivalent degrees of freedom (10: ~22% one-sigma
   // relative error of sigma). The curve and the default minimum keep every tau. CLI: --min-edf.
   double min_edf_for_terms = 10.0;
-  // Polled before every tau (issue 24: a curve over 1e9 samples takes seconds per tau); once
+  // Polled before every tau (a curve over 1e9 samples takes seconds per tau); once
   // cancelled, ComputeAllan throws Cancelled. nullptr: not polled. Not owned.
   const CancellationToken* cancel = nullptr;
+  // False with the field and the rule in `error` when a setting is out of range.
   bool IsValid(std::string* error) const;
 };
 
 // The curve: one entry per tau, all vectors the same length.
 struct AllanCurve {
   std::vector<std::int64_t> m;            // averaging factor, tau = m / fs
-  std::vector<double> tau_s;
+  std::vector<double> tau_s;  // averaging time, s
   std::vector<double> adev_dps;           // overlapping Allan deviation, deg/s
   std::vector<double> adev_error_dps;     // allantools' error: adev / sqrt(n_clusters)
   std::vector<std::int64_t> n_clusters;   // n = N + 1 - 2m (overlapping second differences)
@@ -91,7 +94,8 @@ struct AllanCurve {
   std::vector<PowerLawNoise> noise;       // dominant noise assumed for the EDF (IdentifyNoiseLag1)
   std::vector<double> edf;                // equivalent degrees of freedom (chi-square)
   std::vector<double> adev_lo_dps;        // chi-square confidence interval at `confidence`
-  std::vector<double> adev_hi_dps;
+  std::vector<double> adev_hi_dps;  // upper end of that interval, deg/s
+  // Number of taus.
   std::size_t size() const { return tau_s.size(); }
 };
 
@@ -113,7 +117,7 @@ struct AllanNoiseTerms {
   // allantools users, MATLAB's examples and allan_variance_ros read it. The last taus carry few
   // degrees of freedom and a random dip there can set it: compare adev_min_usable_deg_per_h.
   double adev_min_deg_per_h = 0.0;
-  double tau_at_min_s = 0.0;
+  double tau_at_min_s = 0.0;  // tau of that minimum, s
   // True when that minimum is at the longest tau of the curve: the floor was not reached and the
   // minimum is an upper bound ("adev_min_at_longest_tau" in JSON).
   bool min_at_longest_tau = false;
@@ -121,12 +125,12 @@ struct AllanNoiseTerms {
   // qualifies or the curve has no EDFs), deg/h, and its tau. The -1/2 and +1/2 fits are anchored
   // on this one.
   double adev_min_usable_deg_per_h = 0.0;
-  double tau_at_min_usable_s = 0.0;
+  double tau_at_min_usable_s = 0.0;  // tau of the usable minimum, s
   // True when the usable minimum is at the largest usable tau.
   bool min_usable_at_longest_usable_tau = false;
   // The threshold used (AllanOptions::min_edf_for_terms) and the number of usable taus.
   double min_edf = 0.0;
-  std::size_t num_taus_used = 0;
+  std::size_t num_taus_used = 0;  // taus with EDF >= min_edf
   // Bias instability B = adev_min_deg_per_h / 0.664 (IEEE 952 flicker floor sigma = 0.664 B), deg/h.
   double bias_instability_deg_per_h = 0.0;
   // Rate random walk K from the +1/2 region: least-squares fit of sigma = K sqrt(tau / 3) (slope
@@ -135,7 +139,8 @@ struct AllanNoiseTerms {
   // K = fitted sigma(3 s), shown in deg/h/sqrt(h). nullopt when the curve has no +1/2 region;
   // 0 when every ADEV is exactly 0 (a constant record).
   std::optional<double> rrw_deg_per_h_per_sqrt_h;
-  std::optional<double> rrw_fit_tau_min_s, rrw_fit_tau_max_s;  // the region used
+  std::optional<double> rrw_fit_tau_min_s;  // lower end of the +1/2 region fitted, s
+  std::optional<double> rrw_fit_tau_max_s;  // upper end of the region, s
 
   // Support: the figures the curve cannot carry, by JSON key ("adev_min_deg_per_h",
   // "adev_min_usable_deg_per_h", "bias_instability_deg_per_h", "arw_deg_per_sqrt_h",
@@ -152,23 +157,27 @@ struct AllanNoiseTerms {
     std::string text;                      // for a person: what is missing
     std::optional<double> needs_record_s;  // the record length that would carry it, when that is what is missing
   };
-  std::map<std::string, Unsupported> unsupported;
+  std::map<std::string, Unsupported> unsupported;  // the figures not supported, by JSON key
+  // True when the figure `key` is supported (not in `unsupported`).
   bool Supported(const std::string& key) const { return unsupported.count(key) == 0; }
 };
-inline constexpr std::size_t kMinTausForMinimum = 3;
-inline constexpr std::size_t kMinTausForFit = 2;
+inline constexpr std::size_t kMinTausForMinimum = 3;  // taus a curve needs for its minimum and B
+inline constexpr std::size_t kMinTausForFit = 2;  // taus a -1/2 or +1/2 fit needs in its region
 
+// The Allan analysis of one rate series: the curve, the noise terms, how they were computed.
 struct AllanResult {
   std::string axis;             // rate column name ("" when unnamed)
-  double fs_hz = 0.0;
-  std::size_t n_samples = 0;
-  AllanCurve curve;
-  AllanNoiseTerms terms;
-  double confidence = 0.0;
+  double fs_hz = 0.0;  // sample rate, Hz
+  std::size_t n_samples = 0;  // samples of the series
+  AllanCurve curve;  // ADEV per tau with its intervals
+  AllanNoiseTerms terms;  // ARW, bias instability, RRW read off the curve
+  double confidence = 0.0;  // two-sided level of the curve's intervals
   // Names of the methods used, for reports and JSON.
   std::string deviation_method;  // "overlapping ADEV (IEEE 1554 / NIST SP 1065 Eq. 11), allantools oadev"
   std::string edf_method;        // see EdfOverlappingAdevSimple
   double seconds = 0.0;          // wall time of the computation
+  // One line for logs: samples, rate, taus, ARW, the ADEV minimums, B, RRW ("n/a (reason)" for a
+  // figure not supported).
   std::string BriefReport() const;
 };
 
@@ -196,14 +205,14 @@ Result<AllanResult> ComputeAllan(std::span<const double> rate_dps, double fs_hz,
 
 // One axis of a multi-axis analysis: its name (AllanResult::axis), samples and rate.
 struct AllanAxisInput {
-  std::string name;
-  std::span<const double> rate;
-  double fs_hz = 0.0;
+  std::string name;  // axis name (AllanResult::axis)
+  std::span<const double> rate;  // rate samples, deg/s
+  double fs_hz = 0.0;  // sample rate, Hz
 };
 
 // One AllanResult per axis, in order, each computed as ComputeAllan(rate, fs_hz, options) alone
 // would (the same bits), the axes spread over `threads` threads (0: DefaultItemThreads(), the
-// machine's threads up to 2; issue 25: the six axes of an IMU on both cores). An error names
+// machine's threads up to 2: the six axes of an IMU on both cores). An error names
 // `source` and the axis: "<source>: column '<name>': <what>" (the lowest failing axis).
 Result<std::vector<AllanResult>> ComputeAllan(std::span<const AllanAxisInput> axes, const std::string& source,
                                               const AllanOptions& options = {}, int threads = 0);

@@ -28,6 +28,7 @@
 
 namespace gyrocomp {
 
+// The deviation a curve holds.
 enum class DeviationKind {
   kAdev,    // overlapping Allan (allan.h; ComputeAllan's curve)
   kMdev,    // modified Allan
@@ -43,19 +44,20 @@ const char* DeviationKindName(DeviationKind kind);
 
 // One deviation curve; all vectors the same length.
 struct DeviationCurve {
-  DeviationKind kind = DeviationKind::kAdev;
+  DeviationKind kind = DeviationKind::kAdev;  // which deviation
   std::vector<std::int64_t> m;       // averaging factor, tau = m / fs
-  std::vector<double> tau_s;
+  std::vector<double> tau_s;  // averaging time, s
   std::vector<double> dev_dps;       // the deviation, deg/s
   std::vector<double> error_dps;     // allantools' error: dev / sqrt(n)
   std::vector<std::int64_t> n;       // number of terms summed (allantools' ns)
   std::vector<double> edf;           // approximate equivalent degrees of freedom
   std::vector<double> lo_dps;        // chi-square confidence interval at `confidence`
-  std::vector<double> hi_dps;
-  double confidence = 0.0;
+  std::vector<double> hi_dps;  // upper end of that interval, deg/s
+  double confidence = 0.0;  // two-sided level of the intervals
   std::string method;                // formula and reference
-  std::string edf_method;
+  std::string edf_method;  // how the EDF was approximated
   double seconds = 0.0;              // wall time
+  // Number of taus.
   std::size_t size() const { return tau_s.size(); }
 };
 

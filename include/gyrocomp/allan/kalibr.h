@@ -22,7 +22,7 @@ namespace gyrocomp {
 
 // One axis in Kalibr's units.
 struct KalibrAxisNoise {
-  std::string axis;
+  std::string axis;  // axis name (the rate column)
   double noise_density = 0.0;  // gyro rad/s/sqrt(Hz); accelerometer m/s^2/sqrt(Hz)
   double random_walk = 0.0;    // gyro rad/s^2/sqrt(Hz); accelerometer m/s^3/sqrt(Hz)
   // True when the curve has no +1/2 region: random_walk is then the bound
@@ -30,6 +30,7 @@ struct KalibrAxisNoise {
   bool random_walk_is_upper_bound = false;
 };
 
+// Which sensor an axis is: sets Kalibr's units.
 enum class KalibrSensor { kGyroscope, kAccelerometer };
 
 // The axis's figures from its AllanResult (rate column in deg/s for a gyroscope, in m/s^2 for an
@@ -37,6 +38,7 @@ enum class KalibrSensor { kGyroscope, kAccelerometer };
 Result<KalibrAxisNoise> KalibrNoiseFromAllan(const AllanResult& allan, KalibrSensor sensor,
                                              double min_edf = 10.0);
 
+// What the Kalibr IMU YAML writes besides the figures.
 struct KalibrYamlOptions {
   // ROS topic of the IMU messages (Kalibr's `rostopic`).
   std::string rostopic = "/imu0";

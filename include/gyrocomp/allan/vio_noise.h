@@ -22,8 +22,9 @@
 
 namespace gyrocomp {
 
+// What the VIO noise files write besides the figures.
 struct VioNoiseFileOptions {
-  std::string rostopic = "/imu0";
+  std::string rostopic = "/imu0";  // ROS topic of the IMU messages
   std::string source;  // a comment line: where the figures come from
 };
 

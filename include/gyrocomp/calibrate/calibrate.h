@@ -30,6 +30,7 @@
 
 namespace gyrocomp {
 
+// Settings of CalibrateLogs: the firmware, the fit rate, what is skipped, the export choices.
 struct CalibrateOptions {
   // The parameter file and the log kind it needs: "px4" (ULog in; QGroundControl TC_* file out)
   // or "ardupilot" (DataFlash in; INS_TCAL* file out). No default a user could rely on: the CLI
@@ -64,50 +65,60 @@ struct CalibrateOptions {
 // of them.
 struct CalibratedSensor {
   std::string type;  // gyro | accel | baro
-  int instance = 0;
-  std::optional<std::uint32_t> device_id;
-  std::vector<double> time_s, temp_c;       // after the block means
+  int instance = 0;  // PX4 multi_id / DataFlash IMU instance
+  std::optional<std::uint32_t> device_id;  // PX4 device id (DataFlash logs have none)
+  std::vector<double> time_s;  // s, after the block means
+  std::vector<double> temp_c;  // deg C, after the block means
   std::vector<std::vector<double>> values;  // per axis, firmware unit (rad/s, m/s^2, Pa)
   std::vector<std::string> cols;            // x_rad_s | x_m_s2 | pressure_pa
   std::string unit;                         // firmware unit
   double to_model = 1.0;                    // firmware unit -> model unit (gyro: deg/s)
-  std::string model_unit;
+  std::string model_unit;  // unit of the models, e.g. deg/s for a gyro
   // Outcome.
   std::string reason;  // non-empty: skipped, and why
   int slot = -1;       // PX4 slot / ArduPilot IMU n
-  std::vector<DriftModel> models;
+  std::vector<DriftModel> models;  // one per axis
   std::vector<TemperatureCubic> cubics;  // firmware unit, constant handled as the file needs
   // Both candidates of static_weight (firmware unit, as `cubics`; the temperature one only when
   // computed), the weighting each axis's exported cubic has, and "auto"'s comparison (nullopt:
   // not auto, or no band; then weight_reason says why).
-  std::vector<TemperatureCubic> cubics_time, cubics_temperature;
-  std::vector<std::string> weights;
+  std::vector<TemperatureCubic> cubics_time;  // the time estimator's cubics (firmware unit)
+  std::vector<TemperatureCubic> cubics_temperature;  // the temperature estimator's (empty when not computed)
+  std::vector<std::string> weights;  // per axis, the weighting of the exported cubic: "time" | "temperature"
+  // Per axis, auto's comparison (nullopt: not auto, or it failed).
   std::vector<std::optional<StaticWeightChoice>> weight_choices;
-  std::string weight_reason;
+  std::string weight_reason;  // why auto fell back to "temperature"; "" otherwise
   std::vector<double> cost_rms;  // projection cost on the run, firmware unit
   // RMS over the range of cubic - full model at state 0 (steady) and along the run's warm-up
   // state (warm-up), firmware unit: what the exported cubic loses in each condition.
-  std::vector<double> steady_rms, warm_up_rms;
+  std::vector<double> steady_rms;  // per axis, steady condition
+  std::vector<double> warm_up_rms;  // per axis, along the warm-up
   // Expected next-run error of each axis's cubic (model band + projection), per condition.
   std::vector<std::optional<CubicExpectedError>> expected;
   std::string band_reason;  // why `expected` is missing (a model without a band)
-  double temp_min_c = 0.0, temp_max_c = 0.0;
+  double temp_min_c = 0.0;  // lowest temperature calibrated (the cubics' TMIN), deg C
+  double temp_max_c = 0.0;  // highest (TMAX), deg C
   // Validation: per axis RMS of the residual block means on the validation run, firmware unit.
   struct Validation {
     std::string reason;  // non-empty: not validated
-    std::size_t rows = 0;
-    double temp_min_c = 0.0, temp_max_c = 0.0;
-    std::vector<double> raw, cubic, full_model;
+    std::size_t rows = 0;  // rows of the validation run after the block means
+    double temp_min_c = 0.0;  // lowest temperature of the validation run, deg C
+    double temp_max_c = 0.0;  // highest, deg C
+    std::vector<double> raw;  // uncorrected rows
+    std::vector<double> cubic;  // corrected by the exported cubic
+    std::vector<double> full_model;  // corrected by the full model
   };
-  std::optional<Validation> validation;
+  std::optional<Validation> validation;  // the scores on CalibrateOptions::validation_path, when given
   int runs_combined = 1;  // logs whose cubics were averaged
 
+  // True unless the sensor was skipped.
   bool calibrated() const { return reason.empty(); }
 };
 
+// What CalibrateLogs did: every sensor, the parameter file, the readers' notes.
 struct CalibrateResult {
   std::vector<std::string> inputs;  // the logs, first = primary (models, bands, cost)
-  CalibrateOptions options;
+  CalibrateOptions options;  // the options used
   std::vector<CalibratedSensor> sensors;  // every sensor of the first log, skipped ones too
   // The parameter file (PX4 or ArduPilot, every sensor, disabled slots included); empty when no
   // sensor could be calibrated.
@@ -115,6 +126,7 @@ struct CalibrateResult {
   // What the readers said on the way (e.g. an ArduPilot log's rotation undone), once each.
   std::vector<std::string> notes;
 
+  // True when at least one sensor was calibrated.
   bool AnyCalibrated() const;
   // The per-sensor table: span, model, projection cost, expected error, static weighting and,
   // with a validation run, its scores.

@@ -22,6 +22,7 @@
 
 namespace gyrocomp {
 
+// Settings of DetectStill (the statistic T and the rules at the top of this file).
 struct StillDetectorOptions {
   double window_s = 1.0;             // the statistic's window, s
   double threshold = 3.0;            // T above it: motion (T ~ 1 still)
@@ -30,25 +31,35 @@ struct StillDetectorOptions {
   double max_mean_rate_dps = 1.0;    // a window turning faster on average is motion, deg/s
   // The sensor's white noise per sample (1 sigma, per axis); nullopt: the 5th percentile over
   // the log's windows of each window's RMS deviation (the quietest 5 % taken as still).
-  std::optional<double> gyro_noise_rad_s, accel_noise_m_s2;
+  std::optional<double> gyro_noise_rad_s;  // sigma_w, rad/s
+  std::optional<double> accel_noise_m_s2;  // sigma_a, m/s^2
+  // False with the field and the rule in `error` when a setting is out of range.
   bool IsValid(std::string* error) const;
 };
 
+// One still run of the log.
 struct StillSegment {
-  double start_s = 0.0, length_s = 0.0;
-  double temp_min_c = 0.0, temp_max_c = 0.0;  // 0 when no temperature was given
+  double start_s = 0.0;  // start, s (time_s of the log)
+  double length_s = 0.0;  // duration, s
+  double temp_min_c = 0.0;  // lowest temperature in the run, deg C (0 when no temperature was given)
+  double temp_max_c = 0.0;  // highest, deg C (0 when no temperature was given)
 };
+// A part of the log not used, and why.
 struct RejectedPart {
-  double start_s = 0.0, length_s = 0.0;
+  double start_s = 0.0;  // start, s (time_s of the log)
+  double length_s = 0.0;  // duration, s
   std::string reason;  // "armed; motion (T up to 1.2e+04, threshold 3); margin 2 s around motion"
 };
 
+// What DetectStill found.
 struct StillDetection {
   std::vector<bool> still;  // per sample: used by the fit
-  std::vector<StillSegment> segments;
-  std::vector<RejectedPart> rejected;
-  double gyro_noise_rad_s = 0.0, accel_noise_m_s2 = 0.0;  // as used
-  double still_s = 0.0, total_s = 0.0;
+  std::vector<StillSegment> segments;  // still runs used, in time order
+  std::vector<RejectedPart> rejected;  // the parts not used, in time order
+  double gyro_noise_rad_s = 0.0;  // sigma_w used, rad/s
+  double accel_noise_m_s2 = 0.0;  // sigma_a used, m/s^2
+  double still_s = 0.0;  // seconds still (in segments)
+  double total_s = 0.0;  // seconds of log
   std::string BriefReport() const;  // "612 s still of 1085 s in 2 segments (...); rejected: ..."
 };
 

@@ -114,7 +114,7 @@ struct VmdOptions {
   // Each update is reported once; when a run is repeated internally, updates past the returned
   // count may have been reported. Empty: not called. Does not change the result.
   std::function<void(int iteration, double update)> on_iteration;
-  // Polled before every ADMM update on the calling thread (issue 24): once cancelled,
+  // Polled before every ADMM update on the calling thread: once cancelled,
   // DecomposeVmd throws Cancelled (the worker pool joins in its destructor). nullptr: not polled.
   const CancellationToken* cancel = nullptr;
   // Largest working set DecomposeVmd may allocate, bytes (K modes x N bins x two complex iterates

@@ -28,13 +28,15 @@
 
 namespace gyrocomp {
 
+// One searched parameter: its name and bounds.
 struct SearchDimension {
   std::string name;        // for messages and reports ("C", "sigma")
   double lower = 0.0;      // natural units, lower < upper
-  double upper = 1.0;
+  double upper = 1.0;  // natural units, > lower
   bool log_scale = false;  // search log10(x) uniformly; requires lower > 0
 };
 
+// Cuckoo search settings (Yang & Deb 2009, Levy flights by Mantegna's algorithm).
 struct CuckooSearchOptions {
   // Number of nests n (Yang & Deb: 25; also the paper's method.md default).
   int num_nests = 25;
@@ -57,26 +59,31 @@ struct CuckooSearchOptions {
   // Called after every generation with its number (1-based) and the best value so far, from the
   // calling thread (progress displays). Empty: not called. Does not change the result.
   std::function<void(int generation, double best_value)> on_generation;
-  // Polled before every evaluation (issue 24): once cancelled, no new parameter set is started,
+  // Polled before every evaluation: once cancelled, no new parameter set is started,
   // the ones running finish, and CuckooSearch throws Cancelled on the calling thread. nullptr:
   // not polled. Not owned.
   const CancellationToken* cancel = nullptr;
 
+  // False with the field, its value and the rule in `error` when a setting is out of range.
   bool IsValid(std::string* error) const;
 };
 
+// Why the search stopped.
 enum class CuckooTermination { kMaxGenerations, kMaxEvaluations, kTargetReached };
+// "max generations" | "max evaluations" | "target reached", for reports.
 const char* CuckooTerminationName(CuckooTermination t);
 
+// What a cuckoo search found and how it ran.
 struct CuckooSearchSummary {
   std::vector<double> best_x;           // natural units
-  double best_value = 0.0;
-  int generations = 0;
-  long evaluations = 0;
-  int num_threads = 1;
-  CuckooTermination termination = CuckooTermination::kMaxGenerations;
+  double best_value = 0.0;  // objective at best_x
+  int generations = 0;  // generations run
+  long evaluations = 0;  // objective evaluations, the initial nests included
+  int num_threads = 1;  // threads used
+  CuckooTermination termination = CuckooTermination::kMaxGenerations;  // why it stopped
   std::vector<double> best_value_history;  // best after the init and after each generation
-  double time_s = 0.0;
+  double time_s = 0.0;  // wall time, s
+  // One line for logs: best value and point, generations, evaluations, threads, why it stopped, time.
   std::string BriefReport() const;
 };
 

@@ -1,4 +1,4 @@
-// Noise model of a drift fit's residual (issue 11, third session): the IEEE Std 952 gyro noise
+// Noise model of a drift fit's residual: the IEEE Std 952 gyro noise
 // model, white (angle random walk) + flicker (bias instability) + rate random walk, as the
 // one-sided power spectral density
 //   S(f) = h0 + h_1 / f + h_2 / f^2            ((target units)^2 / Hz, f in Hz)      Eq. G-0
@@ -8,7 +8,7 @@
 //
 // Why: on a single calibration run the flicker of the gyro wanders over hours, like the drift;
 // ordinary least squares weighs every sample as independent and absorbs that wander into the
-// coefficients (docs/notes/issue-11-s2.md: 88-99% of poly's held-out error on the simulated
+// coefficients (docs/explanation/drift-noise-model.md: 88-99% of poly's held-out error on the simulated
 // runs). Weighting by the inverse noise covariance is the best linear unbiased estimator when
 // the noise model is right and the polynomial's form is right (Gauss-Markov); when the form is
 // wrong (hysteresis the polynomial cannot represent), the misfit looks like flicker and GLS
@@ -32,6 +32,7 @@ namespace gyrocomp {
 enum class DriftNoiseModel { kWhite, kAllan };
 // "white" | "allan".
 std::optional<DriftNoiseModel> ParseDriftNoiseModel(std::string_view name);
+// The name ParseDriftNoiseModel reads.
 const char* DriftNoiseModelName(DriftNoiseModel model);
 
 // Eq. G-0 coefficients, one-sided PSD, (target units)^2 / Hz times f^0, f^1, f^2.
@@ -44,11 +45,15 @@ struct NoisePsd {
   // 0.664 deg/s (the flicker floor of the ADEV is 0.664 B); RRW K = pi sqrt(2 h_2) deg/s/sqrt(s)
   // (AVAR = K^2 tau / 3).
   double arw_deg_per_sqrt_h() const;
+  // Bias instability B, deg/h.
   double bias_instability_deg_per_h() const;
+  // Rate random walk K, deg/h/sqrt(h).
   double rrw_deg_per_h_per_sqrt_h() const;
+  // One line for logs: h0, h_1, h_2 and, in datasheet units, ARW, bias instability, RRW.
   std::string BriefReport() const;
 };
 
+// How the Eq. G-0 model is fitted to the Allan variance of a residual (Eq. G-1).
 struct NoisePsdOptions {
   // Shortest averaging time fitted, s. Automatic: one sample. The drift fit's GLS sets it to its
   // block period: the model is fitted where it is used (a gyro's flicker floor holds over a band
@@ -61,6 +66,7 @@ struct NoisePsdOptions {
   double max_tau_fraction = 0.1;
   // Number of log-spaced taus (duplicates after rounding to whole samples are dropped).
   int num_taus = 30;
+  // False with the reason in `error` when a setting is out of range.
   bool IsValid(std::string* error) const;
 };
 

@@ -20,9 +20,11 @@
 
 namespace gyrocomp {
 
+// How dT/dt is computed from a temperature record: a centred least-squares slope.
 struct TemperatureRateOptions {
   // Length of the centred regression window, seconds (> 0). At least 2 samples are always used.
   double window_s = 300.0;
+  // False with the reason in `error` when window_s is not > 0.
   bool IsValid(std::string* error) const;
 };
 

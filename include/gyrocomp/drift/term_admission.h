@@ -22,6 +22,7 @@
 
 namespace gyrocomp {
 
+// A candidate term's paired CV gain over the simpler model (Eqs. A-1..A-3).
 struct TermGain {
   double gain = 0.0;      // Eq. A-1: mean paired fold gain, simpler - richer, units of the RMSEs
   double se = 0.0;        // Eq. A-3: its standard error; +inf with fewer than 2 pairs

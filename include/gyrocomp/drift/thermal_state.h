@@ -20,7 +20,7 @@
 //           so m tends to +1 after heating by a few w, to -1 after cooling, and keeps its value
 //           during holds (a play operator on the filtered temperature). 3 states, ~12 operations.
 //
-// Two states (issue 23): `temp,dtemp,memory` takes the rate of Eq. TS-1 AND the memory of
+// Two states: `temp,dtemp,memory` takes the rate of Eq. TS-1 AND the memory of
 // Eq. TS-3 (computed from the same L1, L2): the drift cubic(T) + k_dot dT/dt + k_h (T - P_w(T))
 // of a unit with a die gain and a hysteresis together (docs/explanation/simulator.md "Deterministic drift")
 // needs both; with one state the gain absorbs the hysteresis (docs/explanation/drift-models.md). Its primary
@@ -48,11 +48,13 @@ namespace gyrocomp {
 enum class DriftInputSet { kTemp, kTempAndRate, kTempAndLag, kTempAndMemory, kTempRateAndMemory };
 // "temp" | "temp,dtemp" | "temp,lag" | "temp,memory" | "temp,dtemp,memory".
 std::optional<DriftInputSet> ParseDriftInputSet(std::string_view name);
+// The name ParseDriftInputSet reads.
 const char* DriftInputSetName(DriftInputSet inputs);
 // Name of the state column in model files and reports: "dtemp_c_per_s", "lag_excess_c",
 // "memory"; "" for kTemp. kTempRateAndMemory: "dtemp_c_per_s" (its second state's column is
 // kMemoryColumnName).
 const char* ThermalStateColumnName(DriftInputSet inputs);
+// Column of the second state (memory) of kTempRateAndMemory.
 inline constexpr const char* kMemoryColumnName = "memory";
 // Whether the inputs carry the memory of Eq. TS-3 as a second state (kTempRateAndMemory).
 inline bool HasSecondMemoryState(DriftInputSet inputs) { return inputs == DriftInputSet::kTempRateAndMemory; }
@@ -62,6 +64,7 @@ inline bool UsesCausalRate(DriftInputSet inputs) {
          inputs == DriftInputSet::kTempRateAndMemory;
 }
 
+// Parameters of the thermal states (Eqs. TS-1..TS-3).
 struct ThermalStateOptions {
   // rate: tau_r of the causal update (Eq. TS-1), s. Default 75 s = a quarter of the batch slope's
   // 300 s window: the two lags then delay the rate by 150 s, the centred window's half-length.
@@ -71,19 +74,22 @@ struct ThermalStateOptions {
   // memory: width w (deg C of filtered temperature change for m to move most of the way) and
   // deadband on |r| (deg C / s) below which m holds (Eq. TS-3). 4 C, 1e-3 C/s (0.06 C/min).
   double memory_width_c = 4.0;
-  double memory_deadband_c_per_s = 1e-3;
+  double memory_deadband_c_per_s = 1e-3;  // deg C / s
+  // False with the reason in `error` when a setting is out of range.
   bool IsValid(std::string* error) const;
 };
 
 // Causal evaluator of one thermal state, one sample at a time (what firmware runs).
 class ThermalStateEvaluator {
  public:
+  // Starts before the first sample; `options` is copied.
   ThermalStateEvaluator(DriftInputSet inputs, const ThermalStateOptions& options);
   // Advances by one sample (dt_s since the previous one; ignored for the first) and returns the
   // state s after it (0 for kTemp). Units: deg C / s (rate), deg C (lag), 1 (memory).
   double Step(double dt_s, double temp_c);
   // The memory m of Eq. TS-3 after the last Step (kTempAndMemory, kTempRateAndMemory; 0 else).
   double memory() const { return memory_; }
+  // Back to before the first sample: the next Step starts every state afresh.
   void Reset() { started_ = false; }
 
  private:

@@ -1,7 +1,7 @@
 // Causal evaluation of a drift model: what firmware computes, one sample at a time, with only the
-// past (issue 12 part 2; docs/explanation/flight-controller-export.md).
+// past (docs/explanation/flight-controller-export.md).
 //
-// The thermal states and their causal updates are issue 11's (gyrocomp/drift/thermal_state.h,
+// The thermal states and their causal updates are thermal_state.h's (gyrocomp/drift/thermal_state.h,
 // Eqs. TS-1..TS-3; DriftModel::Predict(inputs, causal = true), DriftEvaluator). This header adds
 // what the exporters need around them: a summary of the causal prediction (the delay it adds) and
 // the model function at one input (the generated C and the cubic projection evaluate it).
@@ -21,12 +21,13 @@ namespace gyrocomp {
 
 // What a causal prediction did, for reports.
 struct CausalPredictionSummary {
-  DriftInputSet inputs = DriftInputSet::kTemp;
+  DriftInputSet inputs = DriftInputSet::kTemp;  // the model's inputs (which thermal state)
   double rate_tau_s = 0.0;      // tau_r of Eq. TS-1 (rate and memory states)
   // Delay of the causal dT/dt at low frequency, s: two discrete lags, 2 d with
   // d = dt / (exp(dt / tau_r) - 1) = tau_r - dt/2 + O(dt^2). 0 without a rate.
   double delay_s = 0.0;
   std::size_t num_clamped = 0;  // samples whose temperature the policy clamped
+  // One line for logs: the state, the rate's lag tau and delay, samples clamped.
   std::string BriefReport() const;
 };
 

@@ -1,6 +1,6 @@
 // How good an exported firmware cubic is: on a run it was not fitted on (the firmware's own
-// formula, float32) and, before any such run, from the model's prediction band (issue 22 item 4,
-// issue 23's DriftModel::PredictBand). docs/explanation/flight-controller-export.md, "Expected error and validation".
+// formula, float32) and, before any such run, from the model's prediction band
+// (DriftModel::PredictBand). docs/explanation/flight-controller-export.md, "Expected error and validation".
 #pragma once
 
 #include <cstddef>
@@ -49,8 +49,9 @@ struct CubicConditionError {
   double projection_rms = 0.0;  // RMS(cubic - model) over the condition
   double band_sd_rms = 0.0;     // RMS of the band's standard deviation over the condition
   double total_rms = 0.0;       // sqrt(projection_rms^2 + band_sd_rms^2)
-  std::size_t num_samples = 0;
+  std::size_t num_samples = 0;  // samples of the condition
 };
+// The expected error of an exported cubic on a next run, steady and in warm-up (see CubicConditionError).
 struct CubicExpectedError {
   double level = 0.9;  // the band's level (its half-width is z(level) sd)
   // Temperature held at each temperature of the cubic's range (dT/dt = 0, lag settled): a slow
@@ -60,13 +61,15 @@ struct CubicExpectedError {
   // board's own heating rate. nullopt without a calibration run or with no heating sample.
   std::optional<CubicConditionError> warm_up;
 };
+// Settings of ExpectedCubicError.
 struct CubicExpectedErrorOptions {
   int grid_points = 401;                      // steady: temperatures over the range (>= 8)
   double min_heating_c_per_s = 1.0 / 300.0;   // warm-up: as StateWhileHeating
+  // False with the reason in `error` when a setting is out of range.
   bool IsValid(std::string* error) const;
 };
 // `cubic` in the model's target unit, before any constant is removed. Errors: the model has no
-// band (a model file written before issue 23), invalid options, Predict errors.
+// band (an older model file), invalid options, Predict errors.
 Result<CubicExpectedError> ExpectedCubicError(const DriftModel& model, const TemperatureCubic& cubic,
                                               const std::optional<DriftInputs>& calibration_run,
                                               const CubicExpectedErrorOptions& options = {});

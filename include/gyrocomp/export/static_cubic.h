@@ -1,5 +1,5 @@
 // The static curve of a calibration run, estimated with every temperature weighted alike
-// (issue 22, docs/explanation/flight-controller-export.md "Each temperature weighted alike").
+// (docs/explanation/flight-controller-export.md "Each temperature weighted alike").
 //
 // The firmware's cubic is a static curve applied equally at every temperature. A least-squares
 // fit over the run's samples weighs each temperature by the time the run spent there: the holds
@@ -23,10 +23,14 @@
 
 namespace gyrocomp {
 
+// How FitStaticCubicByTemperature bins the run and over which range it fits.
 struct StaticCubicOptions {
   int bins = 2000;  // equal-width temperature bins over [temp_min_c, temp_max_c] (>= 8)
   // Range (the cubic's TMIN/TMAX) and dT origin; automatic: the run's range and its middle.
-  std::optional<double> temp_min_c, temp_max_c, ref_temp_c;
+  std::optional<double> temp_min_c;  // lower end, deg C
+  std::optional<double> temp_max_c;  // upper end, deg C
+  std::optional<double> ref_temp_c;  // dT origin, deg C
+  // False with the reason in `error` when a setting is out of range.
   bool IsValid(std::string* error) const;
 };
 

@@ -1,5 +1,6 @@
-// Which estimator of the static curve to export, per axis (issue 22, docs/explanation/flight-controller-export.md "Choosing
-// the weighting per axis (--static-weight auto)").
+// Which estimator of the static curve to export, per axis
+// (docs/explanation/flight-controller-export.md "Choosing the weighting per axis
+// (--static-weight auto)").
 //
 // Two linear estimators of the firmware's cubic from one calibration run (y = the run's values):
 //   time         the least-squares cubic over every sample (what the fitted model's own curve,
@@ -38,8 +39,10 @@
 
 namespace gyrocomp {
 
+// Estimator of the static cubic: by temperature bins, by time (every sample), or chosen per axis.
 enum class StaticWeight { kTemperature, kTime, kAuto };
 std::optional<StaticWeight> ParseStaticWeight(std::string_view name);  // "temperature" | "time" | "auto"
+// The name ParseStaticWeight reads.
 const char* StaticWeightName(StaticWeight weight);
 
 // One estimator's expected next-run error, model target unit, RMS over the condition(s).
@@ -51,22 +54,27 @@ struct StaticEstimatorError {
   double total_rms = 0.0;      // sqrt(rate_gain_rms^2 + noise_rms^2)
 };
 
+// What --static-weight auto chose for one axis, with both estimators' expected errors.
 struct StaticWeightChoice {
   StaticWeight chosen = StaticWeight::kTime;  // kTime or kTemperature
-  StaticEstimatorError time, temperature;
+  StaticEstimatorError time;  // the time estimator's expected error
+  StaticEstimatorError temperature;  // the temperature estimator's expected error
   double rate_gain_rms = 0.0;  // the gain used (model unit per C/s; 0: no left-out gain)
   // Eq. I-1's left-out gain and its SE when the model has them (a fit in memory; a model file
   // keeps only the band's G), and the band's G (the cap).
-  std::optional<double> gain, gain_se;
-  double band_gain_rms = 0.0;
+  std::optional<double> gain;  // Eq. I-1's left-out gain, model unit per C/s
+  std::optional<double> gain_se;  // its SE
+  double band_gain_rms = 0.0;  // the band's G (the cap), model unit per C/s
   std::string reason;          // one line: which and why
 };
 
+// Settings of the static-weight choice.
 struct StaticWeightOptions {
   int bins = 2000;                           // as StaticCubicOptions::bins (>= 8)
   int grid_points = 401;                     // steady: temperatures over the range (>= 8)
   double min_heating_c_per_s = 1.0 / 300.0;  // warm-up: as StateWhileHeating
   double red_block_s = 60.0;                 // flicker / random walk as block means of this period, s (> 0)
+  // False with the reason in `error` when a setting is out of range.
   bool IsValid(std::string* error) const;
 };
 

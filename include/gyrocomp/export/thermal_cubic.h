@@ -30,10 +30,11 @@ namespace gyrocomp {
 // offset(T) = c0 + c1 dT + c2 dT^2 + c3 dT^3, dT = clamp(T, temp_min_c, temp_max_c) - ref_temp_c,
 // in the model's target unit (deg/s for a rate).
 struct TemperatureCubic {
-  double ref_temp_c = 0.0;
-  double temp_min_c = 0.0;
-  double temp_max_c = 0.0;
+  double ref_temp_c = 0.0;  // reference temperature of dT, deg C
+  double temp_min_c = 0.0;  // lower clamp of T, deg C
+  double temp_max_c = 0.0;  // upper clamp of T, deg C
   std::array<double, 4> coeff{};  // c0..c3, target unit / C^k
+  // offset(T) of the formula above, target unit.
   double Evaluate(double temp_c) const;
   // The same cubic scaled by `factor` (unit conversion: deg/s -> rad/s).
   TemperatureCubic Scaled(double factor) const;
@@ -42,7 +43,7 @@ struct TemperatureCubic {
   TemperatureCubic Recentered(double new_ref_c) const;
 };
 
-// What the static cubic is optimised for (issue 22). The firmware's cubic has no thermal state;
+// What the static cubic is optimised for. The firmware's cubic has no thermal state;
 // a model that has one (dT/dt, lag, memory) gives a different curve at each state:
 //   kSteady  the curve at state 0 (temperature held: dT/dt = 0, lag settled). The default.
 //   kWarmUp  the curve along the board's own warm-up: at each temperature the state the
@@ -51,23 +52,26 @@ struct TemperatureCubic {
 // A temperature-only model gives the same cubic for all three.
 enum class CubicCondition { kSteady, kWarmUp, kBoth };
 std::optional<CubicCondition> ParseCubicCondition(std::string_view name);  // "steady" | "warm-up" | "both"
+// The name ParseCubicCondition reads.
 const char* CubicConditionName(CubicCondition condition);
 
 // A model's thermal state as a function of temperature while a record heats: the median state
 // of its heating samples (dT/dt >= min_heating_c_per_s, the centred dT/dt) in bins of bin_c,
 // 0 in bins without any.
 struct StateByTemperature {
-  double t0_c = 0.0;
-  double bin_c = 1.0;
-  std::vector<double> state;
+  double t0_c = 0.0;  // lower edge of bin 0, deg C
+  double bin_c = 1.0;  // bin width, deg C
+  std::vector<double> state;  // median state per bin (0 in bins without heating samples)
+  // The state of the bin holding temp_c (the first / last bin outside them; 0 when empty).
   double At(double temp_c) const;
 };
 // Errors: the record's state cannot be computed (too short, fs <= 0), non-finite values.
 Result<StateByTemperature> StateWhileHeating(const DriftModel& model, const DriftInputs& record,
                                              double min_heating_c_per_s = 1.0 / 300.0, double bin_c = 1.0);
 
+// How ProjectOntoCubic fits the firmware's cubic to a model.
 struct CubicProjectionOptions {
-  CubicCondition condition = CubicCondition::kSteady;
+  CubicCondition condition = CubicCondition::kSteady;  // which state the cubic is fitted at
   // kWarmUp / kBoth with a model that reads a state: required (StateWhileHeating of the
   // calibration run).
   std::optional<StateByTemperature> warm_up;
@@ -76,9 +80,11 @@ struct CubicProjectionOptions {
   int grid_points = 401;
   // Range to project over; automatic: the model's fitted range. Several axes exported together
   // share one range (the autopilots have one TMIN/TMAX per sensor).
-  std::optional<double> temp_min_c, temp_max_c;
+  std::optional<double> temp_min_c;  // lower end, deg C
+  std::optional<double> temp_max_c;  // upper end, deg C
   // dT origin; automatic: the middle of the range (PX4's process_sensor_caldata.py convention).
   std::optional<double> ref_temp_c;
+  // False with the reason in `error` when a setting is out of range.
   bool IsValid(std::string* error) const;
 };
 
@@ -89,10 +95,11 @@ Result<TemperatureCubic> ProjectOntoCubic(const DriftModel& model,
 
 // RMS and largest |full model - cubic| over a record, in the model's target unit.
 struct CubicProjectionCost {
-  std::size_t num_samples = 0;
-  double rms = 0.0;
-  double max_abs = 0.0;
+  std::size_t num_samples = 0;  // samples compared
+  double rms = 0.0;  // RMS of full model - cubic, target unit
+  double max_abs = 0.0;  // largest |full model - cubic|, target unit
   double model_span = 0.0;  // max - min of the full model's prediction over the record
+  // One line for logs: RMS, max, samples, model span.
   std::string BriefReport() const;
 };
 

@@ -31,6 +31,7 @@
 
 namespace gyrocomp {
 
+// Container format of a bag; kNone: not a bag.
 enum class BagFormat { kNone, kMcap, kRos2Sqlite, kRos1 };
 std::string_view BagFormatName(BagFormat format);  // "mcap", "ros2-sqlite3", "rosbag1", "none"
 
@@ -39,15 +40,17 @@ std::string_view BagFormatName(BagFormat format);  // "mcap", "ros2-sqlite3", "r
 // first storage file). kNone otherwise (pipes are never peeked at).
 BagFormat DetectBagFormat(const std::string& path);
 
+// Which time stamps the table's time_s column is.
 enum class BagTimeSource {
   kHeader,   // the message's header.stamp (the sensor driver's time; the default)
   kReceive,  // MCAP Message.log_time, rosbag2 messages.timestamp, ROS 1 message data 'time'
 };
 
+// How ReadBagImu, ListBag and the storage readers read a bag.
 struct BagReadOptions {
   // The sensor_msgs/Imu topic. nullopt: the only one; with several, reading fails and lists them.
   std::optional<std::string> topic;
-  BagTimeSource time = BagTimeSource::kHeader;
+  BagTimeSource time = BagTimeSource::kHeader;  // which stamp becomes time_s
   // Largest decompressed chunk (MCAP Chunk.uncompressed_size, ROS 1 chunk 'size') and largest
   // single record read into memory, bytes. A chunk declaring more is refused before anything is
   // allocated (a compression bomb); decompression never writes past the declared size. rosbag2
@@ -66,14 +69,15 @@ struct BagReadOptions {
   // $TMPDIR (sqlite3 needs a file) and read there. Largest decompressed size, bytes: a file
   // decompressing to more is refused (a compression bomb filling the disk). 64 GiB.
   std::uint64_t max_decompressed_file_bytes = std::uint64_t{64} << 30;
+  // Checks the byte limits are > 0; false with the reason in `error`.
   bool IsValid(std::string* error) const;
 };
 
 // What a storage reader reports to its consumer. Channel ids are the format's own (MCAP channel
 // id, ROS 1 connection id, rosbag2 topics.id).
 struct BagChannel {
-  std::uint64_t id = 0;
-  std::string topic;
+  std::uint64_t id = 0;  // MCAP channel id, ROS 1 connection id or rosbag2 topics.id
+  std::string topic;  // topic name, e.g. "/imu0"
   std::string type;      // "sensor_msgs/msg/Imu" (ROS 2) or "sensor_msgs/Imu" (ROS 1)
   std::string encoding;  // "cdr" or "ros1"
   // How many messages the bag's index says this channel has (ROS 1 chunk info records), when it
@@ -84,18 +88,20 @@ struct BagChannel {
 // Where a record is, for errors (built into text only when one is reported): "byte N", "byte N:
 // chunk byte M" (M from the start of the decompressed chunk at byte N), or "message id N" (sqlite).
 struct BagPosition {
-  std::uint64_t offset = 0;
-  std::optional<std::uint64_t> chunk_byte;
-  std::optional<std::int64_t> message_id;
+  std::uint64_t offset = 0;  // byte offset of the record in the file
+  std::optional<std::uint64_t> chunk_byte;  // offset inside the decompressed chunk, when the record is in one
+  std::optional<std::int64_t> message_id;  // rosbag2 messages.id (sqlite), instead of a byte offset
+  // "byte N", "byte N: chunk byte M" or "message id N".
   std::string ToString() const;
 };
 
+// One message as a storage reader hands it to its visitor; the bytes are valid only during OnMessage.
 struct BagMessage {
-  std::uint64_t channel = 0;
-  std::uint64_t receive_time_ns = 0;
-  const std::uint8_t* data = nullptr;
-  std::size_t size = 0;
-  BagPosition where;
+  std::uint64_t channel = 0;  // BagChannel::id of its channel
+  std::uint64_t receive_time_ns = 0;  // receive (log) time, ns
+  const std::uint8_t* data = nullptr;  // serialised message (CDR or ROS 1), not owned
+  std::size_t size = 0;  // bytes at data
+  BagPosition where;  // where it is in the file, for errors
 };
 
 // The consumer of a stream of channels and messages. Wants() is asked once per message before
@@ -104,8 +110,11 @@ struct BagMessage {
 class BagVisitor {
  public:
   virtual ~BagVisitor() = default;
+  // A new channel (before any message of it); an Error stops the stream.
   virtual std::optional<Error> OnChannel(const BagChannel& channel) = 0;
+  // Whether OnMessage should get this channel's messages.
   virtual bool Wants(std::uint64_t channel) const = 0;
+  // A wanted message; an Error stops the stream.
   virtual std::optional<Error> OnMessage(const BagMessage& message) = 0;
   // Called for every message, wanted or not (counts for `inspect`).
   virtual void Count(std::uint64_t /*channel*/, std::uint64_t /*receive_time_ns*/) {}
@@ -115,11 +124,13 @@ class BagVisitor {
 // "<source>: byte <offset>: <what>" (sqlite: "message id N"), kIo when a file cannot be read.
 std::optional<Error> StreamMcap(std::istream& in, const std::string& source, const BagReadOptions& options,
                                 BagVisitor* visitor);
+// ROS 1 bag (format 2.0) from a stream.
 std::optional<Error> StreamRos1Bag(std::istream& in, const std::string& source, const BagReadOptions& options,
                                    BagVisitor* visitor);
 // The same from a file, memory-mapped (no copy of uncompressed chunks; the pages read are given
 // back as the reader moves on); a file that cannot be mapped is read as a stream.
 std::optional<Error> StreamRos1BagFile(const std::string& path, const BagReadOptions& options, BagVisitor* visitor);
+// rosbag2 sqlite3 storage file (.db3).
 std::optional<Error> StreamRos2Sqlite(const std::string& path, const BagReadOptions& options, BagVisitor* visitor);
 // Any of them by DetectBagFormat; a ROS 2 folder streams its storage files in metadata.yaml's
 // order (relative_file_paths), else in name order.
@@ -127,16 +138,20 @@ std::optional<Error> StreamBag(const std::string& path, const BagReadOptions& op
 
 // One topic of a bag as `inspect` lists it.
 struct BagTopicInfo {
-  std::string topic, type, encoding;
-  std::size_t messages = 0;
-  std::uint64_t first_receive_ns = 0, last_receive_ns = 0;
+  std::string topic;  // topic name
+  std::string type;  // message type, e.g. "sensor_msgs/msg/Imu"
+  std::string encoding;  // "cdr" or "ros1"
+  std::size_t messages = 0;  // messages on the topic
+  std::uint64_t first_receive_ns = 0;  // receive time of the first message, ns
+  std::uint64_t last_receive_ns = 0;  // receive time of the last message, ns
   // (messages - 1) / (last - first) by receive time, Hz; nullopt with fewer than 2 messages.
   std::optional<double> RateHz() const;
 };
 
+// What ListBag found.
 struct BagListing {
-  std::string source;
-  BagFormat format = BagFormat::kNone;
+  std::string source;  // the path given
+  BagFormat format = BagFormat::kNone;  // container format
   std::vector<BagTopicInfo> topics;  // in order of first appearance; one entry per topic name
 };
 
@@ -145,20 +160,23 @@ Result<BagListing> ListBag(const std::string& path, const BagReadOptions& option
 
 // The selected IMU topic as a table (columns above), with where it came from.
 struct BagImuTable {
-  Table table;
-  BagFormat format = BagFormat::kNone;
+  Table table;  // time_s, gyro (rad/s), accel (m/s^2) and, when joined, temperature (deg C) columns
+  BagFormat format = BagFormat::kNone;  // container format read
   std::string topic;                   // the IMU topic read
   std::string temperature_topic;       // "" when none was joined
   std::string origin;                  // "MCAP /imu0 (sensor_msgs/msg/Imu), header stamps"
-  std::vector<std::string> warnings;
+  std::vector<std::string> warnings;  // one line each, e.g. several temperature topics and none joined
 };
 
 // Column names of a bag table.
 inline constexpr const char* kBagTimeCol = "time_s";
+// x, y, z angular velocity, rad/s (sensor frame).
 inline constexpr const char* kBagGyroCols[3] = {"x_rad_s", "y_rad_s", "z_rad_s"};
+// x, y, z linear acceleration, m/s^2 (sensor frame).
 inline constexpr const char* kBagAccelCols[3] = {"x_m_s2", "y_m_s2", "z_m_s2"};
-inline constexpr const char* kBagTempCol = "temp_c";
+inline constexpr const char* kBagTempCol = "temp_c";  // deg C, present when a temperature topic was joined
 
+// Reads the IMU topic (BagReadOptions::topic) of a bag of any supported format as a table.
 Result<BagImuTable> ReadBagImu(const std::string& path, const BagReadOptions& options);
 
 }  // namespace gyrocomp

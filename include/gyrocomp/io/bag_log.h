@@ -19,6 +19,9 @@ BagReadOptions BagOptionsFromSpec(const LogSpec& spec);
 // The BagImuTable as a FlightLogTable (format kRosBag, origin, warnings), for convert / inspect.
 FlightLogTable BagFlightLog(BagImuTable bag);
 
+// ReadLogTable for a ROS bag: ReadBagImu, then `spec` set to the bag table's columns (time_s,
+// x/y/z_rad_s in rad/s unless `spec` names rate columns, temp_c); warnings to spec.on_warning;
+// temp_required without a temperature topic is an error.
 Result<LogTableRead> ReadBagLogTable(const std::string& path, const LogSpec& spec);
 
 }  // namespace gyrocomp

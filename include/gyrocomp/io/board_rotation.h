@@ -22,6 +22,7 @@
 
 namespace gyrocomp {
 
+// Row-major 3 x 3 rotation matrix.
 using Matrix3d = std::array<std::array<double, 3>, 3>;
 
 // Number of named rotations (ROTATION_NONE = 0 .. ROTATION_ROLL_315 = 43; ROTATION_MAX = 44).
@@ -36,6 +37,7 @@ std::optional<Matrix3d> ArduPilotRotationMatrix(int id);
 
 // board = R v (Vector3::rotate) and sensor = R^T v (tempcal_IMU's rotate_by_inverse_id).
 std::array<double, 3> RotateVector(const Matrix3d& r, const std::array<double, 3>& v);
+// sensor = R^T v.
 std::array<double, 3> RotateVectorInverse(const Matrix3d& r, const std::array<double, 3>& v);
 
 }  // namespace gyrocomp

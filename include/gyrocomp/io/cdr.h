@@ -38,41 +38,48 @@ namespace gyrocomp {
 struct ImuMessage {
   std::int64_t stamp_sec = 0;        // header.stamp.sec (ROS 2 int32, ROS 1 uint32 secs)
   std::uint32_t stamp_nanosec = 0;   // header.stamp.nanosec / nsecs
-  double angular_velocity_rad_s[3] = {0, 0, 0};
-  double linear_acceleration_m_s2[3] = {0, 0, 0};
+  double angular_velocity_rad_s[3] = {0, 0, 0};  // angular_velocity x, y, z, rad/s
+  double linear_acceleration_m_s2[3] = {0, 0, 0};  // linear_acceleration x, y, z, m/s^2
   // header.stamp in integer nanoseconds (what the bag's receive times are in).
   std::int64_t StampNs() const { return stamp_sec * 1000000000 + static_cast<std::int64_t>(stamp_nanosec); }
 };
 
+// The fields of sensor_msgs/Temperature the drift fits use.
 struct TemperatureMessage {
-  std::int64_t stamp_sec = 0;
-  std::uint32_t stamp_nanosec = 0;
-  double temperature_c = 0.0;
+  std::int64_t stamp_sec = 0;  // header.stamp.sec (ROS 2 int32, ROS 1 uint32 secs)
+  std::uint32_t stamp_nanosec = 0;  // header.stamp.nanosec / nsecs
+  double temperature_c = 0.0;  // field temperature, deg C
+  // header.stamp in integer nanoseconds.
   std::int64_t StampNs() const { return stamp_sec * 1000000000 + static_cast<std::int64_t>(stamp_nanosec); }
 };
 
 // A decoding failure: `offset` is the byte offset inside the message (0 = its first byte, the
 // encapsulation header for CDR), `what` says what is wrong.
 struct DecodeError {
-  std::size_t offset = 0;
-  std::string what;
+  std::size_t offset = 0;  // byte offset in the message
+  std::string what;  // what is wrong
 };
 
 // ROS 2 CDR (XCDR1, either byte order). Errors: an encapsulation other than CDR_BE / CDR_LE,
 // a message shorter than the fields, a string length past the end or without its NUL, a
 // nanosec >= 1e9.
 std::optional<DecodeError> DecodeCdrImu(const std::uint8_t* data, std::size_t size, ImuMessage* out);
+// sensor_msgs/Temperature in ROS 2 CDR (the same errors as DecodeCdrImu).
 std::optional<DecodeError> DecodeCdrTemperature(const std::uint8_t* data, std::size_t size, TemperatureMessage* out);
 
 // ROS 1 serialization.
 std::optional<DecodeError> DecodeRos1Imu(const std::uint8_t* data, std::size_t size, ImuMessage* out);
+// sensor_msgs/Temperature in ROS 1 serialization.
 std::optional<DecodeError> DecodeRos1Temperature(const std::uint8_t* data, std::size_t size, TemperatureMessage* out);
 
 // The same messages encoded (for tests and the simulators that write bags): CDR_LE or CDR_BE
 // with an empty covariance and identity orientation; ROS 1 with seq = 0.
 std::string EncodeCdrImu(const ImuMessage& m, const std::string& frame_id, bool big_endian);
+// sensor_msgs/Temperature as CDR_LE or CDR_BE.
 std::string EncodeCdrTemperature(const TemperatureMessage& m, const std::string& frame_id, bool big_endian);
+// sensor_msgs/Imu in ROS 1 serialization.
 std::string EncodeRos1Imu(const ImuMessage& m, const std::string& frame_id);
+// sensor_msgs/Temperature in ROS 1 serialization.
 std::string EncodeRos1Temperature(const TemperatureMessage& m, const std::string& frame_id);
 
 }  // namespace gyrocomp

@@ -1,7 +1,7 @@
 // ArduPilot DataFlash (.bin) logs: a compact reader of the IMU gyro rows and the parameters.
 //
 // Format (ArduPilot libraries/AP_Logger/LogStructure.h; reference parser: ArduPilot/pymavlink
-// DFReader.py, DFReader_binary): no file header; every record is A3 95 <uint8 msg type> followed
+// DFReader.py, DFReader_binary): no file header; every record is A3 95 (uint8 msg type) followed
 // by a packed little-endian payload whose layout a FMT record (type 128, 89 bytes: uint8 type,
 // uint8 length incl. the 3 header bytes, char name[4], char format[16], char labels[64]) defines;
 // FMT defines itself. Format characters (DFReader FORMAT_TO_STRUCT): b B h H i I f d q Q, n
@@ -31,29 +31,35 @@
 
 namespace gyrocomp {
 
+// One FMT record: the layout of a message type.
 struct DataFlashFormat {
-  int type = 0;
+  int type = 0;  // message type id (0..255)
   int length = 0;  // bytes, including the 3-byte record header
-  std::string name;
-  std::string format;
-  std::vector<std::string> labels;
+  std::string name;  // message name, e.g. "IMU"
+  std::string format;  // format characters, one per field (see the top of this file)
+  std::vector<std::string> labels;  // field names, e.g. TimeUS, GyrX
 };
 
 // The IMU rows of one instance, values as logged (float32 widened to double, so they
 // compare exactly with pymavlink's extracts): board frame, after ArduPilot's offsets and (with
 // INS_TCALn_ENABLE = 1) its thermal correction; flight_log.h undoes both.
 struct DataFlashImuSeries {
-  int instance = 0;
+  int instance = 0;  // IMU instance (field I, or 0, 1, 2 for IMU, IMU2, IMU3)
   std::string message;  // "IMU" (with field I) or "IMU", "IMU2", "IMU3" (old logs)
-  std::vector<std::uint64_t> time_us;
-  std::vector<double> gyr_x_rad_s, gyr_y_rad_s, gyr_z_rad_s;
+  std::vector<std::uint64_t> time_us;  // field TimeUS, us
+  std::vector<double> gyr_x_rad_s;  // field GyrX, rad/s
+  std::vector<double> gyr_y_rad_s;  // field GyrY, rad/s
+  std::vector<double> gyr_z_rad_s;  // field GyrZ, rad/s
   // Fields AccX, AccY, AccZ (m/s^2, specific force); empty when the message has none.
-  std::vector<double> acc_x_m_s2, acc_y_m_s2, acc_z_m_s2;
+  std::vector<double> acc_x_m_s2;  // field AccX
+  std::vector<double> acc_y_m_s2;  // field AccY
+  std::vector<double> acc_z_m_s2;  // field AccZ
   std::vector<double> temp_c;  // field T
 };
 
+// What ReadDataFlash found.
 struct DataFlashContents {
-  std::string source;
+  std::string source;  // the path (or the name given to ParseDataFlash), for messages
   std::vector<DataFlashFormat> formats;             // in file order (FMT records)
   std::map<std::string, std::size_t> message_counts; // records per message name
   std::map<std::string, double> parameters;          // PARM Name -> Value (last value wins)
@@ -62,24 +68,27 @@ struct DataFlashContents {
   struct ParameterChange {
     std::size_t offset = 0;   // byte offset of the PARM record
     std::uint64_t time_us = 0;  // its TimeUS (0 when it has none)
-    double before = 0.0, after = 0.0;
+    double before = 0.0;  // PARM Value in force before the change
+    double after = 0.0;  // PARM Value after it
   };
+  // Parameter name -> its first change after the first IMU row.
   std::map<std::string, ParameterChange> parameters_changed_during_imu;
   std::vector<DataFlashImuSeries> imus;              // sorted by instance
-  std::size_t num_records = 0;
+  std::size_t num_records = 0;  // records read
   std::vector<std::string> warnings;  // truncated last record, damage (one line)
   // Byte ranges skipped in recovery (DataFlashReadOptions::strict false), in file order.
   std::vector<LogDamage> damage;
+  // One line for logs: source, record, FMT and parameter counts, IMU instances with data.
   std::string BriefReport() const;
 };
 
-// How the IMU rows are kept (issue 22: a 1 h, 1 kHz, 3-IMU log in well under 1 GB).
+// How the IMU rows are kept (memory: a 1 h, 1 kHz, 3-IMU log in well under 1 GB).
 struct DataFlashReadOptions {
   // > 0: each IMU instance is kept as the means of its rows (TimeUS, gyro, accel, T) in
   // consecutive windows of this many microseconds (window k: TimeUS in [k w, (k + 1) w)).
   // 0: every row as logged (the default).
   std::uint64_t average_window_us = 0;
-  // Issue 24 (memory): set, the other IMU instances keep their TimeUS only (row counts stay
+  // Memory: set, the other IMU instances keep their TimeUS only (row counts stay
   // right for messages; gyro, accel and T empty).
   std::optional<int> imu_instance;
   // false (the default): a damaged record (no A3 95, a type no FMT defined, a record not followed
@@ -108,13 +117,18 @@ bool HasDataFlashMagic(const std::uint8_t* data, std::size_t size);
 // T,GH,AH,GHz,AHz), so pymavlink's DFReader and tempcal_IMU.py read it; PARM is "QNff"
 // (TimeUS,Name,Value,Default).
 struct DataFlashImuWriteInput {
-  int instance = 0;
+  int instance = 0;  // IMU instance (field I)
   std::vector<std::uint64_t> time_us;  // strictly increasing
-  std::vector<float> gyr_x_rad_s, gyr_y_rad_s, gyr_z_rad_s;
-  std::vector<float> acc_x_m_s2, acc_y_m_s2, acc_z_m_s2;  // empty: written as 0
-  std::vector<float> temp_c;
+  std::vector<float> gyr_x_rad_s;  // field GyrX, rad/s; same length as time_us
+  std::vector<float> gyr_y_rad_s;  // field GyrY, rad/s
+  std::vector<float> gyr_z_rad_s;  // field GyrZ, rad/s
+  std::vector<float> acc_x_m_s2;  // field AccX, m/s^2; empty: written as 0
+  std::vector<float> acc_y_m_s2;  // field AccY, m/s^2; empty: written as 0
+  std::vector<float> acc_z_m_s2;  // field AccZ, m/s^2; empty: written as 0
+  std::vector<float> temp_c;  // field T, deg C
   std::uint16_t sample_rate_hz = 1000;  // GHz / AHz
 };
+// Input of EncodeDataFlash: the parameters and the IMU instances.
 struct DataFlashWriteInput {
   std::map<std::string, float> parameters;  // written in name order, at TimeUS of the first row
   std::vector<DataFlashImuWriteInput> imus;  // same row count each

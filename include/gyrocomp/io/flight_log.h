@@ -33,7 +33,8 @@
 
 namespace gyrocomp {
 
-enum class LogFormat { kCsv, kULog, kDataFlash, kRosBag };  // kRosBag: gyrocomp/io/bag_log.h (issue 25)
+// Format of a log file; kRosBag: gyrocomp/io/bag_log.h.
+enum class LogFormat { kCsv, kULog, kDataFlash, kRosBag };
 std::string_view LogFormatName(LogFormat format);  // "csv", "ulog", "dataflash", "rosbag"
 
 // The format of `path` from its first bytes (not its name). "-" (stdin), anything that is not a
@@ -44,15 +45,16 @@ LogFormat DetectLogFormat(const std::string& path);
 
 // Column names of a flight-log table.
 inline constexpr const char* kFlightTimeCol = "time_s";
+// x, y, z angular rate, rad/s, sensor frame.
 inline constexpr const char* kFlightRateCols[3] = {"x_rad_s", "y_rad_s", "z_rad_s"};
-inline constexpr const char* kFlightTempCol = "temp_c";
+inline constexpr const char* kFlightTempCol = "temp_c";  // deg C; absent when the log has no temperature
 
 // One gyro instance of a flight log as a table, with where it came from.
 struct FlightLogTable {
-  Table table;
-  LogFormat format = LogFormat::kULog;
+  Table table;  // time_s, the rate columns and temp_c
+  LogFormat format = LogFormat::kULog;  // kULog or kDataFlash
   std::string origin;                     // "ULog sensor_gyro multi_id 0", "DataFlash IMU I=1"
-  int instance = 0;
+  int instance = 0;  // ULog multi_id or DataFlash IMU instance
   std::optional<std::uint32_t> device_id; // ULog sensor_gyro.device_id
   std::vector<std::string> warnings;      // reader warnings + compensation warnings
   std::vector<LogDamage> damage;          // byte ranges the reader skipped (log_damage.h)
@@ -61,14 +63,15 @@ struct FlightLogTable {
 // Picks the instance (`instance`: nullopt = the only one) and builds the table. Errors name the
 // file and list the instances when the choice is missing or wrong (kInvalidInput).
 Result<FlightLogTable> FlightLogFromULog(const ULogContents& log, std::optional<int> instance);
+// The same for a DataFlash log.
 Result<FlightLogTable> FlightLogFromDataFlash(const DataFlashContents& log, std::optional<int> instance);
 
 // One DataFlash IMU instance (gyro and accel) in the sensor frame, as ArduPilot's
 // Tools/scripts/tempcal_IMU.py prepares it: the board rotation AHRS_ORIENTATION undone
-// (sensor = R^T board; every fixed rotation of rotations.h), then, with INS_TCAL<n>_ENABLE = 1,
+// (sensor = R^T board; every fixed rotation of rotations.h), then, with INS_TCAL{n}_ENABLE = 1,
 // correct_sensor's correction added back with the log's own coefficients (v += p(T - 35) -
-// p(Tcal - 35), T and Tcal = INS_GYR<n>_CALTEMP / INS_ACC<n>_CALTEMP clamped to [TMIN, TMAX]; the
-// accel divided by INS_ACC<n>SCAL first, since the firmware scales after correcting). What it did
+// p(Tcal - 35), T and Tcal = INS_GYR{n}_CALTEMP / INS_ACC{n}_CALTEMP clamped to [TMIN, TMAX]; the
+// accel divided by INS_ACC{n}SCAL first, since the firmware scales after correcting). What it did
 // is appended to `notes`. Errors: a custom or unknown AHRS_ORIENTATION, an ENABLE other than 0/1/2.
 Result<DataFlashImuSeries> DataFlashImuToSensorFrame(const DataFlashContents& log, const DataFlashImuSeries& imu,
                                                      std::vector<std::string>* notes);
@@ -84,9 +87,9 @@ Result<FlightLogTable> ReadFlightLog(const std::string& path, std::optional<int>
 // unit rad/s; the warnings are passed to spec.on_warning; temp_required without a temperature
 // column is an error saying which topic has none.
 struct LogTableRead {
-  Table table;
-  LogSpec spec;
-  LogFormat format = LogFormat::kCsv;
+  Table table;  // the log's columns
+  LogSpec spec;  // `spec` adjusted to the table
+  LogFormat format = LogFormat::kCsv;  // detected format
   std::optional<FlightLogTable> flight;  // without its table (moved to `table`)
 };
 // `strict`: as for ReadFlightLog (the damage skipped otherwise is in `flight->damage`).

@@ -25,6 +25,7 @@
 
 namespace gyrocomp {
 
+// Which columns of a log are time, rate and temperature, in which unit, and what is refused.
 struct LogSpec {
   // Name of the time column (seconds). If absent from the file and fs_hz is set, time is i/fs.
   std::string time_col = "time_s";
@@ -35,7 +36,7 @@ struct LogSpec {
   RateUnit rate_unit = RateUnit::kDegPerSec;
   // Temperature column (deg C). Required only when temp_required.
   std::string temp_col = "temp_c";
-  bool temp_required = false;
+  bool temp_required = false;  // false: a log without temp_col loads with empty temp_c
   // Rate columns are required unless the caller only needs other columns.
   bool rates_required = true;
   // Sample rate when the file has no time column (Hz). If both are given, the time column wins
@@ -50,16 +51,16 @@ struct LogSpec {
   // is irregular if more than max_irregular_fraction of the intervals do, or any interval is a
   // gap (> gap_factor * median_dt).
   double jitter_tolerance = 0.1;
-  double max_irregular_fraction = 0.001;
-  double gap_factor = 1.5;
+  double max_irregular_fraction = 0.001;  // fraction of irregular intervals above which the log is irregular
+  double gap_factor = 1.5;  // an interval > gap_factor * median_dt is a gap
   // Values no instrument produces are refused at load with the file, line and value, so no stage
   // meets a number near the end of the double range: |rate| above max_abs_rate_dps (after the
   // unit conversion; MEMS full scales are <= 1e4 deg/s), a temperature outside
   // [min_temp_c, max_temp_c] (absolute zero .. 1000 C), a sample rate (given or measured from
   // the time column) outside [kMinFsHz, kMaxFsHz].
   double max_abs_rate_dps = 1e6;
-  double min_temp_c = -273.15;
-  double max_temp_c = 1000.0;
+  double min_temp_c = -273.15;  // deg C; lowest temperature accepted
+  double max_temp_c = 1000.0;  // deg C; highest temperature accepted
   static constexpr double kMinFsHz = 1e-6;  // one sample in ~11.6 days
   static constexpr double kMaxFsHz = 1e9;   // 1 GHz
   // Memory resampling may take, bytes: --resample 1e9 (or a 1e9 s gap) is refused before the
@@ -71,7 +72,7 @@ struct LogSpec {
   // ROS bags (gyrocomp/io/bag.h): the sensor_msgs/Imu topic (nullopt: the only one; with
   // several, reading fails and lists them) and the time of a row (header stamp or receive time).
   std::optional<std::string> topic;
-  BagTimeSource bag_time = BagTimeSource::kHeader;
+  BagTimeSource bag_time = BagTimeSource::kHeader;  // which stamp is a row's time
   // CSV input read by ReadLogTable: the columns kept in memory besides time_col, rate_cols and
   // temp_col. nullopt (default): every column of the file (for commands whose output is "the
   // input columns plus ..."). A list (may be empty): only those; the cells of the others are
@@ -89,30 +90,32 @@ struct LogSpec {
 // What the sampling check found, and what (if anything) was done about it.
 struct SamplingReport {
   double fs_hz = 0.0;            // rate of the returned (uniform) log
-  double median_dt_s = 0.0;
-  double min_dt_s = 0.0;
-  double max_dt_s = 0.0;
-  std::size_t num_intervals = 0;
+  double median_dt_s = 0.0;  // median sample interval, s
+  double min_dt_s = 0.0;  // shortest interval, s
+  double max_dt_s = 0.0;  // longest interval, s
+  std::size_t num_intervals = 0;  // time intervals checked
   std::size_t num_irregular = 0; // intervals outside the jitter tolerance
   std::size_t num_gaps = 0;      // intervals > gap_factor * median_dt
-  double longest_gap_s = 0.0;
-  bool irregular = false;
-  bool resampled = false;
+  double longest_gap_s = 0.0;  // longest gap, s (0 without gaps)
+  bool irregular = false;  // more than max_irregular_fraction irregular intervals, or a gap
+  bool resampled = false;  // put on a uniform grid (LogSpec::resample_hz)
   std::size_t rows_in = 0;       // rows read
   std::size_t rows_out = 0;      // rows after resampling
   std::size_t rows_in_gaps = 0;  // resampled rows that lie inside a gap (interpolated across it)
   bool time_from_fs = false;     // no time column: time = i / LogSpec::fs_hz
+  // One line for logs: the rate, the intervals and what was done about them.
   std::string BriefReport() const;
 };
 
+// A loaded gyro record: uniform time, rates in deg/s per axis, temperature.
 struct GyroLog {
-  std::string source;
-  double fs_hz = 0.0;
-  std::vector<double> time_s;
+  std::string source;  // the file path, for messages
+  double fs_hz = 0.0;  // sample rate, Hz
+  std::vector<double> time_s;  // s, uniform at fs_hz
   std::vector<std::string> axis_names;          // the rate column names, in order
   std::vector<std::vector<double>> rate_dps;    // one vector per axis
   std::vector<double> temp_c;                   // empty when the file has no temperature
-  SamplingReport sampling;
+  SamplingReport sampling;  // how the time column was checked and what was done
   // Flight-controller logs only (gyrocomp/io/flight_log.h). The gyro's device id as logged in
   // PX4 ULog sensor_gyro.device_id (what PX4's TC_G{i}_ID holds); empty for CSV, DataFlash and
   // ULog sensor_combined, which do not log one.
@@ -125,7 +128,9 @@ struct GyroLog {
   // What the flight-log reader warned about (truncated last record, rates that may already be
   // compensated); also passed to LogSpec::on_warning as they happen.
   std::vector<std::string> warnings;
+  // Samples per axis.
   std::size_t num_samples() const { return time_s.size(); }
+  // True when the log has a temperature column.
   bool has_temperature() const { return !temp_c.empty(); }
 };
 

@@ -27,6 +27,7 @@ struct Table {
   // with CsvReadOptions::columns); empty when `names` is the whole header. For messages: the
   // columns a file has, and the column number of a kept column (FileColumn).
   std::vector<std::string> header;
+  // Number of rows (of the first column; 0 without columns).
   std::size_t num_rows() const { return columns.empty() ? 0 : columns.front().size(); }
   // Index of the named column, or -1.
   int Find(const std::string& name) const;
@@ -43,8 +44,9 @@ struct Table {
   bool Set(std::string name, std::vector<double> values);
 };
 
+// How ReadCsv parses and checks a file.
 struct CsvReadOptions {
-  // Field separator. Comma by default; a header that only parses with ';' or '\t' is an error
+  // Field separator. Comma by default; a header that only parses with ';' or a tab is an error
   // that says so.
   char delimiter = ',';
   // Reject NaN / Inf cells (the gyro pipeline cannot use them). A cell reading "nan" is reported

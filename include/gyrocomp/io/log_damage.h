@@ -18,8 +18,8 @@ namespace gyrocomp {
 
 // One skipped byte range [begin, end) of the file.
 struct LogDamage {
-  std::size_t begin = 0;
-  std::size_t end = 0;
+  std::size_t begin = 0;  // byte offset of the first skipped byte
+  std::size_t end = 0;  // byte offset just past the last skipped byte
   std::string what;  // why the record at `begin` was refused
   // Rows lost, per topic and instance ("sensor_gyro 0", "IMU 1"), for the records in the range
   // whose topic could still be told (a record header intact, or a data size only one topic has).

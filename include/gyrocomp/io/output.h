@@ -42,6 +42,8 @@
 
 namespace gyrocomp {
 
+// A command's output files, written all or none: each is staged in a temporary beside its target
+// and renamed over it on Commit().
 class OutputSet {
  public:
   OutputSet();
@@ -65,6 +67,7 @@ class OutputSet {
   // Writes the content of a declared destination (declares it first when it was not). Each
   // destination takes exactly one Stage call.
   Status StageCsv(const std::string& path, const Table& table);
+  // The same with text content.
   Status StageText(const std::string& path, std::string_view text);
 
   // fsync's and renames every staged temporary over its target, then writes the buffered
@@ -95,13 +98,14 @@ class OutputSet {
 // a fixed table of lock-free slots, calls only unlink): meant for a program's SIGINT / SIGTERM
 // handler, which then calls _exit.
 // Then removes (rmdir: only when empty) every folder listed below, so a signal leaves no folder
-// a command created for its outputs either (issue 24: `demo --out` after Ctrl-C).
+// a command created for its outputs either (e.g. `demo --out` after Ctrl-C).
 void RemoveLiveTemporaryFiles() noexcept;
 
 // A folder a command created for its outputs, listed for RemoveLiveTemporaryFiles. Returns a
 // handle for UnlistCreatedFolder, or -1 (table full, path too long: then only the command's own
 // cleanup removes it).
 int ListCreatedFolder(const std::string& path);
+// Removes a folder from the list (the command cleaned up or kept it).
 void UnlistCreatedFolder(int handle);
 
 }  // namespace gyrocomp

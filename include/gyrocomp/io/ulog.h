@@ -35,10 +35,10 @@ namespace gyrocomp {
 
 // One 'A' subscription: a topic instance and how many 'D' rows it has.
 struct ULogTopic {
-  std::string name;
-  int multi_id = 0;
-  int msg_id = 0;
-  std::size_t rows = 0;
+  std::string name;  // topic name, e.g. "sensor_gyro"
+  int multi_id = 0;  // instance of the topic (0 for the first)
+  int msg_id = 0;  // subscription's msg id, as the 'D' rows cite it
+  std::size_t rows = 0;  // number of 'D' rows read for this subscription
 };
 
 // The gyro rows of one subscription of sensor_gyro (x, y, z in rad/s, temperature in deg C,
@@ -46,9 +46,11 @@ struct ULogTopic {
 // (float32 widened to double, so they compare exactly with pyulog's extracts).
 struct ULogGyroSeries {
   std::string topic;  // "sensor_gyro" or "sensor_combined"
-  int multi_id = 0;
+  int multi_id = 0;  // instance of the topic (PX4's gyro instance)
   std::vector<std::uint64_t> timestamp_us;  // field 'timestamp'
-  std::vector<double> x_rad_s, y_rad_s, z_rad_s;
+  std::vector<double> x_rad_s;  // rad/s, sensor frame
+  std::vector<double> y_rad_s;  // rad/s
+  std::vector<double> z_rad_s;  // rad/s
   std::vector<double> temperature_c;  // empty for sensor_combined
   // sensor_gyro.device_id of the first row (PX4's TC_G{i}_ID); a change of device id inside the
   // series is a warning.
@@ -58,68 +60,74 @@ struct ULogGyroSeries {
 // sensor_accel (x, y, z: specific force, m/s^2, sensor frame, before PX4's calibration) and
 // sensor_baro (pressure in Pa as current PX4 logs it, temperature) subscriptions with rows.
 struct ULogAccelSeries {
-  int multi_id = 0;
-  std::vector<std::uint64_t> timestamp_us;
-  std::vector<double> x_m_s2, y_m_s2, z_m_s2;
-  std::vector<double> temperature_c;
+  int multi_id = 0;  // instance of sensor_accel
+  std::vector<std::uint64_t> timestamp_us;  // field 'timestamp'
+  std::vector<double> x_m_s2;  // m/s^2
+  std::vector<double> y_m_s2;  // m/s^2
+  std::vector<double> z_m_s2;  // m/s^2
+  std::vector<double> temperature_c;  // deg C
   std::optional<std::uint32_t> device_id;  // first row's
 };
+// A sensor_baro subscription with rows.
 struct ULogBaroSeries {
-  int multi_id = 0;
-  std::vector<std::uint64_t> timestamp_us;
-  std::vector<double> pressure_pa;
-  std::vector<double> temperature_c;
-  std::optional<std::uint32_t> device_id;
+  int multi_id = 0;  // instance of sensor_baro
+  std::vector<std::uint64_t> timestamp_us;  // field 'timestamp'
+  std::vector<double> pressure_pa;  // Pa
+  std::vector<double> temperature_c;  // deg C
+  std::optional<std::uint32_t> device_id;  // first row's
 };
 
+// One dropout ('O') message: the logger lost data for duration_ms.
 struct ULogDropout {
   std::size_t offset = 0;       // byte offset of the 'O' message
-  std::uint16_t duration_ms = 0;
+  std::uint16_t duration_ms = 0;  // lost time, ms
 };
 
 // What ReadULog found.
 struct ULogContents {
-  std::string source;
-  int version = 0;
-  std::uint64_t start_timestamp_us = 0;
+  std::string source;  // the path (or the name given to ParseULog), for messages
+  int version = 0;  // file format version from the header
+  std::uint64_t start_timestamp_us = 0;  // header timestamp, us
   std::vector<std::uint64_t> appended_offsets;  // from the 'B' message, zeros dropped
   std::vector<ULogTopic> topics;                // in subscription order
   // Parameters: the initial value ('P' in the definitions), overwritten by later changes ('P' in
   // the data section). int32 parameters widened to double.
   std::map<std::string, double> parameters;
   std::map<std::string, std::string> info;  // 'I' string values (sys_name, ver_hw, ...)
-  std::vector<ULogDropout> dropouts;
+  std::vector<ULogDropout> dropouts;  // every 'O' message, in file order
   std::vector<ULogGyroSeries> gyros;     // every sensor_gyro subscription with rows
   std::vector<ULogGyroSeries> combined;  // every sensor_combined subscription with rows
   std::vector<ULogAccelSeries> accels;   // every sensor_accel subscription with rows
   std::vector<ULogBaroSeries> baros;     // every sensor_baro subscription with rows
-  std::size_t num_messages = 0;
+  std::size_t num_messages = 0;  // messages read, of every type
   std::vector<std::string> warnings;  // truncated last record(s), device-id changes, damage (one line)
   // Byte ranges skipped in recovery (ULogReadOptions::strict false), in file order.
   std::vector<LogDamage> damage;
+  // One line for logs: source, version, message count, subscriptions, dropouts.
   std::string BriefReport() const;
 };
 
-// How the sensor series are kept (issue 22: a 1 h, 1 kHz, 3-IMU log in well under 1 GB).
+// How the sensor series are kept (memory: a 1 h, 1 kHz, 3-IMU log in well under 1 GB).
 struct ULogReadOptions {
   // > 0: every sensor series (sensor_gyro / combined / accel / baro) is kept as the means of its
   // rows in consecutive windows of this many microseconds of 'timestamp' (window k: timestamps
   // in [k w, (k + 1) w)), timestamp included: one row per window with data. 0: every row as
   // logged (the default).
   std::uint64_t average_window_us = 0;
-  // Issue 24 (memory; a gyro command reads one gyro of a 1 GB log): false drops the rows of
+  // Memory (a gyro command reads one gyro of a 1 GB log): false drops the rows of
   // sensor_accel and sensor_baro (their subscriptions are still listed in `topics`, the series
   // are absent as for a subscription without rows); `gyro_instance` set keeps, of the other
   // sensor_gyro / sensor_combined instances, the timestamps only (their row counts and device
   // ids stay right for messages; x, y, z and temperature are empty).
   bool keep_accel_baro = true;
-  std::optional<int> gyro_instance;
+  std::optional<int> gyro_instance;  // see keep_accel_baro
   // false (the default): a damaged record (a data message for no subscription or of the wrong
   // size, a size running past the data into valid records, an unknown type followed by no valid
   // message, a malformed definition) is skipped up to the next valid record (log_damage.h), the
   // rows of every intact record are kept, and ULogContents::damage lists what was skipped.
   // true: the first damaged record is an error naming its byte offset.
   bool strict = false;
+  // Every combination is valid; here for the one-Options-struct pattern.
   bool IsValid(std::string* error) const { (void)error; return true; }
 };
 
@@ -138,8 +146,11 @@ bool HasULogMagic(const std::uint8_t* data, std::size_t size);
 // A sensor_gyro series to write as a ULog (one subscription, multi_id 0).
 struct ULogGyroWriteInput {
   std::vector<std::uint64_t> timestamp_us;  // strictly increasing
-  std::vector<float> x_rad_s, y_rad_s, z_rad_s, temperature_c;  // same length as timestamp_us
-  std::uint32_t device_id = 0;
+  std::vector<float> x_rad_s;  // same length as timestamp_us
+  std::vector<float> y_rad_s;  // same length as timestamp_us
+  std::vector<float> z_rad_s;  // same length as timestamp_us
+  std::vector<float> temperature_c;  // same length as timestamp_us
+  std::uint32_t device_id = 0;  // written in every row's device_id
   std::string sys_name = "gyrocomp";  // 'I' char[] sys_name
   // Parameters written as 'P' int32 entries (e.g. TC_G_ENABLE = 0).
   std::map<std::string, std::int32_t> int_parameters = {{"TC_G_ENABLE", 0}};
@@ -157,18 +168,23 @@ Result<std::string> EncodeULogGyro(const ULogGyroWriteInput& input);
 // process_sensor_caldata.py read it. Rows of all series are written in time order.
 struct ULogSensorWriteSeries {
   std::string topic;  // "sensor_gyro" | "sensor_accel" | "sensor_baro"
-  int multi_id = 0;
-  std::uint32_t device_id = 0;
+  int multi_id = 0;  // instance of the topic
+  std::uint32_t device_id = 0;  // written in every row's device_id
   std::vector<std::uint64_t> timestamp_us;  // strictly increasing
-  std::vector<float> x, y, z;               // baro: x only (pressure, Pa)
-  std::vector<float> temperature_c;
+  std::vector<float> x;  // gyro rad/s, accel m/s^2, baro pressure in Pa
+  std::vector<float> y;  // baro: empty
+  std::vector<float> z;  // baro: empty
+  std::vector<float> temperature_c;  // deg C, same length as timestamp_us
 };
+// Input of EncodeULog: the series and the 'I' / 'P' entries of the file.
 struct ULogWriteInput {
-  std::string sys_name = "gyrocomp";
-  std::map<std::string, std::int32_t> int_parameters;
-  std::map<std::string, float> float_parameters;
-  std::vector<ULogSensorWriteSeries> series;
+  std::string sys_name = "gyrocomp";  // 'I' char[] sys_name
+  std::map<std::string, std::int32_t> int_parameters;  // written as 'P' int32 entries
+  std::map<std::string, float> float_parameters;  // written as 'P' float entries
+  std::vector<ULogSensorWriteSeries> series;  // in any order; one subscription each
 };
+// The bytes of a version-1 ULog holding `input`. Errors (kInvalidArgument): a series' lengths
+// differ or its time is not increasing, a name is too long.
 Result<std::string> EncodeULog(const ULogWriteInput& input);
 
 // PX4's device id (src/drivers/device/Device.hpp, union DeviceStructure: bus_type 3 bits, bus 5

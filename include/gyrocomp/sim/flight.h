@@ -14,6 +14,7 @@
 
 namespace gyrocomp {
 
+// Settings of SimulateFlight: the phases' durations, the temperatures, the noise and motion.
 struct FlightSimOptions {
   double fs_hz = 200.0;               // IMU rows per second
   double ambient_c = 20.0;            // air temperature at power-on, C
@@ -32,18 +33,23 @@ struct FlightSimOptions {
   double vibration_gyro_dps = 3.0;    // motor vibration on the gyro (1 sigma), deg/s
   double vibration_accel_m_s2 = 3.0;  // motor vibration on the accelerometer (1 sigma), m/s^2
   double manoeuvre_rate_dps = 60.0;   // manoeuvre body rates, amplitude, deg/s
-  std::uint64_t seed = 1;
+  std::uint64_t seed = 1;  // seed of the noise and offsets; the same seed gives the same run
+  // False with the reason in `error` when a setting is out of range.
   bool IsValid(std::string* error) const;
 };
 
+// A simulated flight log with its ground truth, one entry per IMU row.
 struct FlightRun {
-  std::vector<double> time_s, temp_c;
-  std::array<std::vector<double>, 3> gyro_rad_s, accel_m_s2;  // sensor frame (FRD)
+  std::vector<double> time_s;  // s
+  std::vector<double> temp_c;  // board temperature, deg C
+  std::array<std::vector<double>, 3> gyro_rad_s;  // x, y, z angular rate, rad/s, sensor frame (FRD)
+  std::array<std::vector<double>, 3> accel_m_s2;  // x, y, z specific force, m/s^2, sensor frame (FRD)
   std::vector<bool> armed;        // the log's armed state
   std::vector<bool> landed;       // the log's landed state
   std::vector<bool> truly_still;  // ground truth: disarmed on the ground, nothing moving
 };
 
+// Simulates one flight. Errors: invalid options (kInvalidArgument).
 Result<FlightRun> SimulateFlight(const FlightSimOptions& options);
 
 }  // namespace gyrocomp

@@ -104,9 +104,9 @@ struct CalibratedSensor {
     std::size_t rows = 0;  // rows of the validation run after the block means
     double temp_min_c = 0.0;  // lowest temperature of the validation run, deg C
     double temp_max_c = 0.0;  // highest, deg C
-    std::vector<double> raw;  // uncorrected rows
-    std::vector<double> cubic;  // corrected by the exported cubic
-    std::vector<double> full_model;  // corrected by the full model
+    std::vector<double> raw;  // per axis, of the uncorrected rows
+    std::vector<double> cubic;  // per axis, after the exported cubic (firmware formula)
+    std::vector<double> full_model;  // per axis, after the full model
   };
   std::optional<Validation> validation;  // the scores on CalibrateOptions::validation_path, when given
   int runs_combined = 1;  // logs whose cubics were averaged

@@ -22,7 +22,7 @@
 
 namespace gyrocomp {
 
-// Row-major 3 x 3 rotation matrix.
+// 3 x 3 rotation matrix, r[row][column].
 using Matrix3d = std::array<std::array<double, 3>, 3>;
 
 // Number of named rotations (ROTATION_NONE = 0 .. ROTATION_ROLL_315 = 43; ROTATION_MAX = 44).

@@ -44,7 +44,7 @@ struct ImuMessage {
   std::int64_t StampNs() const { return stamp_sec * 1000000000 + static_cast<std::int64_t>(stamp_nanosec); }
 };
 
-// The fields of sensor_msgs/Temperature the drift fits use.
+// The fields of sensor_msgs/Temperature gyrocomp reads.
 struct TemperatureMessage {
   std::int64_t stamp_sec = 0;  // header.stamp.sec (ROS 2 int32, ROS 1 uint32 secs)
   std::uint32_t stamp_nanosec = 0;  // header.stamp.nanosec / nsecs

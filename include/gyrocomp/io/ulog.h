@@ -127,7 +127,7 @@ struct ULogReadOptions {
   // rows of every intact record are kept, and ULogContents::damage lists what was skipped.
   // true: the first damaged record is an error naming its byte offset.
   bool strict = false;
-  // Every combination is valid; here for the one-Options-struct pattern.
+  // Always true: every combination of the options is valid.
   bool IsValid(std::string* error) const { (void)error; return true; }
 };
 

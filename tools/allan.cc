@@ -346,7 +346,7 @@ int Run(const AllanArgs& a) {
       std::cout << results[i].BriefReport() << "\n";
       if (!out->deviations.empty()) {
         const DeviationCurve& d = out->deviations[i];
-        std::cout << "  " << DeviationKindName(d.kind) << ": " << d.size() << " taus in " << d.seconds << " s\n";
+        std::cout << "  " << DeviationKindName(d.kind) << ": " << d.size() << " taus\n";
       }
     }
     // A named copy: items() of the temporary j.value() returns would outlive it (ASan:

@@ -55,13 +55,13 @@ double UncompensatedRms(const Sensor& s) {
 }
 
 // The expected next-run error of the exported cubics (the condition --optimise-for chose), RMS
-// over the axes; NaN without a band.
+// over the axes, firmware unit (CubicExpectedError is in the model's unit); NaN without a band.
 double ExpectedRms(const Sensor& s, bool warm_up) {
   std::vector<double> per_axis;
   for (const std::optional<CubicExpectedError>& e : s.expected) {
     if (!e) return NAN;
-    if (warm_up && e->warm_up) per_axis.push_back(e->warm_up->total_rms);
-    else per_axis.push_back(e->steady.total_rms);
+    const double model_unit = warm_up && e->warm_up ? e->warm_up->total_rms : e->steady.total_rms;
+    per_axis.push_back(model_unit / s.to_model);
   }
   return AxisRms(per_axis);
 }

@@ -672,8 +672,7 @@ std::string AllanResult::BriefReport() const {
       os << "n/a (no +1/2 region)";
     }
   }
-  os << "; " << seconds << " s";
-  return os.str();
+  return os.str();  // the computing time is in the JSON ("seconds"), not in a line a person reads
 }
 
 }  // namespace gyrocomp

@@ -150,7 +150,8 @@ TEST_F(FitApplyCli, NoiseModelAllanFitsByGlsAndKeepsTheFileSchema) {
   ASSERT_EQ(Run("simulate --fs 0.5 --seed 3 -o " + dir_ + "/run.csv", &out), 0) << out;
   const std::string fit = "fit -i " + dir_ + "/run.csv --model poly --inputs temp,dtemp ";
   ASSERT_EQ(Run(fit + "-o " + dir_ + "/ols.json --json " + dir_ + "/ols.fit.json", &out), 0) << out;
-  ASSERT_EQ(Run(fit + "--noise-model allan -o " + dir_ + "/gls.json --json " + dir_ + "/gls.fit.json", &out), 0) << out;
+  ASSERT_EQ(Run(fit + "--noise-model allan --verbose -o " + dir_ + "/gls.json --json " + dir_ + "/gls.fit.json", &out), 0)
+      << out;
   EXPECT_NE(out.find("noise model allan (generalised least squares)"), std::string::npos) << out;
   const nlohmann::json oj = testing::ReadJsonFile(dir_ + "/ols.fit.json");
   const nlohmann::json gj = testing::ReadJsonFile(dir_ + "/gls.fit.json");

@@ -134,6 +134,7 @@ class Parser {
   void NoteDamage(std::size_t begin, std::size_t resume, const std::string& what);
   std::optional<Error> ParseMessage(char type, std::size_t at, const std::uint8_t* p, std::size_t len);
   std::optional<Error> ParseFlagBits(std::size_t at, const std::uint8_t* p, std::size_t len);
+  bool unknown_incompat_ = false;  // the 'B' message set incompatible flags this reader does not know
   std::optional<Error> ParseFormat(std::size_t at, const std::uint8_t* p, std::size_t len);
   std::optional<Error> ParseKeyValue(char type, std::size_t at, const std::uint8_t* p, std::size_t len);
   std::optional<Error> ParseSubscription(std::size_t at, const std::uint8_t* p, std::size_t len);
@@ -326,7 +327,9 @@ std::optional<Error> Parser::ParseAll() {
       e = ParseMessage(type, pos, d_ + pos + kMessageHeaderBytes, len);
     }
     if (e) {
-      if (!recover) return e;
+      // Unknown incompatible flags (spec "Flag Bits Message": a parser must not read such a log)
+      // are a refusal even when recovering, not a damaged record to skip.
+      if (!recover || unknown_incompat_) return e;
       // Resume right after the refused record when its size leads to a valid record (only the
       // record itself was damaged, e.g. its msg_id), else at the next valid record after it.
       std::optional<std::size_t> next;
@@ -375,10 +378,9 @@ std::optional<Error> Parser::ParseFlagBits(std::size_t at, const std::uint8_t* p
   if (!first_message_) return Bad(at, "flag bits message ('B') is not the first message");
   if (len < 40) return Bad(at, "flag bits message ('B') of " + std::to_string(len) + " bytes, needs 40");
   const std::uint8_t* incompat = p + 8;
-  if ((incompat[0] & ~1u) != 0) return Bad(at, "unknown incompatible flag bits set: cannot parse the log");
-  for (int i = 1; i < 8; ++i) {
-    if (incompat[i] != 0) return Bad(at, "unknown incompatible flag bits set: cannot parse the log");
-  }
+  unknown_incompat_ = (incompat[0] & ~1u) != 0;
+  for (int i = 1; i < 8; ++i) unknown_incompat_ = unknown_incompat_ || incompat[i] != 0;
+  if (unknown_incompat_) return Bad(at, "unknown incompatible flag bits set: cannot parse the log");
   if ((incompat[0] & 1u) == 0) return std::nullopt;
   std::size_t after = at + kMessageHeaderBytes + len;
   for (int i = 0; i < 3; ++i) {

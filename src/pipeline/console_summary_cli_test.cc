@@ -23,6 +23,14 @@ std::vector<std::string> Lines(const std::string& text) {
 
 bool Has(const std::string& text, const std::string& what) { return text.find(what) != std::string::npos; }
 
+// The summary without the warnings printed before it (each is a line "gyrocomp CMD: warning: ...").
+std::vector<std::string> SummaryLines(const std::string& text) {
+  std::vector<std::string> lines;
+  for (const std::string& line : Lines(text))
+    if (!Has(line, ": warning: ")) lines.push_back(line);
+  return lines;
+}
+
 class ConsoleSummaryCli : public testing::CliTest {
  protected:
   ConsoleSummaryCli() : CliTest("gyrocomp_console_summary") {}
@@ -41,7 +49,7 @@ TEST_F(ConsoleSummaryCli, ProcessPrintsWhatWasReadTheModelAndAllanBeforeAfter) {
   std::string out;
   const std::string fast = " --nests 6 --generations 3 --bandwidth-segment 4096";
   ASSERT_EQ(Run("process -i " + dir_ + "/run.csv -o " + dir_ + "/out.csv" + fast, &out), 0) << out;
-  const std::vector<std::string> lines = Lines(out);
+  const std::vector<std::string> lines = SummaryLines(out);
   ASSERT_GE(lines.size(), 5u) << out;
   EXPECT_LE(lines.size(), 15u) << out;
   EXPECT_TRUE(Has(lines[0], "gyrocomp process: ") && Has(lines[0], "samples at") && Has(lines[0], " h)")) << out;
@@ -59,7 +67,7 @@ TEST_F(ConsoleSummaryCli, ValidatePrintsTheResidualBesideTheUncompensatedDrift) 
   ASSERT_EQ(Run("fit -i " + dir_ + "/run.csv --model poly --inputs temp,dtemp -o " + dir_ + "/m.json", &out), 0)
       << out;
   ASSERT_EQ(Run("validate -m " + dir_ + "/m.json -i " + dir_ + "/run2.csv", &out), 0) << out;
-  const std::vector<std::string> lines = Lines(out);
+  const std::vector<std::string> lines = SummaryLines(out);
   ASSERT_GE(lines.size(), 2u) << out;
   EXPECT_LE(lines.size(), 15u) << out;
   EXPECT_TRUE(Has(lines[0], "rate_dps: residual drift ") && Has(lines[0], " RMS against ") &&
@@ -76,7 +84,7 @@ TEST_F(ConsoleSummaryCli, ValidatePrintsTheResidualBesideTheUncompensatedDrift) 
 TEST_F(ConsoleSummaryCli, FitPrintsTheModelEachTermsGainAndTheExpectedError) {
   std::string out;
   ASSERT_EQ(Run("fit -i " + dir_ + "/run.csv -o " + dir_ + "/auto.json", &out), 0) << out;
-  const std::vector<std::string> lines = Lines(out);
+  const std::vector<std::string> lines = SummaryLines(out);
   ASSERT_GE(lines.size(), 3u) << out;
   EXPECT_LE(lines.size(), 15u) << out;
   EXPECT_TRUE(Has(lines[0], "rate_dps: poly(") && Has(lines[0], "CV error") && Has(lines[0], "drift span")) << out;
@@ -93,7 +101,7 @@ TEST_F(ConsoleSummaryCli, CalibratePrintsAHeaderOneLinePerSensorAndTheFileWritte
   ASSERT_EQ(Run("simulate --profile ramp --imus 3 --fs 100 --log-rate 20 --seed 3 --room-temp -10 --ramp-end 50"
                 " --duration 7200 -o " + dir_ + "/board.ulg", &out), 0) << out;
   ASSERT_EQ(Run("calibrate -i " + dir_ + "/board.ulg --format px4 -o " + dir_ + "/tc.params", &out), 0) << out;
-  const std::vector<std::string> lines = Lines(out);
+  const std::vector<std::string> lines = SummaryLines(out);
   ASSERT_EQ(lines.size(), 1u + 7u + 1u) << out;
   EXPECT_TRUE(Has(lines[0], "gyrocomp calibrate: 1 log (") && Has(lines[0], "7 of 7 sensors calibrated")) << out;
   for (int k = 1; k <= 3; ++k) {
@@ -112,7 +120,7 @@ TEST_F(ConsoleSummaryCli, CalibratePrintsAHeaderOneLinePerSensorAndTheFileWritte
 TEST_F(ConsoleSummaryCli, PlanPrintsOneRowPerProfileAndTheRecommendation) {
   std::string out;
   ASSERT_EQ(Run("plan --profiles ramp,paper --seeds 1 --fs 0.2", &out), 0) << out;
-  const std::vector<std::string> lines = Lines(out);
+  const std::vector<std::string> lines = SummaryLines(out);
   ASSERT_EQ(lines.size(), 5u) << out;
   EXPECT_TRUE(Has(lines[0], "unit: ARW ") && Has(lines[0], " C")) << out;
   EXPECT_TRUE(Has(lines[2], "  ramp ") && (Has(lines[2], "mdps") || Has(lines[2], "deg/s"))) << out;

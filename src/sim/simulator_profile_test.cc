@@ -118,7 +118,7 @@ TEST(SimulatorProfile, PlanReportsTheSimulatedErrorsStandardError) {
   if (cli.empty()) GTEST_SKIP() << "the gyrocomp CLI is not built (GYROCOMP_BUILD_CLI=OFF)";
   const std::string dir = testing::MakeTempDir("sim_plan_se_test");
   std::string out;
-  ASSERT_EQ(testing::RunCommand(cli + " plan --profiles ramp --seeds 3 --fs 0.2 --json " + dir + "/p.json", &out), 0)
+  ASSERT_EQ(testing::RunCommand(cli + " plan --profiles ramp --seeds 3 --fs 0.2 --verbose --json " + dir + "/p.json", &out), 0)
       << out;
   EXPECT_NE(out.find("simulated: 1 SE (seeds)"), std::string::npos) << out;
   nlohmann::json j = testing::ReadJsonFile(dir + "/p.json");

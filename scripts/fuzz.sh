@@ -1,17 +1,20 @@
 #!/usr/bin/env bash
-# Builds the libFuzzer harnesses of fuzz/ (clang, ASan + UBSan) and runs each for SECONDS
-# (default 60) on a seed corpus made from tests/, ../shared/fieldlogs and a simulated log.
+# Builds the libFuzzer harnesses of fuzz/ in the sanitizer build (build-asan: clang, ASan + UBSan;
+# scripts/sanitize_build.sh) and runs each for SECONDS (default 60), as many at once as there
+# are cores, on a seed corpus made from tests/, ../shared/fieldlogs and a simulated log.
 #   scripts/fuzz.sh [SECONDS] [FUZZER...]      e.g. scripts/fuzz.sh 300 fuzz_csv
-# A crash leaves its input in build-fuzz/crashes/<fuzzer>/ and makes the script exit 1; keep it in
-# fuzz/regressions/<fuzzer>/ (replayed by every run) and turn it into a regression test (src/io/io_fuzz_regression_test.cc; numeric harnesses: the stage's *_test.cc)
+# A crash leaves its input in build-asan/fuzz-work/crashes/<fuzzer>/ and makes the script exit 1; keep it in
+# fuzz/regressions/<fuzzer>/ (replayed by every run) and turn it into a regression test (readers: src/io/log_recovery_test.cc and the reader's
+# *_test.cc; numeric harnesses: the stage's *_test.cc)
 # before fixing it.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-60}
 shift || true
-build=${FUZZ_BUILD_DIR:-build-fuzz}
-CC=${FUZZ_CC:-clang} CXX=${FUZZ_CXX:-clang++} cmake -S fuzz -B "$build" -DCMAKE_BUILD_TYPE=None >/dev/null
-cmake --build "$build" -j"$(nproc)"
+asan=${GYROCOMP_ASAN_BUILD_DIR:-build-asan}
+scripts/sanitize_build.sh fuzzers
+bin=$asan/fuzz
+build=$asan/fuzz-work  # seeds, corpora, crashes and logs
 
 # Seeds: small CSVs (plain and gzip) from tests/ and the field logs' IMU extracts (first 200
 # lines), model files from tests/golden, and the fuzzer's own corpus kept between runs.
@@ -102,28 +105,39 @@ fuzzers=("$@")
                                      fuzz_numeric_stages fuzz_numeric_drift)
 corpus_of[fuzz_ros2_sqlite]=ros2_sqlite
 [ $# -eq 0 ] && fuzzers+=(fuzz_ros2_sqlite)
+# One harness: its corpus, then the seeds and fuzz/regressions/<fuzzer>/ (inputs that once crashed
+# or broke the invariant, replayed first). Output goes to $build/<fuzzer>.log.
+run_one() {
+  local fz=$1 corpus=$build/corpus/$1 crashes=$build/crashes/$1 regressions=()
+  mkdir -p "$corpus" "$crashes"
+  [ -d "fuzz/regressions/$fz" ] && regressions=("fuzz/regressions/$fz")
+  local originals=
+  case $fz in
+    fuzz_ulog) originals=$(realpath "$seeds/originals/ulog") ;;
+    fuzz_dataflash) originals=$(realpath "$seeds/originals/dataflash") ;;
+  esac
+  GYROCOMP_FUZZ_ORIGINALS=$originals "$bin/$fz" "$corpus" "$seeds/${corpus_of[$fz]}" "${regressions[@]}" \
+    -max_total_time="$seconds" -rss_limit_mb=2048 -max_len=65536 -timeout=10 -artifact_prefix="$crashes/" \
+    -print_final_stats=1 >"$build/$fz.log" 2>&1
+  echo $? >"$build/$fz.rc"
+}
+# Run them nproc at a time; report each in the order given.
+jobs_max=$(nproc)
+for fz in "${fuzzers[@]}"; do
+  while [ "$(jobs -rp | wc -l)" -ge "$jobs_max" ]; do wait -n || true; done
+  echo "== $fz: $seconds s"
+  rm -f "$build/$fz.rc"
+  (set +e; run_one "$fz") &
+done
+wait
 status=0
 for fz in "${fuzzers[@]}"; do
-  corpus=$build/corpus/$fz
-  crashes=$build/crashes/$fz
-  mkdir -p "$corpus" "$crashes"
-  echo "== $fz: $seconds s"
-  # fuzz/regressions/<fuzzer>/: inputs that once crashed or broke the invariant, replayed first.
-  regressions=()
-  [ -d "fuzz/regressions/$fz" ] && regressions=("fuzz/regressions/$fz")
-  case $fz in
-    fuzz_ulog) export GYROCOMP_FUZZ_ORIGINALS=$(realpath "$seeds/originals/ulog") ;;
-    fuzz_dataflash) export GYROCOMP_FUZZ_ORIGINALS=$(realpath "$seeds/originals/dataflash") ;;
-    *) unset GYROCOMP_FUZZ_ORIGINALS ;;
-  esac
-  if ! "$build/$fz" "$corpus" "$seeds/${corpus_of[$fz]}" "${regressions[@]}" -max_total_time="$seconds" -rss_limit_mb=2048 \
-      -max_len=65536 -timeout=10 -artifact_prefix="$crashes/" -print_final_stats=1 2>"$build/$fz.log"; then
-    echo "$fz: FAILED, see $build/$fz.log and $crashes/" >&2
+  if [ "$(cat "$build/$fz.rc" 2>/dev/null)" != 0 ]; then
+    echo "$fz: FAILED, see $build/$fz.log and $build/crashes/$fz/" >&2
     tail -n 40 "$build/$fz.log" >&2
     status=1
   else
-    grep -E "^stat::(number_of_executed_units|peak_rss_mb)|^#[0-9]+ +DONE" "$build/$fz.log" | tr '\n' ' '
-    echo
+    echo "$fz: $(grep -E "^stat::(number_of_executed_units|peak_rss_mb)" "$build/$fz.log" | tr -s ' ' | tr '\n' ' ')"
   fi
 done
 exit $status

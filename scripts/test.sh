@@ -5,11 +5,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 if [ "${1:-}" = "--sanitize" ]; then
   scripts/install-deps.sh --browser
-  # -O1 without debug info: about half the compile time of RelWithDebInfo on 2 cores, and
-  # assertions stay on (no NDEBUG). Benchmarks are not built here (the Release run builds them).
-  # The Python module is not built here: an ASan runtime would have to be preloaded into python3.
-  CMAKE_BUILD_TYPE=None scripts/build.sh build-asan -DGYROCOMP_SANITIZE=ON \
-    -DGYROCOMP_BUILD_BENCHMARKS=OFF -DGYROCOMP_BUILD_PYTHON=OFF -DCMAKE_CXX_FLAGS=-O1
+  scripts/sanitize_build.sh   # build-asan: clang, ASan + UBSan (the fuzzers share its library)
   export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1
   export GYROCOMP_SANITIZED=1
   ctest --test-dir build-asan --output-on-failure -j"$(nproc)"

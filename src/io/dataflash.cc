@@ -224,10 +224,7 @@ std::string Parser::TopicOf(const Layout& l, const std::uint8_t* payload) const 
 }
 
 void Parser::NoteDamage(std::size_t begin, std::size_t resume, const std::string& what) {
-  LogDamage d;
-  d.begin = begin;
-  d.end = resume;
-  d.what = what;
+  LogDamage d(begin, resume, what);
   // Walk the skipped bytes by their headers while those stay inside the range. A record whose
   // header is damaged is told by its length when the gap to the next header is the length of one
   // message only (a flipped type byte, a flipped A3 95).

@@ -236,6 +236,30 @@ TEST_P(ULogRecoveryTest, DeletedAndCutRecords) {
   EXPECT_EQ(ULogRows(*dup).at(Series()).size(), original_.at(Series()).size() + 1);
 }
 
+// A record cut short by k bytes reads k bytes of the next header as its own; the bytes where the
+// next header should be are then misaligned. When their "size" happens to lead exactly to a
+// record (here made so by deleting the records in between, as a fuzzer found), the cut record
+// must still not be decoded: its row would mix two records. (What no reader of a format without
+// checksums can tell: a record cut by exactly the size of the whole records that follow it.)
+TEST_P(ULogRecoveryTest, CutRecordWhoseOverrunPointsAtARecordIsNotDecoded) {
+  const Record& r = recs_[target_];
+  const std::size_t n_start = r.offset + r.size;  // the next record, in the undamaged log
+  int tried = 0;
+  for (std::size_t k = 1; k < r.size - 5; ++k) {  // every cut that keeps the record's msg_id
+    const std::size_t h = n_start + k;  // the misaligned "header"
+    const std::size_t len = static_cast<unsigned char>(bytes_[h]) | (static_cast<unsigned char>(bytes_[h + 1]) << 8);
+    const std::size_t land = h + 3 + len;
+    const auto m = std::find_if(recs_.begin(), recs_.end(), [&](const Record& x) { return x.offset >= land; });
+    // The next record is kept whole (only the cut record is damaged).
+    if (len > 4096 || m == recs_.end() || land < n_start + recs_[target_ + 1].size) continue;
+    ++tried;
+    SCOPED_TRACE("cut by " + std::to_string(k) + " bytes, misaligned size " + std::to_string(len));
+    const std::string bad = bytes_.substr(0, n_start - k) + bytes_.substr(n_start, land - n_start) + bytes_.substr(m->offset);
+    ExpectRecovered(bad, Count(original_));
+  }
+  EXPECT_GT(tried, 0);
+}
+
 TEST_P(ULogRecoveryTest, FlippedSyncMagicKeepsEveryRow) {
   std::string bad = bytes_;
   bool found = false;

@@ -1,9 +1,11 @@
 // PX4 ULog reader (include/gyrocomp/io/ulog.h). Section numbers ("spec: ...") refer to the
 // PX4 User Guide page "ULog File Format"; behaviour at the edges follows PX4/pyulog core.py.
+// How recovery tells a damaged record from an intact one is in ulog_recovery.cc.
 #include "gyrocomp/io/ulog.h"
 #include "gyrocomp/io/log_damage.h"
 #include "gyrocomp/io/mapped_file.h"
 #include "gyrocomp/io/io.h"
+#include "ulog_parser.h"
 
 #include <cmath>
 #include <cstring>
@@ -14,240 +16,7 @@
 #include <utility>
 
 namespace gyrocomp {
-
-namespace {
-
-// spec "File Header": 'U' 'L' 'o' 'g' 0x01 0x12 0x35, then version and timestamp.
-constexpr std::uint8_t kMagic[7] = {0x55, 0x4C, 0x6F, 0x67, 0x01, 0x12, 0x35};
-constexpr std::size_t kHeaderBytes = 16;
-constexpr std::size_t kMessageHeaderBytes = 3;  // uint16 msg_size, uint8 msg_type
-// spec "Synchronization message" ('S'): uint8 sync_magic[8].
-constexpr std::uint8_t kSyncMagic[8] = {0x2F, 0x73, 0x13, 0x20, 0x25, 0x0C, 0xBB, 0x12};
-// The message types of the spec. In recovery, a record of another type is taken as the spec asks
-// (skipped) only when the record after it is one of these.
-bool KnownType(char t) {
-  switch (t) {
-    case 'A': case 'B': case 'C': case 'D': case 'F': case 'I': case 'L': case 'M': case 'O': case 'P':
-    case 'Q': case 'R': case 'S': return true;
-    default: return false;
-  }
-}
-// Nested formats are flattened; a deeper nesting than this is taken for a format loop.
-constexpr int kMaxNestingDepth = 16;
-// Flattening steps per subscription (fields and nested elements visited); a format whose arrays
-// of empty nested types would take longer than this is refused instead of hanging.
-constexpr std::size_t kMaxFlattenSteps = 1u << 20;
-
-std::uint16_t U16(const std::uint8_t* p) { return static_cast<std::uint16_t>(p[0] | (p[1] << 8)); }
-std::uint32_t U32(const std::uint8_t* p) {
-  return static_cast<std::uint32_t>(p[0]) | (static_cast<std::uint32_t>(p[1]) << 8) |
-         (static_cast<std::uint32_t>(p[2]) << 16) | (static_cast<std::uint32_t>(p[3]) << 24);
-}
-std::uint64_t U64(const std::uint8_t* p) {
-  return static_cast<std::uint64_t>(U32(p)) | (static_cast<std::uint64_t>(U32(p + 4)) << 32);
-}
-float F32(const std::uint8_t* p) {
-  const std::uint32_t bits = U32(p);
-  float f;
-  std::memcpy(&f, &bits, sizeof f);
-  return f;
-}
-
-// Size of a basic ULog type (spec "Definitions Section", format message), 0 if not basic.
-std::size_t BasicSize(std::string_view t) {
-  if (t == "int8_t" || t == "uint8_t" || t == "bool" || t == "char") return 1;
-  if (t == "int16_t" || t == "uint16_t") return 2;
-  if (t == "int32_t" || t == "uint32_t" || t == "float") return 4;
-  if (t == "int64_t" || t == "uint64_t" || t == "double") return 8;
-  return 0;
-}
-
-struct FieldDef {
-  std::string type;
-  std::size_t array_size = 0;  // 0: not an array
-  std::string name;
-};
-
-// A basic field of a flattened message: "gyro_rad[1]", "float", offset in the data payload.
-struct FlatField {
-  std::string name;
-  std::string type;
-  std::size_t offset = 0;
-};
-
-// Which gyro fields a subscription decodes (offsets into the 'D' payload after msg_id).
-struct GyroFields {
-  std::size_t timestamp = 0, x = 0, y = 0, z = 0, temperature = 0, device_id = 0;
-  bool has_temperature = false, has_device_id = false;
-};
-
-struct Subscription {
-  std::size_t topic = 0;           // index into ULogContents::topics
-  std::size_t min_size = 0;        // data bytes without trailing _padding fields
-  std::size_t max_size = 0;        // with them
-  int series = -1;                 // index into gyros (kind 1) or combined (kind 2)
-  int kind = 0;                    // 0 other, 1 sensor_gyro, 2 sensor_combined, 3 accel, 4 baro
-  GyroFields g;
-  bool device_id_change_reported = false;
-  // ULogReadOptions::average_window_us: the open window's sums.
-  std::uint64_t window = 0;
-  std::size_t count = 0;
-  double sum_t = 0, sum_x = 0, sum_y = 0, sum_z = 0, sum_temp = 0;
-};
-
-// One decoded sensor row.
-struct RowValues {
-  std::uint64_t t = 0;
-  double x = 0, y = 0, z = 0, temp = 0;
-};
-
-class Parser {
- public:
-  Parser(const std::uint8_t* data, std::size_t size, std::string source, ULogReadOptions options,
-         std::function<void(std::size_t)> release)
-      : d_(data), n_(size), options_(options), release_(std::move(release)) {
-    out_.source = std::move(source);
-  }
-  Result<ULogContents> Run();
-
- private:
-  Error Bad(std::size_t offset, const std::string& what) const {
-    return InvalidInput(out_.source + ": byte " + std::to_string(offset) + ": " + what);
-  }
-  void Warn(std::size_t offset, const std::string& what) {
-    out_.warnings.push_back(out_.source + ": byte " + std::to_string(offset) + ": " + what);
-  }
-  std::optional<Error> ParseAll();
-  // Recovery (ULogReadOptions::strict false): a record at `at` that passes every check this
-  // reader can make before parsing it (header in the segment, known type, the type's own sizes
-  // and markers, a 'D' for a subscribed msg_id with a size its format allows). `loose` waives
-  // the 'D' subscription check (for the record after a candidate, which may follow the 'A').
-  bool PlausibleAt(std::size_t at, std::size_t end, bool loose) const;
-  // The first offset in [from, end) where a plausible record starts and is followed by another
-  // one (or ends the segment exactly); nullopt when there is none.
-  std::optional<std::size_t> Resync(std::size_t from, std::size_t end) const;
-  // `after` (the end of a record) is the segment's end, a plausible record (loose), or a record
-  // header whose size leads to one of those (one damaged header right after an intact record
-  // does not take that record with it).
-  bool FollowedByValid(std::size_t after, std::size_t end) const;
-  // Records [begin, resume) as skipped, with the rows lost in it where the topic can be told.
-  void NoteDamage(std::size_t begin, std::size_t resume, const std::string& what);
-  std::optional<Error> ParseMessage(char type, std::size_t at, const std::uint8_t* p, std::size_t len);
-  std::optional<Error> ParseFlagBits(std::size_t at, const std::uint8_t* p, std::size_t len);
-  bool unknown_incompat_ = false;  // the 'B' message set incompatible flags this reader does not know
-  std::optional<Error> ParseFormat(std::size_t at, const std::uint8_t* p, std::size_t len);
-  std::optional<Error> ParseKeyValue(char type, std::size_t at, const std::uint8_t* p, std::size_t len);
-  std::optional<Error> ParseSubscription(std::size_t at, const std::uint8_t* p, std::size_t len);
-  std::optional<Error> ParseData(std::size_t at, const std::uint8_t* p, std::size_t len);
-  std::optional<Error> Flatten(std::size_t at, const std::string& type, const std::string& prefix, int depth,
-                               std::vector<FlatField>* fields, std::size_t* size, std::size_t* padding_tail);
-  void DecodeRow(Subscription& s, const std::uint8_t* row);
-  void PushRow(const Subscription& s, const RowValues& v);
-  void FlushWindow(Subscription& s);
-  void NoteDeviceId(Subscription& s, const std::uint8_t* row, const std::string& what, std::size_t rows,
-                    std::optional<std::uint32_t>* device_id);
-
-  const std::uint8_t* d_;
-  std::size_t n_;
-  ULogReadOptions options_;
-  std::function<void(std::size_t)> release_;  // gives the bytes before an offset back (mapped files)
-  std::size_t released_ = 0;
-  ULogContents out_;
-  std::map<std::string, std::vector<FieldDef>> formats_;
-  std::map<int, Subscription> subs_;  // active subscriptions by msg_id
-  bool first_message_ = true;
-  std::size_t flatten_steps_ = 0;
-};
-
-bool Parser::PlausibleAt(std::size_t at, std::size_t end, bool loose) const {
-  if (at >= end || end - at < kMessageHeaderBytes) return false;
-  const std::size_t len = U16(d_ + at);
-  const char type = static_cast<char>(d_[at + 2]);
-  if (len > end - at - kMessageHeaderBytes || !KnownType(type)) return false;
-  const std::uint8_t* p = d_ + at + kMessageHeaderBytes;
-  switch (type) {
-    case 'B': return false;  // only ever the first message
-    case 'S': return len == sizeof kSyncMagic && std::memcmp(p, kSyncMagic, sizeof kSyncMagic) == 0;
-    case 'O': case 'R': return len == 2;
-    case 'L': return len >= 9 && p[0] >= '0' && p[0] <= '7';  // uint8 log_level ('0'..'7'), uint64 timestamp
-    case 'C': return len >= 11 && p[0] >= '0' && p[0] <= '7';  // + uint16 tag
-    case 'F': return len >= 2 && std::memchr(p, ':', len) != nullptr;
-    case 'A': return len >= 4 && (loose || formats_.count(std::string(reinterpret_cast<const char*>(p + 3), len - 3)) > 0);
-    case 'I': case 'P': return len >= 1 && p[0] > 0 && p[0] <= len - 1;
-    case 'M': case 'Q': return len >= 2 && p[1] > 0 && p[1] <= len - 2;
-    case 'D': {
-      if (len < 2) return false;
-      if (loose) return true;
-      const auto it = subs_.find(U16(p));
-      return it != subs_.end() && len - 2 >= it->second.min_size && len - 2 <= it->second.max_size;
-    }
-    default: return false;
-  }
-}
-
-bool Parser::FollowedByValid(std::size_t after, std::size_t end) const {
-  if (after == end || PlausibleAt(after, end, true)) return true;
-  if (after > end || end - after < kMessageHeaderBytes) return false;
-  // A message of a known type cut by the end of the segment: the last record, truncated (an
-  // appended-data offset moved by a deleted record lands here too).
-  if (KnownType(static_cast<char>(d_[after + 2])) && U16(d_ + after) > end - after - kMessageHeaderBytes) return true;
-  const std::size_t next = after + kMessageHeaderBytes + U16(d_ + after);
-  return next == end || (next < end && PlausibleAt(next, end, true));
-}
-
-std::optional<std::size_t> Parser::Resync(std::size_t from, std::size_t end) const {
-  for (std::size_t at = from; at + kMessageHeaderBytes <= end; ++at) {
-    if (!PlausibleAt(at, end, false)) continue;
-    const std::size_t next = at + kMessageHeaderBytes + U16(d_ + at);
-    if (next == end || PlausibleAt(next, end, true)) return at;
-  }
-  return std::nullopt;
-}
-
-void Parser::NoteDamage(std::size_t begin, std::size_t resume, const std::string& what) {
-  LogDamage d;
-  d.begin = begin;
-  d.end = resume;
-  d.what = what;
-  // Walk the skipped bytes by their own record headers while those stay inside the range; a 'D'
-  // is given to its subscription, or to the only subscription whose data size matches (a damaged
-  // msg_id), else counted as unidentified.
-  std::size_t at = begin;
-  while (at < resume) {
-    if (resume - at < kMessageHeaderBytes) {
-      ++d.records_unidentified;
-      break;
-    }
-    const std::size_t len = U16(d_ + at);
-    const char type = static_cast<char>(d_[at + 2]);
-    if (len > resume - at - kMessageHeaderBytes || !KnownType(type)) {
-      ++d.records_unidentified;
-      break;
-    }
-    if (type == 'D' && len >= 2) {
-      const std::size_t size = len - 2;
-      std::optional<std::size_t> topic;
-      if (const auto it = subs_.find(U16(d_ + at + kMessageHeaderBytes));
-          it != subs_.end() && size >= it->second.min_size && size <= it->second.max_size) {
-        topic = it->second.topic;
-      } else {
-        int matches = 0;
-        for (const auto& [id, sub] : subs_) {
-          if (size >= sub.min_size && size <= sub.max_size) ++matches, topic = sub.topic;
-        }
-        if (matches != 1) topic.reset();
-      }
-      if (topic) {
-        const ULogTopic& t = out_.topics[*topic];
-        ++d.rows_lost[t.name + " " + std::to_string(t.multi_id)];
-      } else {
-        ++d.records_unidentified;
-      }
-    }
-    at += kMessageHeaderBytes + len;
-  }
-  out_.damage.push_back(std::move(d));
-}
+namespace ulog_detail {
 
 Result<ULogContents> Parser::Run() {
   if (n_ < kHeaderBytes) {
@@ -315,10 +84,10 @@ std::optional<Error> Parser::ParseAll() {
     }
     const std::size_t after = pos + kMessageHeaderBytes + len;
     std::optional<Error> e;
-    if (recover && !first_message_ && !KnownType(type) && !FollowedByValid(after, end)) {
+    if (recover && !first_message_ && !KnownType(type) && !FollowedByValid(pos, after, end)) {
       e = Bad(pos, "message type " + std::to_string(static_cast<unsigned>(static_cast<std::uint8_t>(type))) +
                        " unknown and no valid message after it");
-    } else if (recover && !FollowedByValid(after, end)) {
+    } else if (recover && !FollowedByValid(pos, after, end)) {
       // A record is decoded only when a valid message follows it: a size damaged into the next
       // record would otherwise make a row of bytes from two records.
       e = Bad(pos, "'" + std::string(1, type) + "' message of " + std::to_string(len) +
@@ -333,7 +102,7 @@ std::optional<Error> Parser::ParseAll() {
       // Resume right after the refused record when its size leads to a valid record (only the
       // record itself was damaged, e.g. its msg_id), else at the next valid record after it.
       std::optional<std::size_t> next;
-      if (after <= end && (after == end || PlausibleAt(after, end, true))) next = after;
+      if (after <= end && (after == end || PlausibleAt(after, end, Introduced{}, true))) next = after;
       if (!next) next = Resync(pos + 1, end);
       std::string what = e->message;
       if (const auto cut = what.find(": byte "); cut != std::string::npos) {
@@ -650,7 +419,11 @@ void Parser::PushRow(const Subscription& s, const RowValues& v) {
   }
 }
 
-}  // namespace
+
+}  // namespace ulog_detail
+
+using ulog_detail::kMagic;
+using ulog_detail::Parser;
 
 bool HasULogMagic(const std::uint8_t* data, std::size_t size) {
   return size >= sizeof kMagic && std::memcmp(data, kMagic, sizeof kMagic) == 0;

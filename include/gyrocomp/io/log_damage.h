@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json_fwd.hpp>
@@ -18,6 +19,9 @@ namespace gyrocomp {
 
 // One skipped byte range [begin, end) of the file.
 struct LogDamage {
+  LogDamage() = default;
+  LogDamage(std::size_t begin_byte, std::size_t end_byte, std::string why)
+      : begin(begin_byte), end(end_byte), what(std::move(why)) {}
   std::size_t begin = 0;  // byte offset of the first skipped byte
   std::size_t end = 0;  // byte offset just past the last skipped byte
   std::string what;  // why the record at `begin` was refused

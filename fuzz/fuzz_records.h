@@ -40,3 +40,20 @@ std::size_t CrossOverRecords(LogKind kind, const std::uint8_t* a, std::size_t a_
                              std::size_t b_size, std::uint8_t* out, std::size_t max_out, unsigned seed);
 
 }  // namespace gyrocomp::fuzz
+
+// The three libFuzzer entry points of a record-level harness (fuzz_ulog.cc, fuzz_dataflash.cc).
+#define GYROCOMP_RECORD_FUZZER(KIND)                                                                          \
+  extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {                         \
+    gyrocomp::fuzz::RunRecordHarness(gyrocomp::fuzz::LogKind::KIND, data, size);                               \
+    return 0;                                                                                                  \
+  }                                                                                                            \
+  extern "C" std::size_t LLVMFuzzerCustomMutator(std::uint8_t* data, std::size_t size, std::size_t max_size,   \
+                                                 unsigned int seed) {                                          \
+    return gyrocomp::fuzz::MutateRecords(gyrocomp::fuzz::LogKind::KIND, data, size, max_size, seed);           \
+  }                                                                                                            \
+  extern "C" std::size_t LLVMFuzzerCustomCrossOver(const std::uint8_t* a, std::size_t a_size,                  \
+                                                   const std::uint8_t* b, std::size_t b_size, std::uint8_t* out, \
+                                                   std::size_t max_out, unsigned int seed) {                   \
+    return gyrocomp::fuzz::CrossOverRecords(gyrocomp::fuzz::LogKind::KIND, a, a_size, b, b_size, out, max_out, \
+                                            seed);                                                             \
+  }

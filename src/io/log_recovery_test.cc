@@ -19,6 +19,7 @@
 #include "gyrocomp/io/dataflash.h"
 #include "gyrocomp/io/log_damage.h"
 #include "gyrocomp/io/ulog.h"
+#include "log_rows.h"
 
 namespace gyrocomp {
 namespace {
@@ -37,59 +38,12 @@ std::string Bytes(const std::string& path) {
   return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
 }
 
-// A row as bits: timestamp and the value fields' bit patterns (exact comparison).
-using Row = std::tuple<std::uint64_t, std::uint64_t, std::uint64_t, std::uint64_t, std::uint64_t>;
-std::uint64_t Bits(double v) {
-  std::uint64_t b;
-  std::memcpy(&b, &v, sizeof b);
-  return b;
-}
-double At(const std::vector<double>& v, std::size_t i) { return i < v.size() ? v[i] : 0.0; }
-
-// Rows per series ("sensor_gyro 0", "sensor_combined 0", "sensor_accel 1", ...).
-std::map<std::string, std::vector<Row>> ULogRows(const ULogContents& log) {
-  std::map<std::string, std::vector<Row>> out;
-  for (const auto* list : {&log.gyros, &log.combined}) {
-    for (const ULogGyroSeries& g : *list) {
-      auto& rows = out[g.topic + " " + std::to_string(g.multi_id)];
-      for (std::size_t i = 0; i < g.timestamp_us.size(); ++i) {
-        rows.emplace_back(g.timestamp_us[i], Bits(g.x_rad_s[i]), Bits(g.y_rad_s[i]), Bits(g.z_rad_s[i]),
-                          Bits(At(g.temperature_c, i)));
-      }
-    }
-  }
-  for (const ULogAccelSeries& a : log.accels) {
-    auto& rows = out["sensor_accel " + std::to_string(a.multi_id)];
-    for (std::size_t i = 0; i < a.timestamp_us.size(); ++i) {
-      rows.emplace_back(a.timestamp_us[i], Bits(a.x_m_s2[i]), Bits(a.y_m_s2[i]), Bits(a.z_m_s2[i]),
-                        Bits(At(a.temperature_c, i)));
-    }
-  }
-  return out;
-}
-
-std::size_t Count(const std::map<std::string, std::vector<Row>>& rows) {
-  std::size_t n = 0;
-  for (const auto& [k, v] : rows) n += v.size();
-  return n;
-}
-
-// Every row of `got` is a row of `original`'s same series, no more often than there (duplicated
-// records aside: `allow_repeats`). Returns the first offending series, or "".
-std::string NotASubset(const std::map<std::string, std::vector<Row>>& got,
-                       const std::map<std::string, std::vector<Row>>& original) {
-  for (const auto& [series, rows] : got) {
-    const auto it = original.find(series);
-    if (it == original.end()) return series + " (absent from the undamaged log)";
-    std::multiset<Row> pool(it->second.begin(), it->second.end());
-    for (const Row& r : rows) {
-      const auto p = pool.find(r);
-      if (p == pool.end()) return series + " (a row the undamaged log does not have)";
-      pool.erase(p);
-    }
-  }
-  return "";
-}
+using test::AnySeries;
+using test::CountRows;
+using test::DataFlashRows;
+using test::LogRows;
+using test::NotASubset;
+using test::ULogRows;
 
 struct Record {
   std::size_t offset = 0, size = 0;  // size with the 3-byte header
@@ -155,12 +109,12 @@ class ULogRecoveryTest : public ::testing::TestWithParam<const char*> {
     if (!r.ok()) return {};
     const auto got = ULogRows(*r);
     EXPECT_EQ(NotASubset(got, original_), "");
-    EXPECT_GE(Count(got) + max_lost, Count(original_));
+    EXPECT_GE(CountRows(got) + max_lost, CountRows(original_));
     return std::move(*r);
   }
   std::string Series() const { return topic_ + " 0"; }
   std::string bytes_;
-  std::map<std::string, std::vector<Row>> original_;
+  LogRows original_;
   std::vector<Record> recs_;
   std::string topic_;
   std::size_t target_ = 0;
@@ -255,7 +209,7 @@ TEST_P(ULogRecoveryTest, CutRecordWhoseOverrunPointsAtARecordIsNotDecoded) {
     ++tried;
     SCOPED_TRACE("cut by " + std::to_string(k) + " bytes, misaligned size " + std::to_string(len));
     const std::string bad = bytes_.substr(0, n_start - k) + bytes_.substr(n_start, land - n_start) + bytes_.substr(m->offset);
-    ExpectRecovered(bad, Count(original_));
+    ExpectRecovered(bad, CountRows(original_));
   }
   EXPECT_GT(tried, 0);
 }
@@ -272,13 +226,13 @@ TEST_P(ULogRecoveryTest, FlippedSyncMagicKeepsEveryRow) {
   }
   if (!found) GTEST_SKIP() << GetParam() << " has no sync message";
   const ULogContents log = ExpectRecovered(bad, 0);
-  EXPECT_EQ(Count(ULogRows(log)), Count(original_));
+  EXPECT_EQ(CountRows(ULogRows(log)), CountRows(original_));
 }
 
 TEST_P(ULogRecoveryTest, TruncatedInsideARecordKeepsThePrefix) {
   const Record& r = recs_[target_];
   const std::string bad = bytes_.substr(0, r.offset + r.size / 2);
-  const ULogContents log = ExpectRecovered(bad, Count(original_));
+  const ULogContents log = ExpectRecovered(bad, CountRows(original_));
   const auto got = ULogRows(log);
   const auto& mine = got.at(Series());
   const auto& all = original_.at(Series());
@@ -296,8 +250,7 @@ TEST_P(ULogRecoveryTest, TruncatedInsideARecordKeepsThePrefix) {
 // series: a msg id flipped onto another subscription of the same size moves a row, as in pyulog).
 TEST_P(ULogRecoveryTest, RandomHeaderDamageNeverInventsARow) {
   std::mt19937 rng(33);
-  std::map<std::string, std::vector<Row>> any;
-  for (const auto& [k, v] : original_) any["*"].insert(any["*"].end(), v.begin(), v.end());
+  const LogRows any = AnySeries(original_);
   std::size_t first_data = 0;
   while (recs_[first_data].type != 'D') ++first_data;
   for (int trial = 0; trial < 200; ++trial) {
@@ -310,9 +263,7 @@ TEST_P(ULogRecoveryTest, RandomHeaderDamageNeverInventsARow) {
     }
     Result<ULogContents> log = ParseU(bad);
     ASSERT_TRUE(log.ok()) << "trial " << trial << ": " << log.error().message;
-    std::map<std::string, std::vector<Row>> got;
-    for (const auto& [k, v] : ULogRows(*log)) got["*"].insert(got["*"].end(), v.begin(), v.end());
-    ASSERT_EQ(NotASubset(got, any), "") << "trial " << trial;
+    ASSERT_EQ(NotASubset(AnySeries(ULogRows(*log)), any), "") << "trial " << trial;
   }
 }
 
@@ -342,17 +293,6 @@ std::string BuildDataFlash() {
   return b.ok() ? *b : std::string();
 }
 
-std::map<std::string, std::vector<Row>> DataFlashRows(const DataFlashContents& log) {
-  std::map<std::string, std::vector<Row>> out;
-  for (const DataFlashImuSeries& s : log.imus) {
-    auto& rows = out["IMU " + std::to_string(s.instance)];
-    for (std::size_t i = 0; i < s.time_us.size(); ++i) {
-      rows.emplace_back(s.time_us[i], Bits(s.gyr_x_rad_s[i]), Bits(s.gyr_y_rad_s[i]), Bits(s.gyr_z_rad_s[i]),
-                        Bits(At(s.temp_c, i)));
-    }
-  }
-  return out;
-}
 
 Result<DataFlashContents> ParseD(const std::string& b, bool strict = false) {
   DataFlashReadOptions o;
@@ -415,7 +355,7 @@ TEST(DataFlashRecoveryTest, EachDamageLosesOnlyTheDamagedRecord) {
     ASSERT_TRUE(log.ok()) << c.what << ": " << log.error().message;
     const auto got = DataFlashRows(*log);
     EXPECT_EQ(NotASubset(got, original), "") << c.what;
-    EXPECT_EQ(Count(got) + c.lost, Count(original)) << c.what;
+    EXPECT_EQ(CountRows(got) + c.lost, CountRows(original)) << c.what;
     EXPECT_EQ(got.at("IMU 0").size() + 1, original.at("IMU 0").size()) << c.what;
     EXPECT_EQ(got.at("IMU 1").size(), original.at("IMU 1").size()) << c.what;
     if (!c.detected) continue;
@@ -443,8 +383,7 @@ TEST(DataFlashRecoveryTest, RandomHeaderDamageNeverInventsARow) {
   const std::string good = BuildDataFlash();
   Result<DataFlashContents> full = ParseD(good, true);
   ASSERT_TRUE(full.ok());
-  std::map<std::string, std::vector<Row>> any;
-  for (const auto& [k, v] : DataFlashRows(*full)) any["*"].insert(any["*"].end(), v.begin(), v.end());
+  const LogRows any = AnySeries(DataFlashRows(*full));
   const auto recs = DataFlashRecords(good);
   std::mt19937 rng(33);
   for (int trial = 0; trial < 300; ++trial) {
@@ -456,9 +395,7 @@ TEST(DataFlashRecoveryTest, RandomHeaderDamageNeverInventsARow) {
     }
     Result<DataFlashContents> log = ParseD(bad);
     ASSERT_TRUE(log.ok()) << "trial " << trial << ": " << log.error().message;
-    std::map<std::string, std::vector<Row>> got;
-    for (const auto& [k, v] : DataFlashRows(*log)) got["*"].insert(got["*"].end(), v.begin(), v.end());
-    ASSERT_EQ(NotASubset(got, any), "") << "trial " << trial;
+    ASSERT_EQ(NotASubset(AnySeries(DataFlashRows(*log)), any), "") << "trial " << trial;
   }
 }
 
@@ -505,8 +442,8 @@ TEST(DataFlashRecoveryTest, RealLogsKeepAtLeastWhatPymavlinkKeeps) {
       ASSERT_TRUE(log.ok()) << e.file << " " << what << ": " << log.error().message;
       const auto got = DataFlashRows(*log);
       EXPECT_EQ(NotASubset(got, original), "") << e.file << " " << what;
-      EXPECT_GE(Count(got), pymavlink) << e.file << " " << what;
-      EXPECT_EQ(Count(got) + 1, Count(original)) << e.file << " " << what;
+      EXPECT_GE(CountRows(got), pymavlink) << e.file << " " << what;
+      EXPECT_EQ(CountRows(got) + 1, CountRows(original)) << e.file << " " << what;
     }
     Result<DataFlashContents> strict = ParseD(sync, true);
     ASSERT_FALSE(strict.ok());

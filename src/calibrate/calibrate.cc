@@ -469,6 +469,7 @@ struct Pool {
   std::size_t num_groups = 0;
   std::vector<std::size_t> log_of_row;  // index into the runs
   std::vector<std::size_t> primary_rows;  // rows of runs[0]'s sensor used
+  std::size_t all_rows = 0;  // rows of the sensor in every log, still or not
   int logs = 0, logs_with_still = 0;
   std::vector<std::string> missing;  // "no gyro 2 in f3.ulg"
 };
@@ -497,6 +498,7 @@ Pool Gather(const Sensor& s, const std::vector<Run>& runs) {
       continue;
     }
     ++p.logs;
+    p.all_rows += m->time_s.size();
     const std::vector<int>& seg = runs[r].segment[static_cast<std::size_t>(m - runs[r].sensors.data())];
     std::map<int, std::size_t> group_of_segment;
     const std::vector<double> rate = HeatingRate(*m, seg);
@@ -598,7 +600,9 @@ void CalibratePooled(Sensor* s, const std::vector<Run>& runs, const Args& a) {
   s->identification = Identify(*s, p, a);
   s->runs_combined = p.logs_with_still;
   const Sensor::Identification& id = s->identification;
-  if (p.temp_c.size() < a.min_rows) {
+  if (p.all_rows < a.min_rows) {  // too short a log whether still or not: as the single-run path says it
+    s->reason = std::to_string(p.all_rows) + " rows at " + FormatNumber(a.fit_rate_hz, 4) + " Hz < " + std::to_string(a.min_rows);
+  } else if (p.temp_c.size() < a.min_rows) {
     s->reason = std::to_string(p.temp_c.size()) + " still rows at " + FormatNumber(a.fit_rate_hz, 4) + " Hz < " + std::to_string(a.min_rows);
   } else if (id.still_s < a.min_still_s) {
     s->reason = "still time " + FormatNumber(id.still_s, 4) + " s < " + FormatNumber(a.min_still_s, 4) + " s";

@@ -371,62 +371,39 @@ struct Run {
   std::vector<std::vector<int>> segment;  // [sensor][row]
 };
 
-// The still detector on a log's first IMU (gyro and accelerometer of instance 0, or the gyro
-// alone), read again as means over 1 / still_rate_hz: the vehicle is still or not as a whole.
-// A log the detector cannot read is one rejected part with the reason.
-StillDetection DetectStillOf(const std::string& path, LogFormat format, const Args& a) {
-  const auto w_us = static_cast<std::uint64_t>(std::llround(1e6 / a.still_rate_hz));
+// The still detector on a log's first IMU (the first gyro and the first accelerometer, rows
+// paired by their averaging window, k = time / window; or the gyro alone), on the sensors read
+// as means over 1 / still_rate_hz: the vehicle is still or not as a whole. A log the detector
+// cannot take is one rejected part with the reason.
+StillDetection DetectStillOf(const std::vector<Sensor>& sensors, const Args& a) {
+  const Sensor* gy = nullptr;
+  const Sensor* ac = nullptr;
+  for (const Sensor& s : sensors) {
+    if (!gy && s.type == "gyro") gy = &s;
+    if (!ac && s.type == "accel") ac = &s;
+  }
+  const double w = 1.0 / a.still_rate_hz;
   std::vector<double> t, temp;
   std::array<std::vector<double>, 3> g, acc;
-  std::string why;
-  if (format == LogFormat::kULog) {
-    ULogReadOptions read;
-    read.average_window_us = w_us;
-    Result<ULogContents> log = ReadULog(path, read);
-    if (!log.ok()) why = log.error().message;
-    else if (log->gyros.empty()) why = "no sensor_gyro rows";
-    else {
-      // Gyro and accel rows paired by their averaging window (k = timestamp / w).
-      const ULogGyroSeries& gy = log->gyros.front();
-      std::map<std::uint64_t, std::size_t> accel_row;
-      if (!log->accels.empty())
-        for (std::size_t i = 0; i < log->accels.front().timestamp_us.size(); ++i) accel_row[log->accels.front().timestamp_us[i] / w_us] = i;
-      for (std::size_t i = 0; i < gy.timestamp_us.size(); ++i) {
-        const auto it = accel_row.find(gy.timestamp_us[i] / w_us);
-        if (!log->accels.empty() && it == accel_row.end()) continue;
-        t.push_back(static_cast<double>(gy.timestamp_us[i]) * 1e-6);
-        temp.push_back(gy.temperature_c.empty() ? 0.0 : gy.temperature_c[i]);
-        g[0].push_back(gy.x_rad_s[i]), g[1].push_back(gy.y_rad_s[i]), g[2].push_back(gy.z_rad_s[i]);
-        const ULogAccelSeries* ac = log->accels.empty() ? nullptr : &log->accels.front();
-        acc[0].push_back(ac ? ac->x_m_s2[it->second] : 0.0), acc[1].push_back(ac ? ac->y_m_s2[it->second] : 0.0);
-        acc[2].push_back(ac ? ac->z_m_s2[it->second] : 0.0);
-      }
-    }
-  } else {
-    DataFlashReadOptions read;
-    read.average_window_us = w_us;
-    Result<DataFlashContents> log = ReadDataFlash(path, read);
-    if (!log.ok()) why = log.error().message;
-    else if (log->imus.empty()) why = "no IMU rows";
-    else {
-      const DataFlashImuSeries& m = log->imus.front();
-      const bool has_acc = !m.acc_x_m_s2.empty();
-      for (std::size_t i = 0; i < m.time_us.size(); ++i) {
-        t.push_back(static_cast<double>(m.time_us[i]) * 1e-6);
-        temp.push_back(m.temp_c.empty() ? 0.0 : m.temp_c[i]);
-        g[0].push_back(m.gyr_x_rad_s[i]), g[1].push_back(m.gyr_y_rad_s[i]), g[2].push_back(m.gyr_z_rad_s[i]);
-        acc[0].push_back(has_acc ? m.acc_x_m_s2[i] : 0.0), acc[1].push_back(has_acc ? m.acc_y_m_s2[i] : 0.0);
-        acc[2].push_back(has_acc ? m.acc_z_m_s2[i] : 0.0);
+  std::string why = gy ? "" : "no gyro rows";
+  if (gy) {
+    std::map<long long, std::size_t> accel_row;
+    if (ac)
+      for (std::size_t i = 0; i < ac->time_s.size(); ++i) accel_row[std::llround(std::floor(ac->time_s[i] / w))] = i;
+    for (std::size_t i = 0; i < gy->time_s.size(); ++i) {
+      const auto it = accel_row.find(std::llround(std::floor(gy->time_s[i] / w)));
+      if (ac && it == accel_row.end()) continue;
+      t.push_back(gy->time_s[i]);
+      temp.push_back(gy->temp_c.size() == gy->time_s.size() ? gy->temp_c[i] : 0.0);
+      for (int k = 0; k < 3; ++k) {
+        g[k].push_back(gy->values[k][i]);
+        acc[k].push_back(ac ? ac->values[k][it->second] : 0.0);
       }
     }
   }
   if (why.empty()) {
     Result<StillDetection> d = DetectStill(t, g, acc, temp, {}, a.still);
-    if (d.ok()) {
-      d->still.clear();
-      d->still.shrink_to_fit();
-      return *d;
-    }
+    if (d.ok()) return *d;
     why = d.error().message;
   }
   StillDetection none;
@@ -439,22 +416,63 @@ StillDetection DetectStillOf(const std::string& path, LogFormat format, const Ar
   return none;
 }
 
-// Per row of every sensor of `run`, the still segment holding the row's whole averaging window
-// (its time is the window's mean; half a window kept clear of the segment's ends), else -1.
-// A log still throughout (nothing rejected): every row in segment 0.
-void MarkStill(Run* run, const Args& a) {
-  const double half = 0.5 / a.fit_rate_hz;
-  const bool throughout = run->detection.rejected.empty() && run->detection.segments.size() == 1;
-  for (const Sensor& s : run->sensors) {
-    std::vector<int> seg(s.time_s.size(), throughout ? 0 : -1);
-    std::size_t j = 0;
-    for (std::size_t i = 0; i < s.time_s.size() && !throughout; ++i) {
-      const auto& segs = run->detection.segments;
-      while (j < segs.size() && segs[j].start_s + segs[j].length_s < s.time_s[i] + half) ++j;
-      if (j < segs.size() && s.time_s[i] - half >= segs[j].start_s) seg[i] = static_cast<int>(j);
+// The sensor's rows at still_rate_hz made the fit's: means of n = still_rate_hz / fit_rate_hz
+// consecutive rows inside one still segment (rows outside every segment dropped, a segment's
+// last partial block dropped); `segment` gets each kept row's segment.
+void StillBlockMeans(Sensor* s, const StillDetection& d, const Args& a, std::vector<int>* segment) {
+  const auto n = static_cast<std::size_t>(std::max(1.0, std::round(a.still_rate_hz / a.fit_rate_hz)));
+  Sensor out = *s;
+  out.time_s.clear(), out.temp_c.clear();
+  for (auto& v : out.values) v.clear();
+  segment->clear();
+  const bool with_temp = s->temp_c.size() == s->time_s.size();
+  std::size_t i = 0;
+  for (std::size_t j = 0; j < d.segments.size(); ++j) {
+    const double from = d.segments[j].start_s, to = from + d.segments[j].length_s;
+    while (i < s->time_s.size() && s->time_s[i] < from) ++i;
+    for (; i + n <= s->time_s.size() && s->time_s[i + n - 1] < to; i += n) {
+      double t = 0.0, temp = 0.0;
+      for (std::size_t k = i; k < i + n; ++k) t += s->time_s[k], temp += with_temp ? s->temp_c[k] : 0.0;
+      out.time_s.push_back(t / static_cast<double>(n));
+      if (with_temp) out.temp_c.push_back(temp / static_cast<double>(n));
+      for (std::size_t c = 0; c < s->values.size(); ++c) {
+        double sum = 0.0;
+        for (std::size_t k = i; k < i + n; ++k) sum += s->values[c][k];
+        out.values[c].push_back(sum / static_cast<double>(n));
+      }
+      segment->push_back(static_cast<int>(j));
     }
-    run->segment.push_back(std::move(seg));
   }
+  *s = std::move(out);
+}
+
+// Reads one log: its sensors at still_rate_hz, the still detector on them, then the fit's rows.
+// `keep_whole`: a log still throughout is read again at fit_rate_hz, exactly the rows a single
+// chamber run has always been calibrated on; otherwise the fit's rows are the still rows' block
+// means (one read of a long flight log).
+Result<Run> ReadRun(const std::string& path, LogFormat format, const Args& a, bool keep_whole) {
+  auto read = [&](double rate) {
+    return format == LogFormat::kULog ? SensorsOfULog(path, rate) : SensorsOfDataFlash(path, rate, a.notes);
+  };
+  auto sensors = read(a.still_rate_hz);
+  if (!sensors.ok()) return sensors.error();
+  Run run{path, std::move(*sensors), {}, {}};
+  run.detection = DetectStillOf(run.sensors, a);
+  run.detection.still.clear();
+  run.detection.still.shrink_to_fit();
+  const bool throughout = run.detection.rejected.empty() && run.detection.segments.size() == 1;
+  if (keep_whole && throughout) {
+    auto whole = read(a.fit_rate_hz);
+    if (!whole.ok()) return whole.error();
+    run.sensors = std::move(*whole);
+    for (const Sensor& s : run.sensors) run.segment.emplace_back(s.time_s.size(), 0);
+    return run;
+  }
+  for (Sensor& s : run.sensors) {
+    run.segment.emplace_back();
+    StillBlockMeans(&s, run.detection, a, &run.segment.back());
+  }
+  return run;
 }
 
 // The still rows of one sensor over every log, as the pooled fit takes them: temperature, values
@@ -693,18 +711,16 @@ Result<CalibrateResult> CalibrateLogs(const std::vector<std::string>& logs, cons
   if ((format == LogFormat::kULog) != (a.format == "px4"))
     return InvalidArgument("--format " + a.format + " for a " + std::string(LogFormatName(format)) +
                            " log: PX4 parameters come from a ULog, ArduPilot's from a DataFlash log");
-  // Every log: its sensors, another board refused, where the vehicle was still.
+  // Every log: where the vehicle was still, its sensors' rows, another board refused.
   std::vector<Run> runs;
   for (const std::string& path : logs) {
     if (DetectLogFormat(path) != format) return InvalidInput(path + ": every -i must be a log of the same kind as " + a.input);
-    auto sensors = format == LogFormat::kULog ? SensorsOfULog(path, a.fit_rate_hz) : SensorsOfDataFlash(path, a.fit_rate_hz, a.notes);
-    if (!sensors.ok()) return sensors.error();
+    Result<Run> run = ReadRun(path, format, a, /*keep_whole=*/logs.size() == 1);
+    if (!run.ok()) return run.error();
     if (!runs.empty())
-      if (Status st = SameBoard(runs.front().sensors, a.input, *sensors, path); !st.ok()) return st.error();
-    Run run{path, std::move(*sensors), DetectStillOf(path, format, a), {}};
-    MarkStill(&run, a);
-    result.logs.push_back({path, run.detection});
-    runs.push_back(std::move(run));
+      if (Status st = SameBoard(runs.front().sensors, a.input, run->sensors, path); !st.ok()) return st.error();
+    result.logs.push_back({path, run->detection});
+    runs.push_back(std::move(*run));
   }
   // One log still throughout: the drift model and projection; otherwise the pooled fit.
   const bool single = runs.size() == 1 && runs.front().detection.rejected.empty() && runs.front().detection.segments.size() == 1;

@@ -369,6 +369,8 @@ struct Run {
   std::vector<Sensor> sensors;
   StillDetection detection;
   std::vector<std::vector<int>> segment;  // [sensor][row]
+  std::vector<double> row_s;  // [sensor] seconds of log per fit row (1 / fit_rate_hz unless the log is slower)
+  std::vector<std::size_t> whole_rows;  // [sensor] fit rows of the whole log, still or not
 };
 
 // The still detector on a log's first IMU (the first gyro and the first accelerometer, rows
@@ -416,11 +418,15 @@ StillDetection DetectStillOf(const std::vector<Sensor>& sensors, const Args& a) 
   return none;
 }
 
-// The sensor's rows at still_rate_hz made the fit's: means of n = still_rate_hz / fit_rate_hz
-// consecutive rows inside one still segment (rows outside every segment dropped, a segment's
-// last partial block dropped); `segment` gets each kept row's segment.
-void StillBlockMeans(Sensor* s, const StillDetection& d, const Args& a, std::vector<int>* segment) {
-  const auto n = static_cast<std::size_t>(std::max(1.0, std::round(a.still_rate_hz / a.fit_rate_hz)));
+// The sensor's rows as read (at most still_rate_hz) made the fit's: means of n = row rate /
+// fit_rate_hz consecutive rows inside one still segment (rows outside every segment dropped, a
+// segment's last partial block dropped); `segment` gets each kept row's segment, `whole_rows`
+// the fit rows the whole log would give. Returns the seconds of log per fit row.
+double StillBlockMeans(Sensor* s, const StillDetection& d, const Args& a, std::vector<int>* segment, std::size_t* whole_rows) {
+  const std::size_t rows = s->time_s.size();
+  const double rate = rows > 1 ? static_cast<double>(rows - 1) / (s->time_s.back() - s->time_s.front()) : a.fit_rate_hz;
+  const auto n = static_cast<std::size_t>(std::max(1.0, std::round(rate / a.fit_rate_hz)));
+  *whole_rows = rows / n;
   Sensor out = *s;
   out.time_s.clear(), out.temp_c.clear();
   for (auto& v : out.values) v.clear();
@@ -444,6 +450,7 @@ void StillBlockMeans(Sensor* s, const StillDetection& d, const Args& a, std::vec
     }
   }
   *s = std::move(out);
+  return static_cast<double>(n) / rate;
 }
 
 // Reads one log: its sensors at still_rate_hz, the still detector on them, then the fit's rows.
@@ -456,7 +463,7 @@ Result<Run> ReadRun(const std::string& path, LogFormat format, const Args& a, bo
   };
   auto sensors = read(a.still_rate_hz);
   if (!sensors.ok()) return sensors.error();
-  Run run{path, std::move(*sensors), {}, {}};
+  Run run{path, std::move(*sensors), {}, {}, {}, {}};
   run.detection = DetectStillOf(run.sensors, a);
   run.detection.still.clear();
   run.detection.still.shrink_to_fit();
@@ -465,12 +472,17 @@ Result<Run> ReadRun(const std::string& path, LogFormat format, const Args& a, bo
     auto whole = read(a.fit_rate_hz);
     if (!whole.ok()) return whole.error();
     run.sensors = std::move(*whole);
-    for (const Sensor& s : run.sensors) run.segment.emplace_back(s.time_s.size(), 0);
+    for (const Sensor& s : run.sensors) {
+      run.segment.emplace_back(s.time_s.size(), 0);
+      run.row_s.push_back(1.0 / a.fit_rate_hz);
+      run.whole_rows.push_back(s.time_s.size());
+    }
     return run;
   }
   for (Sensor& s : run.sensors) {
     run.segment.emplace_back();
-    StillBlockMeans(&s, run.detection, a, &run.segment.back());
+    run.whole_rows.emplace_back();
+    run.row_s.push_back(StillBlockMeans(&s, run.detection, a, &run.segment.back(), &run.whole_rows.back()));
   }
   return run;
 }
@@ -489,6 +501,7 @@ struct Pool {
   std::vector<std::size_t> primary_rows;  // rows of runs[0]'s sensor used
   std::size_t all_rows = 0;  // rows of the sensor in every log, still or not
   int logs = 0, logs_with_still = 0;
+  double still_s = 0.0;  // seconds of log the rows stand for
   std::vector<std::string> missing;  // "no gyro 2 in f3.ulg"
 };
 
@@ -516,8 +529,9 @@ Pool Gather(const Sensor& s, const std::vector<Run>& runs) {
       continue;
     }
     ++p.logs;
-    p.all_rows += m->time_s.size();
-    const std::vector<int>& seg = runs[r].segment[static_cast<std::size_t>(m - runs[r].sensors.data())];
+    const auto index = static_cast<std::size_t>(m - runs[r].sensors.data());
+    p.all_rows += runs[r].whole_rows[index];
+    const std::vector<int>& seg = runs[r].segment[index];
     std::map<int, std::size_t> group_of_segment;
     const std::vector<double> rate = HeatingRate(*m, seg);
     for (std::size_t i = 0; i < m->time_s.size(); ++i) {
@@ -529,6 +543,7 @@ Pool Gather(const Sensor& s, const std::vector<Run>& runs) {
       p.temp_c.push_back(m->temp_c[i]);
       for (std::size_t k = 0; k < s.values.size(); ++k) p.y[k].push_back(m->values[k][i] * s.to_model);
       p.log_of_row.push_back(r);
+      p.still_s += runs[r].row_s[index];
       if (r == 0) p.primary_rows.push_back(i);
     }
     if (!group_of_segment.empty()) ++p.logs_with_still;
@@ -541,7 +556,7 @@ Pool Gather(const Sensor& s, const std::vector<Run>& runs) {
 Sensor::Identification Identify(const Sensor& s, const Pool& p, const Args& a) {
   Sensor::Identification id;
   id.logs = p.logs, id.logs_with_still = p.logs_with_still;
-  id.still_s = static_cast<double>(p.temp_c.size()) / a.fit_rate_hz;
+  id.still_s = p.still_s;
   if (p.temp_c.empty()) {
     id.statement = "no still rows in " + std::to_string(p.logs) + " log(s)";
     id.would_help = "a log in which the vehicle stands still (disarmed, untouched) for a few minutes after power-on";

@@ -134,11 +134,17 @@ TEST(CalibrateFlights, TenFlightsWithPowerOnOffsetsRecoverTheTrueCurve) {
   Result<CalibrateResult> r = CalibrateLogs(logs, CalibrateOptions{});
   ASSERT_TRUE(r.ok()) << r.error().message;
   ASSERT_EQ(r->logs.size(), 10u);
-  for (const CalibrateResult::LogStill& l : r->logs) EXPECT_EQ(l.detection.segments.size(), 2u) << l.detection.BriefReport();
+  double detected_s = 0.0;
+  for (const CalibrateResult::LogStill& l : r->logs) {
+    EXPECT_EQ(l.detection.segments.size(), 2u) << l.detection.BriefReport();
+    detected_s += l.detection.still_s;
+  }
   for (const CalibratedSensor& s : r->sensors) {
     ASSERT_TRUE(s.calibrated()) << s.type << ": " << s.reason << "; " << s.identification.statement;
     EXPECT_EQ(s.fit, "pooled");
     EXPECT_EQ(s.identification.logs_with_still, 10);
+    // The fit's rows stand for the still time found (a segment's last partial second dropped).
+    EXPECT_NEAR(s.identification.still_s, detected_s, 0.01 * detected_s);
     EXPECT_GT(s.identification.overlap_c, 10.0);
     std::vector<double> temps;
     for (double t = s.temp_min_c; t <= s.temp_max_c; t += 0.25) temps.push_back(t);

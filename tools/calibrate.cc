@@ -124,7 +124,8 @@ void PrintSummary(const CalibrateArgs& a, const CalibrateResult& r) {
     if (!s.calibrated()) {
       skipped = true;
       line << WarnColour("skipped") << ", " << s.reason;
-      if (!s.identification.would_help.empty()) line << "; would help: " << s.identification.would_help;
+      // Pooled (flights, several logs): which log would help; a single chamber run's line as before.
+      if (pooled && !s.identification.would_help.empty()) line << "; would help: " << s.identification.would_help;
     } else if (s.fit == "pooled") {
       double sd = 0.0;
       for (double v : s.curve_sd) sd += v * v / static_cast<double>(s.curve_sd.size());

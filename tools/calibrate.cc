@@ -66,8 +66,31 @@ double ExpectedRms(const Sensor& s, bool warm_up) {
   return AxisRms(per_axis);
 }
 
+// Per log, where the vehicle was still: segments (start, length, temperature span) and the parts
+// rejected with the reason.
+nlohmann::json LogsJson(const CalibrateResult& r) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const CalibrateResult::LogStill& l : r.logs) {
+    const StillDetection& d = l.detection;
+    nlohmann::json segments = nlohmann::json::array(), rejected = nlohmann::json::array();
+    for (const StillSegment& s : d.segments)
+      segments.push_back({{"start_s", s.start_s}, {"length_s", s.length_s}, {"temp_min_c", s.temp_min_c}, {"temp_max_c", s.temp_max_c}});
+    for (const RejectedPart& p : d.rejected) rejected.push_back({{"start_s", p.start_s}, {"length_s", p.length_s}, {"reason", p.reason}});
+    out.push_back({{"path", l.path}, {"still_s", d.still_s}, {"total_s", d.total_s}, {"gyro_noise_rad_s", d.gyro_noise_rad_s},
+                   {"accel_noise_m_s2", d.accel_noise_m_s2}, {"still_segments", segments}, {"rejected", rejected}});
+  }
+  return out;
+}
+
+// True when the logs are one log still throughout (the single-run path: no still lines).
+bool StillThroughout(const CalibrateResult& r) {
+  return r.logs.size() == 1 && r.logs[0].detection.rejected.empty() && r.logs[0].detection.segments.size() == 1;
+}
+
 // The default summary: a header (what was read), one line per sensor (uncompensated drift against
 // the expected next-run error of its exported cubic), the next step when a sensor was skipped.
+// Logs in which the vehicle moves, or several logs: a line on the still time, and per sensor
+// what the logs identify (pooled fit) and which log would help.
 // --verbose prints the full table (projection cost, static weighting, validation per axis).
 void PrintSummary(const CalibrateArgs& a, const CalibrateResult& r) {
   int calibrated = 0;
@@ -83,6 +106,14 @@ void PrintSummary(const CalibrateArgs& a, const CalibrateResult& r) {
                      " of " + std::to_string(r.sensors.size()) + " sensors calibrated";
   if (calibrated > 0) head += " over " + Figure(lo) + " .. " + Figure(hi) + " C";
   Headline(kCalibrateName, head);
+  const bool pooled = !StillThroughout(r);
+  if (pooled) {
+    double still = 0.0, total = 0.0;
+    std::size_t segments = 0;
+    for (const CalibrateResult::LogStill& l : r.logs) still += l.detection.still_s, total += l.detection.total_s, segments += l.detection.segments.size();
+    Line("still: " + Figure(still / 60.0) + " of " + Figure(total / 60.0) + " min in " + std::to_string(segments) +
+         " segment(s) over " + std::to_string(r.logs.size()) + " log(s) (--verbose or --json: per log)");
+  }
   const bool warm_up = a.optimise_for == "warm-up";
   bool skipped = false;
   for (const Sensor& s : r.sensors) {
@@ -93,6 +124,14 @@ void PrintSummary(const CalibrateArgs& a, const CalibrateResult& r) {
     if (!s.calibrated()) {
       skipped = true;
       line << WarnColour("skipped") << ", " << s.reason;
+      // Pooled (flights, several logs): which log would help; a single chamber run's line as before.
+      if (pooled && !s.identification.would_help.empty()) line << "; would help: " << s.identification.would_help;
+    } else if (s.fit == "pooled") {
+      double sd = 0.0;
+      for (double v : s.curve_sd) sd += v * v / static_cast<double>(s.curve_sd.size());
+      line << "pooled over " << s.runs_combined << " log(s), drift " << Readable(s, UncompensatedRms(s))
+           << " uncompensated in the first log's still rows, curve 1 sigma " << Readable(s, std::sqrt(sd)) << "; "
+           << s.identification.statement << "; would help: " << s.identification.would_help;
     } else {
       const double before = UncompensatedRms(s), after = ExpectedRms(s, warm_up);
       line << "drift " << Readable(s, before) << " uncompensated -> " << Readable(s, after)
@@ -108,13 +147,14 @@ void PrintSummary(const CalibrateArgs& a, const CalibrateResult& r) {
   }
   if (skipped) {
     Line("next: a skipped sensor needs a run whose temperature spans at least --min-span (" + Figure(a.min_span_c) +
-         " C) with enough rows; see the reason beside it");
+         " C)" + (pooled ? " inside one log and --min-still (" + Figure(a.min_still_s) + " s) of still time" : " with enough rows") +
+         "; see the reason beside it");
   }
 }
 
 int Run(const CalibrateArgs& a) {
-  if (!(a.fit_rate_hz > 0.0) || !(a.min_span_c >= 0.0) || !(a.block_s > 0.0))
-    return ReportError(kCalibrateName, InvalidArgument("--fit-rate must be > 0 Hz, --min-span >= 0 C and --block > 0 s"));
+  if (!(a.fit_rate_hz > 0.0) || !(a.min_span_c >= 0.0) || !(a.block_s > 0.0) || !(a.min_still_s >= 0.0) || !(a.still_rate_hz > 0.0))
+    return ReportError(kCalibrateName, InvalidArgument("--fit-rate and --still-rate must be > 0 Hz, --min-span >= 0 C, --min-still >= 0 s and --block > 0 s"));
   Result<CalibrateResult> r = CalibrateLogs(a.inputs, a);
   if (!r.ok()) return ReportError(kCalibrateName, r.error());
   for (const std::string& n : r->notes) Note(kCalibrateName, n);
@@ -131,6 +171,8 @@ int Run(const CalibrateArgs& a) {
   j["inputs"] = a.inputs;
   j["validation_run"] = a.validation_path.empty() ? nlohmann::json(nullptr) : nlohmann::json(a.validation_path);
   j["block_s"] = a.block_s;
+  j["min_still_s"] = a.min_still_s;
+  j["logs"] = LogsJson(*r);
   j["sensors"] = nlohmann::json::array();
   for (const Sensor& s : *sensors) j["sensors"].push_back(SensorJson(a, s));
   if (!a.json_path.empty())
@@ -152,15 +194,20 @@ Command MakeCalibrate(CLI::App& app) {
       "  device_id, all four slots of each kind written (unused: ID 0), TC_x_ENABLE. QGroundControl format.\n"
       "ardupilot (DataFlash): every IMU, rotated back by AHRS_ORIENTATION and with any INS_TCAL correction the\n"
       "  log ran undone -> INS_TCAL1..3 ENABLE, TMIN, TMAX, ACC1..3, GYR1..3 (an IMU not calibrated: ENABLE 0).\n"
-      "A sensor that cannot be calibrated (span < --min-span, too few rows) is listed with the reason.\n"
+      "Every log goes through a still detector (gyro and accel variance against the sensor's own noise); only\n"
+      "  still rows feed the fit. One log still throughout (a chamber run): the drift model projected onto the\n"
+      "  cubic. Several logs or flights: one least-squares cubic over all still rows, a constant per log (gyro,\n"
+      "  baro) or per still segment (accel: the attitude's share of gravity).\n"
+      "A sensor that cannot be calibrated (span < --min-span, still time < --min-still, too few rows) is listed\n"
+      "  with the reason and which log would help.\n"
       "Expected error: per axis, the cubic's expected next-run RMS at steady temperature and on the run's warm-up\n"
       "  (the model's prediction band and the projection). --validation RUN: the cubics, with the firmware's\n"
       "  formula, and the full model scored on RUN (RMS of --block s means, mean removed).\n"
       "Example: gyrocomp calibrate -i heat.ulg --format px4 -o tc.params --models models/ --json cal.json\n"
       "           --validation cool.ulg --report cal.html");
   AddInputOption(sub, "-i,--input", &a->inputs,
-                 "Flight log: PX4 ULog or ArduPilot DataFlash; repeated: runs of the same board, each sensor's cubics "
-                 "averaged over them (models and bands from the first)")
+                 "Flight log: PX4 ULog or ArduPilot DataFlash, a chamber run or an ordinary flight; repeated: logs of "
+                 "the same board, one cubic fitted to all their still rows with a constant per log")
       ->required();
   sub->add_option("--format", a->format, "px4 | ardupilot")->required()->check(CLI::IsMember({"px4", "ardupilot"}));
   AddOutputOption(sub, "-o,--output", &a->output, "Parameter file to write")->required();
@@ -187,6 +234,14 @@ Command MakeCalibrate(CLI::App& app) {
       ->check(CLI::IsMember({"auto", "temperature", "time"}))
       ->capture_default_str();
   sub->add_option("--min-span", a->min_span_c, "Smallest temperature span calibrated, deg C (ArduPilot's TEMP_RANGE_MIN)")
+      ->capture_default_str();
+  sub->add_option("--min-still", a->min_still_s, "Least still time of a sensor over all the logs, s; less: no entry for it")
+      ->capture_default_str();
+  sub->add_option("--still-threshold", a->still.threshold,
+                  "Still detector: a 1 s window whose gyro and accel variance over the quietest windows' (T, ~1 still) "
+                  "exceeds this is motion")
+      ->capture_default_str();
+  sub->add_option("--still-rate", a->still_rate_hz, "Rows per second the still detector sees (means of the log's rows), Hz")
       ->capture_default_str();
   return {sub, [a] {
             a->input = a->inputs.front();

@@ -89,10 +89,17 @@ nlohmann::json SensorJson(const CalibrateArgs& a, const Sensor& s) {
                       {"status", s.reason.empty() ? "calibrated" : "skipped"}};
   if (a.format == "px4") j["device_id"] = s.device_id ? nlohmann::json(*s.device_id) : nlohmann::json(nullptr);
   else j["imu"] = s.slot;
+  const CalibratedSensor::Identification& id = s.identification;
+  j["identification"] = {{"statement", id.statement}, {"would_help", id.would_help}, {"temp_min_c", id.temp_min_c},
+                         {"temp_max_c", id.temp_max_c}, {"identified_span_c", id.identified_span_c},
+                         {"overlap_c", id.overlap_c}, {"logs", id.logs}, {"logs_with_still", id.logs_with_still},
+                         {"still_s", id.still_s}};
+  j["fit"] = s.fit;
   if (!s.reason.empty()) {
     j["reason"] = s.reason;
     return j;
   }
+  if (!s.curve_sd.empty()) j["curve_sd"] = s.curve_sd;
   j["temp_min_c"] = s.temp_min_c;
   j["temp_max_c"] = s.temp_max_c;
   j["runs_combined"] = s.runs_combined;

@@ -17,6 +17,9 @@ CalibrateOptions ReadCalibrateOptions(Kwargs& kw) {
   kw.Get("static_weight", &o.static_weight);
   kw.Get("validation_path", &o.validation_path);
   kw.Get("block_s", &o.block_s);
+  kw.Get("min_still_s", &o.min_still_s);
+  kw.Get("still_rate_hz", &o.still_rate_hz);
+  kw.Get("still_threshold", &o.still.threshold);
   return o;
 }
 
@@ -35,7 +38,15 @@ py::dict SensorDict(const CalibratedSensor& s) {
   d["reason"] = s.reason;
   d["unit"] = s.unit;
   d["cols"] = s.cols;
+  d["fit"] = s.fit;
+  const CalibratedSensor::Identification& id = s.identification;
+  d["identification"] = py::dict(py::arg("statement") = id.statement, py::arg("would_help") = id.would_help,
+                                 py::arg("temp_min_c") = id.temp_min_c, py::arg("temp_max_c") = id.temp_max_c,
+                                 py::arg("identified_span_c") = id.identified_span_c, py::arg("overlap_c") = id.overlap_c,
+                                 py::arg("logs") = id.logs, py::arg("logs_with_still") = id.logs_with_still,
+                                 py::arg("still_s") = id.still_s);
   if (!s.calibrated()) return d;
+  d["curve_sd"] = s.curve_sd;
   d["temp_min_c"] = s.temp_min_c;
   d["temp_max_c"] = s.temp_max_c;
   d["runs_combined"] = s.runs_combined;
@@ -71,13 +82,28 @@ void BindCalibrate(py::module_& m) {
         d["sensors"] = sensors;
         d["parameter_text"] = r.parameter_text;
         d["notes"] = r.notes;
+        py::list logs_still;
+        for (const CalibrateResult::LogStill& l : r.logs) {
+          py::list segments, rejected;
+          for (const StillSegment& g : l.detection.segments)
+            segments.append(py::dict(py::arg("start_s") = g.start_s, py::arg("length_s") = g.length_s,
+                                     py::arg("temp_min_c") = g.temp_min_c, py::arg("temp_max_c") = g.temp_max_c));
+          for (const RejectedPart& p : l.detection.rejected)
+            rejected.append(py::dict(py::arg("start_s") = p.start_s, py::arg("length_s") = p.length_s, py::arg("reason") = p.reason));
+          logs_still.append(py::dict(py::arg("path") = l.path, py::arg("still_s") = l.detection.still_s,
+                                     py::arg("total_s") = l.detection.total_s, py::arg("still_segments") = segments,
+                                     py::arg("rejected") = rejected));
+        }
+        d["logs"] = logs_still;
         d["brief_report"] = r.BriefReport();
         return d;
       },
       py::arg("logs"),
       "Thermal calibration of every IMU sensor of one board's logs (PX4 ULog or ArduPilot DataFlash; the first "
       "is the primary run). CalibrateOptions as keywords: format ('px4' | 'ardupilot'), fit_rate_hz, min_span_c, "
-      "min_rows, optimise_for, static_weight, validation_path, block_s. Returns the per-sensor results and "
+      "min_rows, optimise_for, static_weight, validation_path, block_s, min_still_s, still_rate_hz, still_threshold. "
+      "Only the still rows of each log feed the fit (logs: per log the still segments and the parts rejected); "
+      "several logs or flights give one pooled cubic. Returns the per-sensor results (fit, identification) and "
       "parameter_text, the file `gyrocomp calibrate` writes.");
 }
 

@@ -38,3 +38,29 @@ def test_options_are_checked(cli, tmp_path):
         gyrocomp.calibrate([log], fit_rate=1.0)
     r = gyrocomp.calibrate([log], min_span_c=100.0)
     assert r.parameter_text == "" and all("temperature span" in s.reason for s in r.sensors)
+
+
+def test_still_segments_identification_and_the_pooled_fit(cli, tmp_path):
+    # A chamber run is still throughout: one still segment, nothing rejected, the single-run fit.
+    log = simulate_board(cli, tmp_path / "a.ulg")
+    r = gyrocomp.calibrate([log])
+    assert len(r.logs) == 1 and len(r.logs[0].still_segments) == 1 and r.logs[0].rejected == []
+    assert r.logs[0].still_s == pytest.approx(r.logs[0].total_s, rel=1e-3)
+    assert all(s.fit == "single run" and s.identification.logs_with_still == 1 for s in r.sensors)
+    # Two runs of the board: one pooled cubic over both, each sensor's identification filled.
+    other = tmp_path / "b.ulg"
+    subprocess.run([cli, "simulate", "--profile", "paper", "--hot", "60", "--cold", "0", "--step", "20", "--room-hold", "600",
+                    "--hold", "600", "--fs", "10", "--imus", "3", "--seed", "2", "-o", str(other)], check=True,
+                   capture_output=True)
+    r = gyrocomp.calibrate([log, str(other)])
+    assert len(r.logs) == 2 and r.parameter_text
+    for s in r.sensors:
+        if s.type == "baro":
+            continue
+        assert s.fit == "pooled" and s.status == "calibrated", s.reason
+        assert s.identification.logs_with_still == 2 and s.identification.overlap_c > 10
+        assert len(s.curve_sd) == 3 and all(v > 0 for v in s.curve_sd)
+    # Too little still time asked for: no entry, the reason and what would help.
+    r = gyrocomp.calibrate([log, str(other)], min_still_s=1e9)
+    assert r.parameter_text == ""
+    assert all("still time" in s.reason and "still" in s.identification.would_help for s in r.sensors)

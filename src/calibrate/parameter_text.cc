@@ -61,7 +61,7 @@ std::string ValidationText(const Sensor::Validation& v) {
 std::string Joined(const std::vector<std::string>& v) {
   std::string t;
   for (const std::string& x : v) t += (t.empty() ? "" : " + ") + x;
-  return v.size() > 1 ? t + " (cubics averaged over the runs; models and bands from the first)" : t;
+  return v.size() > 1 ? t + " (one cubic fitted to all their still rows, a constant per log or still segment)" : t;
 }
 
 std::vector<std::string> Comments(const Args& a, const std::vector<Sensor>& all) {
@@ -85,7 +85,8 @@ std::vector<std::string> Comments(const Args& a, const std::vector<Sensor>& all)
       c.push_back(l.str());
       continue;
     }
-    l << ": " << DriftModelKindName(s.models[0].kind) << ", " << FormatNumber(s.temp_min_c, 4) << ".." << FormatNumber(s.temp_max_c, 4) << " C, cost";
+    l << ": " << (s.fit == "pooled" ? "pooled over " + std::to_string(s.runs_combined) + " log(s)" : DriftModelKindName(s.models[0].kind))
+      << ", " << FormatNumber(s.temp_min_c, 4) << ".." << FormatNumber(s.temp_max_c, 4) << " C, cost";
     for (double v : s.cost_rms) l << " " << FormatNumber(v, 4);
     c.push_back(l.str());
     c.push_back("    expected error " + ExpectedTextOf(s, false) + "; " + ExpectedTextOf(s, true));
@@ -174,6 +175,18 @@ std::string CalibrateResult::BriefReport() const {
       t << s.unit << "\n";
     }
   }
+  t << "what the logs identify, per sensor (" << logs.size() << " log(s)):\n";
+  for (const Sensor& s : all) {
+    t << s.type << std::string(8 - std::min<std::size_t>(7, s.type.size()), ' ') << s.instance << "     " << s.fit << ": "
+      << s.identification.statement << "\n";
+    if (!s.curve_sd.empty()) {
+      t << "                  curve 1 sigma (pooled fit)";
+      for (double v : s.curve_sd) t << " " << FormatNumber(v, 3);
+      t << " " << s.unit << "\n";
+    }
+    if (!s.identification.would_help.empty()) t << "                  would help: " << s.identification.would_help << "\n";
+  }
+  for (const LogStill& l : logs) t << "still in " << l.path << ": " << l.detection.BriefReport() << "\n";
   return t.str();
 }
 

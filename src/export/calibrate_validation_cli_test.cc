@@ -179,10 +179,10 @@ TEST_F(CalibrateValidationCli, AValidationRunOfTheOtherKindIsExit2AndNoFile) {
   EXPECT_EQ(Run("calibrate -i " + cal + " --format px4 -o " + dir_ + "/tc.params --block 0", &out), 2) << out;
 }
 
-// calibrate -i A -i B: every sensor's cubics averaged over the runs on the range both cover; the
-// same log twice is the log once; the order of the runs does not change the cubics; a log of the
-// other kind is exit 2.
-TEST_F(CalibrateValidationCli, SeveralRunsOfOneBoardAverageTheirCubics) {
+// calibrate -i A -i B: one pooled cubic per sensor over both runs' still rows, on the range
+// either covers; the order of the runs does not change the cubics; the same log twice is the
+// pooled fit of that log; a log of the other kind is exit 2.
+TEST_F(CalibrateValidationCli, SeveralRunsOfOneBoardArePooled) {
   const std::string a = Simulate("a.ulg", 51, "--room-temp 10 --ramp-end 60");
   const std::string b = Simulate("b.ulg", 52, "--room-temp 12 --ramp-end 58");
   std::string out;
@@ -194,21 +194,24 @@ TEST_F(CalibrateValidationCli, SeveralRunsOfOneBoardAverageTheirCubics) {
   const nlohmann::json once = cubics("-i " + a, "once"), twice = cubics("-i " + a + " -i " + a, "twice");
   const nlohmann::json ab = cubics("-i " + a + " -i " + b, "ab"), ba = cubics("-i " + b + " -i " + a, "ba");
   EXPECT_EQ(twice["inputs"].size(), 2u);
+  ASSERT_EQ(ab["logs"].size(), 2u);
+  for (const auto& log : ab["logs"]) EXPECT_EQ(log["still_segments"].size(), 1u) << log;  // chamber runs: still throughout
   for (std::size_t i = 0; i < once["sensors"].size(); ++i) {
     EXPECT_EQ(once["sensors"][i]["runs_combined"], 1);
+    EXPECT_EQ(once["sensors"][i]["fit"], "single run");
     EXPECT_EQ(ab["sensors"][i]["runs_combined"], 2);
+    EXPECT_EQ(ab["sensors"][i]["fit"], "pooled");
+    EXPECT_EQ(twice["sensors"][i]["fit"], "pooled");
+    EXPECT_EQ(ab["sensors"][i]["identification"]["logs_with_still"], 2);
     for (std::size_t k = 0; k < once["sensors"][i]["axes"].size(); ++k) {
-      const auto& c1 = once["sensors"][i]["axes"][k]["cubic"];
-      const auto& c2 = twice["sensors"][i]["axes"][k]["cubic"];
-      for (int j = 0; j < 4; ++j) EXPECT_NEAR(c2["coeff"][j].get<double>(), c1["coeff"][j].get<double>(),
-                                              1e-12 * std::abs(c1["coeff"][j].get<double>()) + 1e-300);
-      // Both runs: the range both cover (b's, inside a's) and the same cubics in either order.
+      // Both runs: the range either covers (a's, 10..60 C, holds b's) and the same cubic in either order.
       const auto& x = ab["sensors"][i]["axes"][k]["cubic"];
       const auto& y = ba["sensors"][i]["axes"][k]["cubic"];
       EXPECT_EQ(x["temp_min_c"], y["temp_min_c"]);
-      EXPECT_GT(x["temp_min_c"].get<double>(), 11.0);
-      EXPECT_LT(x["temp_max_c"].get<double>(), 59.0);
-      for (int j = 0; j < 4; ++j) EXPECT_EQ(x["coeff"][j], y["coeff"][j]);
+      EXPECT_LT(x["temp_min_c"].get<double>(), 11.0);
+      EXPECT_GT(x["temp_max_c"].get<double>(), 59.0);
+      for (int j = 0; j < 4; ++j)
+        EXPECT_NEAR(x["coeff"][j].get<double>(), y["coeff"][j].get<double>(), 1e-9 * std::abs(x["coeff"][j].get<double>()) + 1e-300);
     }
   }
   ASSERT_EQ(Run("simulate --profile ramp --fs 10 --seed 3 -o " + dir_ + "/c.bin", &out), 0) << out;

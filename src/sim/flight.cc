@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "gyrocomp/io/ulog.h"
 #include "gyrocomp/sim/simulator.h"
 
 namespace gyrocomp {
@@ -17,7 +18,21 @@ bool FlightSimOptions::IsValid(std::string* error) const {
   if (!(still_before_s >= 0.0 && armed_ground_s >= 0.0 && flight_s >= 0.0 && landed_armed_s >= 0.0 && still_after_s >= 0.0))
     return fail("phase durations: must be >= 0 s");
   if (!(self_heating_tau_s > 0.0)) return fail("self_heating_tau_s: must be > 0");
+  if (!(landed_tilt_deg >= 0.0)) return fail("landed_tilt_deg: must be >= 0");
   return true;
+}
+
+namespace {
+// sum_k c[k] x^k.
+double Cubic(const std::array<double, 4>& c, double x) { return c[0] + x * (c[1] + x * (c[2] + x * c[3])); }
+}  // namespace
+
+double FlightGyroDriftRadS(const FlightSimOptions& o, int axis, double temp_c) {
+  return o.axis_scale[static_cast<std::size_t>(axis)] * Cubic(o.gyro_drift_dps, temp_c - o.drift_ref_c) * std::numbers::pi / 180.0;
+}
+
+double FlightAccelDriftM_S2(const FlightSimOptions& o, int axis, double temp_c) {
+  return o.axis_scale[static_cast<std::size_t>(axis)] * Cubic(o.accel_drift_m_s2, temp_c - o.drift_ref_c);
 }
 
 Result<FlightRun> SimulateFlight(const FlightSimOptions& o) {
@@ -36,6 +51,9 @@ Result<FlightRun> SimulateFlight(const FlightSimOptions& o) {
   FlightRun r;
   double temp = o.ambient_c, roll = 0.0, pitch = 0.0;
   const double dt = 1.0 / o.fs_hz;
+  // The landing attitude, from its own generator (the noise stream stays that of older versions).
+  NormalGenerator tilt_rng(o.seed ^ 0x9e3779b97f4a7c15ULL);
+  const double landed_roll = o.landed_tilt_deg * kRad * tilt_rng.Next(), landed_pitch = o.landed_tilt_deg * kRad * tilt_rng.Next();
   for (std::size_t i = 0; i < n; ++i) {
     const double t = static_cast<double>(i) * dt;
     const bool armed = t >= t_arm && t < t_disarm, flying = t >= t_up && t < t_down;
@@ -52,7 +70,7 @@ Result<FlightRun> SimulateFlight(const FlightSimOptions& o) {
       rate[2] = amp * std::sin(2.0 * std::numbers::pi * f_hz[2] * (t - t_up) + ph[2]);
       roll = new_roll, pitch = new_pitch;
     } else if (t >= t_down) {
-      roll = pitch = 0.0;  // landed level
+      roll = landed_roll, pitch = landed_pitch;  // landed, slightly tilted
     }
     // Specific force: gravity in the body frame (FRD: -g on z when level) + flight accelerations.
     std::array<double, 3> f = {kG * std::sin(pitch), -kG * std::sin(roll) * std::cos(pitch), -kG * std::cos(roll) * std::cos(pitch)};
@@ -61,14 +79,40 @@ Result<FlightRun> SimulateFlight(const FlightSimOptions& o) {
     r.time_s.push_back(t);
     r.temp_c.push_back(temp);
     for (int a = 0; a < 3; ++a) {
-      r.gyro_rad_s[a].push_back(rate[a] + gyro_off[a] + o.gyro_noise_dps * kRad * rng.Next() + vib_g * rng.Next());
-      r.accel_m_s2[a].push_back(f[a] + accel_off[a] + o.accel_noise_m_s2 * rng.Next() + vib_a * rng.Next());
+      r.gyro_rad_s[a].push_back(rate[a] + gyro_off[a] + FlightGyroDriftRadS(o, a, temp) + o.gyro_noise_dps * kRad * rng.Next() + vib_g * rng.Next());
+      r.accel_m_s2[a].push_back(f[a] + accel_off[a] + FlightAccelDriftM_S2(o, a, temp) + o.accel_noise_m_s2 * rng.Next() + vib_a * rng.Next());
     }
     r.armed.push_back(armed);
     r.landed.push_back(!flying);
     r.truly_still.push_back(!armed);
   }
   return r;
+}
+
+Result<std::string> EncodeFlightULog(const std::vector<FlightRun>& imus, int decimate) {
+  if (imus.empty() || decimate < 1) return InvalidArgument("EncodeFlightULog: no IMU, or decimate < 1");
+  for (const FlightRun& r : imus)
+    if (r.time_s.size() != imus.front().time_s.size()) return InvalidArgument("EncodeFlightULog: IMUs of different lengths");
+  ULogWriteInput in;
+  in.int_parameters = {{"TC_G_ENABLE", 0}, {"TC_A_ENABLE", 0}};
+  for (std::size_t k = 0; k < imus.size(); ++k) {
+    const FlightRun& r = imus[k];
+    ULogSensorWriteSeries g, a;
+    g.topic = "sensor_gyro", a.topic = "sensor_accel";
+    g.multi_id = a.multi_id = static_cast<int>(k);
+    g.device_id = BoardGyroDeviceId(static_cast<int>(k)), a.device_id = BoardAccelDeviceId(static_cast<int>(k));
+    for (std::size_t i = 0; i < r.time_s.size(); i += static_cast<std::size_t>(decimate)) {
+      const auto t_us = static_cast<std::uint64_t>(std::llround(r.time_s[i] * 1e6)) + 1000000;  // logging starts at 1 s
+      for (ULogSensorWriteSeries* s : {&g, &a}) s->timestamp_us.push_back(t_us), s->temperature_c.push_back(static_cast<float>(r.temp_c[i]));
+      g.x.push_back(static_cast<float>(r.gyro_rad_s[0][i])), g.y.push_back(static_cast<float>(r.gyro_rad_s[1][i]));
+      g.z.push_back(static_cast<float>(r.gyro_rad_s[2][i]));
+      a.x.push_back(static_cast<float>(r.accel_m_s2[0][i])), a.y.push_back(static_cast<float>(r.accel_m_s2[1][i]));
+      a.z.push_back(static_cast<float>(r.accel_m_s2[2][i]));
+    }
+    in.series.push_back(std::move(g));
+    in.series.push_back(std::move(a));
+  }
+  return EncodeULog(in);
 }
 
 }  // namespace gyrocomp

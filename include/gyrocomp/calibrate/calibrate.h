@@ -11,9 +11,18 @@
 //   ArduPilot gyro / accel: re-expanded about 35 C, constant dropped (correct_sensor is relative
 //     to INS_*_CALTEMP; tempcal_IMU.py drops it too).
 // A sensor that cannot be calibrated keeps its entry (its reason set) and its slot is disabled
-// in the file. Several logs of one board: each sensor of the first log is matched in the others
-// by its device id (PX4; the instance number where a log has none), every match calibrated over
-// the range all of them cover and the cubics averaged.
+// in the file.
+//
+// Every log goes through the still detector (still.h) first: only the rows where the vehicle is
+// still feed the fit, and the result lists each log's still segments and the parts rejected.
+// One log that is still throughout (a chamber or bench run) is calibrated as above. Otherwise
+// (several logs, or a log in which the vehicle moves) each sensor of the first log is matched in
+// the others by its device id (PX4; the instance number where a log has none) and ONE pooled
+// least-squares cubic is fitted to all the logs' still rows (pooled_fit.h): the thermal curve
+// shared, a constant per log for a gyro or barometer (the power-on offset the boot calibration
+// removes) and per still segment for an accelerometer (the attitude's share of gravity). A sensor
+// whose still rows do not identify a curve (span under min_span_c, still time under min_still_s)
+// has no entry, and its identification says why and what log would help.
 #pragma once
 
 #include <cstddef>
@@ -22,6 +31,7 @@
 #include <string>
 #include <vector>
 
+#include "gyrocomp/calibrate/still.h"
 #include "gyrocomp/core/status.h"
 #include "gyrocomp/drift/drift_model.h"
 #include "gyrocomp/export/cubic_score.h"
@@ -44,6 +54,19 @@ struct CalibrateOptions {
   double min_span_c = 10.0;
   // Fewest rows after the block means; fewer: the sensor is skipped.
   std::size_t min_rows = 60;
+  // Still detection on every log (still.h; its defaults: 1 s windows, threshold 3, 2 s margin,
+  // segments of 30 s at least). The log's armed state is not read: the IMU alone decides.
+  StillDetectorOptions still;
+  // Rows per second the still detector sees: means of the log's rows over 1 / still_rate_hz, Hz
+  // (the statistic compares each window with the quietest ones, so the averaging cancels; a log
+  // slower than this is seen at its own rate).
+  double still_rate_hz = 50.0;
+  // Least still time of a sensor over all the logs, s; less: no parameter entry (the pooled fit
+  // of a few still minutes is the noise's, not the drift's). 300 s: e.g. one 5 min warm-up.
+  double min_still_s = 300.0;
+  // Pooled fit: a shared dT/dt gain fitted with the cubic where the still rows' heating rates
+  // spread over 1e-3 C/s (SD), the cubic kept at dT/dt = 0 (pooled_fit.h). False: the cubic alone.
+  bool pooled_dtemp = true;
   // What the exported cubic is optimised for (CubicCondition): "steady" (dT/dt = 0, the static
   // curve), "warm-up" (the state the run had while heating) or "both" (their mean).
   std::string optimise_for = "steady";
@@ -109,7 +132,28 @@ struct CalibratedSensor {
     std::vector<double> full_model;  // per axis, after the full model
   };
   std::optional<Validation> validation;  // the scores on CalibrateOptions::validation_path, when given
-  int runs_combined = 1;  // logs whose cubics were averaged
+  int runs_combined = 1;  // logs whose still rows were pooled (1: one still-throughout log)
+  // "single run" (one log, still throughout: the drift model and projection above) or "pooled"
+  // (one least-squares cubic over every log's still rows, a constant per log or segment).
+  std::string fit = "single run";
+  // Pooled: per axis, 1 sigma of the fitted curve over the range from the fit's covariance
+  // (FitPooledCubic's curve_sd), firmware unit; empty for a single run (it has `expected`).
+  std::vector<double> curve_sd;
+  // What the logs identify for this sensor (every sensor, calibrated or not).
+  struct Identification {
+    double temp_min_c = 0.0;  // lowest still temperature over all logs, deg C
+    double temp_max_c = 0.0;  // highest, deg C
+    // Temperatures whose change the fit sees: the union of the ranges inside each constant's
+    // group (a log for gyro / baro, a still segment for an accelerometer), deg C.
+    double identified_span_c = 0.0;
+    double overlap_c = 0.0;  // temperatures (0.5 C bins) covered by two or more logs, deg C
+    int logs = 0;  // logs with this sensor
+    int logs_with_still = 0;  // of them, logs with still rows
+    double still_s = 0.0;  // still time used, s
+    std::string statement;  // one line: the figures above in words
+    std::string would_help;  // one line: which log would help most
+  };
+  Identification identification;
 
   // True unless the sensor was skipped.
   bool calibrated() const { return reason.empty(); }
@@ -125,11 +169,19 @@ struct CalibrateResult {
   std::string parameter_text;
   // What the readers said on the way (e.g. an ArduPilot log's rotation undone), once each.
   std::vector<std::string> notes;
+  // Per log (in the order of `inputs`): where the vehicle was still (StillDetection::still, the
+  // per-row flags, cleared to save memory; segments and rejected parts kept).
+  struct LogStill {
+    std::string path;  // the log
+    StillDetection detection;  // segments, rejected parts with reasons, noise levels
+  };
+  std::vector<LogStill> logs;
 
   // True when at least one sensor was calibrated.
   bool AnyCalibrated() const;
   // The per-sensor table: span, model, projection cost, expected error, static weighting and,
-  // with a validation run, its scores.
+  // with a validation run, its scores; then each sensor's identification and each log's still
+  // segments and rejected parts.
   std::string BriefReport() const;
 };
 

@@ -30,7 +30,8 @@ struct StillDetectorOptions {
   double min_segment_s = 30.0;       // shorter still runs are not used, s
   double max_mean_rate_dps = 1.0;    // a window turning faster on average is motion, deg/s
   // The sensor's white noise per sample (1 sigma, per axis); nullopt: the 5th percentile over
-  // the log's windows of each window's RMS deviation (the quietest 5 % taken as still).
+  // the log's windows of each window's RMS deviation (the quietest 5 % taken as still), divided
+  // by that percentile's share of the mean for still windows (chi-square, Wilson-Hilferty).
   std::optional<double> gyro_noise_rad_s;  // sigma_w, rad/s
   std::optional<double> accel_noise_m_s2;  // sigma_a, m/s^2
   // False with the field and the rule in `error` when a setting is out of range.

@@ -2,7 +2,11 @@
 // on at the ambient temperature, still on the ground while the board self-heats, armed (motors
 // spinning: vibration, still on the ground), a flight with manoeuvres, vibration and airflow
 // cooling, landing (motors still spinning a moment), disarmed and still again. Each power-on has
-// its own constant offset (turn-on repeatability). Ground truth: which samples are still.
+// its own constant offset (turn-on repeatability) and lands at its own small tilt (gravity in the
+// sensor frame differs between the still parts). A thermal drift of the board's temperature
+// (a cubic per axis, zero unless set) is added to the gyro and accelerometer. Ground truth: which
+// samples are still, and the true drift (FlightGyroDriftRadS, FlightAccelDriftM_S2).
+// EncodeFlightULog writes several IMUs of one board flying together as a PX4 ULog.
 #pragma once
 
 #include <array>
@@ -33,6 +37,13 @@ struct FlightSimOptions {
   double vibration_gyro_dps = 3.0;    // motor vibration on the gyro (1 sigma), deg/s
   double vibration_accel_m_s2 = 3.0;  // motor vibration on the accelerometer (1 sigma), m/s^2
   double manoeuvre_rate_dps = 60.0;   // manoeuvre body rates, amplitude, deg/s
+  // True thermal drift: axis a gets axis_scale[a] * sum_k c[k] (T - drift_ref_c)^k, T the board
+  // temperature (deg/s per C^k for the gyro, m/s^2 per C^k for the accelerometer).
+  std::array<double, 4> gyro_drift_dps{};    // c0..c3 of the gyro drift, deg/s / C^k
+  std::array<double, 4> accel_drift_m_s2{};  // c0..c3 of the accelerometer drift, m/s^2 / C^k
+  std::array<double, 3> axis_scale = {1.0, -0.7, 0.5};  // per axis factor of both drifts
+  double drift_ref_c = 25.0;  // reference temperature of the drift cubics, deg C
+  double landed_tilt_deg = 2.0;  // attitude after landing, roll and pitch 1 sigma, deg
   std::uint64_t seed = 1;  // seed of the noise and offsets; the same seed gives the same run
   // False with the reason in `error` when a setting is out of range.
   bool IsValid(std::string* error) const;
@@ -51,5 +62,16 @@ struct FlightRun {
 
 // Simulates one flight. Errors: invalid options (kInvalidArgument).
 Result<FlightRun> SimulateFlight(const FlightSimOptions& options);
+
+// The true thermal drift of gyro axis `axis` (0..2) at board temperature temp_c, rad/s.
+double FlightGyroDriftRadS(const FlightSimOptions& options, int axis, double temp_c);
+// The true thermal drift of accelerometer axis `axis` at temp_c, m/s^2.
+double FlightAccelDriftM_S2(const FlightSimOptions& options, int axis, double temp_c);
+
+// The IMUs of one board in one flight (imus[k]: the k-th IMU, same time base) as a PX4 ULog:
+// sensor_gyro / sensor_accel multi_id k with the board simulator's device ids
+// (BoardGyroDeviceId(k), BoardAccelDeviceId(k), simulator.h), float32, every `decimate`-th row.
+// Errors: no IMU, IMUs of different lengths, decimate < 1 (kInvalidArgument).
+Result<std::string> EncodeFlightULog(const std::vector<FlightRun>& imus, int decimate = 1);
 
 }  // namespace gyrocomp

@@ -1,0 +1,52 @@
+// One thermal curve from several power-ons: the least-squares cubic in temperature shared by all
+// rows, with one constant per group of rows (a log's power-on offset for a gyro or barometer; a
+// still segment's gravity share and offset for an accelerometer):
+//   y_i = b_g(i) + c1 dT_i + c2 dT_i^2 + c3 dT_i^3,   dT_i = T_i - ref_temp_c,
+// the firmware's polynomial (PX4 TC_*_X1..X3 about TC_*_TREF, TemperatureCompensation; ArduPilot
+// INS_TCALn_GYR/ACC, AP_InertialSensor_tempcal.cpp) with the constant left free per group, since
+// the firmware's boot calibration removes a power-on's constant anyway. The constants are
+// eliminated by removing each group's means (Frisch-Waugh-Lovell): c1..c3 are the least squares
+// of the within-group deviations, so only the temperature change inside a group identifies the
+// curve; two groups at different temperatures with no change inside either identify nothing.
+// With rate_c_per_s given, a shared term g dT/dt is fitted too (the board's temperature lags the
+// die's while it heats: a drift that depends on the heating rate, the single-run model's
+// dT/dt state) and the cubic is the curve at dT/dt = 0, the steady state the firmware's
+// formula has (docs/explanation/flight-controller-export.md).
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "gyrocomp/core/status.h"
+
+namespace gyrocomp {
+
+// The fit's result.
+struct PooledCubic {
+  double ref_temp_c = 0.0;  // dT origin, deg C
+  std::array<double, 3> slope{};  // c1, c2, c3: target unit / C^k
+  std::vector<double> group_constant;  // b_g per group, target unit (groups without rows: 0)
+  std::vector<std::size_t> group_rows;  // rows per group
+  double residual_rms = 0.0;  // RMS of y - fit, target unit
+  std::vector<double> group_residual_ms;  // mean squared residual per group, target unit^2
+  // 1 sigma of the fitted curve's change over [temp_min_c, temp_max_c] from the coefficients'
+  // covariance (residual variance times (X'X)^-1 of the within-group columns; the rows are block
+  // means, treated as independent), RMS over 101 temperatures, target unit.
+  double curve_sd = 0.0;
+  double within_group_span_c = 0.0;  // largest temperature change inside one group, deg C
+  // g, target unit per (C/s); 0 when not fitted: no rate_c_per_s, or dT/dt not identified (less
+  // than 10 % of its within-group variance left once the cubic's columns explain what they can).
+  double rate_gain = 0.0;
+  bool rate_used = false;  // the dT/dt term was fitted
+};
+
+// temp_c, y, group (and rate_c_per_s unless empty) as long as each other; group[i] < num_groups.
+// Errors: lengths differ, fewer than 8 rows, no temperature change inside any group, a singular
+// system (kInvalidInput).
+Result<PooledCubic> FitPooledCubic(const std::vector<double>& temp_c, const std::vector<double>& y,
+                                   const std::vector<std::size_t>& group, std::size_t num_groups, double ref_temp_c,
+                                   const std::vector<double>& rate_c_per_s = {});
+
+}  // namespace gyrocomp

@@ -5,6 +5,7 @@
 // and writes the files.
 #include <cmath>
 #include <iostream>
+#include <set>
 #include <sstream>
 #include <algorithm>
 #include <memory>
@@ -116,6 +117,7 @@ void PrintSummary(const CalibrateArgs& a, const CalibrateResult& r) {
   }
   const bool warm_up = a.optimise_for == "warm-up";
   bool skipped = false;
+  std::set<std::string> help;  // what another log would add, each text once
   for (const Sensor& s : r.sensors) {
     std::ostringstream line;
     line << s.type << " " << s.instance;
@@ -125,13 +127,14 @@ void PrintSummary(const CalibrateArgs& a, const CalibrateResult& r) {
       skipped = true;
       line << WarnColour("skipped") << ", " << s.reason;
       // Pooled (flights, several logs): which log would help; a single chamber run's line as before.
-      if (pooled && !s.identification.would_help.empty()) line << "; would help: " << s.identification.would_help;
+      if (pooled && !s.identification.would_help.empty()) help.insert(s.identification.would_help);
     } else if (s.fit == "pooled") {
+      // The curve's own 1 sigma beside the drift; what the logs identify is in --verbose.
       double sd = 0.0;
       for (double v : s.curve_sd) sd += v * v / static_cast<double>(s.curve_sd.size());
-      line << "pooled over " << s.runs_combined << " log(s), drift " << Readable(s, UncompensatedRms(s))
-           << " uncompensated in the first log's still rows, curve 1 sigma " << Readable(s, std::sqrt(sd)) << "; "
-           << s.identification.statement << "; would help: " << s.identification.would_help;
+      line << "drift " << Readable(s, UncompensatedRms(s)) << " uncompensated (first log's still rows), curve 1 sigma "
+           << Readable(s, std::sqrt(sd)) << ", pooled over " << s.runs_combined << " log(s)";
+      if (!s.identification.would_help.empty()) help.insert(s.identification.would_help);
     } else {
       const double before = UncompensatedRms(s), after = ExpectedRms(s, warm_up);
       line << "drift " << Readable(s, before) << " uncompensated -> " << Readable(s, after)
@@ -145,6 +148,7 @@ void PrintSummary(const CalibrateArgs& a, const CalibrateResult& r) {
     }
     Line(line.str());
   }
+  for (const std::string& h : help) Line("would help: " + h);
   if (skipped) {
     Line("next: a skipped sensor needs a run whose temperature spans at least --min-span (" + Figure(a.min_span_c) +
          " C)" + (pooled ? " inside one log and --min-still (" + Figure(a.min_still_s) + " s) of still time" : " with enough rows") +

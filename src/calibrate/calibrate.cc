@@ -587,16 +587,17 @@ Sensor::Identification Identify(const Sensor& s, const Pool& p, const Args& a) {
                  FormatNumber(id.temp_max_c, 3) + " C (" + FormatNumber(id.identified_span_c, 3) +
                  " C of change inside a " + group + "), overlap between logs " + FormatNumber(id.overlap_c, 3) + " C";
   if (id.identified_span_c < a.min_span_c) {
-    id.would_help = "a log that powers on below " + FormatNumber(id.temp_min_c - (a.min_span_c - id.identified_span_c), 3) +
+    id.would_help = "a log that powers on below " + FormatNumber(std::floor(id.temp_min_c - (a.min_span_c - id.identified_span_c)), 3) +
                     " C and stands still while it warms (" + FormatNumber(a.min_span_c - id.identified_span_c, 3) +
                     " C more change inside one " + group + ")";
   } else if (id.still_s < a.min_still_s) {
     id.would_help = FormatNumber((a.min_still_s - id.still_s) / 60.0, 3) +
                     " min more still time: leave the vehicle untouched for a few minutes after power-on";
   } else {
-    id.would_help = "a log that powers on below " + FormatNumber(id.temp_min_c, 3) + " C or warms above " +
-                    FormatNumber(id.temp_max_c, 3) + " C would extend the curve (the firmware clamps to " +
-                    FormatNumber(id.temp_min_c, 3) + ".." + FormatNumber(id.temp_max_c, 3) + " C)" +
+    // Whole degrees: the advice is for a person choosing the next flight's morning.
+    const std::string lo = FormatNumber(std::floor(id.temp_min_c), 3), hi = FormatNumber(std::ceil(id.temp_max_c), 3);
+    id.would_help = "a log that powers on below " + lo + " C or warms above " + hi +
+                    " C would extend the curve (the firmware clamps to the calibrated range)" +
                     (p.logs_with_still < 2 ? "; a second log would show whether the curve repeats between power-ons" : "");
   }
   return id;

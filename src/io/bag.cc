@@ -138,6 +138,7 @@ class OffsetVisitor : public BagVisitor {
     return inner_->OnMessage(moved);
   }
   void Count(std::uint64_t ch, std::uint64_t t) override { inner_->Count(ch + offset_, t); }
+  void OnDamage(const LogDamage& d) override { inner_->OnDamage(d); }
 
  private:
   BagVisitor* inner_;
@@ -296,6 +297,8 @@ class ImuCollector : public BagVisitor {
     return t.temperature ? AddTemperature(t, m) : AddImu(t, m);
   }
 
+  void OnDamage(const LogDamage& d) override { damage_.push_back(d); }
+
   Result<BagImuTable> Finish(BagFormat format);
 
  private:
@@ -341,6 +344,7 @@ class ImuCollector : public BagVisitor {
   std::set<std::string> all_imu_topics_;  // every sensor_msgs/Imu topic, selected or not
   std::vector<ImuRows> imus_;
   std::vector<TemperatureRows> temps_;
+  std::vector<LogDamage> damage_;
 };
 
 // The temperature topic to join: the only one, or the only one in the IMU topic's namespace.
@@ -395,6 +399,8 @@ std::vector<double> JoinNearest(const std::vector<std::int64_t>& t_ns, const Tem
 Result<BagImuTable> ImuCollector::Finish(BagFormat format) {
   BagImuTable out;
   out.format = format;
+  if (!damage_.empty()) out.warnings.push_back(DamageWarning(source_, damage_));
+  out.damage = std::move(damage_);
   if (options_.topic && imu_index_.count(*options_.topic) == 0) {
     std::string names;
     for (const std::string& t : all_imu_topics_) names += (names.empty() ? "" : ", ") + t;
@@ -484,7 +490,9 @@ class Lister : public BagVisitor {
     if (info.messages == 0 || t > info.last_receive_ns) info.last_receive_ns = t;
     ++info.messages;
   }
+  void OnDamage(const LogDamage& d) override { damage_.push_back(d); }
   std::vector<BagTopicInfo> topics_;
+  std::vector<LogDamage> damage_;
 
  private:
   std::map<std::string, std::size_t> index_;
@@ -563,6 +571,8 @@ Result<BagListing> ListBag(const std::string& path, const BagReadOptions& option
   out.source = path;
   out.format = DetectBagFormat(path);
   out.topics = std::move(lister.topics_);
+  if (!lister.damage_.empty()) out.warnings.push_back(DamageWarning(path, lister.damage_));
+  out.damage = std::move(lister.damage_);
   return out;
 }
 

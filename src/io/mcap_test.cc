@@ -170,19 +170,22 @@ TEST_F(McapTest, UnchunkedMessagesAndReceiveTime) {
 
 TEST_F(McapTest, HostileFilesAreRefusedWithTheByteOffset) {
   const std::string good = McapFile(ChunkRec(ImuRecords(100), {"zstd", {}, {}}));
+  // Damage is refused in strict mode (recovery: bag_recovery_test.cc).
+  BagReadOptions strict;
+  strict.strict = true;
   // A truncated chunk: the file cut inside it. The chunk record starts after magic (8) and the
   // Header record (9 + 4 + 4 + 4 + 8 = 29): byte 37.
-  ExpectRefused(good.substr(0, 37 + 200), "byte 37: record 0x06");
-  ExpectRefused(good.substr(0, 37 + 200), "truncated");
+  ExpectRefused(good.substr(0, 37 + 200), "byte 37: record 0x06", strict);
+  ExpectRefused(good.substr(0, 37 + 200), "truncated", strict);
   // Wrong CRC.
-  ExpectRefused(McapFile(ChunkRec(ImuRecords(100), {"lz4", {}, 12345u})), "byte 37: Chunk CRC mismatch");
+  ExpectRefused(McapFile(ChunkRec(ImuRecords(100), {"lz4", {}, 12345u})), "byte 37: Chunk CRC mismatch", strict);
   // A compression bomb declared as such: refused before any allocation.
-  BagReadOptions small;
+  BagReadOptions small = strict;
   small.max_chunk_bytes = 1 << 20;
   ExpectRefused(McapFile(ChunkRec(ImuRecords(100), {"zstd", std::uint64_t{1} << 40, 0u})), "compression bomb", small);
   // A chunk that decompresses to more than it declares: decompression stops at the declared size.
-  ExpectRefused(McapFile(ChunkRec(ImuRecords(100), {"zstd", 1000u, 0u})), "byte 37: Chunk: zstd");
-  ExpectRefused(McapFile(ChunkRec(ImuRecords(100), {"lz4", 1000u, 0u})), "more than the 1000 bytes");
+  ExpectRefused(McapFile(ChunkRec(ImuRecords(100), {"zstd", 1000u, 0u})), "byte 37: Chunk: zstd", strict);
+  ExpectRefused(McapFile(ChunkRec(ImuRecords(100), {"lz4", 1000u, 0u})), "more than the 1000 bytes", strict);
   // A message shorter than its CDR.
   std::string shortmsg = SchemaRec(1, "sensor_msgs/msg/Imu") + ChannelRec(1, 1, "/imu0") +
                          MessageRec(1, 5, EncodeCdrImu(Sample(0), "imu", false).substr(0, 100));
@@ -198,9 +201,9 @@ TEST_F(McapTest, HostileFilesAreRefusedWithTheByteOffset) {
   imu1.topic = "/imu1";
   EXPECT_TRUE(Read(two, imu1).ok());
   // No footer (an interrupted recording), bad magic, a message on an unknown channel.
-  ExpectRefused(McapFile(ChunkRec(ImuRecords(10), {"", {}, {}}), false), "without the Footer record");
+  ExpectRefused(McapFile(ChunkRec(ImuRecords(10), {"", {}, {}}), false), "without the Footer record", strict);
   ExpectRefused("\x89MCAP1\r\nxxxxxxxx", "byte 0: not an MCAP");
-  ExpectRefused(McapFile(MessageRec(4, 1, "abc")), "Message on channel 4, which no Channel record defined");
+  ExpectRefused(McapFile(MessageRec(4, 1, "abc")), "Message on channel 4, which no Channel record defined", strict);
 }
 
 TEST_F(McapTest, UnstampedMessagesAskForReceiveTime) {
@@ -309,7 +312,9 @@ TEST_F(McapTest, HostileZstdFilesAreRefusedOnOneLine) {
   refused(Zstd("not a bag at all, just text"), "decompressed byte 0: not an MCAP");
   // A damaged MCAP inside names the compressed file.
   std::string inner = McapFile(ChunkRec(ImuRecords(10), {"", {}, 12345u}));
-  refused(Zstd(inner), "bad.mcap.zstd (decompressed): byte 37: Chunk CRC mismatch");
+  BagReadOptions strict;
+  strict.strict = true;
+  refused(Zstd(inner), "bad.mcap.zstd (decompressed): byte 37: Chunk CRC mismatch", strict);
   // compression_mode MESSAGE is refused up front.
   fs::create_directories(dir_ + "/msg");
   std::ofstream(dir_ + "/msg/metadata.yaml") << "rosbag2_bagfile_information:\n  relative_file_paths:\n    - x.mcap\n"

@@ -341,22 +341,26 @@ std::string MessageIndex(int channel, int count) {
 // kChunks chunks of kPerChunk IMU messages (channel 1, /imu0) and a temperature message every
 // 10th (channel 2); schemas and channels in the first chunk; a Message Index per channel after
 // each chunk; Data End (no CRC) and Footer.
-std::string McapBag(const std::string& compression, Layout* layout) {
+// The Schema and Channel records of /imu0 (1) and /imu0/temperature (2).
+std::string McapChannels() {
+  std::string r;
+  for (auto [id, name, topic] : {std::tuple<int, const char*, const char*>{1, "sensor_msgs/msg/Imu", "/imu0"},
+                                 {2, "sensor_msgs/msg/Temperature", "/imu0/temperature"}}) {
+    std::string schema, channel;
+    Le(&schema, id, 2);
+    Le(&channel, id, 2);
+    Le(&channel, id, 2);
+    channel += Str(topic) + Str("cdr");
+    Le(&channel, 0, 4);
+    r += Rec(0x03, schema + Str(name) + Str("ros2msg") + Str("")) + Rec(0x04, channel);
+  }
+  return r;
+}
+
+std::string McapBag(const std::string& compression, Layout* layout, bool summary = false) {
   std::string s = "\x89MCAP0\r\n" + Rec(0x01, Str("ros2") + Str("bag_recovery_test"));
   for (int c = 0; c < kChunks; ++c) {
-    std::string r;
-    if (c == 0) {
-      for (auto [id, name, topic] : {std::tuple<int, const char*, const char*>{1, "sensor_msgs/msg/Imu", "/imu0"},
-                                     {2, "sensor_msgs/msg/Temperature", "/imu0/temperature"}}) {
-        std::string schema, channel;
-        Le(&schema, id, 2);
-        Le(&channel, id, 2);
-        Le(&channel, id, 2);
-        channel += Str(topic) + Str("cdr");
-        Le(&channel, 0, 4);
-        r += Rec(0x03, schema + Str(name) + Str("ros2msg") + Str("")) + Rec(0x04, channel);
-      }
-    }
+    std::string r = c == 0 ? McapChannels() : "";
     std::vector<std::size_t> at;
     int temps = 0;
     for (int i = c * kPerChunk; i < (c + 1) * kPerChunk; ++i) {
@@ -377,8 +381,12 @@ std::string McapBag(const std::string& compression, Layout* layout) {
   }
   std::string crc, footer;
   Le(&crc, 0, 4);
-  Le(&footer, 0, 20);
-  return s + Rec(0x0F, crc) + Rec(0x02, footer) + "\x89MCAP0\r\n";
+  s += Rec(0x0F, crc);
+  // "Footer": summary_start, summary_offset_start, summary_crc; the summary repeats the channels.
+  Le(&footer, summary ? s.size() : 0, 8);
+  Le(&footer, 0, 12);
+  if (summary) s += McapChannels();
+  return s + Rec(0x02, footer) + "\x89MCAP0\r\n";
 }
 
 TEST_F(BagRecoveryTest, McapBadCrcOrCorruptChunkLosesOnlyThatChunk) {
@@ -401,6 +409,18 @@ TEST_F(BagRecoveryTest, McapBadCrcOrCorruptChunkLosesOnlyThatChunk) {
       EXPECT_EQ(Lost(t.damage[0], "/imu0/temperature"), 3u);
     }
   }
+}
+
+TEST_F(BagRecoveryTest, McapChannelsLostWithTheFirstChunkComeFromTheSummary) {
+  Layout at;
+  const std::string good = McapBag("zstd", &at, true);
+  const std::vector<Row> all = ReadRows(Put("good.mcap", good));
+  std::string bad = good;
+  bad[at.data_at[0] + 40] ^= 0x04;  // the chunk holding the Schema and Channel records
+  const BagImuTable t = Recover("first.mcap", bad, all, "byte " + std::to_string(at.chunk_at[0]));
+  EXPECT_EQ(t.table.num_rows(), all.size() - kPerChunk);
+  ASSERT_EQ(t.damage.size(), 1u);
+  EXPECT_EQ(Lost(t.damage[0], "/imu0"), static_cast<std::size_t>(kPerChunk));
 }
 
 TEST_F(BagRecoveryTest, McapFlippedRecordLengthResynchronisesAtTheNextRecord) {
@@ -472,7 +492,7 @@ TEST_F(BagRecoveryTest, ListingCarriesTheDamage) {
   EXPECT_FALSE(ListBag(path, strict).ok());
 }
 
-// Every 5th byte of a bag whose message records a checksum covers (bz2 chunks; MCAP chunks with
+// Every 7th byte of a bag whose message records a checksum covers (bz2 chunks; MCAP chunks with
 // their CRC) flipped in turn: the read never fails on the damage, and no row is one the
 // undamaged bag does not hold. (A flipped topic name or lost channel may still leave no IMU
 // topic to read: such a read fails with that reason, never with a row invented.)
@@ -484,7 +504,7 @@ TEST_F(BagRecoveryTest, EveryFlippedByteKeepsOnlyRowsOfTheUndamagedBag) {
     const std::string good = ros1 ? Ros1Bag("bz2", &at) : McapBag(format.substr(0, format.find('.')), &at);
     const std::vector<Row> all = ReadRows(Put("good." + format, good));
     std::size_t read = 0, tried = 0;
-    for (std::size_t byte = 0; byte < good.size(); byte += 5) {
+    for (std::size_t byte = 0; byte < good.size(); byte += 7) {
       std::string bad = good;
       bad[byte] ^= 0x5a;
       ++tried;

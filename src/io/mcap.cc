@@ -28,8 +28,9 @@
 // after it count its messages lost per channel. A record whose opcode and length do not frame a
 // record (its length runs past the file, the next record's header is not one either) is skipped
 // to the next offset where a known opcode ("Opcodes") with a length inside the file is followed
-// by another such record or the closing magic. The summary section is never needed: the data
-// section is read linearly, and a damaged summary only ends the read. After any damage the data
+// by another such record or the closing magic. The data section is read linearly, so a damaged
+// summary only ends the read; the summary's Channel records are read only when a message's own
+// Channel record was lost with a damaged chunk. After any damage the data
 // section CRC is not checked (the damage already says the section is not the one written).
 #include <algorithm>
 #include <array>
@@ -123,6 +124,8 @@ class McapReader {
   void AddDamage(const Damage& d, std::uint64_t end);
   void CloseLoss();
   std::string TopicOf(std::uint16_t channel) const;
+  const BagChannel* SummaryChannel(std::uint16_t channel);
+  void ReadSummary();
 
   std::istream& in_;
   const std::string& source_;
@@ -145,8 +148,14 @@ class McapReader {
   std::vector<LogDamage> damage_;
   std::optional<std::size_t> loss_;
   bool loss_told_ = false;
+  // Messages lost by (index in damage_, channel): named by topic at the file's end, when a
+  // channel first seen after its lost chunk is known.
+  std::map<std::pair<std::size_t, std::uint16_t>, std::uint64_t> lost_;
   std::map<std::uint16_t, std::uint64_t> delivered_, chunk_delivered_, last_chunk_;
   std::map<std::uint16_t, std::size_t> unknown_channel_damage_;  // channel -> index in damage_
+  // The summary section's Channel records (with their Schema names), read once in recovery when a
+  // message's Channel record was lost with a damaged chunk.
+  std::optional<std::map<std::uint16_t, BagChannel>> summary_channels_;
   std::uint64_t record_at_ = 0, record_end_ = 0;  // the record being read
 };
 
@@ -204,6 +213,7 @@ std::optional<Error> McapReader::Run() {
     pos = next;
   }
   CloseLoss();
+  for (const auto& [key, count] : lost_) damage_[key.first].rows_lost[TopicOf(key.second)] += static_cast<std::size_t>(count);
   for (const LogDamage& d : damage_) visitor_->OnDamage(d);
   return std::nullopt;
 }
@@ -345,6 +355,10 @@ std::optional<Error> McapReader::Message(const std::uint8_t* p, std::size_t n, c
   }
   const auto channel = static_cast<std::uint16_t>(bag_internal::LoadLe(p, 2));
   const std::uint64_t log_time = bag_internal::LoadLe(p + 6, 8);
+  if (const BagChannel* known = channels_.count(channel) ? nullptr : SummaryChannel(channel)) {
+    channels_.emplace(channel, known->topic);
+    if (auto e = visitor_->OnChannel(*known)) return e;
+  }
   if (channels_.count(channel) == 0) {
     if (options_.strict) {
       *why = "Message on channel " + std::to_string(channel) + ", which no Channel record defined before it";
@@ -534,7 +548,7 @@ std::optional<Error> McapReader::MessageIndex(std::uint64_t at, std::uint64_t le
   std::uint64_t& got = delivered_[channel];
   const std::uint64_t read = std::min(got, count);
   got -= read;
-  if (count > read) damage_[*loss_].rows_lost[TopicOf(channel)] += static_cast<std::size_t>(count - read);
+  if (count > read) lost_[{*loss_, channel}] += count - read;
   return std::nullopt;
 }
 
@@ -611,6 +625,51 @@ void McapReader::CloseLoss() {
   if (loss_ && !loss_told_ && damage_[*loss_].end > damage_[*loss_].begin) damage_[*loss_].records_unidentified = 1;
   loss_.reset();
   delivered_.clear();
+}
+
+// "Summary Section": "The summary section contains schema, channel, chunk index, attachment
+// index, metadata index, and statistics records"; "Footer": summary_start (0: no summary). The
+// summary's Schema and Channel records repeat the data section's: a channel whose record was in
+// a lost chunk is known from there. Recovery only (strict mode refuses the lost chunk first).
+const BagChannel* McapReader::SummaryChannel(std::uint16_t channel) {
+  if (options_.strict) return nullptr;
+  if (!summary_channels_) ReadSummary();
+  const auto it = summary_channels_->find(channel);
+  return it == summary_channels_->end() ? nullptr : &it->second;
+}
+
+void McapReader::ReadSummary() {
+  summary_channels_.emplace();
+  const std::uint64_t footer_at = size_ - kMagic.size() - kRecordHeaderBytes - kFooterBytes;
+  std::vector<std::uint8_t> footer;
+  if (size_ < kMagic.size() * 2 + kRecordHeaderBytes + kFooterBytes ||
+      !bag_internal::ReadAt(in_, footer_at, kRecordHeaderBytes + 8, &footer) || footer[0] != kFooter) {
+    return;
+  }
+  std::map<std::uint16_t, std::string> schemas;
+  std::vector<std::uint8_t> record;
+  for (std::uint64_t pos = bag_internal::LoadLe(footer.data() + kRecordHeaderBytes, 8);
+       pos >= kMagic.size() && pos < footer_at && footer_at - pos >= kRecordHeaderBytes;) {
+    if (!bag_internal::ReadAt(in_, pos, kRecordHeaderBytes, &record)) return;
+    const std::uint8_t op = record[0];
+    const std::uint64_t len = bag_internal::LoadLe(record.data() + 1, 8);
+    if (len > footer_at - pos - kRecordHeaderBytes) return;
+    if ((op == kSchema || op == kChannel) && len <= kCrcReadBytes) {
+      if (!bag_internal::ReadAt(in_, pos + kRecordHeaderBytes, static_cast<std::size_t>(len), &record)) return;
+      Cursor c{record.data(), record.size()};
+      std::uint64_t id = 0, schema = 0;
+      BagChannel ch;
+      std::string name;
+      if (op == kSchema && c.Int(2, &id, "id") && c.Str(&name, "name")) schemas[static_cast<std::uint16_t>(id)] = name;
+      if (op == kChannel && c.Int(2, &id, "id") && c.Int(2, &schema, "schema_id") && c.Str(&ch.topic, "topic") &&
+          c.Str(&ch.encoding, "message_encoding")) {
+        ch.id = id;
+        if (const auto it = schemas.find(static_cast<std::uint16_t>(schema)); it != schemas.end()) ch.type = it->second;
+        summary_channels_->emplace(static_cast<std::uint16_t>(id), std::move(ch));
+      }
+    }
+    pos += kRecordHeaderBytes + len;
+  }
 }
 
 std::string McapReader::TopicOf(std::uint16_t channel) const {

@@ -302,6 +302,7 @@ class ImuCollector : public BagVisitor {
   Result<BagImuTable> Finish(BagFormat format);
 
  private:
+  Result<BagImuTable> FinishTable(BagFormat format);
   struct Target {
     bool temperature = false;
     std::size_t index = 0;
@@ -396,7 +397,16 @@ std::vector<double> JoinNearest(const std::vector<std::int64_t>& t_ns, const Tem
   return out;
 }
 
+// A bag that cannot give a table says so with its damage, which may be why (a lost chunk held
+// the topic's messages or its connection record).
 Result<BagImuTable> ImuCollector::Finish(BagFormat format) {
+  const std::string damage = damage_.empty() ? "" : "; " + DamageWarning(source_, damage_);
+  Result<BagImuTable> out = FinishTable(format);
+  if (!out.ok() && !damage.empty()) return Error{out.error().kind, out.error().message + damage};
+  return out;
+}
+
+Result<BagImuTable> ImuCollector::FinishTable(BagFormat format) {
   BagImuTable out;
   out.format = format;
   if (!damage_.empty()) out.warnings.push_back(DamageWarning(source_, damage_));

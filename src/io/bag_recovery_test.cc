@@ -267,6 +267,27 @@ TEST_F(BagRecoveryTest, Ros1DeletedMessageRecordLosesOnlyThatMessage) {
   EXPECT_EQ(lost, 1u);  // the chunk info records, read where they are, still tell
 }
 
+TEST_F(BagRecoveryTest, Ros1GarbageInsideAnUncompressedChunkLosesNothing) {
+  Layout at;
+  const std::string good = Ros1Bag("none", &at);
+  const std::vector<Row> all = ReadRows(Put("good.bag", good));
+  // 3000 bytes of noise before the 10th IMU message record of chunk 1: every record is still
+  // there, after the noise (and every offset the index gives after it is 3000 bytes off).
+  std::string noise;
+  std::uint32_t x = 12345;
+  for (int i = 0; i < 3000; ++i) noise.push_back(static_cast<char>((x = x * 1103515245u + 12345u) >> 24));
+  std::string bad = good;
+  const std::size_t msg = at.data_at[1] + at.message_at[1][9];
+  bad.insert(msg, noise);
+  const BagImuTable t = Recover("noise.bag", bad, all, "byte " + std::to_string(at.chunk_at[1]) + ": chunk byte");
+  EXPECT_EQ(t.table.num_rows(), all.size());
+  ASSERT_EQ(t.damage.size(), 1u);
+  EXPECT_EQ(t.damage[0].begin, msg);
+  EXPECT_EQ(t.damage[0].end, msg + noise.size());
+  EXPECT_EQ(Lost(t.damage[0], "/imu0"), 0u);  // read all the same, though the chunk overran
+  EXPECT_EQ(Lost(t.damage[0], "/imu0/temperature"), 0u);
+}
+
 TEST_F(BagRecoveryTest, Ros1CorruptedCompressedChunkLosesItsMessages) {
   for (const std::string compression : {"bz2", "lz4"}) {
     SCOPED_TRACE(compression);

@@ -188,7 +188,6 @@ class Ros1Reader {
   std::uint64_t NextRecord(std::uint64_t from);
   bool ResumesAt(std::uint64_t pos);
   void AddDamage(const Damage& d, std::uint64_t end);
-  std::optional<std::uint64_t> ChunkAt(std::uint64_t offset) const;
   void CountDelivered(const BagPosition& where, std::uint64_t conn);
   std::string TopicOf(std::uint64_t conn) const;
   void ReportDamage();
@@ -206,16 +205,16 @@ class Ros1Reader {
   std::map<std::uint64_t, BagChannel> index_channels_;
   std::map<std::uint64_t, std::string> topics_;  // connection -> topic, of the connections read
   // Recovery: the skipped ranges, each with the chunk record it was found in (if any); the
-  // messages read of such a chunk before its damage (chunk offset -> connection -> count); the
-  // messages of the chunk being read; the messages read outside chunks after a damage (a
-  // resynchronising scan lands inside an uncompressed chunk). The losses are worked out at the
-  // file's end (ReportDamage), when the index section has been read whatever happened to
-  // index_pos.
+  // messages read all the same of what each damage lost (index in damage_ -> connection ->
+  // count): those of its chunk read before it, and those read outside chunks after it up to the
+  // next chunk record (a resynchronising scan landed inside an uncompressed chunk); the
+  // messages of the chunk being read. The losses are worked out at the file's end
+  // (ReportDamage), when the index section has been read whatever happened to index_pos.
   std::vector<LogDamage> damage_;
   std::vector<std::optional<std::uint64_t>> damage_chunk_;
-  std::map<std::uint64_t, std::map<std::uint64_t, std::uint64_t>> delivered_;
+  std::map<std::size_t, std::map<std::uint64_t, std::uint64_t>> delivered_;
   std::map<std::uint64_t, std::uint64_t> chunk_delivered_;
-  std::vector<std::pair<std::uint64_t, std::uint64_t>> read_outside_chunks_;  // (record offset, connection)
+  std::optional<std::size_t> open_damage_;  // the damage top-level messages are read after
   bool index_read_ = false;  // chunk_counts_ came from index_pos
   std::map<std::uint64_t, std::size_t> unknown_conn_damage_;  // connection -> index in damage_
   std::uint64_t record_end_ = 0;  // end of the file record being read (for damage ranges)
@@ -313,6 +312,7 @@ std::optional<Error> Ros1Reader::Chunk(std::uint64_t at, const Fields& f, std::u
     return std::nullopt;
   };
   chunk_delivered_.clear();
+  open_damage_.reset();  // messages from here on are this chunk's
   std::uint64_t usize = 0;
   const std::optional<std::string_view> comp = f.Find("compression");
   if (!comp || !FieldInt(f, "size", 4, &usize)) {
@@ -561,32 +561,22 @@ std::uint64_t Ros1Reader::NextRecord(std::uint64_t from) {
   return size;
 }
 
-// The chunk record whose extent (up to the next chunk or the index section, by the index's
-// chunk_pos) holds `offset`.
-std::optional<std::uint64_t> Ros1Reader::ChunkAt(std::uint64_t offset) const {
-  auto it = chunk_counts_.upper_bound(offset);
-  if (it == chunk_counts_.begin()) return std::nullopt;
-  const std::uint64_t end = it == chunk_counts_.end() ? index_pos_ : it->first;
-  --it;
-  if (offset >= end) return std::nullopt;
-  return it->first;
-}
-
-// A message read: counted against its chunk (whose loss, if it is lost, is then smaller).
+// A message read: counted against its chunk, or the damage it follows (whose loss is then smaller).
 void Ros1Reader::CountDelivered(const BagPosition& where, std::uint64_t conn) {
   if (options_.strict) return;
   if (where.chunk_byte) {
     ++chunk_delivered_[conn];
-  } else if (!damage_.empty()) {
-    read_outside_chunks_.emplace_back(where.offset, conn);
+  } else if (open_damage_) {
+    ++delivered_[*open_damage_][conn];
   }
 }
 
 // The range [d.begin, end) skipped (its losses: ReportDamage).
 void Ros1Reader::AddDamage(const Damage& d, std::uint64_t end) {
+  open_damage_ = damage_.size();
   damage_.emplace_back(d.begin, std::max(end, d.begin), d.what);
   damage_chunk_.push_back(d.chunk);
-  if (d.chunk) delivered_[*d.chunk] = chunk_delivered_;
+  if (d.chunk) delivered_[*open_damage_] = chunk_delivered_;
 }
 
 std::string Ros1Reader::TopicOf(std::uint64_t conn) const {
@@ -596,32 +586,30 @@ std::string Ros1Reader::TopicOf(std::uint64_t conn) const {
 }
 
 // Rows lost per topic. A damage loses the chunk it was found in and every chunk the index puts
-// in its byte range (the first damage to reach a chunk counts it); a chunk's loss is its count in
-// the index less its messages read all the same. With no index entry for them the loss cannot be
-// told by topic.
+// in its byte range (the first damage to reach a chunk counts it): their counts in the index
+// less the messages read all the same. With no index entry for them the loss cannot be told by
+// topic.
 void Ros1Reader::ReportDamage() {
-  std::map<std::uint64_t, std::size_t> lost;  // chunk offset -> index in damage_
+  std::set<std::uint64_t> counted;  // chunk offsets
   for (std::size_t i = 0; i < damage_.size(); ++i) {
     LogDamage& d = damage_[i];
+    std::map<std::uint64_t, std::uint64_t> expected;  // connection -> messages
     bool told = false;
     const auto lose = [&](std::uint64_t chunk) {
-      if (chunk_counts_.count(chunk) == 0) return;
+      const auto it = chunk_counts_.find(chunk);
+      if (it == chunk_counts_.end()) return;
       told = true;
-      lost.emplace(chunk, i);
+      if (!counted.insert(chunk).second) return;
+      for (const auto& [conn, count] : it->second) expected[conn] += count;
     };
-    if (damage_chunk_.size() > i && damage_chunk_[i]) lose(*damage_chunk_[i]);
+    const bool chunk_damage = damage_chunk_[i].has_value();
+    if (chunk_damage) lose(*damage_chunk_[i]);
     for (auto it = chunk_counts_.lower_bound(d.begin); it != chunk_counts_.end() && it->first < d.end; ++it) lose(it->first);
-    const bool chunk_damage = damage_chunk_.size() > i && damage_chunk_[i];
-    if (!told && d.rows_lost.empty() && (chunk_damage || chunk_counts_.empty())) d.records_unidentified = 1;
-  }
-  for (const auto& [offset, conn] : read_outside_chunks_) {
-    if (const std::optional<std::uint64_t> chunk = ChunkAt(offset); chunk && lost.count(*chunk)) ++delivered_[*chunk][conn];
-  }
-  for (const auto& [chunk, index] : lost) {
-    for (const auto& [conn, count] : chunk_counts_.at(chunk)) {
-      const std::uint64_t got = delivered_[chunk][conn];
-      if (count > got) damage_[index].rows_lost[TopicOf(conn)] += static_cast<std::size_t>(count - got);
+    for (const auto& [conn, count] : expected) {
+      const std::uint64_t got = delivered_[i][conn];
+      if (count > got) d.rows_lost[TopicOf(conn)] += static_cast<std::size_t>(count - got);
     }
+    if (!told && d.rows_lost.empty() && (chunk_damage || chunk_counts_.empty())) d.records_unidentified = 1;
   }
   for (const LogDamage& d : damage_) visitor_->OnDamage(d);
 }

@@ -286,6 +286,14 @@ TEST_F(BagRecoveryTest, Ros1GarbageInsideAnUncompressedChunkLosesNothing) {
   EXPECT_EQ(t.damage[0].end, msg + noise.size());
   EXPECT_EQ(Lost(t.damage[0], "/imu0"), 0u);  // read all the same, though the chunk overran
   EXPECT_EQ(Lost(t.damage[0], "/imu0/temperature"), 0u);
+  // Noise longer than a chunk: the index puts chunk 2 inside the skipped range, yet it was read
+  // (3000 + 20000 bytes later); nothing is counted lost.
+  bad.insert(msg, std::string(20000, '\xee'));
+  const BagImuTable u = Recover("noise2.bag", bad, all, "byte " + std::to_string(at.chunk_at[1]) + ": chunk byte");
+  EXPECT_EQ(u.table.num_rows(), all.size());
+  ASSERT_EQ(u.damage.size(), 1u);
+  EXPECT_LT(at.chunk_at[2], u.damage[0].end);
+  EXPECT_TRUE(u.damage[0].rows_lost.empty() || Lost(u.damage[0], "/imu0") == 0u);
 }
 
 TEST_F(BagRecoveryTest, Ros1CorruptedCompressedChunkLosesItsMessages) {

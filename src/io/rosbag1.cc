@@ -191,6 +191,7 @@ class Ros1Reader {
   void CountDelivered(const BagPosition& where, std::uint64_t conn);
   std::string TopicOf(std::uint64_t conn) const;
   void ReportDamage();
+  void FitToIndexTotals(std::vector<std::map<std::uint64_t, std::uint64_t>>* lost) const;
 
   bag_internal::ByteSource& bytes_;
   const std::string& source_;
@@ -216,6 +217,8 @@ class Ros1Reader {
   std::map<std::uint64_t, std::uint64_t> chunk_delivered_;
   std::optional<std::size_t> open_damage_;  // the damage top-level messages are read after
   bool index_read_ = false;  // chunk_counts_ came from index_pos
+  std::optional<std::uint64_t> header_chunk_count_;  // the bag header's chunk_count
+  std::map<std::uint64_t, std::uint64_t> read_;  // messages read per connection (recovery)
   std::map<std::uint64_t, std::size_t> unknown_conn_damage_;  // connection -> index in damage_
   std::uint64_t record_end_ = 0;  // end of the file record being read (for damage ranges)
   // Scratch buffers of a stream source (a mapped file views its pages instead): the record
@@ -430,6 +433,7 @@ std::optional<Error> Ros1Reader::Message(const BagPosition& where, const Fields&
       }
       damage_[d->second].end = record_end_;
       ++damage_[d->second].rows_lost["connection " + std::to_string(conn)];
+      ++read_[conn];  // counted here, not again against the index
       return std::nullopt;
     }
   }
@@ -448,8 +452,9 @@ std::optional<Error> Ros1Reader::Message(const BagPosition& where, const Fields&
 // at the number of message records the file could hold (a hostile index cannot make a reader
 // reserve more).
 void Ros1Reader::ReadIndex(const Fields& bag_header) {
-  std::uint64_t index_pos = 0;
+  std::uint64_t index_pos = 0, chunk_count = 0;
   const std::uint64_t size = bytes_.size();
+  if (FieldInt(bag_header, "chunk_count", 4, &chunk_count)) header_chunk_count_ = chunk_count;
   if (!FieldInt(bag_header, "index_pos", 8, &index_pos) || index_pos == 0 || index_pos >= size) return;
   index_pos_ = index_pos;
   std::vector<std::uint8_t> header_buf, data_buf;
@@ -564,6 +569,7 @@ std::uint64_t Ros1Reader::NextRecord(std::uint64_t from) {
 // A message read: counted against its chunk, or the damage it follows (whose loss is then smaller).
 void Ros1Reader::CountDelivered(const BagPosition& where, std::uint64_t conn) {
   if (options_.strict) return;
+  ++read_[conn];
   if (where.chunk_byte) {
     ++chunk_delivered_[conn];
   } else if (open_damage_) {
@@ -587,10 +593,13 @@ std::string Ros1Reader::TopicOf(std::uint64_t conn) const {
 
 // Rows lost per topic. A damage loses the chunk it was found in and every chunk the index puts
 // in its byte range (the first damage to reach a chunk counts it): their counts in the index
-// less the messages read all the same. With no index entry for them the loss cannot be told by
-// topic.
+// less the messages read all the same. A deleted or inserted byte moves every record after it
+// away from the offsets the index gives, so when the index lists every chunk (the bag header's
+// chunk_count) the losses are made to add up to what it counts less what was read
+// (FitToIndexTotals). With no index entry for a damage the loss cannot be told by topic.
 void Ros1Reader::ReportDamage() {
   std::set<std::uint64_t> counted;  // chunk offsets
+  std::vector<std::map<std::uint64_t, std::uint64_t>> lost(damage_.size());  // per damage: connection -> messages
   for (std::size_t i = 0; i < damage_.size(); ++i) {
     LogDamage& d = damage_[i];
     std::map<std::uint64_t, std::uint64_t> expected;  // connection -> messages
@@ -607,11 +616,47 @@ void Ros1Reader::ReportDamage() {
     for (auto it = chunk_counts_.lower_bound(d.begin); it != chunk_counts_.end() && it->first < d.end; ++it) lose(it->first);
     for (const auto& [conn, count] : expected) {
       const std::uint64_t got = delivered_[i][conn];
-      if (count > got) d.rows_lost[TopicOf(conn)] += static_cast<std::size_t>(count - got);
+      if (count > got) lost[i][conn] = count - got;
     }
     if (!told && d.rows_lost.empty() && (chunk_damage || chunk_counts_.empty())) d.records_unidentified = 1;
   }
-  for (const LogDamage& d : damage_) visitor_->OnDamage(d);
+  if (header_chunk_count_ && chunk_counts_.size() == *header_chunk_count_) FitToIndexTotals(&lost);
+  for (std::size_t i = 0; i < damage_.size(); ++i) {
+    for (const auto& [conn, count] : lost[i]) {
+      if (count > 0) damage_[i].rows_lost[TopicOf(conn)] += static_cast<std::size_t>(count);
+    }
+    visitor_->OnDamage(damage_[i]);
+  }
+}
+
+// Per connection, the messages lost in all = the index's count less the messages read: losses
+// counted beyond it are taken back from the last damages, losses not counted go to the first
+// damage that lost a chunk (else the first damage).
+void Ros1Reader::FitToIndexTotals(std::vector<std::map<std::uint64_t, std::uint64_t>>* lost) const {
+  std::map<std::uint64_t, std::uint64_t> total;
+  for (const auto& [chunk, counts] : chunk_counts_) {
+    for (const auto& [conn, count] : counts) total[conn] += count;
+  }
+  std::size_t first = 0;
+  for (std::size_t i = 0; i < damage_.size(); ++i) {
+    if (damage_chunk_[i]) {
+      first = i;
+      break;
+    }
+  }
+  for (const auto& [conn, count] : total) {
+    const auto r = read_.find(conn);
+    const std::uint64_t missing = count - std::min(count, r == read_.end() ? 0 : r->second);
+    std::uint64_t counted = 0;
+    for (const auto& l : *lost) counted += l.count(conn) ? l.at(conn) : 0;
+    for (std::size_t i = lost->size(); i-- > 0 && counted > missing;) {
+      std::uint64_t& n = (*lost)[i][conn];
+      const std::uint64_t back = std::min(n, counted - missing);
+      n -= back;
+      counted -= back;
+    }
+    if (counted < missing && !lost->empty()) (*lost)[first][conn] += missing - counted;
+  }
 }
 
 }  // namespace

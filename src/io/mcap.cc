@@ -101,7 +101,9 @@ class McapReader {
   Error Bad(std::uint64_t offset, const std::string& what) const {
     return InvalidInput(source_ + ": byte " + std::to_string(offset) + ": " + what);
   }
-  // The record at `pos` (opcode and length read, length within the file).
+  std::optional<Error> EndWithoutFooter(std::uint64_t pos);
+  std::optional<Error> TopRecord(std::uint64_t pos, bool first, std::uint64_t* next, std::optional<Damage>* damage);
+  // The record at `at` (opcode and length read, length within the file).
   std::optional<Error> Record(std::uint8_t op, std::uint64_t at, std::uint64_t len, std::optional<Damage>* damage);
   std::optional<Error> Body(std::uint64_t at, std::uint64_t len, const char* what, std::optional<Damage>* damage);
   // Schema, Channel, Message contents in memory; a record that cannot be read sets *why.
@@ -172,35 +174,12 @@ std::optional<Error> McapReader::Run() {
   bool first = true;
   while (!done_) {
     if (pos == size_) {
-      const std::string why = "the file ends without the Footer record (\"File Structure\": ...<Footer><Magic>): "
-                              "an interrupted recording? (`mcap recover` rewrites it)";
-      if (options_.strict) return Bad(pos, why);
-      if (damage_.empty() || damage_.back().end < size_) AddDamage(Damage{pos, why, pos, {}, pos, false}, pos);
+      if (auto e = EndWithoutFooter(pos)) return e;
       break;
     }
     std::optional<Damage> damage;
     std::uint64_t next = size_;
-    if (size_ - pos < kRecordHeaderBytes) {
-      damage = Damage{pos, "truncated record: " + std::to_string(size_ - pos) + " of the 9 bytes of opcode and length", pos, {}, pos + 1, false};
-    } else {
-      std::vector<std::uint8_t> head;
-      if (!bag_internal::ReadAt(in_, pos, kRecordHeaderBytes, &head)) return IoError(source_ + ": read error at byte " + std::to_string(pos));
-      const std::uint8_t op = head[0];
-      const std::uint64_t len = bag_internal::LoadLe(head.data() + 1, 8);
-      const std::uint64_t body = pos + kRecordHeaderBytes;
-      if (len > size_ - body) {
-        damage = Damage{pos, "record " + Hex(op) + " of " + std::to_string(len) + " bytes runs past the end of the file (" +
-                                 std::to_string(size_ - body) + " bytes left): truncated", pos, {}, pos + 1, false};
-      } else if (first && op != kHeader) {
-        // "Header": "The first record after the leading magic is always a Header record."
-        damage = Damage{pos, "the first record is " + Hex(op) + ", not a Header (0x01)", pos, {}, pos + 1, false};
-      } else {
-        if (!data_end_ && op != kDataEnd) Crc(pos, head.data(), head.size());
-        record_at_ = pos;
-        record_end_ = next = body + len;
-        if (auto e = Record(op, pos, len, &damage)) return e;
-      }
-    }
+    if (auto e = TopRecord(pos, first, &next, &damage)) return e;
     first = false;
     if (damage) {
       if (options_.strict) return damage->positioned ? InvalidInput(source_ + ": " + damage->what) : Bad(damage->at, damage->what);
@@ -216,6 +195,45 @@ std::optional<Error> McapReader::Run() {
   for (const auto& [key, count] : lost_) damage_[key.first].rows_lost[TopicOf(key.second)] += static_cast<std::size_t>(count);
   for (const LogDamage& d : damage_) visitor_->OnDamage(d);
   return std::nullopt;
+}
+
+// "File Structure": the file ends with <Footer><Magic>. Without them (an interrupted recording)
+// strict mode refuses; recovery keeps what was read, noting it unless a damage already ran to the end.
+std::optional<Error> McapReader::EndWithoutFooter(std::uint64_t pos) {
+  const std::string why = "the file ends without the Footer record (\"File Structure\": ...<Footer><Magic>): "
+                          "an interrupted recording? (`mcap recover` rewrites it)";
+  if (options_.strict) return Bad(pos, why);
+  if (damage_.empty() || damage_.back().end < size_) AddDamage(Damage{pos, why, pos, {}, pos, false}, pos);
+  return std::nullopt;
+}
+
+// The record at `pos`: its opcode and length ("Records"), then its content (Record). Sets *next
+// to the record after it, or *damage.
+std::optional<Error> McapReader::TopRecord(std::uint64_t pos, bool first, std::uint64_t* next,
+                                           std::optional<Damage>* damage) {
+  if (size_ - pos < kRecordHeaderBytes) {
+    *damage = Damage{pos, "truncated record: " + std::to_string(size_ - pos) + " of the 9 bytes of opcode and length", pos, {}, pos + 1, false};
+    return std::nullopt;
+  }
+  std::vector<std::uint8_t> head;
+  if (!bag_internal::ReadAt(in_, pos, kRecordHeaderBytes, &head)) return IoError(source_ + ": read error at byte " + std::to_string(pos));
+  const std::uint8_t op = head[0];
+  const std::uint64_t len = bag_internal::LoadLe(head.data() + 1, 8);
+  const std::uint64_t body = pos + kRecordHeaderBytes;
+  if (len > size_ - body) {
+    *damage = Damage{pos, "record " + Hex(op) + " of " + std::to_string(len) + " bytes runs past the end of the file (" +
+                              std::to_string(size_ - body) + " bytes left): truncated", pos, {}, pos + 1, false};
+    return std::nullopt;
+  }
+  // "Header": "The first record after the leading magic is always a Header record."
+  if (first && op != kHeader) {
+    *damage = Damage{pos, "the first record is " + Hex(op) + ", not a Header (0x01)", pos, {}, pos + 1, false};
+    return std::nullopt;
+  }
+  if (!data_end_ && op != kDataEnd) Crc(pos, head.data(), head.size());
+  record_at_ = pos;
+  record_end_ = *next = body + len;
+  return Record(op, pos, len, damage);
 }
 
 std::optional<Error> McapReader::Record(std::uint8_t op, std::uint64_t at, std::uint64_t len,

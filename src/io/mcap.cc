@@ -159,6 +159,7 @@ class McapReader {
   // message's Channel record was lost with a damaged chunk.
   std::optional<std::map<std::uint16_t, BagChannel>> summary_channels_;
   std::uint64_t record_at_ = 0, record_end_ = 0;  // the record being read
+  bool unverified_rows_ = false;  // a message was read outside a chunk, or from a chunk without CRC
 };
 
 std::optional<Error> McapReader::Run() {
@@ -301,12 +302,14 @@ std::optional<Error> McapReader::DataEnd(std::uint64_t at, std::uint64_t len, st
   std::vector<std::uint8_t> field;
   if (!bag_internal::ReadAt(in_, at + kRecordHeaderBytes, 4, &field)) return IoError(source_ + ": read error at byte " + std::to_string(at));
   const auto declared = static_cast<std::uint32_t>(bag_internal::LoadLe(field.data(), 4));
-  if (declared == 0 || crc_gap_ || crc_end_ != at || !damage_.empty()) return std::nullopt;
-  if (crc_ != declared) {
-    // Not a damage to skip: the rows already read may hold the corrupt byte.
-    return Bad(at, "Data End: data section CRC mismatch: bytes 0-" + std::to_string(at) + " have CRC-32 " +
-                       std::to_string(crc_) + ", the record declares " + std::to_string(declared) + " (corrupt data)");
-  }
+  if (declared == 0 || crc_gap_ || crc_end_ != at || !damage_.empty() || crc_ == declared) return std::nullopt;
+  const std::string why = "Data End: data section CRC mismatch: bytes 0-" + std::to_string(at) + " have CRC-32 " +
+                          std::to_string(crc_) + ", the record declares " + std::to_string(declared) + " (corrupt data)";
+  // A row read may hold the corrupt byte unless every message came from a chunk whose own CRC
+  // matched: only then is the mismatch a damage listed (the Data End record) rather than an error.
+  if (options_.strict || unverified_rows_) return Bad(at, why);
+  *damage = Damage{at, why + "; every message came from a chunk whose own CRC matched", at,
+                   at + kRecordHeaderBytes + len, at + 1, false};
   return std::nullopt;
 }
 
@@ -393,6 +396,7 @@ std::optional<Error> McapReader::Message(const std::uint8_t* p, std::size_t n, c
     return std::nullopt;
   }
   if (where.chunk_byte) ++chunk_delivered_[channel];
+  else unverified_rows_ = true;
   if (loss_) ++delivered_[channel];
   visitor_->Count(channel, log_time);
   if (!visitor_->Wants(channel)) return std::nullopt;
@@ -490,6 +494,7 @@ std::optional<Error> McapReader::Chunk(std::uint64_t at, std::uint64_t len, std:
   }
   // "uncompressed_crc: CRC32 checksum of the uncompressed records field. A value of zero
   // indicates that CRC validation should not be performed."
+  if (crc == 0) unverified_rows_ = true;
   if (crc != 0) {
     const std::uint32_t got = bag_internal::Crc32(chunk_.data(), chunk_.size());
     if (got != crc) {

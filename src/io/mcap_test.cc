@@ -232,11 +232,24 @@ TEST_F(McapTest, DataSectionCrcIsCheckedWhenEveryByteIsRead) {
     const std::size_t data_end_at = good.size() - 9 - 4 - 9 - 20 - 8;  // Data End, Footer, magic
     ASSERT_EQ(good[data_end_at], '\x0f');
     const std::string want = "byte " + std::to_string(data_end_at) + ": Data End: data section CRC mismatch";
-    ExpectRefused(McapFile(data, true, 12345u), want);
+    BagReadOptions strict;
+    strict.strict = true;
+    ExpectRefused(McapFile(data, true, 12345u), want, strict);
     // One flipped byte inside the data section (the Header's library string) is caught too.
     std::string flipped = good;
     flipped[30] ^= 1;
-    ExpectRefused(flipped, want);
+    ExpectRefused(flipped, want, strict);
+    // In recovery a mismatch is refused only when a row may hold the corrupt byte (a message
+    // outside chunks, or in a chunk without CRC: the uncompressed chunk here declares one).
+    Result<BagImuTable> r2 = Read(flipped);
+    if (data == ImuRecords(100)) {
+      ExpectRefused(flipped, want);
+    } else {
+      ASSERT_TRUE(r2.ok()) << r2.error().message;
+      ExpectSamples(*r2, 100);
+      ASSERT_EQ(r2->damage.size(), 1u);
+      EXPECT_EQ(r2->damage[0].begin, data_end_at);
+    }
   }
   // An unwanted message outside chunks larger than 1 MiB is skipped unread: the CRC is then not
   // checked, unless verify_mcap_data_crc asks for every byte.

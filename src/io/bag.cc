@@ -376,6 +376,13 @@ void Permute(std::vector<T>* v, const std::vector<std::size_t>& order) {
   *v = std::move(out);
 }
 
+// |a - b| for any two stamps (a 2^63 ns apart from b does not overflow: the unsigned difference
+// of two's-complement values is exact below 2^64).
+std::uint64_t Distance(std::int64_t a, std::int64_t b) {
+  const auto ua = static_cast<std::uint64_t>(a), ub = static_cast<std::uint64_t>(b);
+  return a >= b ? ua - ub : ub - ua;
+}
+
 // Nearest temperature sample (by time) for each IMU time; temperature times sorted.
 std::vector<double> JoinNearest(const std::vector<std::int64_t>& t_ns, const TemperatureRows& temp) {
   std::vector<std::size_t> order(temp.time_ns.size());
@@ -391,7 +398,7 @@ std::vector<double> JoinNearest(const std::vector<std::int64_t>& t_ns, const Tem
   for (std::size_t i = 0; i < t_ns.size(); ++i) {
     const auto it = std::lower_bound(tt.begin(), tt.end(), t_ns[i]);
     std::size_t j = static_cast<std::size_t>(it - tt.begin());
-    if (j == tt.size() || (j > 0 && t_ns[i] - tt[j - 1] <= tt[j] - t_ns[i])) j = j == 0 ? 0 : j - 1;
+    if (j == tt.size() || (j > 0 && Distance(t_ns[i], tt[j - 1]) <= Distance(tt[j], t_ns[i]))) j = j == 0 ? 0 : j - 1;
     out[i] = tv[j];
   }
   return out;

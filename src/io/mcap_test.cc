@@ -206,6 +206,23 @@ TEST_F(McapTest, HostileFilesAreRefusedWithTheByteOffset) {
   ExpectRefused(McapFile(MessageRec(4, 1, "abc")), "Message on channel 4, which no Channel record defined", strict);
 }
 
+TEST_F(McapTest, ReceiveTimesFarApartJoinTheNearestTemperature) {
+  // A log_time at or above 2^63 ns is a negative stamp: its distance to 1.7e18 ns exceeds the
+  // int64 range (fuzz_mcap found the overflow); the nearest temperature is still the one taken.
+  std::string r = SchemaRec(1, "sensor_msgs/msg/Imu") + ChannelRec(1, 1, "/imu0") +
+                  SchemaRec(2, "sensor_msgs/msg/Temperature") + ChannelRec(2, 2, "/imu0/temperature");
+  const ImuMessage m = Sample(0);
+  r += MessageRec(2, 0x8069000000000000u, EncodeCdrTemperature(TemperatureMessage{m.stamp_sec, m.stamp_nanosec, 30.0}, "imu", false));
+  r += MessageRec(2, 1700000000009000000u, EncodeCdrTemperature(TemperatureMessage{m.stamp_sec, m.stamp_nanosec, 20.0}, "imu", false));
+  for (int i = 0; i < 3; ++i) r += MessageRec(1, 1700000000002000000u + i, EncodeCdrImu(Sample(i), "imu", false));
+  BagReadOptions o;
+  o.time = BagTimeSource::kReceive;
+  Result<BagImuTable> t = Read(McapFile(r), o);
+  ASSERT_TRUE(t.ok()) << t.error().message;
+  ASSERT_EQ(t->table.names.back(), "temp_c");
+  for (double c : t->table.columns.back()) EXPECT_EQ(c, 20.0);
+}
+
 TEST_F(McapTest, UnstampedMessagesAskForReceiveTime) {
   std::string r = SchemaRec(1, "sensor_msgs/msg/Imu") + ChannelRec(1, 1, "/imu0");
   for (int i = 0; i < 5; ++i) r += MessageRec(1, 1000 + i, EncodeCdrImu(ImuMessage{}, "", false));

@@ -13,6 +13,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "gyrocomp/io/bag_log.h"
 #include "gyrocomp/io/flight_log.h"
 #include "gyrocomp/io/io.h"
 #include "gyrocomp/core/units.h"
@@ -50,7 +51,7 @@ void AddLogOptions(CLI::App* app, LogOptions* o, bool input_required) {
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
   app->add_flag("--strict", o->strict,
-                "ULog / DataFlash: refuse a damaged log at its first bad record (exit 2, naming the byte offset) "
+                "ULog / DataFlash / ROS 1 bag / MCAP: refuse a damaged log at its first bad record (exit 2, naming the byte offset) "
                 "instead of skipping to the next valid record with a warning");
 }
 
@@ -110,7 +111,10 @@ Result<LoadedLog> LoadLog(const std::string& command, const LogOptions& options,
     return InvalidArgument("--rate-unit " + options.rate_unit + ": " + options.input +
                            " is a flight-controller log, whose rates are rad/s (drop --rate-unit)");
   }
-  Result<LogTableRead> read = ReadLogTable(options.input, spec, options.strict);
+  // A ROS bag is read here so that --strict reaches its reader (BagReadOptions::strict).
+  Result<LogTableRead> read = DetectLogFormat(options.input) == LogFormat::kRosBag
+                                  ? ReadBagLogTable(options.input, spec, options.strict)
+                                  : ReadLogTable(options.input, spec, options.strict);
   if (!read) return read.error();
   spec = read->spec;
   // A CSV read for some of its columns only (LogSpec::keep_cols): the log's columns move out of

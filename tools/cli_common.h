@@ -55,7 +55,7 @@ struct LogOptions {
   std::optional<std::string> topic;
   std::string time_source = "header";
   bool rate_unit_given = false;  // --rate-unit was on the command line
-  bool strict = false;  // --strict: a damaged ULog / DataFlash record is an error (ReadLogTable's strict)
+  bool strict = false;  // --strict: a damaged ULog / DataFlash / bag record is an error (ReadLogTable's, BagReadOptions' strict)
   double max_memory_gb = 8.0;  // LogSpec::max_memory_bytes, CsvReadOptions::max_memory_bytes
 };
 
@@ -73,7 +73,7 @@ Result<LogSpec> ToLogSpec(const LogOptions& options);
 struct LoadedLog {
   Table table;
   GyroLog log;
-  std::vector<LogDamage> damage;  // byte ranges of a damaged ULog / DataFlash log skipped (--json "damage")
+  std::vector<LogDamage> damage;  // byte ranges of a damaged ULog / DataFlash log or bag skipped (--json "damage")
 };
 // ReadLogTable (CSV, ULog or DataFlash by magic bytes) + (ResampleTable) + LoadGyroLog. Prints
 // what resampling did, as a note, when it did. With spec.keep_cols set, a CSV is read for the

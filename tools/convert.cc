@@ -22,15 +22,17 @@ struct ConvertArgs {
   std::string json_path;
   std::optional<std::string> topic;   // ROS bag: the sensor_msgs/Imu topic
   std::string time_source = "header";  // ROS bag: header | receive
-  bool strict = false;                 // a damaged ULog / DataFlash record is an error
+  bool strict = false;                 // a damaged ULog / DataFlash / bag record is an error
 };
 
-// A ROS bag's IMU topic: --topic, --time.
+// A ROS bag's IMU topic: --topic, --time, --strict.
 Result<FlightLogTable> ReadBag(const ConvertArgs& a) {
   LogSpec spec;
   spec.topic = a.topic;
   spec.bag_time = a.time_source == "receive" ? BagTimeSource::kReceive : BagTimeSource::kHeader;
-  Result<BagImuTable> bag = ReadBagImu(a.input, BagOptionsFromSpec(spec));
+  BagReadOptions options = BagOptionsFromSpec(spec);
+  options.strict = a.strict;
+  Result<BagImuTable> bag = ReadBagImu(a.input, options);
   if (!bag) return bag.error();
   return BagFlightLog(std::move(*bag));
 }
@@ -79,7 +81,8 @@ Command MakeConvert(CLI::App& app) {
       "Example: gyrocomp convert -i log.ulg --instance 0 -o gyro0.csv\n"
       "ROS bags (ROS 1, MCAP, rosbag2 .db3 / folder): time_s (header stamp, or --time receive),\n"
       "x_rad_s, y_rad_s, z_rad_s (angular_velocity), x_m_s2, y_m_s2, z_m_s2 (linear_acceleration),\n"
-      "temp_c (a sensor_msgs/Temperature topic joined by nearest time). gyrocomp convert -i imu.mcap --topic /imu0 -o imu.csv");
+      "temp_c (a sensor_msgs/Temperature topic joined by nearest time). A damaged ROS 1 bag or MCAP record\n"
+      "or chunk is skipped the same way (--strict refuses). gyrocomp convert -i imu.mcap --topic /imu0 -o imu.csv");
   AddInputOption(sub, "-i,--input", &a->input, "Input log (ULog, DataFlash or ROS bag, recognised by its first bytes)")->required();
   sub->add_option("--instance", a->instance, "Gyro instance (default: the only one; several are listed)")
       ->check(CLI::NonNegativeNumber);
@@ -88,7 +91,7 @@ Command MakeConvert(CLI::App& app) {
       ->check(CLI::IsMember({"header", "receive"}))
       ->capture_default_str();
   sub->add_flag("--strict", a->strict,
-                "Refuse a damaged ULog / DataFlash log at its first bad record (exit 2, naming the byte offset)");
+                "Refuse a damaged ULog / DataFlash log, ROS 1 bag or MCAP at its first bad record (exit 2, naming the byte offset)");
   AddOutputOption(sub, "-o,--output", &a->output, "Output CSV (.gz: gzip; '-' = stdout)")->required();
   AddOutputOption(sub, "--json", &a->json_path, "Write what was converted as JSON ('-' = stdout)");
   return {sub, [a] { return Run(*a); }};

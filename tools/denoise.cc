@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "commands.h"
+#include "gyrocomp/io/bag_log.h"
 #include "gyrocomp/io/flight_log.h"
 #include "gyrocomp/allan/allan.h"
 #include "gyrocomp/denoise/bandwidth.h"
@@ -121,7 +122,10 @@ int Run(const DenoiseArgs& a) {
   if (!method.ok()) return ReportError(kDenoiseName, method.error());
   Result<LogSpec> spec = ToLogSpec(a.log);
   if (!spec.ok()) return ReportError(kDenoiseName, spec.error());
-  Result<LogTableRead> read = ReadLogTable(a.log.input, *spec);  // CSV, ULog or DataFlash
+  // CSV, ULog, DataFlash or ROS bag, with --strict (a bag read here so that it reaches the bag reader).
+  Result<LogTableRead> read = DetectLogFormat(a.log.input) == LogFormat::kRosBag
+                                  ? ReadBagLogTable(a.log.input, *spec, a.log.strict)
+                                  : ReadLogTable(a.log.input, *spec, a.log.strict);
   if (!read.ok()) return ReportError(kDenoiseName, read.error());
   Result<Table> table = std::move(read->table);
   Result<GyroLog> log = LoadGyroLog(*table, read->spec);

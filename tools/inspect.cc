@@ -161,6 +161,8 @@ nlohmann::json InspectBag(const BagListing& bag) {
                       {"imu", t.type == "sensor_msgs/msg/Imu" || t.type == "sensor_msgs/Imu"}});
   }
   j["topics"] = topics;
+  j["damage"] = DamageJson(bag.damage);
+  j["warnings"] = bag.warnings;
   return j;
 }
 
@@ -174,6 +176,13 @@ void PrintBag(const nlohmann::json& j) {
                     FormatNumber(t["rate_hz"].is_null() ? std::nullopt : std::optional<double>(t["rate_hz"].get<double>()))});
   }
   std::cout << FormatTable({"topic", "type", "encoding", "messages", "rate_hz"}, rows);
+  if (!j["damage"].empty()) {
+    std::size_t bytes = 0;
+    for (const auto& d : j["damage"]) bytes += d["bytes"].get<std::size_t>();
+    std::cout << "damage: " << j["damage"].size() << " byte range(s), " << bytes
+              << " bytes skipped (see the warning; every range in --json \"damage\")\n";
+  }
+  for (const auto& w : j["warnings"]) std::cout << "warning: " << w.get<std::string>() << "\n";
 }
 
 void PrintText(const nlohmann::json& j) {
@@ -227,7 +236,9 @@ int Run(const InspectArgs& a) {
       break;
     }
     case LogFormat::kRosBag: {
-      Result<BagListing> bag = ListBag(a.input);
+      BagReadOptions options;
+      options.strict = a.strict;
+      Result<BagListing> bag = ListBag(a.input, options);
       if (!bag.ok()) return ReportError(kInspectName, bag.error());
       j = InspectBag(*bag);
       break;
@@ -256,11 +267,11 @@ Command MakeInspect(CLI::App& app) {
       "thermal-compensation parameters found\n"
       "(PX4 TC_G_ENABLE / TC_G{i}_ID, ArduPilot INS_TCAL{n}_ENABLE). Example: gyrocomp inspect -i log.ulg\n"
       "ROS bags (ROS 1, MCAP, rosbag2 .db3 or folder): every topic with type, encoding, messages and\n"
-      "mean rate (receive times). Example: gyrocomp inspect -i imu.mcap");
+      "mean rate (receive times), and the damage found. Example: gyrocomp inspect -i imu.mcap");
   AddInputOption(sub, "-i,--input", &a->input, "Input log (ULog, DataFlash or ROS bag, recognised by its first bytes)")->required();
   AddOutputOption(sub, "--json", &a->json_path, "Write the listing as JSON ('-' = stdout, then no text)");
   sub->add_flag("--strict", a->strict,
-                "Refuse a damaged ULog / DataFlash log at its first bad record (exit 2, naming the byte offset)");
+                "Refuse a damaged ULog / DataFlash log, ROS 1 bag or MCAP at its first bad record (exit 2, naming the byte offset)");
   return {sub, [a] { return Run(*a); }};
 }
 

@@ -138,6 +138,7 @@ class OffsetVisitor : public BagVisitor {
     return inner_->OnMessage(moved);
   }
   void Count(std::uint64_t ch, std::uint64_t t) override { inner_->Count(ch + offset_, t); }
+  void OnDamage(const LogDamage& d) override { inner_->OnDamage(d); }
 
  private:
   BagVisitor* inner_;
@@ -296,9 +297,12 @@ class ImuCollector : public BagVisitor {
     return t.temperature ? AddTemperature(t, m) : AddImu(t, m);
   }
 
+  void OnDamage(const LogDamage& d) override { damage_.push_back(d); }
+
   Result<BagImuTable> Finish(BagFormat format);
 
  private:
+  Result<BagImuTable> FinishTable(BagFormat format);
   struct Target {
     bool temperature = false;
     std::size_t index = 0;
@@ -341,6 +345,7 @@ class ImuCollector : public BagVisitor {
   std::set<std::string> all_imu_topics_;  // every sensor_msgs/Imu topic, selected or not
   std::vector<ImuRows> imus_;
   std::vector<TemperatureRows> temps_;
+  std::vector<LogDamage> damage_;
 };
 
 // The temperature topic to join: the only one, or the only one in the IMU topic's namespace.
@@ -371,6 +376,13 @@ void Permute(std::vector<T>* v, const std::vector<std::size_t>& order) {
   *v = std::move(out);
 }
 
+// |a - b| for any two stamps (a 2^63 ns apart from b does not overflow: the unsigned difference
+// of two's-complement values is exact below 2^64).
+std::uint64_t Distance(std::int64_t a, std::int64_t b) {
+  const auto ua = static_cast<std::uint64_t>(a), ub = static_cast<std::uint64_t>(b);
+  return a >= b ? ua - ub : ub - ua;
+}
+
 // Nearest temperature sample (by time) for each IMU time; temperature times sorted.
 std::vector<double> JoinNearest(const std::vector<std::int64_t>& t_ns, const TemperatureRows& temp) {
   std::vector<std::size_t> order(temp.time_ns.size());
@@ -386,15 +398,26 @@ std::vector<double> JoinNearest(const std::vector<std::int64_t>& t_ns, const Tem
   for (std::size_t i = 0; i < t_ns.size(); ++i) {
     const auto it = std::lower_bound(tt.begin(), tt.end(), t_ns[i]);
     std::size_t j = static_cast<std::size_t>(it - tt.begin());
-    if (j == tt.size() || (j > 0 && t_ns[i] - tt[j - 1] <= tt[j] - t_ns[i])) j = j == 0 ? 0 : j - 1;
+    if (j == tt.size() || (j > 0 && Distance(t_ns[i], tt[j - 1]) <= Distance(tt[j], t_ns[i]))) j = j == 0 ? 0 : j - 1;
     out[i] = tv[j];
   }
   return out;
 }
 
+// A bag that cannot give a table says so with its damage, which may be why (a lost chunk held
+// the topic's messages or its connection record).
 Result<BagImuTable> ImuCollector::Finish(BagFormat format) {
+  const std::string damage = damage_.empty() ? "" : "; " + DamageWarning(source_, damage_);
+  Result<BagImuTable> out = FinishTable(format);
+  if (!out.ok() && !damage.empty()) return Error{out.error().kind, out.error().message + damage};
+  return out;
+}
+
+Result<BagImuTable> ImuCollector::FinishTable(BagFormat format) {
   BagImuTable out;
   out.format = format;
+  if (!damage_.empty()) out.warnings.push_back(DamageWarning(source_, damage_));
+  out.damage = std::move(damage_);
   if (options_.topic && imu_index_.count(*options_.topic) == 0) {
     std::string names;
     for (const std::string& t : all_imu_topics_) names += (names.empty() ? "" : ", ") + t;
@@ -484,7 +507,9 @@ class Lister : public BagVisitor {
     if (info.messages == 0 || t > info.last_receive_ns) info.last_receive_ns = t;
     ++info.messages;
   }
+  void OnDamage(const LogDamage& d) override { damage_.push_back(d); }
   std::vector<BagTopicInfo> topics_;
+  std::vector<LogDamage> damage_;
 
  private:
   std::map<std::string, std::size_t> index_;
@@ -563,6 +588,8 @@ Result<BagListing> ListBag(const std::string& path, const BagReadOptions& option
   out.source = path;
   out.format = DetectBagFormat(path);
   out.topics = std::move(lister.topics_);
+  if (!lister.damage_.empty()) out.warnings.push_back(DamageWarning(path, lister.damage_));
+  out.damage = std::move(lister.damage_);
   return out;
 }
 

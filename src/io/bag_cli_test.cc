@@ -188,15 +188,38 @@ TEST_F(BagCliTest, InspectListsTopicsAndHostileInputIsOneLineExit2) {
                 {"topic /imu0/temperature has type sensor_msgs/msg/Temperature, not sensor_msgs/Imu"});
   ExpectRefused("allan -i '" + P("imu.bag") + "' --topic /nope",
                 {"no sensor_msgs/Imu topic /nope in the bag; IMU topics: /imu0"});
-  // A truncated copy: cut in the middle of a chunk.
+  // A truncated copy, cut in the middle of a chunk: refused with --strict.
   const std::string bytes = testing::ReadFile(P("imu_zstd.mcap"));
   std::ofstream(P("cut.mcap"), std::ios::binary) << bytes.substr(0, bytes.size() / 2);
-  ExpectRefused("allan -i '" + P("cut.mcap") + "' --json '" + P("cut.json") + "'", {"runs past the end of the file"});
+  ExpectRefused("allan -i '" + P("cut.mcap") + "' --strict --json '" + P("cut.json") + "'", {"runs past the end of the file"});
   EXPECT_FALSE(fs::exists(P("cut.json")));
   const std::string bag = testing::ReadFile(P("imu_bz2.bag"));
   std::ofstream(P("cut.bag"), std::ios::binary) << bag.substr(0, bag.size() / 2);
-  ExpectRefused("convert -i '" + P("cut.bag") + "' -o '" + P("cut.csv") + "'", {"truncated record"});
+  ExpectRefused("convert -i '" + P("cut.bag") + "' --strict -o '" + P("cut.csv") + "'", {"truncated record"});
   EXPECT_FALSE(fs::exists(P("cut.csv")));
+}
+
+TEST_F(BagCliTest, DamagedBagsKeepTheIntactRowsWithOneWarning) {
+  // The same truncated copies without --strict: the rows before the cut, one warning line, and
+  // the damage in --json.
+  for (const std::string name : {"imu_bz2.bag", "imu_zstd.mcap"}) {
+    SCOPED_TRACE(name);
+    const std::string bytes = testing::ReadFile(P(name));
+    const std::string cut = P("half_" + name);
+    std::ofstream(cut, std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+    std::string out;
+    ASSERT_EQ(Run("convert -i '" + cut + "' -o '" + P("half.csv") + "' --json '" + P("half.json") + "'", &out), 0) << out;
+    std::size_t lines = 0;
+    for (std::size_t at = out.find(": damaged: "); at != std::string::npos; at = out.find(": damaged: ", at + 1)) ++lines;
+    EXPECT_EQ(lines, 1u) << out;
+    const nlohmann::json j = testing::ReadJsonFile(P("half.json"));
+    ASSERT_EQ(j["damage"].size(), 1u) << j.dump();
+    EXPECT_EQ(j["damage"][0]["end_byte"].get<std::size_t>(), bytes.size() / 2);
+    EXPECT_GT(j["rows"].get<std::size_t>(), kRows / 3);
+    EXPECT_LT(j["rows"].get<std::size_t>(), kRows);
+    ASSERT_EQ(Run("inspect -i '" + cut + "' --json '" + P("half_i.json") + "'", &out), 0) << out;
+    EXPECT_EQ(testing::ReadJsonFile(P("half_i.json"))["damage"].size(), 1u);
+  }
 }
 
 }  // namespace

@@ -18,11 +18,14 @@ FlightLogTable BagFlightLog(BagImuTable bag) {
   f.format = LogFormat::kRosBag;
   f.origin = std::move(bag.origin);
   f.warnings = std::move(bag.warnings);
+  f.damage = std::move(bag.damage);
   return f;
 }
 
-Result<LogTableRead> ReadBagLogTable(const std::string& path, const LogSpec& spec) {
-  Result<BagImuTable> bag = ReadBagImu(path, BagOptionsFromSpec(spec));
+Result<LogTableRead> ReadBagLogTable(const std::string& path, const LogSpec& spec, bool strict) {
+  BagReadOptions options = BagOptionsFromSpec(spec);
+  options.strict = strict;
+  Result<BagImuTable> bag = ReadBagImu(path, options);
   if (!bag) return bag.error();
   LogTableRead out;
   out.format = LogFormat::kRosBag;

@@ -22,11 +22,20 @@
 // unknown records, messages of unwanted channels outside chunks) are read for the CRC when they
 // are at most kCrcReadBytes; a larger one is skipped unread and the CRC left unchecked, unless
 // BagReadOptions::verify_mcap_data_crc asks for every byte to be read.
+//
+// Recovery (BagReadOptions::strict false): a Chunk whose uncompressed_crc does not match, that
+// fails to decompress or whose records do not parse is skipped whole; the Message Index records
+// after it count its messages lost per channel. A record whose opcode and length do not frame a
+// record (its length runs past the file, the next record's header is not one either) is skipped
+// to the next offset where a known opcode ("Opcodes") with a length inside the file is followed
+// by another such record or the closing magic. The data section is read linearly, so a damaged
+// summary only ends the read; the summary's Channel records are read only when a message's own
+// Channel record was lost with a damaged chunk. After any damage the data
+// section CRC is not checked (the damage already says the section is not the one written).
 #include <algorithm>
 #include <array>
 #include <cstring>
 #include <map>
-#include <set>
 
 #include "bag_bytes.h"
 #include "gyrocomp/io/bag.h"
@@ -48,6 +57,7 @@ enum Opcode : std::uint8_t {
   kChannel = 0x04,
   kMessage = 0x05,
   kChunk = 0x06,
+  kMessageIndex = 0x07,
   kDataEnd = 0x0F,
 };
 // "Footer": uint64 summary_start, uint64 summary_offset_start, uint32 summary_crc.
@@ -66,6 +76,21 @@ std::string Hex(unsigned v) {
   return std::string("0x") + d[(v >> 4) & 15] + d[v & 15];
 }
 
+// "Opcodes" table: the record kinds of version 0 (others are reserved or user-defined).
+bool KnownOpcode(std::uint8_t op) { return op >= kHeader && op <= kDataEnd; }
+
+// A damaged record found by a handler: the strict error and, in recovery, where reading goes on.
+struct Damage {
+  std::uint64_t at = 0;  // the record the strict error names
+  std::string what;      // the strict error's text after "byte N: " (or with its own position)
+  std::uint64_t begin = 0;  // first byte skipped
+  // Reading goes on at `resume` when a valid record starts there (or the footer magic ends the
+  // file), else at the next valid record after `scan_from`.
+  std::optional<std::uint64_t> resume;
+  std::uint64_t scan_from = 0;
+  bool positioned = false;  // `what` already names its position ("byte N: chunk byte M: ...")
+};
+
 class McapReader {
  public:
   McapReader(std::istream& in, const std::string& source, const BagReadOptions& options, BagVisitor* visitor)
@@ -76,20 +101,33 @@ class McapReader {
   Error Bad(std::uint64_t offset, const std::string& what) const {
     return InvalidInput(source_ + ": byte " + std::to_string(offset) + ": " + what);
   }
-  std::optional<Error> Record(std::uint8_t op, std::uint64_t at, std::uint64_t len);
-  std::optional<Error> Body(std::uint64_t at, std::uint64_t len, const char* what);
-  std::optional<Error> Schema(const std::uint8_t* p, std::size_t n, const BagPosition& where);
-  std::optional<Error> Channel(const std::uint8_t* p, std::size_t n, const BagPosition& where);
-  std::optional<Error> Message(const std::uint8_t* p, std::size_t n, const BagPosition& where);
-  std::optional<Error> DataMessage(std::uint64_t at, std::uint64_t len);
-  std::optional<Error> Chunk(std::uint64_t at, std::uint64_t len);
-  std::optional<Error> ChunkRecords(std::uint64_t at);
-  std::optional<Error> Footer(std::uint64_t at, std::uint64_t len);
-  std::optional<Error> DataEnd(std::uint64_t at, std::uint64_t len);
+  std::optional<Error> EndWithoutFooter(std::uint64_t pos);
+  std::optional<Error> TopRecord(std::uint64_t pos, bool first, std::uint64_t* next, std::optional<Damage>* damage);
+  // The record at `at` (opcode and length read, length within the file).
+  std::optional<Error> Record(std::uint8_t op, std::uint64_t at, std::uint64_t len, std::optional<Damage>* damage);
+  std::optional<Error> Body(std::uint64_t at, std::uint64_t len, const char* what, std::optional<Damage>* damage);
+  // Schema, Channel, Message contents in memory; a record that cannot be read sets *why.
+  void Schema(const std::uint8_t* p, std::size_t n, std::string* why);
+  std::optional<Error> Channel(const std::uint8_t* p, std::size_t n, std::string* why);
+  std::optional<Error> Message(const std::uint8_t* p, std::size_t n, const BagPosition& where, std::string* why);
+  std::optional<Error> DataMessage(std::uint64_t at, std::uint64_t len, std::optional<Damage>* damage);
+  std::optional<Error> Chunk(std::uint64_t at, std::uint64_t len, std::optional<Damage>* damage);
+  std::optional<Error> ChunkRecords(std::uint64_t at, std::optional<Damage>* damage);
+  std::optional<Error> Footer(std::uint64_t at, std::uint64_t len, std::optional<Damage>* damage);
+  std::optional<Error> DataEnd(std::uint64_t at, std::uint64_t len, std::optional<Damage>* damage);
+  std::optional<Error> MessageIndex(std::uint64_t at, std::uint64_t len);
   // Feeds bytes [at, at + n) of the file, just read, into the data section CRC.
   void Crc(std::uint64_t at, const std::uint8_t* p, std::size_t n);
   // Reads bytes [at, at + n) that the reader itself does not need, for the CRC only.
   std::optional<Error> CrcSkipped(std::uint64_t at, std::uint64_t n);
+  // Recovery.
+  bool RecordStartsAt(std::uint64_t pos);
+  std::uint64_t NextRecord(std::uint64_t from);
+  void AddDamage(const Damage& d, std::uint64_t end);
+  void CloseLoss();
+  std::string TopicOf(std::uint16_t channel) const;
+  const BagChannel* SummaryChannel(std::uint16_t channel);
+  void ReadSummary();
 
   std::istream& in_;
   const std::string& source_;
@@ -102,8 +140,26 @@ class McapReader {
   std::uint64_t crc_end_ = 0;
   bool crc_gap_ = false;        // a byte of the data section was not read
   std::map<std::uint16_t, std::string> schema_names_;   // "Schema": id -> name
-  std::set<std::uint16_t> channels_;                    // channel ids announced
+  std::map<std::uint16_t, std::string> channels_;       // channel ids announced -> topic
   std::vector<std::uint8_t> record_, compressed_, chunk_;
+  // Recovery. "Message Index": a sequence of them follows each chunk in the data section, one
+  // per channel with messages in it: after a damaged chunk they tell its messages per channel. `loss_` is the damage they count for (none after an intact chunk), `delivered_`
+  // the messages read since it began (a resynchronising scan may land inside an uncompressed
+  // chunk), `last_chunk_` the message count per channel of the last intact chunk (its own
+  // Message Index records, when the damage hit one of them, are not a loss).
+  std::vector<LogDamage> damage_;
+  std::optional<std::size_t> loss_;
+  bool loss_told_ = false;
+  // Messages lost by (index in damage_, channel): named by topic at the file's end, when a
+  // channel first seen after its lost chunk is known.
+  std::map<std::pair<std::size_t, std::uint16_t>, std::uint64_t> lost_;
+  std::map<std::uint16_t, std::uint64_t> delivered_, chunk_delivered_, last_chunk_;
+  std::map<std::uint16_t, std::size_t> unknown_channel_damage_;  // channel -> index in damage_
+  // The summary section's Channel records (with their Schema names), read once in recovery when a
+  // message's Channel record was lost with a damaged chunk.
+  std::optional<std::map<std::uint16_t, BagChannel>> summary_channels_;
+  std::uint64_t record_at_ = 0, record_end_ = 0;  // the record being read
+  bool unverified_rows_ = false;  // a message was read outside a chunk, or from a chunk without CRC
 };
 
 std::optional<Error> McapReader::Run() {
@@ -119,47 +175,90 @@ std::optional<Error> McapReader::Run() {
   bool first = true;
   while (!done_) {
     if (pos == size_) {
-      return Bad(pos, "the file ends without the Footer record (\"File Structure\": ...<Footer><Magic>): "
-                      "an interrupted recording? (`mcap recover` rewrites it)");
+      if (auto e = EndWithoutFooter(pos)) return e;
+      break;
     }
-    if (size_ - pos < kRecordHeaderBytes) {
-      return Bad(pos, "truncated record: " + std::to_string(size_ - pos) + " of the 9 bytes of opcode and length");
-    }
-    std::vector<std::uint8_t> head;
-    if (!bag_internal::ReadAt(in_, pos, kRecordHeaderBytes, &head)) return IoError(source_ + ": read error at byte " + std::to_string(pos));
-    const std::uint8_t op = head[0];
-    if (!data_end_ && op != kDataEnd) Crc(pos, head.data(), head.size());
-    const std::uint64_t len = bag_internal::LoadLe(head.data() + 1, 8);
-    const std::uint64_t body = pos + kRecordHeaderBytes;
-    if (len > size_ - body) {
-      return Bad(pos, "record " + Hex(op) + " of " + std::to_string(len) + " bytes runs past the end of the file (" +
-                          std::to_string(size_ - body) + " bytes left): truncated");
-    }
-    // "Header": "The first record after the leading magic is always a Header record."
-    if (first && op != kHeader) return Bad(pos, "the first record is " + Hex(op) + ", not a Header (0x01)");
+    std::optional<Damage> damage;
+    std::uint64_t next = size_;
+    if (auto e = TopRecord(pos, first, &next, &damage)) return e;
     first = false;
-    if (auto e = Record(op, pos, len)) return e;
-    pos = body + len;
+    if (damage) {
+      if (options_.strict) return damage->positioned ? InvalidInput(source_ + ": " + damage->what) : Bad(damage->at, damage->what);
+      // Each step moves forward: the resume point and the scan start are past `pos`.
+      next = damage->resume && RecordStartsAt(*damage->resume) ? *damage->resume : NextRecord(damage->scan_from);
+      AddDamage(*damage, next);
+      // A damaged summary section: the data section was read whole, nothing after it is needed.
+      if (data_end_) break;
+    }
+    pos = next;
   }
+  CloseLoss();
+  for (const auto& [key, count] : lost_) damage_[key.first].rows_lost[TopicOf(key.second)] += static_cast<std::size_t>(count);
+  for (const LogDamage& d : damage_) visitor_->OnDamage(d);
   return std::nullopt;
 }
 
-std::optional<Error> McapReader::Record(std::uint8_t op, std::uint64_t at, std::uint64_t len) {
+// "File Structure": the file ends with <Footer><Magic>. Without them (an interrupted recording)
+// strict mode refuses; recovery keeps what was read, noting it unless a damage already ran to the end.
+std::optional<Error> McapReader::EndWithoutFooter(std::uint64_t pos) {
+  const std::string why = "the file ends without the Footer record (\"File Structure\": ...<Footer><Magic>): "
+                          "an interrupted recording? (`mcap recover` rewrites it)";
+  if (options_.strict) return Bad(pos, why);
+  if (damage_.empty() || damage_.back().end < size_) AddDamage(Damage{pos, why, pos, {}, pos, false}, pos);
+  return std::nullopt;
+}
+
+// The record at `pos`: its opcode and length ("Records"), then its content (Record). Sets *next
+// to the record after it, or *damage.
+std::optional<Error> McapReader::TopRecord(std::uint64_t pos, bool first, std::uint64_t* next,
+                                           std::optional<Damage>* damage) {
+  if (size_ - pos < kRecordHeaderBytes) {
+    *damage = Damage{pos, "truncated record: " + std::to_string(size_ - pos) + " of the 9 bytes of opcode and length", pos, {}, pos + 1, false};
+    return std::nullopt;
+  }
+  std::vector<std::uint8_t> head;
+  if (!bag_internal::ReadAt(in_, pos, kRecordHeaderBytes, &head)) return IoError(source_ + ": read error at byte " + std::to_string(pos));
+  const std::uint8_t op = head[0];
+  const std::uint64_t len = bag_internal::LoadLe(head.data() + 1, 8);
+  const std::uint64_t body = pos + kRecordHeaderBytes;
+  if (len > size_ - body) {
+    *damage = Damage{pos, "record " + Hex(op) + " of " + std::to_string(len) + " bytes runs past the end of the file (" +
+                              std::to_string(size_ - body) + " bytes left): truncated", pos, {}, pos + 1, false};
+    return std::nullopt;
+  }
+  // "Header": "The first record after the leading magic is always a Header record."
+  if (first && op != kHeader) {
+    *damage = Damage{pos, "the first record is " + Hex(op) + ", not a Header (0x01)", pos, {}, pos + 1, false};
+    return std::nullopt;
+  }
+  if (!data_end_ && op != kDataEnd) Crc(pos, head.data(), head.size());
+  record_at_ = pos;
+  record_end_ = *next = body + len;
+  return Record(op, pos, len, damage);
+}
+
+std::optional<Error> McapReader::Record(std::uint8_t op, std::uint64_t at, std::uint64_t len,
+                                        std::optional<Damage>* damage) {
   const std::uint64_t body = at + kRecordHeaderBytes;
-  if (op == kFooter) return Footer(at, len);
+  if (op == kFooter) return Footer(at, len, damage);
   // Summary section records (after Data End) repeat what the data section said: skipped.
   if (data_end_) return std::nullopt;
   switch (op) {
-    case kDataEnd: return DataEnd(at, len);
+    case kDataEnd: return DataEnd(at, len, damage);
     case kSchema:
     case kChannel: {
-      if (auto e = Body(at, len, op == kSchema ? "Schema" : "Channel")) return e;
+      if (auto e = Body(at, len, op == kSchema ? "Schema" : "Channel", damage); e || *damage) return e;
       Crc(body, record_.data(), record_.size());
-      const BagPosition where{at, {}, {}};
-      return op == kSchema ? Schema(record_.data(), record_.size(), where) : Channel(record_.data(), record_.size(), where);
+      std::string why;
+      std::optional<Error> e;
+      if (op == kSchema) Schema(record_.data(), record_.size(), &why);
+      else e = Channel(record_.data(), record_.size(), &why);
+      if (!why.empty()) *damage = Damage{at, why, at, body + len, at + 1, false};
+      return e;
     }
-    case kMessage: return DataMessage(at, len);
-    case kChunk: return Chunk(at, len);
+    case kMessage: return DataMessage(at, len, damage);
+    case kChunk: return Chunk(at, len, damage);
+    case kMessageIndex: return MessageIndex(at, len);
     default: return CrcSkipped(body, len);  // Header, indexes, attachments, metadata, unknown
   }
 }
@@ -191,26 +290,36 @@ std::optional<Error> McapReader::CrcSkipped(std::uint64_t at, std::uint64_t n) {
   return std::nullopt;
 }
 
-// "Data End": uint32 data_section_crc (0: missing). Checked when every byte before it was read.
-std::optional<Error> McapReader::DataEnd(std::uint64_t at, std::uint64_t len) {
+// "Data End": uint32 data_section_crc (0: missing). Checked when every byte before it was read
+// and nothing was skipped as damage.
+std::optional<Error> McapReader::DataEnd(std::uint64_t at, std::uint64_t len, std::optional<Damage>* damage) {
   data_end_ = true;
-  if (len < 4) return Bad(at, "Data End record of " + std::to_string(len) + " bytes, needs 4");
+  CloseLoss();
+  if (len < 4) {
+    *damage = Damage{at, "Data End record of " + std::to_string(len) + " bytes, needs 4", at, at + kRecordHeaderBytes + len, at + 1, false};
+    return std::nullopt;
+  }
   std::vector<std::uint8_t> field;
   if (!bag_internal::ReadAt(in_, at + kRecordHeaderBytes, 4, &field)) return IoError(source_ + ": read error at byte " + std::to_string(at));
   const auto declared = static_cast<std::uint32_t>(bag_internal::LoadLe(field.data(), 4));
-  if (declared == 0 || crc_gap_ || crc_end_ != at) return std::nullopt;
-  if (crc_ != declared) {
-    return Bad(at, "Data End: data section CRC mismatch: bytes 0-" + std::to_string(at) + " have CRC-32 " +
-                       std::to_string(crc_) + ", the record declares " + std::to_string(declared) + " (corrupt data)");
-  }
+  if (declared == 0 || crc_gap_ || crc_end_ != at || !damage_.empty() || crc_ == declared) return std::nullopt;
+  const std::string why = "Data End: data section CRC mismatch: bytes 0-" + std::to_string(at) + " have CRC-32 " +
+                          std::to_string(crc_) + ", the record declares " + std::to_string(declared) + " (corrupt data)";
+  // A row read may hold the corrupt byte unless every message came from a chunk whose own CRC
+  // matched: only then is the mismatch a damage listed (the Data End record) rather than an error.
+  if (options_.strict || unverified_rows_) return Bad(at, why);
+  *damage = Damage{at, why + "; every message came from a chunk whose own CRC matched", at,
+                   at + kRecordHeaderBytes + len, at + 1, false};
   return std::nullopt;
 }
 
 // Reads a record's content into record_ (bounded by max_chunk_bytes).
-std::optional<Error> McapReader::Body(std::uint64_t at, std::uint64_t len, const char* what) {
+std::optional<Error> McapReader::Body(std::uint64_t at, std::uint64_t len, const char* what, std::optional<Damage>* damage) {
   if (len > options_.max_chunk_bytes) {
-    return Bad(at, std::string(what) + " record of " + std::to_string(len) + " bytes exceeds the " +
-                       std::to_string(options_.max_chunk_bytes) + "-byte limit (BagReadOptions::max_chunk_bytes)");
+    *damage = Damage{at, std::string(what) + " record of " + std::to_string(len) + " bytes exceeds the " +
+                             std::to_string(options_.max_chunk_bytes) + "-byte limit (BagReadOptions::max_chunk_bytes)",
+                     at, at + kRecordHeaderBytes + len, at + 1, false};
+    return std::nullopt;
   }
   if (!bag_internal::ReadAt(in_, at + kRecordHeaderBytes, static_cast<std::size_t>(len), &record_)) {
     return IoError(source_ + ": read error at byte " + std::to_string(at));
@@ -220,53 +329,75 @@ std::optional<Error> McapReader::Body(std::uint64_t at, std::uint64_t len, const
 
 // "Schema": uint16 id, String name, String encoding, uint32-prefixed Bytes data.
 // "A Schema record with id 0 is invalid" (id 0 means "no schema" in a Channel).
-std::optional<Error> McapReader::Schema(const std::uint8_t* p, std::size_t n, const BagPosition& where) {
+void McapReader::Schema(const std::uint8_t* p, std::size_t n, std::string* why) {
   Cursor c{p, n};
   std::uint64_t id = 0;
   std::string name, encoding;
   if (!c.Int(2, &id, "id") || !c.Str(&name, "name") || !c.Str(&encoding, "encoding")) {
-    return InvalidInput(source_ + ": " + where.ToString() + ": Schema record too short for its field '" + c.failed + "'");
+    *why = "Schema record too short for its field '" + c.failed + "'";
+  } else if (id == 0) {
+    *why = "Schema with id 0 (reserved for \"no schema\")";
+  } else {
+    schema_names_[static_cast<std::uint16_t>(id)] = name;
   }
-  if (id == 0) return InvalidInput(source_ + ": " + where.ToString() + ": Schema with id 0 (reserved for \"no schema\")");
-  schema_names_[static_cast<std::uint16_t>(id)] = name;
-  return std::nullopt;
 }
 
 // "Channel": uint16 id, uint16 schema_id, String topic, String message_encoding,
 // Map<string,string> metadata. "The schema_id ... must have been previously defined" (0: none).
-std::optional<Error> McapReader::Channel(const std::uint8_t* p, std::size_t n, const BagPosition& where) {
+std::optional<Error> McapReader::Channel(const std::uint8_t* p, std::size_t n, std::string* why) {
   Cursor c{p, n};
   std::uint64_t id = 0, schema = 0;
   BagChannel ch;
   if (!c.Int(2, &id, "id") || !c.Int(2, &schema, "schema_id") || !c.Str(&ch.topic, "topic") ||
       !c.Str(&ch.encoding, "message_encoding")) {
-    return InvalidInput(source_ + ": " + where.ToString() + ": Channel record too short for its field '" + c.failed + "'");
+    *why = "Channel record too short for its field '" + c.failed + "'";
+    return std::nullopt;
   }
   if (schema != 0) {
     const auto it = schema_names_.find(static_cast<std::uint16_t>(schema));
     if (it == schema_names_.end()) {
-      return InvalidInput(source_ + ": " + where.ToString() + ": Channel " + std::to_string(id) + " (" + ch.topic +
-                          ") refers to schema " + std::to_string(schema) + ", which no Schema record defined before it");
+      *why = "Channel " + std::to_string(id) + " (" + ch.topic + ") refers to schema " + std::to_string(schema) +
+             ", which no Schema record defined before it";
+      return std::nullopt;
     }
     ch.type = it->second;
   }
   ch.id = id;
   // Channels may be repeated (in every chunk that uses them, and in the summary): announced once.
-  if (!channels_.insert(static_cast<std::uint16_t>(id)).second) return std::nullopt;
+  if (!channels_.emplace(static_cast<std::uint16_t>(id), ch.topic).second) return std::nullopt;
   return visitor_->OnChannel(ch);
 }
 
 // A Message record's content in memory (in a chunk, or read from the data section).
-std::optional<Error> McapReader::Message(const std::uint8_t* p, std::size_t n, const BagPosition& where) {
+std::optional<Error> McapReader::Message(const std::uint8_t* p, std::size_t n, const BagPosition& where, std::string* why) {
   if (n < kMessagePrefixBytes) {
-    return InvalidInput(source_ + ": " + where.ToString() + ": Message record of " + std::to_string(n) + " bytes, needs at least 22");
+    *why = "Message record of " + std::to_string(n) + " bytes, needs at least 22";
+    return std::nullopt;
   }
   const auto channel = static_cast<std::uint16_t>(bag_internal::LoadLe(p, 2));
   const std::uint64_t log_time = bag_internal::LoadLe(p + 6, 8);
-  if (channels_.count(channel) == 0) {
-    return InvalidInput(source_ + ": " + where.ToString() + ": Message on channel " + std::to_string(channel) +
-                        ", which no Channel record defined before it");
+  if (const BagChannel* known = channels_.count(channel) ? nullptr : SummaryChannel(channel)) {
+    channels_.emplace(channel, known->topic);
+    if (auto e = visitor_->OnChannel(*known)) return e;
   }
+  if (channels_.count(channel) == 0) {
+    if (options_.strict) {
+      *why = "Message on channel " + std::to_string(channel) + ", which no Channel record defined before it";
+      return std::nullopt;
+    }
+    // Its Channel record was lost: one damage entry per such channel counts its messages.
+    auto [d, added] = unknown_channel_damage_.emplace(channel, damage_.size());
+    if (added) {
+      damage_.emplace_back(record_at_, record_end_, "messages on channel " + std::to_string(channel) +
+                                                        ", whose Channel record was lost");
+    }
+    damage_[d->second].end = record_end_;
+    ++damage_[d->second].rows_lost["channel " + std::to_string(channel)];
+    return std::nullopt;
+  }
+  if (where.chunk_byte) ++chunk_delivered_[channel];
+  else unverified_rows_ = true;
+  if (loss_) ++delivered_[channel];
   visitor_->Count(channel, log_time);
   if (!visitor_->Wants(channel)) return std::nullopt;
   BagMessage m{channel, log_time, p + kMessagePrefixBytes, n - kMessagePrefixBytes, where};
@@ -275,25 +406,43 @@ std::optional<Error> McapReader::Message(const std::uint8_t* p, std::size_t n, c
 
 // A Message in the data section (unchunked files): the 22-byte prefix is read first, the data
 // only when the channel is wanted.
-std::optional<Error> McapReader::DataMessage(std::uint64_t at, std::uint64_t len) {
+std::optional<Error> McapReader::DataMessage(std::uint64_t at, std::uint64_t len, std::optional<Damage>* damage) {
   const BagPosition where{at, {}, {}};
-  if (len < kMessagePrefixBytes) return Message(nullptr, static_cast<std::size_t>(len), where);
-  std::vector<std::uint8_t> prefix;
-  if (!bag_internal::ReadAt(in_, at + kRecordHeaderBytes, kMessagePrefixBytes, &prefix)) {
-    return IoError(source_ + ": read error at byte " + std::to_string(at));
+  const std::uint64_t end = at + kRecordHeaderBytes + len;
+  std::string why;
+  std::optional<Error> e;
+  if (len < kMessagePrefixBytes) {
+    e = Message(nullptr, static_cast<std::size_t>(len), where, &why);
+  } else {
+    std::vector<std::uint8_t> prefix;
+    if (!bag_internal::ReadAt(in_, at + kRecordHeaderBytes, kMessagePrefixBytes, &prefix)) {
+      return IoError(source_ + ": read error at byte " + std::to_string(at));
+    }
+    Crc(at + kRecordHeaderBytes, prefix.data(), prefix.size());
+    const auto channel = static_cast<std::uint16_t>(bag_internal::LoadLe(prefix.data(), 2));
+    if (channels_.count(channel) && !visitor_->Wants(channel)) {
+      if (loss_) ++delivered_[channel];
+      visitor_->Count(channel, bag_internal::LoadLe(prefix.data() + 6, 8));
+      return CrcSkipped(at + kRecordHeaderBytes + kMessagePrefixBytes, len - kMessagePrefixBytes);
+    }
+    if (auto b = Body(at, len, "Message", damage); b || *damage) return b;
+    Crc(at + kRecordHeaderBytes, record_.data(), record_.size());
+    e = Message(record_.data(), record_.size(), where, &why);
   }
-  Crc(at + kRecordHeaderBytes, prefix.data(), prefix.size());
-  const auto channel = static_cast<std::uint16_t>(bag_internal::LoadLe(prefix.data(), 2));
-  if (channels_.count(channel) && !visitor_->Wants(channel)) {
-    visitor_->Count(channel, bag_internal::LoadLe(prefix.data() + 6, 8));
-    return CrcSkipped(at + kRecordHeaderBytes + kMessagePrefixBytes, len - kMessagePrefixBytes);
-  }
-  if (auto e = Body(at, len, "Message")) return e;
-  Crc(at + kRecordHeaderBytes, record_.data(), record_.size());
-  return Message(record_.data(), record_.size(), where);
+  if (!why.empty()) *damage = Damage{at, why, at, end, at + 1, false};
+  return e;
 }
 
-std::optional<Error> McapReader::Chunk(std::uint64_t at, std::uint64_t len) {
+std::optional<Error> McapReader::Chunk(std::uint64_t at, std::uint64_t len, std::optional<Damage>* damage) {
+  const std::uint64_t record_end = at + kRecordHeaderBytes + len;
+  chunk_delivered_.clear();
+  last_chunk_.clear();
+  // A chunk that cannot be read is skipped whole (its messages lost); reading goes on after it
+  // when a record starts there, else at the next record after its opcode.
+  const auto lost = [&](const std::string& what) {
+    *damage = Damage{at, what, at, record_end, at + 1, false};
+    return std::nullopt;
+  };
   // Fixed fields and the compression string first (small), then the records.
   std::vector<std::uint8_t> head;
   const std::size_t head_len = static_cast<std::size_t>(std::min<std::uint64_t>(len, kChunkFixedBytes + 4 + 256 + 8));
@@ -307,27 +456,27 @@ std::optional<Error> McapReader::Chunk(std::uint64_t at, std::uint64_t len) {
   if (!c.Int(8, &start, "message_start_time") || !c.Int(8, &end, "message_end_time") ||
       !c.Int(8, &usize, "uncompressed_size") || !c.Int(4, &crc, "uncompressed_crc") ||
       !c.Str(&compression, "compression") || !c.Int(8, &records_len, "records length")) {
-    return Bad(at, "Chunk record too short for its field '" + c.failed + "'");
+    return lost("Chunk record too short for its field '" + c.failed + "'");
   }
   const std::uint64_t records_at = at + kRecordHeaderBytes + c.pos;
   // "Records": a record may be longer than its known fields (fields added by later versions):
   // the records must fit in it, anything after them is skipped.
   if (records_len > len - c.pos) {
-    return Bad(at, "Chunk records length " + std::to_string(records_len) + " runs past the record (" +
-                       std::to_string(len - c.pos) + " bytes after the chunk's fields)");
+    return lost("Chunk records length " + std::to_string(records_len) + " runs past the record (" +
+                std::to_string(len - c.pos) + " bytes after the chunk's fields)");
   }
   // "Chunk": compression "" (none), "lz4", "zstd" (the values the spec lists as supported).
   if (compression != "" && compression != "zstd" && compression != "lz4") {
-    return Bad(at, "Chunk compression '" + compression + "' is not one MCAP defines (\"\", \"lz4\", \"zstd\")");
+    return lost("Chunk compression '" + compression + "' is not one MCAP defines (\"\", \"lz4\", \"zstd\")");
   }
   // The declared uncompressed size bounds every allocation (compression bombs).
   if (usize > options_.max_chunk_bytes || records_len > options_.max_chunk_bytes) {
-    return Bad(at, "Chunk declares " + std::to_string(usize) + " uncompressed bytes (" + std::to_string(records_len) +
-                       " compressed): more than the " + std::to_string(options_.max_chunk_bytes) +
-                       "-byte limit (BagReadOptions::max_chunk_bytes); refused as a possible compression bomb");
+    return lost("Chunk declares " + std::to_string(usize) + " uncompressed bytes (" + std::to_string(records_len) +
+                " compressed): more than the " + std::to_string(options_.max_chunk_bytes) +
+                "-byte limit (BagReadOptions::max_chunk_bytes); refused as a possible compression bomb");
   }
   if (compression.empty() && usize != records_len) {
-    return Bad(at, "uncompressed Chunk declares " + std::to_string(usize) + " bytes but holds " + std::to_string(records_len));
+    return lost("uncompressed Chunk declares " + std::to_string(usize) + " bytes but holds " + std::to_string(records_len));
   }
   std::vector<std::uint8_t>& target = compression.empty() ? chunk_ : compressed_;
   if (!bag_internal::ReadAt(in_, records_at, static_cast<std::size_t>(records_len), &target)) {
@@ -335,67 +484,220 @@ std::optional<Error> McapReader::Chunk(std::uint64_t at, std::uint64_t len) {
   }
   Crc(records_at, target.data(), target.size());
   // Bytes after the records (fields of a later version) are not needed but go into the CRC.
-  const std::uint64_t record_end = at + kRecordHeaderBytes + len;
   if (!crc_gap_ && crc_end_ < record_end) {
     if (auto e = CrcSkipped(crc_end_, record_end - crc_end_)) return e;
   }
   if (!compression.empty()) {
     chunk_.assign(static_cast<std::size_t>(usize), 0);
     const std::string why = bag_internal::Decompress(compression, compressed_.data(), compressed_.size(), &chunk_);
-    if (!why.empty()) return Bad(at, "Chunk: " + why);
+    if (!why.empty()) return lost("Chunk: " + why);
   }
   // "uncompressed_crc: CRC32 checksum of the uncompressed records field. A value of zero
   // indicates that CRC validation should not be performed."
+  if (crc == 0) unverified_rows_ = true;
   if (crc != 0) {
     const std::uint32_t got = bag_internal::Crc32(chunk_.data(), chunk_.size());
     if (got != crc) {
-      return Bad(at, "Chunk CRC mismatch: the records' CRC-32 is " + std::to_string(got) + ", the chunk declares " +
-                         std::to_string(crc) + " (corrupt data)");
+      return lost("Chunk CRC mismatch: the records' CRC-32 is " + std::to_string(got) + ", the chunk declares " +
+                  std::to_string(crc) + " (corrupt data)");
     }
   }
-  return ChunkRecords(at);
+  if (auto e = ChunkRecords(at, damage); e || *damage) return e;
+  // An intact chunk: the Message Index records after it are its own.
+  CloseLoss();
+  last_chunk_ = std::move(chunk_delivered_);
+  chunk_delivered_.clear();
+  return std::nullopt;
 }
 
 // The records inside a chunk: Schema, Channel and Message ("Chunk": "...may contain Schema,
-// Channel and Message records"); anything else is skipped like an unknown record.
-std::optional<Error> McapReader::ChunkRecords(std::uint64_t at) {
+// Channel and Message records"); anything else is skipped like an unknown record. A record that
+// cannot be read loses the rest of the chunk.
+std::optional<Error> McapReader::ChunkRecords(std::uint64_t at, std::optional<Damage>* damage) {
   const std::size_t n = chunk_.size();
   std::size_t pos = 0;
-  while (pos < n) {
+  std::string why;
+  while (pos < n && why.empty()) {
     const BagPosition where{at, pos, {}};
     if (n - pos < kRecordHeaderBytes) {
-      return InvalidInput(source_ + ": " + where.ToString() + ": truncated record inside the chunk (" + std::to_string(n - pos) +
-                          " of the 9 bytes of opcode and length)");
+      why = "truncated record inside the chunk (" + std::to_string(n - pos) + " of the 9 bytes of opcode and length)";
+      break;
     }
     const std::uint8_t op = chunk_[pos];
     const std::uint64_t len = bag_internal::LoadLe(chunk_.data() + pos + 1, 8);
     const std::size_t body = pos + kRecordHeaderBytes;
     if (len > n - body) {
-      return InvalidInput(source_ + ": " + where.ToString() + ": record " + Hex(op) + " of " + std::to_string(len) +
-                          " bytes runs past the chunk's end (" + std::to_string(n - body) + " bytes left)");
+      why = "record " + Hex(op) + " of " + std::to_string(len) + " bytes runs past the chunk's end (" +
+            std::to_string(n - body) + " bytes left)";
+      break;
     }
     const std::uint8_t* p = chunk_.data() + body;
     const auto l = static_cast<std::size_t>(len);
     std::optional<Error> e;
-    if (op == kSchema) e = Schema(p, l, where);
-    else if (op == kChannel) e = Channel(p, l, where);
-    else if (op == kMessage) e = Message(p, l, where);
+    if (op == kSchema) Schema(p, l, &why);
+    else if (op == kChannel) e = Channel(p, l, &why);
+    else if (op == kMessage) e = Message(p, l, where, &why);
     if (e) return e;
-    pos = body + l;
+    if (why.empty()) pos = body + l;
+  }
+  if (!why.empty()) {
+    *damage = Damage{at, BagPosition{at, pos, {}}.ToString() + ": " + why, at, record_end_, at + 1, true};
   }
   return std::nullopt;
 }
 
+// "Message Index": uint16 channel_id, then (Timestamp log_time, uint64 offset) pairs with a
+// uint32 byte length: one per message of that channel in the chunk before it. After a damaged
+// chunk they are the messages it lost.
+std::optional<Error> McapReader::MessageIndex(std::uint64_t at, std::uint64_t len) {
+  if (auto e = CrcSkipped(at + kRecordHeaderBytes, len)) return e;
+  if (len < 6) return std::nullopt;
+  std::vector<std::uint8_t> head;
+  if (!bag_internal::ReadAt(in_, at + kRecordHeaderBytes, 6, &head)) return IoError(source_ + ": read error at byte " + std::to_string(at));
+  const auto channel = static_cast<std::uint16_t>(bag_internal::LoadLe(head.data(), 2));
+  if (!loss_) {
+    last_chunk_.erase(channel);  // seen: a later index of this channel is another chunk's
+    return std::nullopt;
+  }
+  const std::uint64_t bytes = std::min<std::uint64_t>(bag_internal::LoadLe(head.data() + 2, 4), len - 6);
+  const std::uint64_t count = bytes / 16;
+  // The last intact chunk's own index (the damage hit one of its Message Index records).
+  if (const auto it = last_chunk_.find(channel); it != last_chunk_.end() && it->second == count) {
+    last_chunk_.erase(it);
+    return std::nullopt;
+  }
+  last_chunk_.clear();
+  loss_told_ = true;
+  std::uint64_t& got = delivered_[channel];
+  const std::uint64_t read = std::min(got, count);
+  got -= read;
+  if (count > read) lost_[{*loss_, channel}] += count - read;
+  return std::nullopt;
+}
+
 // "Footer" then the closing magic, which must end the file.
-std::optional<Error> McapReader::Footer(std::uint64_t at, std::uint64_t len) {
-  if (len < kFooterBytes) return Bad(at, "Footer record of " + std::to_string(len) + " bytes, needs 20");
+std::optional<Error> McapReader::Footer(std::uint64_t at, std::uint64_t len, std::optional<Damage>* damage) {
+  CloseLoss();
+  if (len < kFooterBytes) {
+    *damage = Damage{at, "Footer record of " + std::to_string(len) + " bytes, needs 20", at, {}, at + 1, false};
+    return std::nullopt;
+  }
   const std::uint64_t magic_at = at + kRecordHeaderBytes + len;
   if (size_ - magic_at != kMagic.size() || !bag_internal::ReadAt(in_, magic_at, kMagic.size(), &record_) ||
       std::memcmp(record_.data(), kMagic.data(), kMagic.size()) != 0) {
-    return Bad(magic_at, "the Footer is not followed by the closing magic at the end of the file");
+    *damage = Damage{magic_at, "the Footer is not followed by the closing magic at the end of the file", magic_at, size_, size_, false};
+    return std::nullopt;
   }
   done_ = true;
   return std::nullopt;
+}
+
+// ---- Recovery ----
+
+// "Records": a known opcode whose length fits in the file, followed by another such record or
+// the closing magic (two records in a row: one byte pair rarely passes by chance).
+bool McapReader::RecordStartsAt(std::uint64_t pos) {
+  if (pos == size_) return true;
+  std::vector<std::uint8_t> head;
+  for (int k = 0; k < 2; ++k) {
+    if (size_ - pos == kMagic.size() && k == 1) {
+      return bag_internal::ReadAt(in_, pos, kMagic.size(), &head) && std::memcmp(head.data(), kMagic.data(), kMagic.size()) == 0;
+    }
+    if (size_ - pos < kRecordHeaderBytes || !bag_internal::ReadAt(in_, pos, kRecordHeaderBytes, &head)) return false;
+    const std::uint64_t len = bag_internal::LoadLe(head.data() + 1, 8);
+    if (!KnownOpcode(head[0]) || len > size_ - pos - kRecordHeaderBytes) return false;
+    pos += kRecordHeaderBytes + len;
+  }
+  return true;
+}
+
+// Scans windows of 1 MiB for the first offset >= from where RecordStartsAt holds, or the file's size.
+std::uint64_t McapReader::NextRecord(std::uint64_t from) {
+  constexpr std::uint64_t kStep = std::uint64_t{1} << 20;
+  std::vector<std::uint8_t> window;
+  for (std::uint64_t base = from; base < size_; base += kStep) {
+    const std::uint64_t avail = std::min<std::uint64_t>(size_ - base, kStep + kRecordHeaderBytes);
+    if (!bag_internal::ReadAt(in_, base, static_cast<std::size_t>(avail), &window)) return size_;
+    for (std::uint64_t k = 0; k < std::min<std::uint64_t>(avail, kStep); ++k) {
+      // Cheap tests first: a known opcode and a length within the file.
+      if (!KnownOpcode(window[k]) || avail - k < kRecordHeaderBytes) continue;
+      const std::uint64_t len = bag_internal::LoadLe(window.data() + k + 1, 8);
+      if (len > size_ - base - k - kRecordHeaderBytes) continue;
+      if (RecordStartsAt(base + k)) return base + k;
+    }
+  }
+  return size_;
+}
+
+// The range [d.begin, end) skipped. The Message Index records that follow count its messages
+// lost (CloseLoss); the data section CRC is not checked any more.
+void McapReader::AddDamage(const Damage& d, std::uint64_t end) {
+  CloseLoss();
+  damage_.emplace_back(d.begin, std::max(end, d.begin), d.what);
+  crc_gap_ = true;
+  if (data_end_) return;  // in the summary section: no message is lost
+  loss_ = damage_.size() - 1;
+  loss_told_ = false;
+  delivered_ = chunk_delivered_;
+  chunk_delivered_.clear();
+}
+
+// The damage being counted is complete; with no Message Index record after it, its loss cannot
+// be told by channel.
+void McapReader::CloseLoss() {
+  if (loss_ && !loss_told_ && damage_[*loss_].end > damage_[*loss_].begin) damage_[*loss_].records_unidentified = 1;
+  loss_.reset();
+  delivered_.clear();
+}
+
+// "Summary Section": "The summary section contains schema, channel, chunk index, attachment
+// index, metadata index, and statistics records"; "Footer": summary_start (0: no summary). The
+// summary's Schema and Channel records repeat the data section's: a channel whose record was in
+// a lost chunk is known from there. Recovery only (strict mode refuses the lost chunk first).
+const BagChannel* McapReader::SummaryChannel(std::uint16_t channel) {
+  if (options_.strict) return nullptr;
+  if (!summary_channels_) ReadSummary();
+  const auto it = summary_channels_->find(channel);
+  return it == summary_channels_->end() ? nullptr : &it->second;
+}
+
+void McapReader::ReadSummary() {
+  summary_channels_.emplace();
+  const std::uint64_t footer_at = size_ - kMagic.size() - kRecordHeaderBytes - kFooterBytes;
+  std::vector<std::uint8_t> footer;
+  if (size_ < kMagic.size() * 2 + kRecordHeaderBytes + kFooterBytes ||
+      !bag_internal::ReadAt(in_, footer_at, kRecordHeaderBytes + 8, &footer) || footer[0] != kFooter) {
+    return;
+  }
+  std::map<std::uint16_t, std::string> schemas;
+  std::vector<std::uint8_t> record;
+  for (std::uint64_t pos = bag_internal::LoadLe(footer.data() + kRecordHeaderBytes, 8);
+       pos >= kMagic.size() && pos < footer_at && footer_at - pos >= kRecordHeaderBytes;) {
+    if (!bag_internal::ReadAt(in_, pos, kRecordHeaderBytes, &record)) return;
+    const std::uint8_t op = record[0];
+    const std::uint64_t len = bag_internal::LoadLe(record.data() + 1, 8);
+    if (len > footer_at - pos - kRecordHeaderBytes) return;
+    if ((op == kSchema || op == kChannel) && len <= kCrcReadBytes) {
+      if (!bag_internal::ReadAt(in_, pos + kRecordHeaderBytes, static_cast<std::size_t>(len), &record)) return;
+      Cursor c{record.data(), record.size()};
+      std::uint64_t id = 0, schema = 0;
+      BagChannel ch;
+      std::string name;
+      if (op == kSchema && c.Int(2, &id, "id") && c.Str(&name, "name")) schemas[static_cast<std::uint16_t>(id)] = name;
+      if (op == kChannel && c.Int(2, &id, "id") && c.Int(2, &schema, "schema_id") && c.Str(&ch.topic, "topic") &&
+          c.Str(&ch.encoding, "message_encoding")) {
+        ch.id = id;
+        if (const auto it = schemas.find(static_cast<std::uint16_t>(schema)); it != schemas.end()) ch.type = it->second;
+        summary_channels_->emplace(static_cast<std::uint16_t>(id), std::move(ch));
+      }
+    }
+    pos += kRecordHeaderBytes + len;
+  }
+}
+
+std::string McapReader::TopicOf(std::uint16_t channel) const {
+  const auto it = channels_.find(channel);
+  return it != channels_.end() ? it->second : "channel " + std::to_string(channel);
 }
 
 }  // namespace

@@ -14,6 +14,11 @@
 // "Chunk": message_start_time/end_time may overlap). Repeated times stay, for the sampling check
 // to name.
 //
+// Damage (BagReadOptions::strict false, the default): the ROS 1 and MCAP readers skip a damaged
+// record or chunk to the next valid record (log_damage.h), keep every intact message and list
+// what they skipped in BagImuTable::damage / BagListing::damage, with one warning line per file.
+// A kept row is always the bytes of one intact message record; none is invented or altered.
+//
 // Format readers: src/io/mcap.cc (MCAP), src/io/ros2_sqlite.cc, src/io/rosbag1.cc; message
 // decoding: gyrocomp/io/cdr.h.
 #pragma once
@@ -28,6 +33,7 @@
 
 #include "gyrocomp/core/status.h"
 #include "gyrocomp/io/io.h"
+#include "gyrocomp/io/log_damage.h"
 
 namespace gyrocomp {
 
@@ -69,6 +75,14 @@ struct BagReadOptions {
   // $TMPDIR (sqlite3 needs a file) and read there. Largest decompressed size, bytes: a file
   // decompressing to more is refused (a compression bomb filling the disk). 64 GiB.
   std::uint64_t max_decompressed_file_bytes = std::uint64_t{64} << 30;
+  // false (the default): a damaged record of a ROS 1 bag or an MCAP file (a record header that
+  // does not parse, a chunk that fails to decompress or whose CRC does not match, a record
+  // running past its chunk or the file) is skipped to the next valid record; every intact
+  // message is kept and the skipped byte ranges, with the messages lost per topic where the
+  // file's own index tells, go to BagVisitor::OnDamage. true: the first damaged record is an
+  // error naming its byte offset. (rosbag2 .db3 files are read through SQLite, which refuses a
+  // damaged database either way.)
+  bool strict = false;
   // Checks the byte limits are > 0; false with the reason in `error`.
   bool IsValid(std::string* error) const;
 };
@@ -118,6 +132,9 @@ class BagVisitor {
   virtual std::optional<Error> OnMessage(const BagMessage& message) = 0;
   // Called for every message, wanted or not (counts for `inspect`).
   virtual void Count(std::uint64_t /*channel*/, std::uint64_t /*receive_time_ns*/) {}
+  // A damaged byte range skipped (BagReadOptions::strict false): each range once, in file order,
+  // when the reader has reached the file's end (its rows_lost then complete).
+  virtual void OnDamage(const LogDamage& /*damage*/) {}
 };
 
 // The storage readers (source names the input in messages). Errors: kInvalidInput with
@@ -153,6 +170,8 @@ struct BagListing {
   std::string source;  // the path given
   BagFormat format = BagFormat::kNone;  // container format
   std::vector<BagTopicInfo> topics;  // in order of first appearance; one entry per topic name
+  std::vector<LogDamage> damage;  // byte ranges skipped (BagReadOptions::strict false), in file order
+  std::vector<std::string> warnings;  // the damage as one line (DamageWarning), when there is any
 };
 
 // Every topic with its message count (all messages are visited; none is decoded).
@@ -166,6 +185,7 @@ struct BagImuTable {
   std::string temperature_topic;       // "" when none was joined
   std::string origin;                  // "MCAP /imu0 (sensor_msgs/msg/Imu), header stamps"
   std::vector<std::string> warnings;  // one line each, e.g. several temperature topics and none joined
+  std::vector<LogDamage> damage;  // byte ranges skipped (BagReadOptions::strict false), in file order
 };
 
 // Column names of a bag table.

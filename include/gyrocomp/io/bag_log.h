@@ -16,12 +16,13 @@ namespace gyrocomp {
 // BagReadOptions from a LogSpec (topic, time source).
 BagReadOptions BagOptionsFromSpec(const LogSpec& spec);
 
-// The BagImuTable as a FlightLogTable (format kRosBag, origin, warnings), for convert / inspect.
+// The BagImuTable as a FlightLogTable (format kRosBag, origin, warnings, damage), for convert / inspect.
 FlightLogTable BagFlightLog(BagImuTable bag);
 
 // ReadLogTable for a ROS bag: ReadBagImu, then `spec` set to the bag table's columns (time_s,
 // x/y/z_rad_s in rad/s unless `spec` names rate columns, temp_c); warnings to spec.on_warning;
-// temp_required without a temperature topic is an error.
-Result<LogTableRead> ReadBagLogTable(const std::string& path, const LogSpec& spec);
+// temp_required without a temperature topic is an error. `strict`: BagReadOptions::strict (a
+// damaged record is an error instead of skipped and listed in flight->damage).
+Result<LogTableRead> ReadBagLogTable(const std::string& path, const LogSpec& spec, bool strict = false);
 
 }  // namespace gyrocomp

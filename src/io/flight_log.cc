@@ -375,7 +375,9 @@ Result<FlightLogTable> ReadFlightLog(const std::string& path, std::optional<int>
       return t;
     }
     case LogFormat::kRosBag: {  // the IMU topic of a ROS bag (gyrocomp/io/bag_log.h)
-      Result<BagImuTable> bag = ReadBagImu(path, BagReadOptions{});
+      BagReadOptions options;
+      options.strict = strict;
+      Result<BagImuTable> bag = ReadBagImu(path, options);
       if (!bag) return bag.error();
       return BagFlightLog(std::move(*bag));
     }
@@ -388,7 +390,7 @@ Result<LogTableRead> ReadLogTable(const std::string& path, const LogSpec& spec, 
   LogTableRead out;
   out.spec = spec;
   out.format = DetectLogFormat(path);
-  if (out.format == LogFormat::kRosBag) return ReadBagLogTable(path, spec);
+  if (out.format == LogFormat::kRosBag) return ReadBagLogTable(path, spec, strict);
   if (out.format == LogFormat::kCsv) {
     CsvReadOptions read;
     read.max_memory_bytes = spec.max_memory_bytes;

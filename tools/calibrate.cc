@@ -17,6 +17,7 @@
 #include "calibrate_report.h"
 #include "calibrate_sensor.h"
 #include "gyrocomp/calibrate/calibrate.h"
+#include "gyrocomp/core/units.h"
 #include "gyrocomp/report/report.h"
 #include "result_json.h"
 
@@ -28,7 +29,7 @@ using namespace calibrate;  // kCalibrateName, CalibrateArgs, Sensor, the output
 // A sensor's figure in the unit a person reads: gyro in mdps or deg/s, accel in mg, baro in Pa.
 std::string Readable(const Sensor& s, double firmware_value) {
   if (s.type == "gyro") return RateRadS(firmware_value);
-  if (s.type == "accel") return Figure(firmware_value / 9.80665e-3) + " mg";
+  if (s.type == "accel") return Figure(units::MetresPerSec2ToMilliG(firmware_value)) + " mg";
   return Figure(firmware_value) + " " + s.unit;
 }
 

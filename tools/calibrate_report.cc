@@ -116,7 +116,7 @@ ReportData BuildCalibrateReport(const nlohmann::json& summary, const std::vector
   c["title"] = "Thermal calibration: " + summary["format"].get<std::string>() + " parameters";
   c["subtitle"] = summary["input"].get<std::string>() + " -> " + summary["output"].get<std::string>();
   c["summary"] = SensorsTable(summary);
-  c["tables"] = {CoefficientTable(summary)};
+  c["tables"] = nlohmann::json::array({CoefficientTable(summary)});  // array(): "= {x}" of one json is x itself under clang
   if (!summary["validation_run"].is_null()) c["tables"].push_back(ValidationTable(summary));
   if (!gyro_curves.empty()) c["timeseries"] = CurveChart(gyro_curves);
   nlohmann::json parameters = summary;

@@ -90,7 +90,7 @@ ReportData BuildValidationReport(const std::vector<ValidationSection>& sections,
     allan.push_back({{"name", s.label + ": compensated"}, {"tau_s", v.tau_s}, {"adev_dps", v.adev_compensated}});
   }
   if (!allan.empty()) c["allan"] = allan;
-  c["tables"] = {ValidationReportTable(sections, "Validation on a run the model was not fitted on")};
+  c["tables"] = nlohmann::json::array({ValidationReportTable(sections, "Validation on a run the model was not fitted on")});
   c["parameters"] = parameters;
   c["versions"] = SoftwareVersions();
   return data;

@@ -15,7 +15,15 @@
 
 #include "gyrocomp/core/format.h"
 
-#ifdef __SANITIZE_ADDRESS__
+// AddressSanitizer: GCC defines __SANITIZE_ADDRESS__, clang answers __has_feature.
+#if defined(__SANITIZE_ADDRESS__)
+#define GYROCOMP_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define GYROCOMP_ASAN 1
+#endif
+#endif
+#ifdef GYROCOMP_ASAN
 #include <sanitizer/lsan_interface.h>
 #endif
 
@@ -55,12 +63,12 @@ svm_model* TrainOrStop(const svm_problem& problem, const svm_parameter& param, c
   struct Attach {
     explicit Attach(const CancellationToken* token) : token_(token) {
       t_fit_cancel = token;
-#ifdef __SANITIZE_ADDRESS__
+#ifdef GYROCOMP_ASAN
       if (token_ != nullptr) __lsan_disable();
 #endif
     }
     ~Attach() {
-#ifdef __SANITIZE_ADDRESS__
+#ifdef GYROCOMP_ASAN
       if (token_ != nullptr) __lsan_enable();
 #endif
       t_fit_cancel = nullptr;

@@ -1,6 +1,8 @@
 // SimulateFlight (gyrocomp/sim/flight.h).
 #include "gyrocomp/sim/flight.h"
 
+#include "gyrocomp/core/units.h"
+
 #include <cmath>
 #include <numbers>
 
@@ -38,7 +40,7 @@ double FlightAccelDriftM_S2(const FlightSimOptions& o, int axis, double temp_c) 
 Result<FlightRun> SimulateFlight(const FlightSimOptions& o) {
   std::string why;
   if (!o.IsValid(&why)) return InvalidArgument(why);
-  constexpr double kRad = std::numbers::pi / 180.0, kG = 9.80665;
+  constexpr double kRad = std::numbers::pi / 180.0, kG = units::kStandardGravity;
   NormalGenerator rng(o.seed);
   std::array<double, 3> gyro_off{}, accel_off{};
   for (int a = 0; a < 3; ++a) gyro_off[a] = o.gyro_offset_dps * kRad * rng.Next(), accel_off[a] = o.accel_offset_m_s2 * rng.Next();

@@ -51,5 +51,10 @@ constexpr double DpsPerSqrtSecToDphPerSqrtHour(double v) { return v * kSecondsPe
 // Rate random walk: deg/h/sqrt(h) -> deg/s/sqrt(s) (divide by 3600 * 60).
 constexpr double DphPerSqrtHourToDpsPerSqrtSec(double v) { return v / (kSecondsPerHour * 60.0); }
 
+// Standard gravity, m/s^2 (ISO 80000-3; PX4 CONSTANTS_ONE_G, ArduPilot GRAVITY_MSS).
+inline constexpr double kStandardGravity = 9.80665;
+// Acceleration: m/s^2 -> mg (thousandths of standard gravity).
+constexpr double MetresPerSec2ToMilliG(double a) { return a / (kStandardGravity * 1e-3); }
+
 }  // namespace units
 }  // namespace gyrocomp

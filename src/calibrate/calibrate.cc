@@ -661,11 +661,14 @@ void CalibratePooled(Sensor* s, const std::vector<Run>& runs, const Args& a) {
     }
     // The constant: the mean of the groups' (a gyro's offset on an average power-on; PX4 keeps
     // it as X0, TemperatureCompensation subtracts it before CAL_GYRO; the other files drop it).
-    double constant = 0.0;
-    for (double b : fit->group_constant) constant += b;
+    // Groups without rows (a log with no still rows for this sensor) have no constant.
+    double constant = 0.0, groups = 0.0;
+    for (std::size_t g = 0; g < fit->group_constant.size(); ++g) {
+      if (fit->group_rows[g] > 0) constant += fit->group_constant[g], groups += 1.0;
+    }
     TemperatureCubic c;
     c.ref_temp_c = ref, c.temp_min_c = id.temp_min_c, c.temp_max_c = id.temp_max_c;
-    c.coeff = {constant / static_cast<double>(fit->group_constant.size()), fit->slope[0], fit->slope[1], fit->slope[2]};
+    c.coeff = {constant / std::max(groups, 1.0), fit->slope[0], fit->slope[1], fit->slope[2]};
     s->models.push_back(ModelOf(c, *s, k, *fit));
     const TemperatureCubic fw = Firmware(*s, a, c);
     s->cubics.push_back(fw), s->cubics_time.push_back(fw), s->cubics_temperature.push_back(fw);

@@ -210,5 +210,33 @@ TEST(PooledCubic, ConstantsPerGroupAndOneSharedCurve) {
   EXPECT_FALSE(FitPooledCubic({10, 10, 10, 10, 20, 20, 20, 20}, {1, 1, 1, 1, 2, 2, 2, 2}, {0, 0, 0, 0, 1, 1, 1, 1}, 2, 15.0).ok());
 }
 
+// The dT/dt term enters the pooled fit as a term enters the default drift model: only when its
+// held-out gain (each group left out in turn) beats its standard error. Six warm-ups whose
+// heating rate wanders independently of the temperature: with a real gain the term is kept and
+// recovered; with none it is tried and left out.
+TEST(PooledCubic, RateTermOnlyWhenItsHeldOutGainBeatsItsStandardError) {
+  for (const double true_gain : {0.5, 0.0}) {
+    std::vector<double> t, y, rate;
+    std::vector<std::size_t> g;
+    NormalGenerator rng(11);
+    for (std::size_t grp = 0; grp < 6; ++grp) {
+      double temp = 5.0 + 2.0 * static_cast<double>(grp);
+      for (int i = 0; i < 300; ++i) {
+        const double r = 0.02 + 0.015 * std::sin(0.05 * i + static_cast<double>(grp));  // C/s
+        temp += r * 10.0;  // 10 s rows
+        const double d = temp - 25.0;
+        t.push_back(temp), rate.push_back(r), g.push_back(grp);
+        y.push_back(0.1 * static_cast<double>(grp) + 0.01 * d - 2e-4 * d * d + true_gain * r + 1e-4 * rng.Next());
+      }
+    }
+    Result<PooledCubic> f = FitPooledCubic(t, y, g, 6, 25.0, rate);
+    ASSERT_TRUE(f.ok()) << f.error().message;
+    EXPECT_EQ(f->rate_term.pairs, 6u) << true_gain;
+    EXPECT_EQ(f->rate_used, true_gain > 0.0) << f->rate_term.BriefReport();
+    if (true_gain > 0.0) EXPECT_NEAR(f->rate_gain, true_gain, 0.02);
+    EXPECT_NEAR(f->slope[0], 0.01, 2e-4) << true_gain;
+  }
+}
+
 }  // namespace
 }  // namespace gyrocomp

@@ -4,36 +4,26 @@
 #include <algorithm>
 #include <cmath>
 
+#include <Eigen/Dense>
+
 namespace gyrocomp {
 namespace {
 
 using Vec = std::vector<double>;
 using Mat = std::vector<Vec>;
 
-// Solves the symmetric system A x = b (Gaussian elimination, partial pivoting); false when A is
-// singular (a pivot below 1e-12 of the largest diagonal entry).
-bool Solve(Mat A, Vec b, Vec* x) {
-  const std::size_t n = b.size();
-  double scale = 0.0;
-  for (std::size_t i = 0; i < n; ++i) scale = std::max(scale, A[i][i]);
-  for (std::size_t c = 0; c < n; ++c) {
-    std::size_t p = c;
-    for (std::size_t r = c + 1; r < n; ++r)
-      if (std::abs(A[r][c]) > std::abs(A[p][c])) p = r;
-    if (!(std::abs(A[p][c]) > 1e-12 * scale)) return false;
-    std::swap(A[p], A[c]), std::swap(b[p], b[c]);
-    for (std::size_t r = c + 1; r < n; ++r) {
-      const double f = A[r][c] / A[c][c];
-      for (std::size_t k = c; k < n; ++k) A[r][k] -= f * A[c][k];
-      b[r] -= f * b[c];
-    }
-  }
-  x->assign(n, 0.0);
-  for (std::size_t c = n; c-- > 0;) {
-    double v = b[c];
-    for (std::size_t k = c + 1; k < n; ++k) v -= A[c][k] * (*x)[k];
-    (*x)[c] = v / A[c][c];
-  }
+// Solves the symmetric system A x = b (Eigen's rank-revealing QR); false when A is singular (a
+// pivot below 1e-12 of the largest).
+bool Solve(const Mat& A, const Vec& b, Vec* x) {
+  const auto n = static_cast<Eigen::Index>(b.size());
+  Eigen::MatrixXd a(n, n);
+  for (Eigen::Index i = 0; i < n; ++i)
+    for (Eigen::Index j = 0; j < n; ++j) a(i, j) = A[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)];
+  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(a);
+  qr.setThreshold(1e-12);
+  if (qr.rank() < n) return false;
+  const Eigen::VectorXd sol = qr.solve(Eigen::Map<const Eigen::VectorXd>(b.data(), n));
+  x->assign(sol.data(), sol.data() + n);
   return true;
 }
 
@@ -154,12 +144,64 @@ Result<PooledCubic> FitWeighted(const std::vector<double>& temp_c, const std::ve
   return out;
 }
 
+// RMS of a held-out group's residuals once its own constant is removed (the constant is free per
+// group: only the shape inside the group is predicted).
+double HeldOutRms(const PooledCubic& f, const std::vector<double>& temp_c, const std::vector<double>& y,
+                  const std::vector<double>& rate_c_per_s, const std::vector<std::size_t>& rows) {
+  std::vector<double> e;
+  for (std::size_t i : rows) {
+    const double u = temp_c[i] - f.ref_temp_c;
+    double pred = f.slope[0] * u + f.slope[1] * u * u + f.slope[2] * u * u * u;
+    if (f.rate_used) pred += f.rate_gain * rate_c_per_s[i];
+    e.push_back(y[i] - pred);
+  }
+  double mean = 0.0, ss = 0.0;
+  for (double v : e) mean += v / static_cast<double>(e.size());
+  for (double v : e) ss += (v - mean) * (v - mean);
+  return std::sqrt(ss / static_cast<double>(e.size()));
+}
+
+// The dT/dt term's paired gain over the cubic alone, each group held out in turn (both models
+// fitted on the other groups; term_admission.h Eqs. A-1..A-3); groups whose held-out fit fails
+// are left out of the pairs.
+TermGain RateTermGain(const std::vector<double>& temp_c, const std::vector<double>& y,
+                      const std::vector<std::size_t>& group, std::size_t num_groups, double ref_temp_c,
+                      const std::vector<double>& rate_c_per_s) {
+  std::vector<double> simpler, richer;
+  for (std::size_t g = 0; g < num_groups; ++g) {
+    std::vector<std::size_t> held;
+    std::vector<double> t, v, r;
+    std::vector<std::size_t> gr;
+    for (std::size_t i = 0; i < temp_c.size(); ++i) {
+      if (group[i] == g) {
+        held.push_back(i);
+        continue;
+      }
+      t.push_back(temp_c[i]), v.push_back(y[i]), r.push_back(rate_c_per_s[i]), gr.push_back(group[i]);
+    }
+    if (held.size() < 2) continue;
+    Result<PooledCubic> a = FitWeighted(t, v, gr, num_groups, ref_temp_c, {}, {});
+    Result<PooledCubic> b = FitWeighted(t, v, gr, num_groups, ref_temp_c, r, {});
+    if (!a.ok() || !b.ok()) continue;
+    simpler.push_back(HeldOutRms(*a, temp_c, y, rate_c_per_s, held));
+    richer.push_back(HeldOutRms(*b, temp_c, y, rate_c_per_s, held));
+  }
+  return PairedTermGain(simpler, richer);
+}
+
 }  // namespace
 
 Result<PooledCubic> FitPooledCubic(const std::vector<double>& temp_c, const std::vector<double>& y,
                                    const std::vector<std::size_t>& group, std::size_t num_groups, double ref_temp_c,
                                    const std::vector<double>& rate_c_per_s) {
-  return FitWeighted(temp_c, y, group, num_groups, ref_temp_c, rate_c_per_s, {});
+  Result<PooledCubic> fit = FitWeighted(temp_c, y, group, num_groups, ref_temp_c, rate_c_per_s, {});
+  if (!fit.ok() || !fit->rate_used) return fit;
+  // The dT/dt term is identified; it stays only when it earns its place (Eq. A-4: its paired
+  // held-out gain beats its standard error), as the default drift model admits a term.
+  const TermGain gain = RateTermGain(temp_c, y, group, num_groups, ref_temp_c, rate_c_per_s);
+  if (!gain.Admitted()) fit = FitWeighted(temp_c, y, group, num_groups, ref_temp_c, {}, {});
+  if (fit.ok()) fit->rate_term = gain;
+  return fit;
 }
 
 }  // namespace gyrocomp

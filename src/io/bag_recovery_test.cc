@@ -28,6 +28,12 @@ namespace gyrocomp {
 namespace {
 
 using testing::Le;
+using testing::Field;
+using testing::IntField;
+using testing::Ros1Record;
+using testing::Op;
+using testing::Str;
+using testing::Rec;
 using testing::Sample;
 
 constexpr int kChunks = 4;
@@ -70,24 +76,6 @@ std::uint64_t ReceiveNs(int i) { return static_cast<std::uint64_t>(Sample(i).Sta
 
 // ---- ROS 1 bag v2.0 with several chunks and an index (wiki.ros.org/Bags/Format/2.0) ----
 
-std::string Field(const std::string& name, const std::string& value) {
-  std::string s;
-  Le(&s, name.size() + 1 + value.size(), 4);
-  return s + name + "=" + value;
-}
-std::string IntField(const std::string& name, std::uint64_t v, int n) {
-  std::string b;
-  Le(&b, v, n);
-  return Field(name, b);
-}
-std::string Ros1Record(const std::string& header, const std::string& data) {
-  std::string s;
-  Le(&s, header.size(), 4);
-  s += header;
-  Le(&s, data.size(), 4);
-  return s + data;
-}
-std::string Op(int op) { return Field("op", std::string(1, static_cast<char>(op))); }
 
 std::string Compress(const std::string& method, const std::string& raw) {
   std::string out;
@@ -331,16 +319,6 @@ TEST_F(BagRecoveryTest, Ros1TruncatedFileKeepsTheChunksBeforeTheCut) {
 
 // ---- MCAP with several chunks, each followed by its Message Index records (mcap.dev/spec) ----
 
-std::string Str(const std::string& v) {
-  std::string s;
-  Le(&s, v.size(), 4);
-  return s + v;
-}
-std::string Rec(std::uint8_t op, const std::string& content) {
-  std::string s(1, static_cast<char>(op));
-  Le(&s, content.size(), 8);
-  return s + content;
-}
 std::string McapMessage(int channel, std::uint64_t log_time, const std::string& data) {
   std::string c;
   Le(&c, channel, 2);

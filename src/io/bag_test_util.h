@@ -24,6 +24,39 @@ inline void Le(std::string* s, std::uint64_t v, int n) {
   for (int i = 0; i < n; ++i) s->push_back(static_cast<char>((v >> (8 * i)) & 0xff));
 }
 
+// ROS 1 bag v2.0 records (wiki.ros.org/Bags/Format/2.0): a header field "name=value" with its
+// int32 length, an integer field of n little-endian bytes, a record (header, data), an op field.
+inline std::string Field(const std::string& name, const std::string& value) {
+  std::string s;
+  Le(&s, name.size() + 1 + value.size(), 4);
+  return s + name + "=" + value;
+}
+inline std::string IntField(const std::string& name, std::uint64_t v, int n) {
+  std::string b;
+  Le(&b, v, n);
+  return Field(name, b);
+}
+inline std::string Ros1Record(const std::string& header, const std::string& data) {
+  std::string s;
+  Le(&s, header.size(), 4);
+  s += header;
+  Le(&s, data.size(), 4);
+  return s + data;
+}
+inline std::string Op(int op) { return Field("op", std::string(1, static_cast<char>(op))); }
+
+// MCAP (mcap.dev/spec): a string with its uint32 length, a record (opcode, uint64 length, content).
+inline std::string Str(const std::string& v) {
+  std::string s;
+  Le(&s, v.size(), 4);
+  return s + v;
+}
+inline std::string Rec(std::uint8_t op, const std::string& content) {
+  std::string s(1, static_cast<char>(op));
+  Le(&s, content.size(), 8);
+  return s + content;
+}
+
 // IMU message i of the simulated topic /imu0: stamps 5 ms apart from 1.7e9 s, small rates
 // around k rad/s on axis k, gravity on z.
 inline ImuMessage Sample(int i) {

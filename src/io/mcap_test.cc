@@ -26,20 +26,12 @@ namespace fs = std::filesystem;
 using testing::BagsDir;
 using testing::ExpectSamples;
 using testing::Le;
+using testing::Str;
+using testing::Rec;
 using testing::Sample;
 
 // ---- MCAP built record by record (mcap.dev/spec) ----
 
-std::string Str(const std::string& v) {
-  std::string s;
-  Le(&s, v.size(), 4);
-  return s + v;
-}
-std::string Rec(std::uint8_t op, const std::string& content) {
-  std::string s(1, static_cast<char>(op));
-  Le(&s, content.size(), 8);
-  return s + content;
-}
 std::string SchemaRec(int id, const std::string& name) {
   std::string c;
   Le(&c, id, 2);

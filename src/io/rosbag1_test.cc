@@ -21,6 +21,10 @@ namespace {
 
 using testing::ExpectSamples;
 using testing::Le;
+using testing::Field;
+using testing::IntField;
+using testing::Ros1Record;
+using testing::Op;
 using testing::Sample;
 
 class Ros1BagTest : public testing::FileTest {
@@ -30,24 +34,6 @@ class Ros1BagTest : public testing::FileTest {
 
 // ---- ROS 1 bag v2.0 built record by record (wiki.ros.org/Bags/Format/2.0) ----
 
-std::string Field(const std::string& name, const std::string& value) {
-  std::string s;
-  Le(&s, name.size() + 1 + value.size(), 4);
-  return s + name + "=" + value;
-}
-std::string IntField(const std::string& name, std::uint64_t v, int n) {
-  std::string b;
-  Le(&b, v, n);
-  return Field(name, b);
-}
-std::string Ros1Record(const std::string& header, const std::string& data) {
-  std::string s;
-  Le(&s, header.size(), 4);
-  s += header;
-  Le(&s, data.size(), 4);
-  return s + data;
-}
-std::string Op(int op) { return Field("op", std::string(1, static_cast<char>(op))); }
 
 // A bag of n IMU messages in one chunk ("none" or "bz2"), plus a temperature topic; with
 // `index_counts`, an index section whose chunk info record declares those counts for connections

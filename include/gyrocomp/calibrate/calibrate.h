@@ -139,7 +139,7 @@ struct CalibratedSensor {
   // Pooled: per axis, 1 sigma of the fitted curve over the range from the fit's covariance
   // (FitPooledCubic's curve_sd), firmware unit; empty for a single run (it has `expected`).
   std::vector<double> curve_sd;
-  // What the logs identify for this sensor (every sensor, calibrated or not).
+  // What the logs identify for a sensor.
   struct Identification {
     double temp_min_c = 0.0;  // lowest still temperature over all logs, deg C
     double temp_max_c = 0.0;  // highest, deg C
@@ -153,7 +153,7 @@ struct CalibratedSensor {
     std::string statement;  // one line: the figures above in words
     std::string would_help;  // one line: which log would help most
   };
-  Identification identification;
+  Identification identification;  // what the logs identify for this sensor (every sensor, calibrated or not)
 
   // True unless the sensor was skipped.
   bool calibrated() const { return reason.empty(); }
@@ -169,12 +169,13 @@ struct CalibrateResult {
   std::string parameter_text;
   // What the readers said on the way (e.g. an ArduPilot log's rotation undone), once each.
   std::vector<std::string> notes;
-  // Per log (in the order of `inputs`): where the vehicle was still (StillDetection::still, the
-  // per-row flags, cleared to save memory; segments and rejected parts kept).
+  // Where the vehicle was still in one log.
   struct LogStill {
     std::string path;  // the log
     StillDetection detection;  // segments, rejected parts with reasons, noise levels
   };
+  // Per log (in the order of `inputs`): where the vehicle was still (StillDetection::still, the
+  // per-row flags, cleared to save memory; segments and rejected parts kept).
   std::vector<LogStill> logs;
 
   // True when at least one sensor was calibrated.

@@ -8,7 +8,7 @@
 // eliminated by removing each group's means (Frisch-Waugh-Lovell): c1..c3 are the least squares
 // of the within-group deviations, so only the temperature change inside a group identifies the
 // curve; two groups at different temperatures with no change inside either identify nothing.
-// With rate_c_per_s given, a shared term g dT/dt is fitted too (the board's temperature lags the
+// With rate_c_per_s given, a shared term g dT/dt can be fitted too (the board's temperature lags the
 // die's while it heats: a drift that depends on the heating rate, the single-run model's
 // dT/dt state) and the cubic is the curve at dT/dt = 0, the steady state the firmware's
 // formula has (docs/explanation/flight-controller-export.md).
@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "gyrocomp/core/status.h"
+#include "gyrocomp/drift/term_admission.h"
 
 namespace gyrocomp {
 
@@ -36,10 +37,15 @@ struct PooledCubic {
   // means, treated as independent), RMS over 101 temperatures, target unit.
   double curve_sd = 0.0;
   double within_group_span_c = 0.0;  // largest temperature change inside one group, deg C
-  // g, target unit per (C/s); 0 when not fitted: no rate_c_per_s, or dT/dt not identified (less
-  // than 10 % of its within-group variance left once the cubic's columns explain what they can).
+  // g, target unit per (C/s); 0 when not fitted: no rate_c_per_s, dT/dt not identified (less
+  // than 10 % of its within-group variance left once the cubic's columns explain what they can),
+  // or its held-out gain not above its standard error (rate_term).
   double rate_gain = 0.0;
   bool rate_used = false;  // the dT/dt term was fitted
+  // The dT/dt term's paired held-out gain over the cubic alone, each group held out in turn
+  // (term_admission.h, Eqs. A-1..A-3); the term is kept only when Admitted() (Eq. A-4), as the
+  // default drift model admits a term. pairs 0 when the term was not identified or not asked for.
+  TermGain rate_term;
 };
 
 // temp_c, y, group (and rate_c_per_s unless empty) as long as each other; group[i] < num_groups.

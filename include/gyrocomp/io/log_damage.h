@@ -19,7 +19,9 @@ namespace gyrocomp {
 
 // One skipped byte range [begin, end) of the file.
 struct LogDamage {
+  // An empty range.
   LogDamage() = default;
+  // The bytes [begin_byte, end_byte) skipped, and why; no rows counted yet.
   LogDamage(std::size_t begin_byte, std::size_t end_byte, std::string why)
       : begin(begin_byte), end(end_byte), what(std::move(why)) {}
   std::size_t begin = 0;  // byte offset of the first skipped byte

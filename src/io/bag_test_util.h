@@ -19,9 +19,9 @@ namespace gyrocomp::testing {
 // tests/bags: rosbag2's own test bags (tests/bags/README.md) and make_imu_bags.py.
 inline std::string BagsDir() { return std::string(GYROCOMP_FIELDLOGS_DIR) + "/../bags"; }
 
-// Appends the n low bytes of v, least significant first.
+// Appends v as n little-endian bytes, least significant first (bytes past the 8th are zero).
 inline void Le(std::string* s, std::uint64_t v, int n) {
-  for (int i = 0; i < n; ++i) s->push_back(static_cast<char>((v >> (8 * i)) & 0xff));
+  for (int i = 0; i < n; ++i) s->push_back(i < 8 ? static_cast<char>((v >> (8 * i)) & 0xff) : '\0');
 }
 
 // ROS 1 bag v2.0 records (wiki.ros.org/Bags/Format/2.0): a header field "name=value" with its

@@ -33,6 +33,7 @@ using testing::IntField;
 using testing::Ros1Record;
 using testing::Op;
 using testing::Str;
+using testing::McapMessage;
 using testing::Rec;
 using testing::Sample;
 
@@ -319,14 +320,6 @@ TEST_F(BagRecoveryTest, Ros1TruncatedFileKeepsTheChunksBeforeTheCut) {
 
 // ---- MCAP with several chunks, each followed by its Message Index records (mcap.dev/spec) ----
 
-std::string McapMessage(int channel, std::uint64_t log_time, const std::string& data) {
-  std::string c;
-  Le(&c, channel, 2);
-  Le(&c, 0, 4);
-  Le(&c, log_time, 8);
-  Le(&c, log_time, 8);
-  return Rec(0x05, c + data);
-}
 std::string McapChunk(const std::string& records, const std::string& compression) {
   const std::string data = Compress(compression, records);
   std::string c;

@@ -57,6 +57,16 @@ inline std::string Rec(std::uint8_t op, const std::string& content) {
   return s + content;
 }
 
+// An MCAP Message record: channel id, sequence 0, log and publish time both log_time.
+inline std::string McapMessage(int channel, std::uint64_t log_time, const std::string& data) {
+  std::string c;
+  Le(&c, channel, 2);
+  Le(&c, 0, 4);
+  Le(&c, log_time, 8);
+  Le(&c, log_time, 8);
+  return Rec(0x05, c + data);
+}
+
 // IMU message i of the simulated topic /imu0: stamps 5 ms apart from 1.7e9 s, small rates
 // around k rad/s on axis k, gravity on z.
 inline ImuMessage Sample(int i) {

@@ -27,6 +27,7 @@ using testing::BagsDir;
 using testing::ExpectSamples;
 using testing::Le;
 using testing::Str;
+using testing::McapMessage;
 using testing::Rec;
 using testing::Sample;
 
@@ -44,14 +45,6 @@ std::string ChannelRec(int id, int schema, const std::string& topic, const std::
   c += Str(topic) + Str(encoding);
   Le(&c, 0, 4);  // empty metadata map
   return Rec(0x04, c);
-}
-std::string MessageRec(int channel, std::uint64_t log_time, const std::string& data) {
-  std::string c;
-  Le(&c, channel, 2);
-  Le(&c, 0, 4);
-  Le(&c, log_time, 8);
-  Le(&c, log_time, 8);
-  return Rec(0x05, c + data);
 }
 
 struct ChunkSpec {
@@ -113,10 +106,10 @@ std::string ImuRecords(int n, bool big_endian = false, int first = 0) {
     const auto receive = static_cast<std::uint64_t>(m.StampNs() + 2000000);
     if (i % 10 == 0) {
       TemperatureMessage t{m.stamp_sec, m.stamp_nanosec, 20.0 + i};
-      r += MessageRec(2, receive, EncodeCdrTemperature(t, "imu", big_endian));
-      r += MessageRec(3, receive, std::string(4000, 'x'));
+      r += McapMessage(2, receive, EncodeCdrTemperature(t, "imu", big_endian));
+      r += McapMessage(3, receive, std::string(4000, 'x'));
     }
-    r += MessageRec(1, receive, EncodeCdrImu(m, "imu", big_endian));
+    r += McapMessage(1, receive, EncodeCdrImu(m, "imu", big_endian));
   }
   return r;
 }
@@ -180,14 +173,14 @@ TEST_F(McapTest, HostileFilesAreRefusedWithTheByteOffset) {
   ExpectRefused(McapFile(ChunkRec(ImuRecords(100), {"lz4", 1000u, 0u})), "more than the 1000 bytes", strict);
   // A message shorter than its CDR.
   std::string shortmsg = SchemaRec(1, "sensor_msgs/msg/Imu") + ChannelRec(1, 1, "/imu0") +
-                         MessageRec(1, 5, EncodeCdrImu(Sample(0), "imu", false).substr(0, 100));
+                         McapMessage(1, 5, EncodeCdrImu(Sample(0), "imu", false).substr(0, 100));
   ExpectRefused(McapFile(ChunkRec(shortmsg, {"", {}, {}})), "topic /imu0: message byte 100 of 100: message ends inside orientation_covariance");
   // The topic asked for is of another type.
   BagReadOptions cam;
   cam.topic = "/cam0/image_raw";
   ExpectRefused(good, "topic /cam0/image_raw has type sensor_msgs/msg/Image, not sensor_msgs/Imu", cam);
   // Two IMU topics and no choice.
-  const std::string two = McapFile(ChunkRec(ImuRecords(20) + ChannelRec(9, 1, "/imu1") + MessageRec(9, 1, EncodeCdrImu(Sample(0), "", false)), {"", {}, {}}));
+  const std::string two = McapFile(ChunkRec(ImuRecords(20) + ChannelRec(9, 1, "/imu1") + McapMessage(9, 1, EncodeCdrImu(Sample(0), "", false)), {"", {}, {}}));
   ExpectRefused(two, "2 sensor_msgs/Imu topics: /imu0 (20 messages), /imu1 (1 messages); choose one with --topic");
   BagReadOptions imu1;
   imu1.topic = "/imu1";
@@ -195,7 +188,7 @@ TEST_F(McapTest, HostileFilesAreRefusedWithTheByteOffset) {
   // No footer (an interrupted recording), bad magic, a message on an unknown channel.
   ExpectRefused(McapFile(ChunkRec(ImuRecords(10), {"", {}, {}}), false), "without the Footer record", strict);
   ExpectRefused("\x89MCAP1\r\nxxxxxxxx", "byte 0: not an MCAP");
-  ExpectRefused(McapFile(MessageRec(4, 1, "abc")), "Message on channel 4, which no Channel record defined", strict);
+  ExpectRefused(McapFile(McapMessage(4, 1, "abc")), "Message on channel 4, which no Channel record defined", strict);
 }
 
 TEST_F(McapTest, ReceiveTimesFarApartJoinTheNearestTemperature) {
@@ -204,9 +197,9 @@ TEST_F(McapTest, ReceiveTimesFarApartJoinTheNearestTemperature) {
   std::string r = SchemaRec(1, "sensor_msgs/msg/Imu") + ChannelRec(1, 1, "/imu0") +
                   SchemaRec(2, "sensor_msgs/msg/Temperature") + ChannelRec(2, 2, "/imu0/temperature");
   const ImuMessage m = Sample(0);
-  r += MessageRec(2, 0x8069000000000000u, EncodeCdrTemperature(TemperatureMessage{m.stamp_sec, m.stamp_nanosec, 30.0}, "imu", false));
-  r += MessageRec(2, 1700000000009000000u, EncodeCdrTemperature(TemperatureMessage{m.stamp_sec, m.stamp_nanosec, 20.0}, "imu", false));
-  for (int i = 0; i < 3; ++i) r += MessageRec(1, 1700000000002000000u + i, EncodeCdrImu(Sample(i), "imu", false));
+  r += McapMessage(2, 0x8069000000000000u, EncodeCdrTemperature(TemperatureMessage{m.stamp_sec, m.stamp_nanosec, 30.0}, "imu", false));
+  r += McapMessage(2, 1700000000009000000u, EncodeCdrTemperature(TemperatureMessage{m.stamp_sec, m.stamp_nanosec, 20.0}, "imu", false));
+  for (int i = 0; i < 3; ++i) r += McapMessage(1, 1700000000002000000u + i, EncodeCdrImu(Sample(i), "imu", false));
   BagReadOptions o;
   o.time = BagTimeSource::kReceive;
   Result<BagImuTable> t = Read(McapFile(r), o);
@@ -217,7 +210,7 @@ TEST_F(McapTest, ReceiveTimesFarApartJoinTheNearestTemperature) {
 
 TEST_F(McapTest, UnstampedMessagesAskForReceiveTime) {
   std::string r = SchemaRec(1, "sensor_msgs/msg/Imu") + ChannelRec(1, 1, "/imu0");
-  for (int i = 0; i < 5; ++i) r += MessageRec(1, 1000 + i, EncodeCdrImu(ImuMessage{}, "", false));
+  for (int i = 0; i < 5; ++i) r += McapMessage(1, 1000 + i, EncodeCdrImu(ImuMessage{}, "", false));
   ExpectRefused(McapFile(r), "header.stamp is 0 ns in all 5 messages (the driver does not stamp them): use the bag's "
                              "receive time, --time receive");
   BagReadOptions o;
@@ -262,7 +255,7 @@ TEST_F(McapTest, DataSectionCrcIsCheckedWhenEveryByteIsRead) {
   }
   // An unwanted message outside chunks larger than 1 MiB is skipped unread: the CRC is then not
   // checked, unless verify_mcap_data_crc asks for every byte.
-  const std::string big = ImuRecords(20) + MessageRec(3, 1, std::string((1 << 20) + 10, 'x'));
+  const std::string big = ImuRecords(20) + McapMessage(3, 1, std::string((1 << 20) + 10, 'x'));
   EXPECT_TRUE(Read(McapFile(big, true, 12345u)).ok());
   BagReadOptions verify;
   verify.verify_mcap_data_crc = true;

@@ -10,6 +10,8 @@
 #include <iterator>
 #include <map>
 #include <random>
+#include <set>
+#include <unordered_set>
 
 #include "fuzz_support.h"
 #include "log_rows.h"
@@ -37,10 +39,19 @@ test::LogRows Rows(LogKind kind, const std::uint8_t* data, std::size_t size, boo
   return test::AnySeries(test::DataFlashRows(*log));
 }
 
+// The intact records of a log: its record byte strings, and for DataFlash the length of each
+// type from its FMT records (a mutated log's own FMTs may be the damaged ones).
+struct RecordBook {
+  std::unordered_set<std::string> records;
+  std::map<int, std::size_t> dataflash_length = {{0x80, 89}};
+  std::set<std::pair<char, std::size_t>> ulog_headers;  // (type, size with header) of its records
+};
+
 struct Original {
   std::string name;
   std::string bytes;
   test::LogRows rows;
+  RecordBook book;  // filled by InitOriginals
 };
 std::vector<Original>& Originals() {
   static std::vector<Original> o;
@@ -84,29 +95,98 @@ std::string BuiltIn(LogKind kind) {
   return b ? *b : std::string();
 }
 
-// Record boundaries (offset, size with header) of a log, up to the first that cannot be walked.
-std::vector<std::pair<std::size_t, std::size_t>> Records(LogKind kind, const std::uint8_t* d, std::size_t n) {
+// Record boundaries (offset, size with header) of the original's records still intact in a
+// mutated log. Damaged bytes (a cut record, a broken header) are skipped byte by byte until an
+// intact record starts again, so every mutation splits and joins the log only where a record of
+// the original begins or ends. Walking the damaged bytes by their declared sizes instead would
+// give boundaries inside records, and a delete between two of them splices the head of one
+// record onto the tail of another: a well-formed record holding a row the original never had,
+// which no reader could tell apart.
+std::vector<std::pair<std::size_t, std::size_t>> Records(LogKind kind, const RecordBook& book, const std::uint8_t* d,
+                                                         std::size_t n) {
   std::vector<std::pair<std::size_t, std::size_t>> out;
-  if (kind == LogKind::kULog) {
-    std::size_t pos = 16;
-    while (pos + 3 <= n) {
-      const std::size_t len = d[pos] | (d[pos + 1] << 8);
-      if (pos + 3 + len > n) break;
-      out.emplace_back(pos, 3 + len);
-      pos += 3 + len;
+  const auto intact = [&](std::size_t pos, std::size_t len) {
+    return pos + len <= n && book.records.count(std::string(reinterpret_cast<const char*>(d) + pos, len)) > 0;
+  };
+  std::size_t pos = kind == LogKind::kULog ? 16 : 0;
+  while (pos + 3 <= n) {
+    std::size_t len = 0;
+    if (kind == LogKind::kULog) {
+      len = 3 + (d[pos] | (d[pos + 1] << 8));
+    } else if (d[pos] == 0xA3 && d[pos + 1] == 0x95) {
+      const auto it = book.dataflash_length.find(d[pos + 2]);
+      if (it != book.dataflash_length.end()) len = it->second;
     }
-    return out;
-  }
-  std::map<int, std::size_t> len = {{0x80, 89}};
-  std::size_t pos = 0;
-  while (pos + 3 <= n && d[pos] == 0xA3 && d[pos + 1] == 0x95) {
-    const auto it = len.find(d[pos + 2]);
-    if (it == len.end() || it->second < 3 || pos + it->second > n) break;
-    if (d[pos + 2] == 0x80 && pos + 5 <= n) len[d[pos + 3]] = d[pos + 4];
-    out.emplace_back(pos, it->second);
-    pos += it->second;
+    if (len >= 3 && intact(pos, len)) {
+      out.emplace_back(pos, len);
+      pos += len;
+    } else {
+      ++pos;
+    }
   }
   return out;
+}
+
+// A damaged record (cut short, its size now reaching into what followed) that the end of the file
+// cuts exactly where its declared size ends looks like an intact last record: nothing follows it
+// to refuse it by, and no reader can tell (ulog_recovery.cc decodes a record only when what
+// follows is a record or the end). The mutator keeps that one case out by dropping the last byte,
+// so that the record is a truncated one; every other damage stays. A chain of records from any
+// offset after the last intact record, each header one the original has, ending exactly at the
+// end, is that case.
+void KeepUndecidableEndOut(LogKind kind, const RecordBook& book, std::string& s) {
+  const auto* d = reinterpret_cast<const std::uint8_t*>(s.data());
+  const auto header_len = [&](std::size_t pos) -> std::size_t {  // 0: not a header the original has
+    if (pos + 3 > s.size()) return 0;
+    if (kind == LogKind::kULog) {
+      const std::size_t len = 3 + (d[pos] | (d[pos + 1] << 8));
+      return book.ulog_headers.count({static_cast<char>(d[pos + 2]), len}) ? len : 0;
+    }
+    if (d[pos] != 0xA3 || d[pos + 1] != 0x95) return 0;
+    const auto it = book.dataflash_length.find(d[pos + 2]);
+    return it == book.dataflash_length.end() ? 0 : it->second;
+  };
+  for (int guard = 0; guard < 64 && !s.empty(); ++guard) {
+    const auto intact = Records(kind, book, d, s.size());
+    std::size_t from = intact.empty() ? (kind == LogKind::kULog ? 16 : 0) : intact.back().first + intact.back().second;
+    bool undecidable = false;
+    for (std::size_t p = from; p < s.size() && !undecidable; ++p) {
+      std::size_t q = p;
+      while (const std::size_t len = header_len(q)) {
+        if (len < 3 || q + len > s.size()) break;
+        q += len;
+      }
+      undecidable = q == s.size() && q > p;
+    }
+    if (!undecidable) return;
+    s.pop_back();
+    d = reinterpret_cast<const std::uint8_t*>(s.data());
+  }
+}
+
+// The original's own records, walked by their declared sizes (an original is undamaged).
+RecordBook BookOf(LogKind kind, const std::string& bytes) {
+  RecordBook book;
+  const auto* d = reinterpret_cast<const std::uint8_t*>(bytes.data());
+  const std::size_t n = bytes.size();
+  std::size_t pos = kind == LogKind::kULog ? 16 : 0;
+  while (pos + 3 <= n) {
+    std::size_t len = 0;
+    if (kind == LogKind::kULog) {
+      len = 3 + (d[pos] | (d[pos + 1] << 8));
+    } else {
+      if (d[pos] != 0xA3 || d[pos + 1] != 0x95) break;
+      const auto it = book.dataflash_length.find(d[pos + 2]);
+      if (it == book.dataflash_length.end() || it->second < 3) break;
+      len = it->second;
+      if (d[pos + 2] == 0x80 && pos + 5 <= n) book.dataflash_length[d[pos + 3]] = d[pos + 4];
+    }
+    if (pos + len > n) break;
+    book.records.insert(bytes.substr(pos, len));
+    if (kind == LogKind::kULog) book.ulog_headers.insert({static_cast<char>(d[pos + 2]), len});
+    pos += len;
+  }
+  return book;
 }
 
 bool Tagged(const std::uint8_t* d, std::size_t n) {
@@ -145,7 +225,8 @@ void InitOriginals(LogKind kind) {
     bool ok = false;
     test::LogRows rows = Rows(kind, reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size(), &ok);
     if (!ok || o.size() >= 255) continue;  // an original must read
-    o.push_back({name, std::move(bytes), std::move(rows)});
+    RecordBook book = BookOf(kind, bytes);
+    o.push_back({name, std::move(bytes), std::move(rows), std::move(book)});
   }
 }
 
@@ -191,8 +272,9 @@ std::size_t MutateRecords(LogKind kind, std::uint8_t* data, std::size_t size, st
   }
   std::string s(reinterpret_cast<const char*>(data + kTagBytes), size - kTagBytes);
   const std::string tag(reinterpret_cast<const char*>(data), kTagBytes);
-  const auto recs = Records(kind, reinterpret_cast<const std::uint8_t*>(s.data()), s.size());
-  if (recs.size() < 2) return Emit(tag + Originals()[data[kTagBytes - 1]].bytes, data, max_size);
+  const Original& orig = Originals()[data[kTagBytes - 1]];
+  const auto recs = Records(kind, orig.book, reinterpret_cast<const std::uint8_t*>(s.data()), s.size());
+  if (recs.size() < 2) return Emit(tag + orig.bytes, data, max_size);
   const std::size_t i = rng() % recs.size();
   const auto [off, len] = recs[i];
   switch (rng() % 6) {
@@ -226,6 +308,7 @@ std::size_t MutateRecords(LogKind kind, std::uint8_t* data, std::size_t size, st
       }
       break;
   }
+  KeepUndecidableEndOut(kind, orig.book, s);
   return Emit(tag + s, data, max_size);
 }
 
@@ -235,14 +318,16 @@ std::size_t CrossOverRecords(LogKind kind, const std::uint8_t* a, std::size_t a_
   std::minstd_rand rng(seed);
   if (Tagged(a, a_size) && Tagged(b, b_size) && a[kTagBytes - 1] == b[kTagBytes - 1]) {
     // The records of a up to one of its boundaries, then b's from one of its boundaries.
-    const auto ra = Records(kind, a + kTagBytes, a_size - kTagBytes);
-    const auto rb = Records(kind, b + kTagBytes, b_size - kTagBytes);
+    const RecordBook& book = Originals()[a[kTagBytes - 1]].book;
+    const auto ra = Records(kind, book, a + kTagBytes, a_size - kTagBytes);
+    const auto rb = Records(kind, book, b + kTagBytes, b_size - kTagBytes);
     if (!ra.empty() && !rb.empty()) {
       const std::size_t cut_a = ra[rng() % ra.size()].first + kTagBytes;
       const std::size_t cut_b = rb[rng() % rb.size()].first + kTagBytes;
-      std::string s(reinterpret_cast<const char*>(a), cut_a);
+      std::string s(reinterpret_cast<const char*>(a) + kTagBytes, cut_a - kTagBytes);
       s.append(reinterpret_cast<const char*>(b) + cut_b, b_size - cut_b);
-      return Emit(s, out, max_out);
+      KeepUndecidableEndOut(kind, book, s);
+      return Emit(std::string(reinterpret_cast<const char*>(a), kTagBytes) + s, out, max_out);
     }
   }
   if (Tagged(a, a_size)) return Emit(std::string(reinterpret_cast<const char*>(a), a_size), out, max_out);

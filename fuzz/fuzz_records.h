@@ -5,7 +5,8 @@
 // Inputs come in two kinds.
 // - A tagged input, kTag + uint8 seed id + log bytes, derives from a known original log (the
 //   simulated one each harness builds, id 0, and the files of $GYROCOMP_FUZZ_ORIGINALS in name
-//   order, ids 1, 2, ...). The mutator changes it only by whole records: delete, duplicate, swap
+//   order, ids 1, 2, ...). The mutator changes it only by whole records, cut and joined where a
+//   record of the original still intact begins or ends (never inside damaged bytes): delete, duplicate, swap
 //   two neighbours ("flip"), truncate inside a record, damage a record's header so that it must
 //   be refused (ULog: a msg_id nobody subscribed; DataFlash: a broken A3 95 or a type no FMT
 //   defined), and splices of two tagged inputs of the same seed. The harness then checks that the

@@ -3,7 +3,7 @@
 # library instrumented for libFuzzer too, so that one compile of the library serves the
 # sanitizer test suite (scripts/test.sh --sanitize) and the fuzzers (scripts/fuzz.sh).
 #   scripts/sanitize_build.sh [TARGET...]      no target: everything (tests, CLI, fuzzers)
-# -O1 with line tables only: about half the compile time of a debug build on 2 cores, stack
+# -O1 with line tables only (test code -O0, CMakeLists.txt): about half the compile time of a debug build on 2 cores, stack
 # traces keep file:line, and assertions stay on (no NDEBUG). Benchmarks and the Python module are
 # not built here (the Release build has them; an ASan runtime would have to be preloaded into python3).
 set -euo pipefail

@@ -2,8 +2,8 @@
 
 #include <chrono>
 #include <cstdio>
-#include <thread>
 #include <cstdlib>
+#include <thread>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -156,6 +156,11 @@ bool CancelledWhileRunning(CancellationToken& token, const std::function<void()>
   std::printf("  %s: %s %.4f s after the token was set\n", what.c_str(), cancelled ? "cancelled" : "finished",
               std::chrono::duration<double>(end - set_at).count());
   return cancelled;
+}
+
+bool Sanitized() {
+  const char* v = std::getenv("GYROCOMP_SANITIZED");
+  return v != nullptr && std::string(v) == "1";
 }
 
 int RunCommand(const std::string& command, std::string* output) {

@@ -65,4 +65,9 @@ bool CancelledWhileRunning(CancellationToken& token, const std::function<void()>
 // Runs `command` with /bin/sh, returns its exit status; stdout+stderr captured into *output.
 int RunCommand(const std::string& command, std::string* output);
 
+// True in the sanitizer suite (scripts/test.sh --sanitize sets GYROCOMP_SANITIZED=1), where a CLI
+// run costs ~20x a Release one: a test that runs the CLI hundreds of times runs a stated subset
+// there and all of it in the Release suite.
+bool Sanitized();
+
 }  // namespace gyrocomp::testing

@@ -1,7 +1,6 @@
 // The calibrate stage (include/gyrocomp/calibrate/calibrate.h): the sensors of a log, block
-// means, the still detector on every log, the fit and projection per axis of a log still
-// throughout, the pooled fit over several logs' still rows, what the logs identify per sensor,
-// and the scores on a validation run.
+// means, the fit and projection per axis of a log still throughout, the scores on a validation
+// run, and CalibrateLogs. Several logs (still detection, pooled fit): calibrate_runs.cc.
 #include "gyrocomp/calibrate/calibrate.h"
 
 #include <algorithm>
@@ -60,6 +59,7 @@ Sensor MakeSensor(std::string type, int instance, std::optional<std::uint32_t> i
   return s;
 }
 
+}  // namespace
 Result<std::vector<Sensor>> SensorsOfULog(const std::string& path, double fit_rate_hz) {
   // Means over 1 / fit_rate windows while reading: the full-rate rows are never held.
   ULogReadOptions read;
@@ -82,7 +82,6 @@ Result<std::vector<Sensor>> SensorsOfULog(const std::string& path, double fit_ra
   }
   return out;
 }
-
 Result<std::vector<Sensor>> SensorsOfDataFlash(const std::string& path, double fit_rate_hz, std::vector<std::string>* notes_out) {
   // Means over 1 / fit_rate windows while reading (the rotation undone later is linear; the
   // thermal-correction undo is evaluated at the window's mean temperature).
@@ -107,6 +106,7 @@ Result<std::vector<Sensor>> SensorsOfDataFlash(const std::string& path, double f
   for (Sensor& s : out) s.slot = s.instance + 1;  // INS_TCAL<n>
   return out;
 }
+namespace {
 
 // Block means of `n` rows (the last partial block dropped): the thermal drift is slow, and the
 // fit then sees the same rows whatever the log rate (tempcal_IMU.py: 2 s moving average).
@@ -162,6 +162,7 @@ Status StaticByTemperature(const DriftModel& m, const DriftInputs& run, const st
   return Status::Ok();
 }
 
+}  // namespace
 // Why the firmware has no place for `s` ("" when it has one): slots, ArduPilot's barometer.
 std::string SlotReason(const Sensor& s, const Args& a) {
   if (s.slot < 0 || s.slot > (a.format == "px4" ? kPx4TcalSlots - 1 : 3) || (a.format == "ardupilot" && s.slot < 1))
@@ -169,13 +170,13 @@ std::string SlotReason(const Sensor& s, const Args& a) {
   if (a.format == "ardupilot" && s.type == "baro") return "ArduPilot has no barometer thermal calibration";
   return "";
 }
-
 // The exported cubic in the firmware's unit, constant as the file needs it.
 TemperatureCubic Firmware(const Sensor& s, const Args& a, const TemperatureCubic& model_unit) {
   TemperatureCubic fw = model_unit.Scaled(1.0 / s.to_model);
   if (a.format == "px4" && s.type != "gyro") fw.coeff[0] = 0.0;  // process_sensor_caldata.py subtracts the median
   return fw;
 }
+namespace {
 
 // Fits and projects one sensor; sets `reason` when it cannot be calibrated.
 void Calibrate(Sensor* s, const Args& a, std::optional<std::pair<double, double>> range = std::nullopt) {
@@ -262,6 +263,7 @@ void Calibrate(Sensor* s, const Args& a, std::optional<std::pair<double, double>
   }
 }
 
+}  // namespace
 // The sensor of `run` that is `s`: the same type and device id when both logs give one (the
 // instance number is the order in which the drivers enumerated the IMUs at that boot and can
 // change between power-ons; the device id stays with the chip), else the same type and instance.
@@ -273,6 +275,7 @@ const Sensor* Match(const std::vector<Sensor>& run, const Sensor& s) {
     if (v.type == s.type && v.instance == s.instance && (!v.device_id || !s.device_id)) return &v;
   return nullptr;
 }
+namespace {
 
 // A log of another board: both logs give device ids and none of them is in both. An error naming
 // the log and the ids; ok when the logs share an id or either has none (ArduPilot's IMU rows).
@@ -362,333 +365,6 @@ Status Validate(const Args& a, LogFormat format, std::vector<Sensor>* all) {
   return Status::Ok();
 }
 
-// One input log: its sensors (rows at fit_rate_hz), where the vehicle was still, and per sensor
-// and row the still segment the row lies in (-1: not still).
-struct Run {
-  std::string path;
-  std::vector<Sensor> sensors;
-  StillDetection detection;
-  std::vector<std::vector<int>> segment;  // [sensor][row]
-  std::vector<double> row_s;  // [sensor] seconds of log per fit row (1 / fit_rate_hz unless the log is slower)
-  std::vector<std::size_t> whole_rows;  // [sensor] fit rows of the whole log, still or not
-};
-
-// The still detector on a log's first IMU (the first gyro and the first accelerometer, rows
-// paired by their averaging window, k = time / window; or the gyro alone), on the sensors read
-// as means over 1 / still_rate_hz: the vehicle is still or not as a whole. A log the detector
-// cannot take is one rejected part with the reason.
-StillDetection DetectStillOf(const std::vector<Sensor>& sensors, const Args& a) {
-  const Sensor* gy = nullptr;
-  const Sensor* ac = nullptr;
-  for (const Sensor& s : sensors) {
-    if (!gy && s.type == "gyro") gy = &s;
-    if (!ac && s.type == "accel") ac = &s;
-  }
-  const double w = 1.0 / a.still_rate_hz;
-  std::vector<double> t, temp;
-  std::array<std::vector<double>, 3> g, acc;
-  std::string why = gy ? "" : "no gyro rows";
-  if (gy) {
-    std::map<long long, std::size_t> accel_row;
-    if (ac)
-      for (std::size_t i = 0; i < ac->time_s.size(); ++i) accel_row[std::llround(std::floor(ac->time_s[i] / w))] = i;
-    for (std::size_t i = 0; i < gy->time_s.size(); ++i) {
-      const auto it = accel_row.find(std::llround(std::floor(gy->time_s[i] / w)));
-      if (ac && it == accel_row.end()) continue;
-      t.push_back(gy->time_s[i]);
-      temp.push_back(gy->temp_c.size() == gy->time_s.size() ? gy->temp_c[i] : 0.0);
-      for (int k = 0; k < 3; ++k) {
-        g[k].push_back(gy->values[k][i]);
-        acc[k].push_back(ac ? ac->values[k][it->second] : 0.0);
-      }
-    }
-  }
-  if (why.empty()) {
-    Result<StillDetection> d = DetectStill(t, g, acc, temp, {}, a.still);
-    if (d.ok()) return *d;
-    why = d.error().message;
-  }
-  StillDetection none;
-  RejectedPart all;
-  all.start_s = t.empty() ? 0.0 : t.front();
-  all.length_s = t.empty() ? 0.0 : t.back() - t.front();
-  all.reason = "still detector: " + why;
-  none.rejected.push_back(all);
-  none.total_s = all.length_s;
-  return none;
-}
-
-// The sensor's rows as read (at most still_rate_hz) made the fit's: means of n = row rate /
-// fit_rate_hz consecutive rows inside one still segment (rows outside every segment dropped, a
-// segment's last partial block dropped); `segment` gets each kept row's segment, `whole_rows`
-// the fit rows the whole log would give. Returns the seconds of log per fit row.
-double StillBlockMeans(Sensor* s, const StillDetection& d, const Args& a, std::vector<int>* segment, std::size_t* whole_rows) {
-  const std::size_t rows = s->time_s.size();
-  const double rate = rows > 1 ? static_cast<double>(rows - 1) / (s->time_s.back() - s->time_s.front()) : a.fit_rate_hz;
-  const auto n = static_cast<std::size_t>(std::max(1.0, std::round(rate / a.fit_rate_hz)));
-  *whole_rows = rows / n;
-  Sensor out = *s;
-  out.time_s.clear(), out.temp_c.clear();
-  for (auto& v : out.values) v.clear();
-  segment->clear();
-  const bool with_temp = s->temp_c.size() == s->time_s.size();
-  std::size_t i = 0;
-  for (std::size_t j = 0; j < d.segments.size(); ++j) {
-    const double from = d.segments[j].start_s, to = from + d.segments[j].length_s;
-    while (i < s->time_s.size() && s->time_s[i] < from) ++i;
-    for (; i + n <= s->time_s.size() && s->time_s[i + n - 1] < to; i += n) {
-      double t = 0.0, temp = 0.0;
-      for (std::size_t k = i; k < i + n; ++k) t += s->time_s[k], temp += with_temp ? s->temp_c[k] : 0.0;
-      out.time_s.push_back(t / static_cast<double>(n));
-      if (with_temp) out.temp_c.push_back(temp / static_cast<double>(n));
-      for (std::size_t c = 0; c < s->values.size(); ++c) {
-        double sum = 0.0;
-        for (std::size_t k = i; k < i + n; ++k) sum += s->values[c][k];
-        out.values[c].push_back(sum / static_cast<double>(n));
-      }
-      segment->push_back(static_cast<int>(j));
-    }
-  }
-  *s = std::move(out);
-  return static_cast<double>(n) / rate;
-}
-
-// Reads one log: its sensors at still_rate_hz, the still detector on them, then the fit's rows.
-// `keep_whole`: a log still throughout is read again at fit_rate_hz, exactly the rows a single
-// chamber run has always been calibrated on; otherwise the fit's rows are the still rows' block
-// means (one read of a long flight log).
-Result<Run> ReadRun(const std::string& path, LogFormat format, const Args& a, bool keep_whole) {
-  auto read = [&](double rate) {
-    return format == LogFormat::kULog ? SensorsOfULog(path, rate) : SensorsOfDataFlash(path, rate, a.notes);
-  };
-  auto sensors = read(a.still_rate_hz);
-  if (!sensors.ok()) return sensors.error();
-  Run run{path, std::move(*sensors), {}, {}, {}, {}};
-  run.detection = DetectStillOf(run.sensors, a);
-  run.detection.still.clear();
-  run.detection.still.shrink_to_fit();
-  const bool throughout = run.detection.rejected.empty() && run.detection.segments.size() == 1;
-  if (keep_whole && throughout) {
-    auto whole = read(a.fit_rate_hz);
-    if (!whole.ok()) return whole.error();
-    run.sensors = std::move(*whole);
-    for (const Sensor& s : run.sensors) {
-      run.segment.emplace_back(s.time_s.size(), 0);
-      run.row_s.push_back(1.0 / a.fit_rate_hz);
-      run.whole_rows.push_back(s.time_s.size());
-    }
-    return run;
-  }
-  for (Sensor& s : run.sensors) {
-    run.segment.emplace_back();
-    run.whole_rows.emplace_back();
-    run.row_s.push_back(StillBlockMeans(&s, run.detection, a, &run.segment.back(), &run.whole_rows.back()));
-  }
-  return run;
-}
-
-// The still rows of one sensor over every log, as the pooled fit takes them: temperature, values
-// (model unit, per axis) and the group of each row's constant: the log for a gyro or barometer
-// (the power-on offset), the log's still segment for an accelerometer (offset + the attitude's
-// share of gravity, which changes whenever the vehicle has moved).
-struct Pool {
-  std::vector<double> temp_c;
-  std::vector<double> rate_c_per_s;  // dT/dt over +-30 s of the row's still segment, C/s
-  std::vector<std::vector<double>> y;  // per axis, model unit
-  std::vector<std::size_t> group;
-  std::size_t num_groups = 0;
-  std::vector<std::size_t> log_of_row;  // index into the runs
-  std::vector<std::size_t> primary_rows;  // rows of runs[0]'s sensor used
-  std::size_t all_rows = 0;  // rows of the sensor in every log, still or not
-  int logs = 0, logs_with_still = 0;
-  double still_s = 0.0;  // seconds of log the rows stand for
-  std::vector<std::string> missing;  // "no gyro 2 in f3.ulg"
-};
-
-// dT/dt of each row: the temperature change over +-30 s of rows inside the same still segment,
-// C/s (a slope over a minute: the block means' temperature noise divided by ~60 s).
-std::vector<double> HeatingRate(const Sensor& m, const std::vector<int>& seg) {
-  std::vector<double> rate(m.time_s.size(), 0.0);
-  for (std::size_t i = 0; i < m.time_s.size(); ++i) {
-    if (seg[i] < 0) continue;
-    std::size_t lo = i, hi = i;
-    while (lo > 0 && seg[lo - 1] == seg[i] && m.time_s[i] - m.time_s[lo - 1] <= 30.0) --lo;
-    while (hi + 1 < m.time_s.size() && seg[hi + 1] == seg[i] && m.time_s[hi + 1] - m.time_s[i] <= 30.0) ++hi;
-    if (hi > lo) rate[i] = (m.temp_c[hi] - m.temp_c[lo]) / (m.time_s[hi] - m.time_s[lo]);
-  }
-  return rate;
-}
-
-Pool Gather(const Sensor& s, const std::vector<Run>& runs) {
-  Pool p;
-  p.y.resize(s.values.size());
-  for (std::size_t r = 0; r < runs.size(); ++r) {
-    const Sensor* m = r == 0 ? &s : Match(runs[r].sensors, s);  // s is a sensor of runs[0]
-    if (!m || !m->reason.empty() || m->values.size() != s.values.size()) {
-      p.missing.push_back((m ? m->reason : "no such sensor") + " in " + runs[r].path);
-      continue;
-    }
-    ++p.logs;
-    const auto index = static_cast<std::size_t>(m - runs[r].sensors.data());
-    p.all_rows += runs[r].whole_rows[index];
-    const std::vector<int>& seg = runs[r].segment[index];
-    std::map<int, std::size_t> group_of_segment;
-    const std::vector<double> rate = HeatingRate(*m, seg);
-    for (std::size_t i = 0; i < m->time_s.size(); ++i) {
-      if (seg[i] < 0) continue;
-      p.rate_c_per_s.push_back(rate[i]);
-      const int key = s.type == "accel" ? seg[i] : 0;
-      if (!group_of_segment.count(key)) group_of_segment[key] = p.num_groups++;
-      p.group.push_back(group_of_segment[key]);
-      p.temp_c.push_back(m->temp_c[i]);
-      for (std::size_t k = 0; k < s.values.size(); ++k) p.y[k].push_back(m->values[k][i] * s.to_model);
-      p.log_of_row.push_back(r);
-      p.still_s += runs[r].row_s[index];
-      if (r == 0) p.primary_rows.push_back(i);
-    }
-    if (!group_of_segment.empty()) ++p.logs_with_still;
-  }
-  return p;
-}
-
-// What the pooled rows identify (calibrate.h, CalibratedSensor::Identification) and which log
-// would help most.
-Sensor::Identification Identify(const Sensor& s, const Pool& p, const Args& a) {
-  Sensor::Identification id;
-  id.logs = p.logs, id.logs_with_still = p.logs_with_still;
-  id.still_s = p.still_s;
-  if (p.temp_c.empty()) {
-    id.statement = "no still rows in " + std::to_string(p.logs) + " log(s)";
-    id.would_help = "a log in which the vehicle stands still (disarmed, untouched) for a few minutes after power-on";
-    return id;
-  }
-  const auto [lo, hi] = std::minmax_element(p.temp_c.begin(), p.temp_c.end());
-  id.temp_min_c = *lo, id.temp_max_c = *hi;
-  // Identified span: the union of the groups' own ranges (only the change inside a group counts).
-  std::vector<std::pair<double, double>> ranges(p.num_groups, {INFINITY, -INFINITY});
-  for (std::size_t i = 0; i < p.temp_c.size(); ++i) {
-    auto& r = ranges[p.group[i]];
-    r.first = std::min(r.first, p.temp_c[i]), r.second = std::max(r.second, p.temp_c[i]);
-  }
-  std::sort(ranges.begin(), ranges.end());
-  double covered_to = -INFINITY;
-  for (const auto& [from, to] : ranges) {
-    id.identified_span_c += std::max(0.0, to - std::max(from, covered_to));
-    covered_to = std::max(covered_to, to);
-  }
-  // Overlap: 0.5 C bins with still rows from two or more logs.
-  std::map<long, std::set<std::size_t>> logs_in_bin;
-  for (std::size_t i = 0; i < p.temp_c.size(); ++i) logs_in_bin[std::lround(std::floor(p.temp_c[i] / 0.5))].insert(p.log_of_row[i]);
-  for (const auto& [bin, logs] : logs_in_bin)
-    if (logs.size() >= 2) id.overlap_c += 0.5;
-  const char* group = s.type == "accel" ? "still segment" : "log";
-  id.statement = std::to_string(p.logs_with_still) + " of " + std::to_string(p.logs) + " log(s) with still rows, " +
-                 FormatNumber(id.still_s / 60.0, 3) + " min still, " + FormatNumber(id.temp_min_c, 3) + ".." +
-                 FormatNumber(id.temp_max_c, 3) + " C (" + FormatNumber(id.identified_span_c, 3) +
-                 " C of change inside a " + group + "), overlap between logs " + FormatNumber(id.overlap_c, 3) + " C";
-  if (id.identified_span_c < a.min_span_c) {
-    id.would_help = "a log that powers on below " + FormatNumber(std::floor(id.temp_min_c - (a.min_span_c - id.identified_span_c)), 3) +
-                    " C and stands still while it warms (" + FormatNumber(a.min_span_c - id.identified_span_c, 3) +
-                    " C more change inside one " + group + ")";
-  } else if (id.still_s < a.min_still_s) {
-    id.would_help = FormatNumber((a.min_still_s - id.still_s) / 60.0, 3) +
-                    " min more still time: leave the vehicle untouched for a few minutes after power-on";
-  } else {
-    // Whole degrees: the advice is for a person choosing the next flight's morning.
-    const std::string lo = FormatNumber(std::floor(id.temp_min_c), 3), hi = FormatNumber(std::ceil(id.temp_max_c), 3);
-    id.would_help = "a log that powers on below " + lo + " C or warms above " + hi +
-                    " C would extend the curve (the firmware clamps to the calibrated range)" +
-                    (p.logs_with_still < 2 ? "; a second log would show whether the curve repeats between power-ons" : "");
-  }
-  return id;
-}
-
-// The cubic as a DriftModel (a temperature-only polynomial about its reference), so the model
-// files, the validation's full-model score and the report treat a pooled sensor as any other.
-DriftModel ModelOf(const TemperatureCubic& c, const Sensor& s, std::size_t axis, const PooledCubic& fit) {
-  DriftModel m;
-  m.kind = DriftModelKind::kPolynomial;
-  m.inputs = DriftInputSet::kTemp;
-  PolynomialModel poly;
-  poly.input_scaler.offset = {c.ref_temp_c};
-  poly.input_scaler.scale = {1.0};
-  for (int k = 0; k < 4; ++k) poly.terms.push_back({k, 0, c.coeff[static_cast<std::size_t>(k)]});
-  m.structured = poly;
-  m.rate_col = s.cols[axis];
-  m.unit = s.model_unit;
-  m.summary.temp_min_c = c.temp_min_c, m.summary.temp_max_c = c.temp_max_c;
-  m.summary.degree = 3;
-  m.summary.num_samples = m.summary.num_train = fit.group_rows.empty() ? 0 : std::accumulate(fit.group_rows.begin(), fit.group_rows.end(), std::size_t{0});
-  m.summary.train_rmse = fit.residual_rms;
-  return m;
-}
-
-// The pooled fit of one sensor of the first log over every log's still rows (pooled_fit.h);
-// sets `reason` (and the identification says what would help) when the rows do not identify
-// a curve.
-void CalibratePooled(Sensor* s, const std::vector<Run>& runs, const Args& a) {
-  s->fit = "pooled";
-  if (!s->reason.empty()) return;
-  if (s->reason = SlotReason(*s, a); !s->reason.empty()) return;
-  const Pool p = Gather(*s, runs);
-  s->identification = Identify(*s, p, a);
-  s->runs_combined = p.logs_with_still;
-  const Sensor::Identification& id = s->identification;
-  if (p.all_rows < a.min_rows) {  // too short a log whether still or not: as the single-run path says it
-    s->reason = std::to_string(p.all_rows) + " rows at " + FormatNumber(a.fit_rate_hz, 4) + " Hz < " + std::to_string(a.min_rows);
-  } else if (p.temp_c.size() < a.min_rows) {
-    s->reason = std::to_string(p.temp_c.size()) + " still rows at " + FormatNumber(a.fit_rate_hz, 4) + " Hz < " + std::to_string(a.min_rows);
-  } else if (id.still_s < a.min_still_s) {
-    s->reason = "still time " + FormatNumber(id.still_s, 4) + " s < " + FormatNumber(a.min_still_s, 4) + " s";
-  } else if (id.identified_span_c < a.min_span_c) {
-    s->reason = "temperature change inside the " + std::string(s->type == "accel" ? "still segments" : "logs") + " " +
-                FormatNumber(id.identified_span_c, 4) + " C < " + FormatNumber(a.min_span_c, 4) + " C";
-  }
-  if (!s->reason.empty()) return;
-  s->temp_min_c = id.temp_min_c, s->temp_max_c = id.temp_max_c;
-  const double ref = 0.5 * (id.temp_min_c + id.temp_max_c);  // PX4's TREF convention: the middle of the range
-  // The shared dT/dt gain where the rows' heating rates spread enough to identify it (SD over
-  // 1e-3 C/s = 0.06 C/min; a chamber ramp at 1 C/min, a board's own warm-up at several C/min).
-  double mean_rate = 0.0, ss_rate = 0.0;
-  for (double r : p.rate_c_per_s) mean_rate += r / static_cast<double>(p.rate_c_per_s.size());
-  for (double r : p.rate_c_per_s) ss_rate += (r - mean_rate) * (r - mean_rate);
-  const bool with_rate = a.pooled_dtemp && std::sqrt(ss_rate / static_cast<double>(p.rate_c_per_s.size())) > 1e-3;
-  for (std::size_t k = 0; k < s->values.size(); ++k) {
-    Result<PooledCubic> fit = FitPooledCubic(p.temp_c, p.y[k], p.group, p.num_groups, ref, with_rate ? p.rate_c_per_s : std::vector<double>{});
-    if (!fit.ok()) {
-      s->reason = "pooled fit of " + s->cols[k] + ": " + fit.error().message;
-      return;
-    }
-    // The constant: the mean of the groups' (a gyro's offset on an average power-on; PX4 keeps
-    // it as X0, TemperatureCompensation subtracts it before CAL_GYRO; the other files drop it).
-    // Groups without rows (a log with no still rows for this sensor) have no constant.
-    double constant = 0.0, groups = 0.0;
-    for (std::size_t g = 0; g < fit->group_constant.size(); ++g) {
-      if (fit->group_rows[g] > 0) constant += fit->group_constant[g], groups += 1.0;
-    }
-    TemperatureCubic c;
-    c.ref_temp_c = ref, c.temp_min_c = id.temp_min_c, c.temp_max_c = id.temp_max_c;
-    c.coeff = {constant / std::max(groups, 1.0), fit->slope[0], fit->slope[1], fit->slope[2]};
-    s->models.push_back(ModelOf(c, *s, k, *fit));
-    const TemperatureCubic fw = Firmware(*s, a, c);
-    s->cubics.push_back(fw), s->cubics_time.push_back(fw), s->cubics_temperature.push_back(fw);
-    s->weights.push_back("pooled");
-    s->weight_choices.emplace_back(std::nullopt);
-    s->cost_rms.push_back(0.0), s->steady_rms.push_back(0.0), s->warm_up_rms.push_back(0.0);
-    s->expected.emplace_back(std::nullopt);
-    s->curve_sd.push_back(fit->curve_sd / s->to_model);
-  }
-  s->band_reason = "pooled fit: no prediction band; the curve's 1 sigma from the fit is in curve_sd";
-  // The sensor's rows: the first log's still rows (what the summary's uncompensated drift reads).
-  auto keep = [&](std::vector<double>& v) {
-    std::vector<double> out;
-    for (std::size_t i : p.primary_rows) out.push_back(v[i]);
-    v = std::move(out);
-  };
-  keep(s->time_s), keep(s->temp_c);
-  for (auto& v : s->values) keep(v);
-}
-
 }  // namespace
 }  // namespace calibrate_internal
 
@@ -750,7 +426,7 @@ Result<CalibrateResult> CalibrateLogs(const std::vector<std::string>& logs, cons
       continue;
     }
     const std::string no_temperature = s.reason;
-    if (s.reason.empty()) s.identification = Identify(s, Gather(s, runs), a);
+    if (s.reason.empty()) s.identification = IdentifyRuns(s, runs, a);
     Calibrate(&s, a);
     if (!no_temperature.empty()) s.identification.statement = no_temperature;
   }

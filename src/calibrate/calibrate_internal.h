@@ -5,7 +5,10 @@
 #include <vector>
 
 #include "gyrocomp/calibrate/calibrate.h"
+#include "gyrocomp/calibrate/still.h"
 #include "gyrocomp/core/status.h"
+#include "gyrocomp/export/thermal_cubic.h"
+#include "gyrocomp/io/flight_log.h"
 
 namespace gyrocomp::calibrate_internal {
 
@@ -18,6 +21,39 @@ struct Args : CalibrateOptions {
   std::vector<std::string>* notes = nullptr;  // the readers' notes, once each
 };
 
+// ---- calibrate.cc -----------------------------------------------------------------------------
+// A log's sensors (gyro, accel, baro per instance) as rows at fit_rate_hz, firmware units.
+Result<std::vector<Sensor>> SensorsOfULog(const std::string& path, double fit_rate_hz);
+Result<std::vector<Sensor>> SensorsOfDataFlash(const std::string& path, double fit_rate_hz,
+                                               std::vector<std::string>* notes_out);
+// The sensor of `run` that is `s` (by device id, else kind and instance); nullptr when none.
+const Sensor* Match(const std::vector<Sensor>& run, const Sensor& s);
+// Why the firmware has no place for `s` ("" when it has one): slots, ArduPilot's barometer.
+std::string SlotReason(const Sensor& s, const Args& a);
+// The exported cubic in the firmware's unit, constant as the file needs it.
+TemperatureCubic Firmware(const Sensor& s, const Args& a, const TemperatureCubic& model_unit);
+
+// ---- calibrate_runs.cc ------------------------------------------------------------------------
+// One input log: its sensors (rows at fit_rate_hz), where the vehicle was still, and per sensor
+// and row the still segment the row lies in (-1: not still).
+struct Run {
+  std::string path;
+  std::vector<Sensor> sensors;
+  StillDetection detection;
+  std::vector<std::vector<int>> segment;  // [sensor][row]
+  std::vector<double> row_s;  // [sensor] seconds of log per fit row (1 / fit_rate_hz unless the log is slower)
+  std::vector<std::size_t> whole_rows;  // [sensor] fit rows of the whole log, still or not
+};
+
+// Reads one log: its sensors at still_rate_hz, the still detector on them, then the fit's rows.
+// `keep_whole`: a log still throughout is read again at fit_rate_hz.
+Result<Run> ReadRun(const std::string& path, LogFormat format, const Args& a, bool keep_whole);
+// What the still rows of every run identify for `s` (a sensor of runs[0]).
+Sensor::Identification IdentifyRuns(const Sensor& s, const std::vector<Run>& runs, const Args& a);
+// The pooled fit of `s` over every run's still rows; sets `reason` when they identify no curve.
+void CalibratePooled(Sensor* s, const std::vector<Run>& runs, const Args& a);
+
+// ---- parameter_text.cc ------------------------------------------------------------------------
 // The parameter file's text (PX4 or ArduPilot, every sensor, disabled slots included).
 Result<std::string> ParameterText(const Args& a, const std::vector<Sensor>& all);
 

@@ -261,6 +261,9 @@ TEST_F(HostileNumbersCliTest, EveryNumericOptionRefusesNonFiniteAndHugeValuesBef
     const bool seed = o.name.size() >= 4 && o.name.compare(o.name.size() - 4, 4, "seed") == 0;
     std::vector<std::string> bad = {"nan", "inf", "-inf", "1e300", "-1e300", "NaN"};
     if (seed) bad = {"nan", "1e300", "-1"};
+    // Under the sanitizers: one non-finite and one huge value per option (the parse path each
+    // class takes); the Release suite runs every value.
+    if (testing::Sanitized()) bad = {"nan", "1e300"};
     for (const std::string& v : bad) {
       // No input at all: a refusal must come from the option, before any file is looked at.
       SCOPED_TRACE(o.command + " " + o.name + " " + v + " (" + o.type + ")");

@@ -1,84 +1,14 @@
-// ROS 1 bag reader, format version 2.0 (include/gyrocomp/io/bag.h), written from the ROS wiki
-// page "Bags/Format/2.0" (wiki.ros.org/Bags/Format/2.0). Quotes below are its section names.
-//
-// "Version": the file starts with the line "#ROSBAG V2.0\n".
-// "Records": <header_len uint32><header><data_len uint32><data>; the header is a sequence of
-//   fields <field_len uint32><name>=<value>; "op" (1 byte) gives the record's kind. Integers are
-//   little-endian.
-//   op 0x03 "Bag header": index_pos uint64, conn_count uint32, chunk_count uint32 (data: padding)
-//   op 0x05 "Chunk": compression ("none", "bz2", "lz4"), size uint32 (uncompressed bytes); data:
-//           the (compressed) connection and message data records
-//   op 0x07 "Connection": conn uint32, topic; data: a connection header (fields topic, type,
-//           md5sum, message_definition, ...)
-//   op 0x02 "Message data": conn uint32, time uint64 (uint32 secs, uint32 nsecs: the receive
-//           time); data: the ROS 1 serialized message
-//   op 0x04 "Index data" (ver, conn, count), op 0x06 "Chunk info" (ver, chunk_pos, start_time,
-//           end_time, count; data: conn uint32, count uint32 pairs): the index, not needed by a
-//           sequential read.
-// The whole file is read in order, chunk by chunk (unindexed bags, whose index_pos is 0, read the
-// same); connection records repeated in the index section are announced once. "lz4" chunks are
-// roslz4's, which writes the LZ4 frame format (ros_comm utilities/roslz4/src/lz4s.c).
-//
-// Recovery (BagReadOptions::strict false): a record whose header_len, header fields or data_len
-// do not frame a record is skipped to the next offset where a record header parses, names a
-// record kind ("op") with the fields that kind requires, and declares data within the file. A
-// chunk that fails to decompress (bz2, lz4) or whose records do not parse loses its own messages
-// and reading goes on after its data (or at the next record, when its data length was the
-// damage); an uncompressed chunk's records are the file's bytes, so reading goes on at the next
-// record inside it. The index section ("Chunk info": chunk_pos and messages per connection;
-// "Connection") tells the messages a lost chunk held per topic, and the topic of a connection
-// whose record was in a lost chunk.
-#include <cstring>
+// ROS 1 bag reader (include/gyrocomp/io/bag.h): the file read once in order, chunk by chunk
+// (rosbag1_reader.h says how); recovery from damaged records in rosbag1_recovery.cc.
 #include <algorithm>
+#include <cstring>
 #include <fstream>
-#include <map>
-#include <optional>
-#include <set>
-#include <string_view>
-#include <utility>
-#include <vector>
 
-#include "bag_bytes.h"
-#include "gyrocomp/io/bag.h"
+#include "rosbag1_reader.h"
 
 namespace gyrocomp {
+namespace ros1_internal {
 
-namespace {
-
-using bag_internal::LoadLe;
-
-constexpr char kVersionLine[] = "#ROSBAG V2.0\n";
-constexpr std::size_t kVersionBytes = sizeof kVersionLine - 1;
-
-enum Op : std::uint8_t {
-  kMessageData = 0x02,
-  kBagHeader = 0x03,
-  kIndexData = 0x04,
-  kChunk = 0x05,
-  kChunkInfo = 0x06,
-  kConnection = 0x07
-};
-
-// The fields of a record header (or a connection header) by name: views into the header's
-// bytes, which outlive them (no allocation per record: a 3 h 200 Hz bag has 2 M of them).
-class Fields {
- public:
-  void clear() { items_.clear(); }
-  void Add(std::string_view name, std::string_view value) { items_.emplace_back(name, value); }
-  // The value of the last field of that name (a repeated name: the last one wins, as a map
-  // assignment would), or nullopt.
-  std::optional<std::string_view> Find(std::string_view name) const {
-    for (auto it = items_.rbegin(); it != items_.rend(); ++it) {
-      if (it->first == name) return it->second;
-    }
-    return std::nullopt;
-  }
-
- private:
-  std::vector<std::pair<std::string_view, std::string_view>> items_;
-};
-
-// Splits a header into fields; "" or the problem.
 std::string ParseFields(const std::uint8_t* p, std::size_t n, Fields* out) {
   out->clear();
   std::size_t pos = 0;
@@ -102,132 +32,6 @@ bool FieldInt(const Fields& f, const char* name, std::size_t bytes, std::uint64_
   *v = LoadLe(reinterpret_cast<const std::uint8_t*>(value->data()), bytes);
   return true;
 }
-
-// "Records": whether the fields of a record header name a record kind this reader knows with the
-// fields that kind requires ("Message data": conn, time; "Index data": ver, conn, count; "Chunk":
-// compression, size; "Chunk info": ver, chunk_pos, start_time, end_time, count; "Connection":
-// conn, topic). The bag header (op 0x03) only starts the file, so it is not a record to
-// resynchronise at.
-bool IsResyncRecord(const Fields& f) {
-  std::uint64_t op = 0, v = 0;
-  if (!FieldInt(f, "op", 1, &op)) return false;
-  switch (op) {
-    case kMessageData: return FieldInt(f, "conn", 4, &v) && FieldInt(f, "time", 8, &v);
-    case kIndexData: return FieldInt(f, "ver", 4, &v) && FieldInt(f, "conn", 4, &v) && FieldInt(f, "count", 4, &v);
-    case kChunk: {
-      const std::optional<std::string_view> c = f.Find("compression");
-      return c && (*c == "none" || *c == "bz2" || *c == "lz4") && FieldInt(f, "size", 4, &v);
-    }
-    case kChunkInfo:
-      return FieldInt(f, "ver", 4, &v) && FieldInt(f, "chunk_pos", 8, &v) && FieldInt(f, "start_time", 8, &v) &&
-             FieldInt(f, "end_time", 8, &v) && FieldInt(f, "count", 4, &v);
-    case kConnection: return FieldInt(f, "conn", 4, &v) && f.Find("topic").has_value();
-    default: return false;
-  }
-}
-
-// Largest record header a resynchronising scan accepts: real headers are tens of bytes (a
-// connection record's holds its topic name), so a damaged length is not followed far.
-constexpr std::uint64_t kMaxResyncHeader = 64 * 1024;
-
-// Whether the `avail` bytes at p start a record that IsResyncRecord accepts, whose header and
-// data fit in the `left` bytes of the file from p.
-bool RecordStartsAt(const std::uint8_t* p, std::uint64_t avail, std::uint64_t left, Fields* scratch) {
-  if (avail < 8) return false;
-  const std::uint64_t header_len = LoadLe(p, 4);
-  // The shortest header is one field "op=X": 4 length bytes + 4 bytes.
-  if (header_len < 8 || header_len > kMaxResyncHeader || header_len + 8 > avail) return false;
-  const std::uint64_t data_len = LoadLe(p + 4 + header_len, 4);
-  if (data_len > left - 8 - header_len) return false;
-  return ParseFields(p + 4, static_cast<std::size_t>(header_len), scratch).empty() && IsResyncRecord(*scratch);
-}
-
-// A damaged record found by a handler: the strict error and, in recovery, where reading goes on.
-struct Damage {
-  BagPosition where;  // the record (and byte in its chunk) the strict error names
-  std::string what;   // the strict error's text after the position
-  std::uint64_t begin = 0;  // first byte skipped
-  // Reading goes on at `resume` when a valid record starts there (or the file ends there), else
-  // at the next valid record after `scan_from`.
-  std::optional<std::uint64_t> resume;
-  std::uint64_t scan_from = 0;
-  std::optional<std::uint64_t> chunk;  // offset of the chunk record whose messages it loses
-};
-
-class Ros1Reader {
- public:
-  Ros1Reader(bag_internal::ByteSource& bytes, const std::string& source, const BagReadOptions& options,
-             BagVisitor* visitor)
-      : bytes_(bytes), source_(source), options_(options), visitor_(visitor) {}
-  std::optional<Error> Run();
-
- private:
-  Error Bad(const BagPosition& where, const std::string& what) const {
-    return InvalidInput(source_ + ": " + where.ToString() + ": " + what);
-  }
-  Error ReadError(std::uint64_t offset) const { return IoError(source_ + ": read error at " + At(offset).ToString()); }
-  static BagPosition At(std::uint64_t offset) { return BagPosition{offset, {}, {}}; }
-  // One record of the file at `pos`: sets *next to the record after it, or *damage.
-  std::optional<Error> TopRecord(std::uint64_t pos, bool first, std::uint64_t* next, std::optional<Damage>* damage);
-  // One record in memory (a chunk's content, or the data of a record of the file): its op,
-  // header fields, data. A record that cannot be read sets *why.
-  std::optional<Error> InnerRecord(const BagPosition& where, const Fields& f, const std::uint8_t* data, std::size_t n,
-                                   std::string* why);
-  std::optional<Error> Chunk(std::uint64_t at, const Fields& f, std::uint64_t data_at, std::uint64_t data_len,
-                             std::optional<Damage>* damage);
-  std::optional<Error> ChunkRecords(std::uint64_t at, const std::uint8_t* chunk, std::size_t n, std::size_t* bad_at,
-                                    std::string* why);
-  std::optional<Error> Connection(const BagPosition& where, const Fields& f, const std::uint8_t* data, std::size_t n,
-                                  std::string* why);
-  std::optional<Error> Message(const BagPosition& where, const Fields& f, const std::uint8_t* data, std::size_t n,
-                               std::string* why);
-  void ReadIndex(const Fields& bag_header);
-  void AddChunkInfo(std::uint64_t chunk_pos, const std::uint8_t* data, std::uint64_t n);
-  std::optional<Error> ChunkInfo(const Fields& f, std::uint64_t data_at, std::uint64_t data_len);
-  // Recovery: the next offset >= from where a record starts (RecordStartsAt), or the file's size.
-  std::uint64_t NextRecord(std::uint64_t from);
-  bool ResumesAt(std::uint64_t pos);
-  void AddDamage(const Damage& d, std::uint64_t end);
-  void CountDelivered(const BagPosition& where, std::uint64_t conn);
-  std::string TopicOf(std::uint64_t conn) const;
-  void ReportDamage();
-  void FitToIndexTotals(std::vector<std::map<std::uint64_t, std::uint64_t>>* lost) const;
-
-  bag_internal::ByteSource& bytes_;
-  const std::string& source_;
-  const BagReadOptions& options_;
-  BagVisitor* visitor_;
-  std::set<std::uint64_t> connections_;
-  std::map<std::uint64_t, std::uint64_t> expected_;  // messages per connection, from the index
-  // From the index section ("Chunk info", "Connection"): each chunk's message count per
-  // connection by the chunk record's offset, and every connection (topic, type).
-  std::map<std::uint64_t, std::map<std::uint64_t, std::uint64_t>> chunk_counts_;
-  std::uint64_t index_pos_ = 0;
-  std::map<std::uint64_t, BagChannel> index_channels_;
-  std::map<std::uint64_t, std::string> topics_;  // connection -> topic, of the connections read
-  // Recovery: the skipped ranges, each with the chunk record it was found in (if any); the
-  // messages read all the same of what each damage lost (index in damage_ -> connection ->
-  // count): those of its chunk read before it, and those read outside chunks after it up to the
-  // next chunk record (a resynchronising scan landed inside an uncompressed chunk); the
-  // messages of the chunk being read. The losses are worked out at the file's end
-  // (ReportDamage), when the index section has been read whatever happened to index_pos.
-  std::vector<LogDamage> damage_;
-  std::vector<std::optional<std::uint64_t>> damage_chunk_;
-  std::map<std::size_t, std::map<std::uint64_t, std::uint64_t>> delivered_;
-  std::map<std::uint64_t, std::uint64_t> chunk_delivered_;
-  std::optional<std::size_t> open_damage_;  // the damage top-level messages are read after
-  bool index_read_ = false;  // chunk_counts_ came from index_pos
-  std::optional<std::uint64_t> header_chunk_count_;  // the bag header's chunk_count
-  std::map<std::uint64_t, std::uint64_t> read_;  // messages read per connection (recovery)
-  std::map<std::uint64_t, std::size_t> unknown_conn_damage_;  // connection -> index in damage_
-  std::uint64_t record_end_ = 0;  // end of the file record being read (for damage ranges)
-  // Scratch buffers of a stream source (a mapped file views its pages instead): the record
-  // header, its data, a compressed chunk and its decompressed bytes, a resynchronising scan's
-  // window. Separate, because the header fields are views into the header's bytes while the
-  // data is read.
-  std::vector<std::uint8_t> header_buf_, data_buf_, compressed_, chunk_, scan_buf_;
-  Fields fields_, inner_fields_, scan_fields_;
-};
 
 std::optional<Error> Ros1Reader::Run() {
   const std::uint64_t size = bytes_.size();
@@ -538,134 +342,13 @@ std::optional<Error> Ros1Reader::Connection(const BagPosition& /*where*/, const 
   return visitor_->OnChannel(ch);
 }
 
-// ---- Recovery ----
-
-bool Ros1Reader::ResumesAt(std::uint64_t pos) {
-  const std::uint64_t size = bytes_.size();
-  if (pos == size) return true;
-  if (pos > size || size - pos < 8) return false;
-  const std::uint64_t avail = std::min<std::uint64_t>(size - pos, kMaxResyncHeader + 8);
-  const std::uint8_t* p = bytes_.View(pos, static_cast<std::size_t>(avail), &scan_buf_);
-  return p != nullptr && RecordStartsAt(p, avail, size - pos, &scan_fields_);
-}
-
-// Scans windows of 1 MiB (plus room for one header) for the first offset where a record starts.
-std::uint64_t Ros1Reader::NextRecord(std::uint64_t from) {
-  constexpr std::uint64_t kStep = std::uint64_t{1} << 20;
-  const std::uint64_t size = bytes_.size();
-  for (std::uint64_t base = from; base < size; base += kStep) {
-    const std::uint64_t avail = std::min<std::uint64_t>(size - base, kStep + kMaxResyncHeader + 8);
-    const std::uint8_t* w = bytes_.View(base, static_cast<std::size_t>(avail), &scan_buf_);
-    if (w == nullptr) return size;  // unreadable: the rest is skipped as damage
-    const std::uint64_t stop = std::min<std::uint64_t>(avail, kStep);
-    for (std::uint64_t k = 0; k < stop; ++k) {
-      if (RecordStartsAt(w + k, avail - k, size - base - k, &scan_fields_)) return base + k;
-    }
-    bytes_.Consumed(base);
-  }
-  return size;
-}
-
-// A message read: counted against its chunk, or the damage it follows (whose loss is then smaller).
-void Ros1Reader::CountDelivered(const BagPosition& where, std::uint64_t conn) {
-  if (options_.strict) return;
-  ++read_[conn];
-  if (where.chunk_byte) {
-    ++chunk_delivered_[conn];
-  } else if (open_damage_) {
-    ++delivered_[*open_damage_][conn];
-  }
-}
-
-// The range [d.begin, end) skipped (its losses: ReportDamage).
-void Ros1Reader::AddDamage(const Damage& d, std::uint64_t end) {
-  open_damage_ = damage_.size();
-  damage_.emplace_back(d.begin, std::max(end, d.begin), d.what);
-  damage_chunk_.push_back(d.chunk);
-  if (d.chunk) delivered_[*open_damage_] = chunk_delivered_;
-}
-
-std::string Ros1Reader::TopicOf(std::uint64_t conn) const {
-  if (const auto it = topics_.find(conn); it != topics_.end()) return it->second;
-  if (const auto it = index_channels_.find(conn); it != index_channels_.end()) return it->second.topic;
-  return "connection " + std::to_string(conn);
-}
-
-// Rows lost per topic. A damage loses the chunk it was found in and every chunk the index puts
-// in its byte range (the first damage to reach a chunk counts it): their counts in the index
-// less the messages read all the same. A deleted or inserted byte moves every record after it
-// away from the offsets the index gives, so when the index lists every chunk (the bag header's
-// chunk_count) the losses are made to add up to what it counts less what was read
-// (FitToIndexTotals). With no index entry for a damage the loss cannot be told by topic.
-void Ros1Reader::ReportDamage() {
-  std::set<std::uint64_t> counted;  // chunk offsets
-  std::vector<std::map<std::uint64_t, std::uint64_t>> lost(damage_.size());  // per damage: connection -> messages
-  for (std::size_t i = 0; i < damage_.size(); ++i) {
-    LogDamage& d = damage_[i];
-    std::map<std::uint64_t, std::uint64_t> expected;  // connection -> messages
-    bool told = false;
-    const auto lose = [&](std::uint64_t chunk) {
-      const auto it = chunk_counts_.find(chunk);
-      if (it == chunk_counts_.end()) return;
-      told = true;
-      if (!counted.insert(chunk).second) return;
-      for (const auto& [conn, count] : it->second) expected[conn] += count;
-    };
-    const bool chunk_damage = damage_chunk_[i].has_value();
-    if (chunk_damage) lose(*damage_chunk_[i]);
-    for (auto it = chunk_counts_.lower_bound(d.begin); it != chunk_counts_.end() && it->first < d.end; ++it) lose(it->first);
-    for (const auto& [conn, count] : expected) {
-      const std::uint64_t got = delivered_[i][conn];
-      if (count > got) lost[i][conn] = count - got;
-    }
-    if (!told && d.rows_lost.empty() && (chunk_damage || chunk_counts_.empty())) d.records_unidentified = 1;
-  }
-  if (header_chunk_count_ && chunk_counts_.size() == *header_chunk_count_) FitToIndexTotals(&lost);
-  for (std::size_t i = 0; i < damage_.size(); ++i) {
-    for (const auto& [conn, count] : lost[i]) {
-      if (count > 0) damage_[i].rows_lost[TopicOf(conn)] += static_cast<std::size_t>(count);
-    }
-    visitor_->OnDamage(damage_[i]);
-  }
-}
-
-// Per connection, the messages lost in all = the index's count less the messages read: losses
-// counted beyond it are taken back from the last damages, losses not counted go to the first
-// damage that lost a chunk (else the first damage).
-void Ros1Reader::FitToIndexTotals(std::vector<std::map<std::uint64_t, std::uint64_t>>* lost) const {
-  std::map<std::uint64_t, std::uint64_t> total;
-  for (const auto& [chunk, counts] : chunk_counts_) {
-    for (const auto& [conn, count] : counts) total[conn] += count;
-  }
-  std::size_t first = 0;
-  for (std::size_t i = 0; i < damage_.size(); ++i) {
-    if (damage_chunk_[i]) {
-      first = i;
-      break;
-    }
-  }
-  for (const auto& [conn, count] : total) {
-    const auto r = read_.find(conn);
-    const std::uint64_t missing = count - std::min(count, r == read_.end() ? 0 : r->second);
-    std::uint64_t counted = 0;
-    for (const auto& l : *lost) counted += l.count(conn) ? l.at(conn) : 0;
-    for (std::size_t i = lost->size(); i-- > 0 && counted > missing;) {
-      std::uint64_t& n = (*lost)[i][conn];
-      const std::uint64_t back = std::min(n, counted - missing);
-      n -= back;
-      counted -= back;
-    }
-    if (counted < missing && !lost->empty()) (*lost)[first][conn] += missing - counted;
-  }
-}
-
-}  // namespace
+}  // namespace ros1_internal
 
 std::optional<Error> StreamRos1Bag(std::istream& in, const std::string& source, const BagReadOptions& options,
                                    BagVisitor* visitor) {
   bag_internal::StreamSource bytes(in);
   if (!bytes.ok()) return IoError(source + ": cannot read (not seekable)");
-  Ros1Reader reader(bytes, source, options, visitor);
+  ros1_internal::Ros1Reader reader(bytes, source, options, visitor);
   return reader.Run();
 }
 
@@ -677,7 +360,7 @@ std::optional<Error> StreamRos1BagFile(const std::string& path, const BagReadOpt
     return StreamRos1Bag(in, path, options, visitor);
   }
   bag_internal::MappedSource bytes(*mapped);
-  Ros1Reader reader(bytes, path, options, visitor);
+  ros1_internal::Ros1Reader reader(bytes, path, options, visitor);
   return reader.Run();
 }
 

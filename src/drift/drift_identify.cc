@@ -6,7 +6,8 @@
 //   Eq. I-0 (points): a candidate with p coefficients needs n >= 6 p training points (the
 //     decimated copy the CV scores: block means of train_period_s, or every row of a short
 //     table). 25 plateau means: p <= 4, a cubic in T and no state; kernels need n >= 60.
-//   Eq. I-1 (dT/dt gain), all four must hold on the decimated (T, r = dT/dt) of the run:
+//   Eq. I-1 (dT/dt gain), (a)-(c) must hold on the decimated (T, r = dT/dt) of the run; (d) is
+//     reported (and carried by the band), not a gate:
 //     (a) contrast over the range: dT/dt must vary at fixed temperature. The fitted range is cut
 //         into 5 equal bins; a bin contrasts when it has >= max(3, 2% of n) points and the SD
 //         of r among them is >= 0.25x the SD of r over the run (holds and ramps, or heating
@@ -20,8 +21,16 @@
 //         inflation <= 10): otherwise the gain is a re-labelling of the temperature curve;
 //     (c) spread: SD of r's residual after that basis >= 3 x the noise SD of r (robust: 1.4826
 //         median |r_i - r_(i-1)| / sqrt(2));
-//     (d) stability: jackknife over the CV folds (left-out thermal segments): the gain refitted
-//         without each fold, g_k; SE = sqrt((K-1)/K sum (g_k - mean g)^2); |g| >= 2 SE.
+//     (d) stability, reported: jackknife over the CV folds (left-out thermal segments): the gain
+//         refitted without each fold, g_k; SE = sqrt((K-1)/K sum (g_k - mean g)^2). It was a
+//         gate (|g| >= 2 SE) and left the gain out where the die lag is not first order (a
+//         second-order lag, a Preisach memory: the best constant gain depends on which
+//         temperatures a fold leaves in, so the SE is large although the gain helps): there the
+//         default, poly(T), was 1.18x and 1.36x poly(T, dT/dt)'s held-out error, every seed
+//         (docs/explanation/drift-models.md "Selection that predicts the next run"). (a)-(c) ask
+//         whether the run can estimate a gain at all; whether it helps the next run is what the
+//         held-out benches measure. A fitted gain's noise is in the band's parameter error (Eq.
+//         B-2) and what a constant gain cannot follow in its model-form spread (Eq. B-3).
 //   Eq. I-2 (lag tau): the run heats and cools (Eq. I-3) and Eq. I-1 holds, and the segment-CV
 //     profile over tau has a minimum inside the search range: the score at tau/3 and at 3 tau
 //     is at least 1% above the score at tau (a flat valley is not an identified tau).
@@ -167,7 +176,7 @@ TermTest TestRateGain(const FitData& d, const CvPlan& plan, const PolynomialOpti
   const bool spread = sd_e > 0.0 && sd_e >= kMinSpreadToNoise * noise;
   double gain = 0.0, se = 0.0;
   const bool fitted = JackknifeGain(d, plan, p, &gain, &se);
-  const bool stable = fitted && std::abs(gain) >= kMinGainToSe * se;
+  const bool stable = fitted && std::abs(gain) >= kMinGainToSe * se;  // (d): reported only
   std::ostringstream s;
   s << "Eq. I-1: holds " << FormatNumber(100.0 * hold_share, 3) << "%, heating " << FormatNumber(100.0 * heat_share, 3)
     << "%, cooling " << FormatNumber(100.0 * cool_share, 3) << "% of " << n << " points; dT/dt varies (SD >= 0.25x its overall SD) "
@@ -176,10 +185,10 @@ TermTest TestRateGain(const FitData& d, const CvPlan& plan, const PolynomialOpti
     << "; R^2 of dT/dt on the T basis " << FormatNumber(r2, 3) << (r2 <= kMaxStateR2 ? "" : " (> 0.9: collinear with T)")
     << "; its residual SD " << FormatNumber(sd_e, 3) << " C/s vs noise " << FormatNumber(noise, 3) << " C/s"
     << (spread ? "" : " (< 3x)") << "; gain ";
-  if (fitted) s << FormatNumber(gain, 4) << " +- " << FormatNumber(se, 3) << " (segment jackknife SE)" << (stable ? "" : " (< 2 SE)");
+  if (fitted) s << FormatNumber(gain, 4) << " +- " << FormatNumber(se, 3) << " (segment jackknife SE" << (stable ? ")" : "; < 2 SE)");
   else s << "not fitted without every fold";
   t.evidence = s.str();
-  t.identified = composition && r2 <= kMaxStateR2 && spread && stable;
+  t.identified = composition && r2 <= kMaxStateR2 && spread;
   if (fitted) t.gain = gain, t.gain_se = se;
   t.why.reason = t.evidence;
   return t;

@@ -396,6 +396,11 @@ Command MakeFit(CLI::App& app) {
   sub->add_option("--dtemp-degree", a->fit.polynomial.dtemp_degree, "poly: degree in dT/dt (1..3) with --inputs temp,dtemp")
       ->check(IntegerRange(1, 3, "PolynomialOptions::dtemp_degree"))
       ->group(d)->capture_default_str();
+  sub->add_option("--gain-temp-degree", a->fit.polynomial.gain_temp_degree,
+                  "poly with a state: degree in T of the state's gain (0: constant; 2: a cubic read at a lagged "
+                  "temperature; not with auto)")
+      ->check(IntegerRange(0, 2, "PolynomialOptions::gain_temp_degree"))
+      ->group(d)->capture_default_str();
   AddOutputOption(sub, "-o,--output", &a->model_path, "Model file to write (JSON)")->required();
   AddOutputOption(sub, "--json", &a->json_path, "Write the fit summary as JSON to FILE ('-' = stdout)");
   return {sub, [a] { return Run(*a); }};

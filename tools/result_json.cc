@@ -106,6 +106,7 @@ nlohmann::json DriftSummaryJson(const DriftFitSummary& s) {
   if (s.model == DriftModelKind::kPolynomial || s.model == DriftModelKind::kHybrid) {
     j["degree"] = s.degree;
     j["dtemp_degree"] = s.dtemp_degree;
+    j["gain_temp_degree"] = s.gain_temp_degree;
   }
   j["lag_tau_s"] = Num(s.lag_tau_s);
   j["cv_scheme"] = DriftCvSchemeName(s.cv_scheme);

@@ -19,6 +19,9 @@ constexpr double kMemoryCoverage = 0.5;
 
 std::string CandidateName(DriftModelKind kind, DriftInputSet inputs, const DriftFitOptions& o) {
   std::string name = std::string(DriftModelKindName(kind)) + "(" + DriftInputSetName(inputs);
+  if (inputs != DriftInputSet::kTemp && o.polynomial.gain_temp_degree > 0 && kind != DriftModelKind::kSvr &&
+      kind != DriftModelKind::kCsSvr)
+    name += ",gain(temp)";
   if (inputs == DriftInputSet::kTempAndLag) name += " tau=" + FormatNumber(o.state.lag_tau_s, 4) + " s";
   return name + ")";
 }
@@ -71,6 +74,16 @@ struct Candidate {
   DriftCandidateScore score;
 };
 
+// The options a structured candidate was fitted with: its inputs, state and gain degree.
+DriftFitOptions OptionsOf(const Candidate& c, DriftFitOptions o) {
+  o.inputs = c.inputs;
+  if (c.model) {
+    o.state = c.model->state;
+    o.polynomial.gain_temp_degree = c.model->summary.gain_temp_degree;
+  }
+  return o;
+}
+
 // Fits one candidate with o.inputs / o.state set; records its score or why it failed.
 Candidate FitCandidate(const DriftInputs& inputs, std::span<const double> target, DriftModelKind kind,
                        const DriftFitOptions& o, const CvPlan& plan) {
@@ -95,16 +108,14 @@ Candidate FitCandidate(const DriftInputs& inputs, std::span<const double> target
 double FoldStandardError(const DriftInputs& inputs, std::span<const double> target, const Candidate& c,
                          const CvPlan& plan, const DriftFitOptions& o) {
   if (!c.model) return 0.0;
-  DriftFitOptions f = o;
-  f.inputs = c.inputs;
-  f.state = c.model->state;
+  const DriftFitOptions f = OptionsOf(c, o);
   auto d = PrepareFitData(inputs, target, f);
   if (!d.ok()) return 0.0;
   std::vector<double> folds;
   auto cv = CrossValidate(
       d->xd, d->yd, plan,
       [&](const Columns& tx, std::span<const double> ty, const Columns& vx) -> Result<std::vector<double>> {
-        auto m = FitPolynomial(tx, ty, o.polynomial);
+        auto m = FitPolynomial(tx, ty, f.polynomial);
         if (!m.ok()) return m.error();
         return m->Predict(vx);
       },
@@ -138,15 +149,13 @@ std::vector<double> FoldRmse(const DriftInputs& inputs, std::span<const double> 
                              const DriftFitOptions& o, const CvPlan& plan) {
   std::vector<double> folds;
   if (!c.model) return folds;
-  DriftFitOptions f = o;
-  f.inputs = c.inputs;
-  f.state = c.model->state;
+  const DriftFitOptions f = OptionsOf(c, o);
   auto d = PrepareFitData(inputs, target, f);
   if (!d.ok() || d->yd.size() != plan.fold_of.size()) return folds;
   auto cv = CrossValidate(
       d->xd, d->yd, plan,
       [&](const Columns& tx, std::span<const double> ty, const Columns& vx) -> Result<std::vector<double>> {
-        auto m = FitPolynomial(tx, ty, o.polynomial);
+        auto m = FitPolynomial(tx, ty, f.polynomial);
         if (!m.ok()) return m.error();
         return m->Predict(vx);
       },
@@ -337,6 +346,9 @@ Result<DriftModel> FitAuto(const DriftInputs& inputs, std::span<const double> ta
   c.cv_scheme = plan.scheme;
   c.search.cuckoo.max_generations = o.auto_select.search_generations;
   c.polynomial.degree = sup.degree;
+  // A gain that varies with T is not an auto candidate: Eq. A-4 rejected it on every run measured
+  // (docs/explanation/accuracy.md "A gain that varies with temperature").
+  c.polynomial.gain_temp_degree = 0;
   const bool memory = sup.memory;
   // Structured candidates: the polynomial with each thermal state the run identifies.
   // Order as ChooseStructured reads it: temp, temp+dtemp, then the two-state model (the memory
@@ -406,8 +418,7 @@ Result<DriftModel> FitAuto(const DriftInputs& inputs, std::span<const double> ta
     // kernel in (T, state) is validated on the direction(s) the run covers, and on a cooling
     // calibration it learnt what the cooling blocks share (flicker, a hysteresis branch) and
     // applied it to the next heating run: B6 passed Eq. H-1 and was 1.88x poly's heating error.
-    c.inputs = all[best_poly].inputs;
-    if (all[best_poly].model) c.state = all[best_poly].model->state;
+    c = OptionsOf(all[best_poly], c);
     all.push_back(kernels ? FitCandidate(inputs, target, DriftModelKind::kHybrid, c, plan)
                           : Skipped(DriftModelKind::kHybrid, c.inputs, c,
                                     !sup.kernels ? why_not

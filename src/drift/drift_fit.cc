@@ -266,6 +266,7 @@ Result<DriftModel> FitPrepared(const FitData& d, const DriftInputs& inputs, Drif
     if (!poly.ok()) return poly.error();
     s.degree = o.polynomial.degree;
     s.dtemp_degree = d.x.size() > 1 ? o.polynomial.dtemp_degree : 0;
+    s.gain_temp_degree = d.x.size() > 1 ? o.polynomial.gain_temp_degree : 0;
     model.structured = std::move(*poly);
   }
   if (kind == DriftModelKind::kPolynomial) s.noise_model = o.noise_model;

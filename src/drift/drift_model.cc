@@ -94,6 +94,11 @@ bool PolynomialOptions::IsValid(std::string* error) const {
       *error = "PolynomialOptions::dtemp_degree = " + std::to_string(dtemp_degree) + ": must be in 1..3";
     return false;
   }
+  if (gain_temp_degree < 0 || gain_temp_degree > 2) {
+    if (error)
+      *error = "PolynomialOptions::gain_temp_degree = " + std::to_string(gain_temp_degree) + ": must be in 0..2";
+    return false;
+  }
   return true;
 }
 
@@ -166,6 +171,7 @@ std::string DriftFitSummary::BriefReport() const {
   if (model == DriftModelKind::kPolynomial || model == DriftModelKind::kHybrid) {
     s << ", degree " << degree;
     if (inputs != DriftInputSet::kTemp) s << " (+ state degree " << dtemp_degree << ")";
+    if (gain_temp_degree > 0) s << " (state gain of degree " << gain_temp_degree << " in T)";
   }
   if (lag_tau_s) s << ", lag tau = " << *lag_tau_s << " s";
   s << "; CV RMSE (" << DriftCvSchemeName(cv_scheme) << ", " << cv_folds << " folds";

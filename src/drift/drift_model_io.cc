@@ -68,6 +68,7 @@ json SummaryJson(const DriftFitSummary& s) {
   if (s.model == DriftModelKind::kPolynomial || s.model == DriftModelKind::kHybrid) {
     j["degree"] = s.degree;
     j["dtemp_degree"] = s.dtemp_degree;
+    if (s.gain_temp_degree > 0) j["gain_temp_degree"] = s.gain_temp_degree;
   }
   return j;
 }

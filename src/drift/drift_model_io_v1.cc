@@ -181,6 +181,9 @@ void ReadTrainingSummary(Reader& r, const json& training, int version, bool has_
   if (has_poly) {
     s.degree = static_cast<int>(r.Integer(training, "degree", "training.degree"));
     s.dtemp_degree = static_cast<int>(r.Integer(training, "dtemp_degree", "training.dtemp_degree"));
+    // Optional (written only when the state's gain varies with T; its terms carry the model).
+    if (training.contains("gain_temp_degree"))
+      s.gain_temp_degree = static_cast<int>(r.Integer(training, "gain_temp_degree", "training.gain_temp_degree"));
   }
   if (has_svr) {
     s.C = r.Number(training, "C", "training.C");

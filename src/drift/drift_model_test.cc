@@ -88,6 +88,44 @@ TEST(DriftModelPolynomial, RecoversTemperatureRateTerm) {
   EXPECT_GT(m2->summary.train_rmse, 1e-3);
 }
 
+// A gain that varies with temperature (PolynomialOptions::gain_temp_degree): target = p(T) + (b0 +
+// b1 t + b2 t^2) dT/dt, t the standardised temperature, is in the model class with degree 2 and
+// fitted to rounding; the constant gain cannot follow it; the file keeps the cross terms and the
+// prediction bit for bit; degree 3 is refused.
+TEST(DriftModelPolynomial, GainOfDegreeTwoInTemperature) {
+  const double fs_hz = 1.0;
+  const std::vector<double> temp = ChamberTemp(fs_hz, 4.0);
+  auto rate = TemperatureRate(temp, fs_hz);
+  ASSERT_TRUE(rate.ok());
+  std::vector<double> y(temp.size());
+  for (std::size_t i = 0; i < temp.size(); ++i) {
+    const double t = (temp[i] - 10.0) / 40.0;
+    y[i] = 0.01 + 1e-3 * temp[i] + (1.5 - 0.8 * t + 2.0 * t * t) * (*rate)[i];
+  }
+  DriftFitOptions o;
+  o.model = DriftModelKind::kPolynomial;
+  o.inputs = DriftInputSet::kTempAndRate;
+  o.polynomial.gain_temp_degree = 2;
+  auto m = FitDriftModel({temp, fs_hz}, y, o);
+  ASSERT_TRUE(m.ok()) << m.error().message;
+  EXPECT_EQ(m->summary.gain_temp_degree, 2);
+  EXPECT_LT(Rmse(*m->Predict({temp, fs_hz}), y), 1e-12);
+  o.polynomial.gain_temp_degree = 0;
+  auto constant = FitDriftModel({temp, fs_hz}, y, o);
+  ASSERT_TRUE(constant.ok());
+  EXPECT_GT(constant->summary.train_rmse, 1e-4);
+  const std::string path = testing::MakeTempDir("drift_model_test") + "/gain_in_t.json";
+  ASSERT_TRUE(SaveDriftModel(*m, path).ok());
+  auto loaded = LoadDriftModel(path);
+  ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+  EXPECT_EQ(loaded->summary.gain_temp_degree, 2);
+  EXPECT_EQ(*loaded->Predict({temp, fs_hz}), *m->Predict({temp, fs_hz}));
+  std::string why;
+  o.polynomial.gain_temp_degree = 3;
+  EXPECT_FALSE(o.polynomial.IsValid(&why));
+  EXPECT_NE(why.find("gain_temp_degree = 3"), std::string::npos) << why;
+}
+
 // SVR family on a nonlinear drift with white noise: all models learn it; the searched ones find
 // a CV error no worse than LIBSVM's defaults; the block-mean decimation is reported.
 TEST(DriftModelSvr, SearchedModelsLearnNonlinearDrift) {

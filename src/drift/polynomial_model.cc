@@ -39,11 +39,14 @@ Result<PolynomialModel> PolynomialTerms(const Columns& x, std::size_t n, const P
   if (!options.IsValid(&why)) return InvalidArgument(why);
   PolynomialModel model;
   model.input_scaler = AffineScaler::Standardize(x);
-  // Terms: t^0 .. t^degree, then r^1 .. r^dtemp_degree when dT/dt is an input, then m (linear)
-  // when the memory is a second state (temp,dtemp,memory).
+  // Terms: t^0 .. t^degree, then r^1 .. r^dtemp_degree when dT/dt is an input, then r t^1 ..
+  // r t^gain_temp_degree (a gain that varies with temperature), then m (linear) when the memory
+  // is a second state (temp,dtemp,memory).
   for (int p = 0; p <= options.degree; ++p) model.terms.push_back({p, 0, 0.0, 0});
-  if (x.size() > 1)
+  if (x.size() > 1) {
     for (int q = 1; q <= options.dtemp_degree; ++q) model.terms.push_back({0, q, 0.0, 0});
+    for (int p = 1; p <= options.gain_temp_degree; ++p) model.terms.push_back({p, 1, 0.0, 0});
+  }
   if (x.size() > 2) model.terms.push_back({0, 0, 0.0, 1});
   const std::size_t m = model.terms.size();
   if (n < m)

@@ -85,8 +85,14 @@ struct PolynomialOptions {
   // Degree in temperature, 1..5.
   int degree = 3;
   // Degree in the thermal state (dT/dt, lag excess or memory; used only when the inputs include
-  // one), 1..3. No cross terms.
+  // one), 1..3.
   int dtemp_degree = 1;
+  // Degree in temperature of the state's gain, 0..2: terms s t, .., s t^gain_temp_degree beside
+  // s (t the standardised temperature). 0: a constant gain (no cross terms). 2 is the first-order
+  // expansion of a cubic read at a lagged temperature, f(T - d) ~ f(T) - d f'(T), with d ~ tau
+  // dT/dt. `--model auto` does not choose it (docs/explanation/accuracy.md, "A gain that varies
+  // with temperature").
+  int gain_temp_degree = 0;
   // False with the reason in `error` when a degree is out of range.
   bool IsValid(std::string* error) const;
 };
@@ -293,6 +299,7 @@ struct DriftFitSummary {
   // Polynomial: degrees.
   int degree = 0;  // degree in temperature
   int dtemp_degree = 0;  // degree in the thermal state
+  int gain_temp_degree = 0;  // degree in temperature of the state's gain (PolynomialOptions)
   int cv_folds = 0;  // CV folds used
   double cv_rmse = 0.0;             // blocked CV RMSE on the training copy, target units
   bool cv_in_range_only = true;     // see DriftFitOptions::cv_in_range_only

@@ -174,12 +174,18 @@ nlohmann::json BandJson(const CalibratedSensor::CurveBand& b, const std::vector<
   return {{"name", std::to_string(static_cast<int>(std::lround(100 * b.level))) + "% band"}, {"x", b.temp_c}, {"lo", lo}, {"hi", hi}};
 }
 
-std::string BandNote(const CalibratedSensor& s) {
+std::string BandWidthNote(const CalibratedSensor& s) {
   if (s.fit == "pooled")
     return "Band: +-z sd with sd the pooled fit's 1 sigma of the curve (curve_sd, its RMS over the range, so the same width "
            "at every temperature).";
   return "Band: +-z sd(T), sd(T) = sqrt((cubic - model)^2 + band sd^2) at steady temperature: the exported cubic's expected "
          "next-run error at each temperature (its RMS over the range is the expected error, steady).";
+}
+
+std::string BandNote(const CalibratedSensor& s) {
+  const std::string noise = " The band is about the drift: the rows also hold their own noise (means over 1 / --fit-rate), "
+                            "so judge the residual's trend against it, not single points.";
+  return BandWidthNote(s) + noise;
 }
 
 // (a) the drift the fit saw with the exported curve and its band; (b) the residual after it.

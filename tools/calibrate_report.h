@@ -16,11 +16,11 @@ namespace gyrocomp::cli {
 
 // Tables: the sensors (status, span, model, projection cost, expected next-run error per
 // condition), the exported coefficients, and with --validation the scores on the validation run.
-// Then one section per sensor (docs/guides/calibrate-board.md, "The report"): per axis the rows
-// the fit saw against temperature with the exported cubic and its band over them, the residual
-// after the cubic, and a table of the error before and after compensation beside the expected
-// next-run error; a skipped sensor's section says why and has no chart. `summary`: the JSON
-// calibrate writes with --json; `sensors`: the same sensors (their fit rows and bands).
+// Then one section per sensor (docs/guides/calibrate-board.md, "What the report shows"): per
+// axis the rows the fit saw against temperature with the exported cubic and its band over them,
+// the residual after the cubic, and a table of the error before and after compensation beside
+// the expected next-run error; a skipped sensor's section says why and has no chart. `summary`:
+// the JSON calibrate writes with --json; `sensors`: the same sensors (their fit rows and bands).
 ReportData BuildCalibrateReport(const nlohmann::json& summary, const std::vector<CalibratedSensor>& sensors);
 
 }  // namespace gyrocomp::cli

@@ -99,7 +99,8 @@ using FitRows = CalibratedSensor::FitRows;
 std::string SensorName(const CalibratedSensor& s) { return s.type + " " + std::to_string(s.instance); }
 
 // v minus the mean of its row's group (FitRows::group): the constant each log (or still segment)
-// carries, removed as the pooled fit removes it (calibrate.h).
+// carries, removed as the pooled fit removes it (calibrate.h; where the pooled fit keeps a dT/dt
+// term, its own constants differ from these by the term's mean over the group).
 std::vector<double> MinusGroupMean(const std::vector<double>& v, const std::vector<int>& group) {
   std::map<int, std::pair<double, double>> sum;  // group -> (sum, rows)
   for (std::size_t i = 0; i < v.size(); ++i) sum[group[i]].first += v[i], sum[group[i]].second += 1.0;

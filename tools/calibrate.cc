@@ -183,7 +183,7 @@ int Run(const CalibrateArgs& a) {
   if (!a.json_path.empty())
     if (Status st = WriteJson(a.json_path, j); !st.ok()) return ReportError(kCalibrateName, st.error());
   if (!a.report_path.empty()) {
-    const ReportData report = BuildCalibrateReport(j, CubicCurves(*sensors));
+    const ReportData report = BuildCalibrateReport(j, *sensors);
     if (Status st = WriteText(a.report_path, RenderReportHtml(report)); !st.ok()) return ReportError(kCalibrateName, st.error());
   }
   if (a.verbose) Note(kCalibrateName, "-> " + a.output);

@@ -1,4 +1,4 @@
-// gyrocomp calibrate's outputs: the model files, the JSON and the report's curves
+// gyrocomp calibrate's outputs: the model files and the JSON
 // (tools/calibrate_sensor.h; the fitting and the parameter text are the calibrate stage's).
 #include <algorithm>
 #include <filesystem>
@@ -135,17 +135,6 @@ Status WriteModels(const CalibrateArgs& a, const std::vector<Sensor>& all) {
     if (Status st = SaveDriftModelSet(set, path); !st.ok()) return st;
   }
   return Status::Ok();
-}
-
-// The gyro cubics for the report's chart (deg/s).
-std::vector<CalibrateCurve> CubicCurves(const std::vector<Sensor>& all) {
-  std::vector<CalibrateCurve> out;
-  for (const Sensor& s : all) {
-    if (s.type != "gyro" || !s.reason.empty()) continue;
-    for (std::size_t k = 0; k < s.cubics.size(); ++k)
-      out.push_back({s.type + " " + std::to_string(s.instance) + " " + s.cols[k], s.cubics[k], s.to_model});
-  }
-  return out;
 }
 
 }  // namespace gyrocomp::cli::calibrate

@@ -1,6 +1,6 @@
 // gyrocomp calibrate's options and outputs over the library's CalibratedSensor
-// (gyrocomp/calibrate/calibrate.h fits it; tools/calibrate_output.cc writes the model files, the
-// JSON and the report's curves). Internal to the CLI.
+// (gyrocomp/calibrate/calibrate.h fits it; tools/calibrate_output.cc writes the model files and the
+// JSON). Internal to the CLI.
 #pragma once
 
 #include <cstddef>
@@ -42,7 +42,5 @@ using Sensor = CalibratedSensor;
 Status WriteModels(const CalibrateArgs& a, const std::vector<Sensor>& all);
 // One sensor's entry of --json.
 nlohmann::json SensorJson(const CalibrateArgs& a, const Sensor& s);
-// The gyro cubics for the report's chart (deg/s).
-std::vector<CalibrateCurve> CubicCurves(const std::vector<Sensor>& all);
 
 }  // namespace gyrocomp::cli::calibrate

@@ -162,6 +162,25 @@ Status StaticByTemperature(const DriftModel& m, const DriftInputs& run, const st
   return Status::Ok();
 }
 
+// The exported cubic's steady band (CalibratedSensor::CurveBand): the expected next-run error's
+// sd at each temperature, sqrt((cubic - model)^2 + band_sd^2) (cubic_score.h), firmware unit.
+Sensor::CurveBand SteadyBand(const DriftModel& m, const TemperatureCubic& model_unit, double to_model) {
+  Sensor::CurveBand b;
+  Result<CubicErrorProfile> p = SteadyCubicErrorProfile(m, model_unit);
+  if (!p.ok()) return b;
+  b.level = p->level, b.z = TwoSidedZ(p->level), b.temp_c = p->temp_c;
+  for (std::size_t i = 0; i < p->temp_c.size(); ++i) b.sd.push_back(std::hypot(p->projection[i], p->band_sd[i]) / to_model);
+  return b;
+}
+
+// A single run's fit rows (CalibratedSensor::FitRows): every block mean, one log, one constant.
+void KeepFitRows(Sensor* s) {
+  s->fit_rows.temp_c = s->temp_c;
+  s->fit_rows.values = s->values;
+  s->fit_rows.log.assign(s->temp_c.size(), 0);
+  s->fit_rows.group.assign(s->temp_c.size(), 0);
+}
+
 }  // namespace
 // Why the firmware has no place for `s` ("" when it has one): slots, ArduPilot's barometer.
 std::string SlotReason(const Sensor& s, const Args& a) {
@@ -258,9 +277,11 @@ void Calibrate(Sensor* s, const Args& a, std::optional<std::pair<double, double>
       s->expected.emplace_back(std::nullopt);
       s->band_reason = e.error().message;
     }
+    s->curve_bands.push_back(SteadyBand(*m, *c, s->to_model));
     s->cubics.push_back(fw);
     s->models.push_back(std::move(*m));
   }
+  KeepFitRows(s);
 }
 
 }  // namespace

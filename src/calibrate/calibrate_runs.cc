@@ -16,6 +16,7 @@
 #include "gyrocomp/calibrate/still.h"
 #include "gyrocomp/core/format.h"
 #include "gyrocomp/drift/drift_model.h"
+#include "gyrocomp/export/cubic_score.h"
 #include "gyrocomp/export/thermal_cubic.h"
 #include "calibrate_internal.h"
 
@@ -238,6 +239,25 @@ DriftModel ModelOf(const TemperatureCubic& c, const Sensor& s, std::size_t axis,
   return m;
 }
 
+// The pooled rows as the fit saw them (CalibratedSensor::FitRows, firmware unit) and each axis's
+// band of the curve: z(0.9) curve_sd at every temperature of the range (CalibratedSensor::CurveBand).
+void KeepPooledRows(Sensor* s, const Pool& p) {
+  s->fit_rows.temp_c = p.temp_c;
+  s->fit_rows.values = p.y;
+  for (auto& v : s->fit_rows.values)
+    for (double& x : v) x /= s->to_model;
+  s->fit_rows.log.assign(p.log_of_row.begin(), p.log_of_row.end());
+  s->fit_rows.group.assign(p.group.begin(), p.group.end());
+  Sensor::CurveBand b;
+  b.z = TwoSidedZ(b.level);
+  constexpr int kPoints = 101;
+  for (int i = 0; i < kPoints; ++i) b.temp_c.push_back(s->temp_min_c + (s->temp_max_c - s->temp_min_c) * i / (kPoints - 1));
+  for (double sd : s->curve_sd) {
+    b.sd.assign(kPoints, sd);
+    s->curve_bands.push_back(b);
+  }
+}
+
 }  // namespace
 
 // Reads one log: its sensors at still_rate_hz, the still detector on them, then the fit's rows.
@@ -334,6 +354,7 @@ void CalibratePooled(Sensor* s, const std::vector<Run>& runs, const Args& a) {
     s->curve_sd.push_back(fit->curve_sd / s->to_model);
   }
   s->band_reason = "pooled fit: no prediction band; the curve's 1 sigma from the fit is in curve_sd";
+  KeepPooledRows(s, p);
   // The sensor's rows: the first log's still rows (what the summary's uncompensated drift reads).
   auto keep = [&](std::vector<double>& v) {
     std::vector<double> out;

@@ -133,10 +133,11 @@ TEST_F(CalibrateValidationCli, ScoresEveryCubicWithTheFirmwareFormulaOnTheValida
     }
   }
   EXPECT_EQ(scored, 12);  // 2 gyros + 2 accels x 3 axes
-  // The report: self-contained HTML with the three tables and the cubic chart.
+  // The report: self-contained HTML with the three tables and each sensor's charts
+  // (src/report/calibrate_report_cli_test.cc checks their data).
   const std::string html = ReadAll(dir_ + "/r.html");
-  for (const char* s : {"<html", "Sensors", "Exported cubics", "Validation on", "Exported gyro cubics against temperature",
-                        "expected error, steady"})
+  for (const char* s : {"<html", "Sensors", "Exported cubics", "Validation on", "gyro 0 (slot 0): single run",
+                        "x_rad_s: drift and exported cubic", "expected error, steady"})
     EXPECT_NE(html.find(s), std::string::npos) << s;
 }
 

@@ -9,9 +9,8 @@
 #include "gyrocomp/export/param_export.h"
 
 namespace gyrocomp {
-namespace {
 
-// z of a two-sided normal interval at `level` (0.9 -> 1.645), by bisection on erf.
+// By bisection on erf.
 double TwoSidedZ(double level) {
   double lo = 0.0, hi = 10.0;
   for (int k = 0; k < 100; ++k) {
@@ -20,6 +19,8 @@ double TwoSidedZ(double level) {
   }
   return 0.5 * (lo + hi);
 }
+
+namespace {
 
 // PX4 TemperatureCompensation.cpp calc_thermal_offsets_3D (float arithmetic, T clamped to
 // [TMIN, TMAX], delta_temp = T - TREF, X0 + X1 dT + X2 dT^2 + X3 dT^3).
@@ -95,12 +96,12 @@ bool CubicExpectedErrorOptions::IsValid(std::string* error) const {
 namespace {
 
 // Accumulates (cubic - model)^2 and sd^2 over the samples `use` selects.
-CubicConditionError Summarise(const std::vector<double>& proj, const DriftBand& b, double z, const std::vector<bool>& use) {
+CubicConditionError Summarise(const std::vector<double>& proj, const std::vector<double>& band_sd, const std::vector<bool>& use) {
   CubicConditionError e;
   double ss_proj = 0.0, ss_sd = 0.0;
   for (std::size_t i = 0; i < proj.size(); ++i) {
     if (!use[i]) continue;
-    const double sd = (b.hi[i] - b.lo[i]) / (2.0 * z);
+    const double sd = band_sd[i];
     ss_proj += proj[i] * proj[i];
     ss_sd += sd * sd;
     ++e.num_samples;
@@ -113,19 +114,11 @@ CubicConditionError Summarise(const std::vector<double>& proj, const DriftBand& 
   return e;
 }
 
-// Temperature held: a ramp over the cubic's range at 1e-5 C/s (dT/dt ~ 0, every lag settled).
-Result<CubicConditionError> SteadyError(const DriftModel& m, const TemperatureCubic& c, double z, int points) {
-  const double span = c.temp_max_c - c.temp_min_c;
-  if (!(span > 0.0) || !std::isfinite(span)) return InvalidInput("expected error: empty or non-finite temperature range");
-  std::vector<double> temp(static_cast<std::size_t>(points));
-  for (int i = 0; i < points; ++i) temp[static_cast<std::size_t>(i)] = c.temp_min_c + span * i / (points - 1);
-  const double fs_hz = 1.0e-5 / (span / (points - 1));
-  if (!std::isfinite(fs_hz)) return InvalidInput("expected error: temperature range too small for a steady ramp");
-  auto band = m.PredictBand({temp, fs_hz});
-  if (!band.ok()) return band.error();
-  std::vector<double> proj(temp.size());
-  for (std::size_t i = 0; i < temp.size(); ++i) proj[i] = c.Evaluate(temp[i]) - m.PredictAt(temp[i], 0.0);
-  return Summarise(proj, *band, z, std::vector<bool>(temp.size(), true));
+// Steady: every grid temperature alike (CubicErrorProfile).
+Result<CubicConditionError> SteadyError(const DriftModel& m, const TemperatureCubic& c, int points) {
+  auto p = SteadyCubicErrorProfile(m, c, points);
+  if (!p.ok()) return p.error();
+  return Summarise(p->projection, p->band_sd, std::vector<bool>(p->temp_c.size(), true));
 }
 
 // The calibration run's heating samples, the model's own prediction there (its state included).
@@ -136,10 +129,11 @@ Result<std::optional<CubicConditionError>> WarmUpError(const DriftModel& m, cons
   auto rate = TemperatureRate(run.temp_c, run.fs_hz);
   if (!rate.ok()) return rate.error();
   std::vector<bool> use(run.temp_c.size());
-  std::vector<double> proj(run.temp_c.size());
+  std::vector<double> proj(run.temp_c.size()), sd(run.temp_c.size());
   for (std::size_t i = 0; i < use.size(); ++i) {
     use[i] = (*rate)[i] >= min_heating;
     proj[i] = c.Evaluate(run.temp_c[i]) - band->center[i];
+    sd[i] = (band->hi[i] - band->lo[i]) / (2.0 * z);
   }
   // The model's prediction carries the run's constant: compare about the heating samples' mean.
   double mean = 0.0;
@@ -149,10 +143,32 @@ Result<std::optional<CubicConditionError>> WarmUpError(const DriftModel& m, cons
   if (n == 0) return std::optional<CubicConditionError>();
   mean /= static_cast<double>(n);
   for (double& p : proj) p -= mean;
-  return std::optional<CubicConditionError>(Summarise(proj, *band, z, use));
+  return std::optional<CubicConditionError>(Summarise(proj, sd, use));
 }
 
 }  // namespace
+
+// Temperature held: a ramp over the cubic's range at 1e-5 C/s (dT/dt ~ 0, every lag settled).
+Result<CubicErrorProfile> SteadyCubicErrorProfile(const DriftModel& m, const TemperatureCubic& c, int points) {
+  if (!m.band) return InvalidInput("drift model: no prediction band (the model file predates prediction bands; refit it)");
+  if (points < 2) return InvalidArgument("SteadyCubicErrorProfile: points must be >= 2");
+  const double span = c.temp_max_c - c.temp_min_c;
+  if (!(span > 0.0) || !std::isfinite(span)) return InvalidInput("expected error: empty or non-finite temperature range");
+  CubicErrorProfile p;
+  p.level = m.band->level;
+  p.temp_c.resize(static_cast<std::size_t>(points));
+  for (int i = 0; i < points; ++i) p.temp_c[static_cast<std::size_t>(i)] = c.temp_min_c + span * i / (points - 1);
+  const double fs_hz = 1.0e-5 / (span / (points - 1));
+  if (!std::isfinite(fs_hz)) return InvalidInput("expected error: temperature range too small for a steady ramp");
+  auto band = m.PredictBand({p.temp_c, fs_hz});
+  if (!band.ok()) return band.error();
+  const double z = TwoSidedZ(p.level);
+  for (std::size_t i = 0; i < p.temp_c.size(); ++i) {
+    p.projection.push_back(c.Evaluate(p.temp_c[i]) - m.PredictAt(p.temp_c[i], 0.0));
+    p.band_sd.push_back((band->hi[i] - band->lo[i]) / (2.0 * z));
+  }
+  return p;
+}
 
 Result<CubicExpectedError> ExpectedCubicError(const DriftModel& model, const TemperatureCubic& cubic,
                                               const std::optional<DriftInputs>& calibration_run,
@@ -163,7 +179,7 @@ Result<CubicExpectedError> ExpectedCubicError(const DriftModel& model, const Tem
   CubicExpectedError e;
   e.level = model.band->level;
   const double z = TwoSidedZ(e.level);
-  auto steady = SteadyError(model, cubic, z, options.grid_points);
+  auto steady = SteadyError(model, cubic, options.grid_points);
   if (!steady.ok()) return steady.error();
   e.steady = *steady;
   if (calibration_run) {

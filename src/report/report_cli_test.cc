@@ -11,21 +11,14 @@
 #include <nlohmann/json.hpp>
 
 #include "fixtures.h"
+#include "report_page.h"
 #include "test_support.h"
 
 namespace gyrocomp {
 namespace {
 
 // The report's data block (report.h schema), parsed back.
-nlohmann::json ReportData(const std::string& html) {
-  const std::string open = "<script type=\"application/json\" id=\"report-data\">";
-  const auto start = html.find(open);
-  if (start == std::string::npos) return nullptr;
-  const auto end = html.find("</script>", start);
-  std::string text = html.substr(start + open.size(), end - start - open.size());
-  for (std::size_t p = 0; (p = text.find("<\\/", p)) != std::string::npos;) text.replace(p, 3, "</");
-  return nlohmann::json::parse(text);
-}
+nlohmann::json ReportData(const std::string& html) { return testing::ReportDataOf(html); }
 
 const nlohmann::json* FindTable(const nlohmann::json& data, const std::string& title_prefix) {
   for (const auto& t : data["tables"]) {
@@ -37,15 +30,10 @@ const nlohmann::json* FindTable(const nlohmann::json& data, const std::string& t
 // Headless Chromium renders the page with data-render-status="ok" and no console error; skipped
 // without Chromium (as report_test).
 void ExpectRendersInChromium(const std::string& path, const std::string& dir) {
-  const char* chromium = "/usr/bin/chromium";
-  if (!std::filesystem::exists(chromium)) return;
-  const std::string flags =
-      " --headless --no-sandbox --disable-gpu --disable-quic --no-first-run"
-      " --disable-background-networking --disable-component-update --disable-sync"
-      " --user-data-dir=" + dir + "/profile --enable-logging=stderr --v=0"
-      " --virtual-time-budget=5000 --dump-dom file://" + path;
   std::string output;
-  ASSERT_EQ(testing::RunCommand(std::string(chromium) + flags, &output), 0) << output;
+  int status = 0;
+  if (!testing::DumpDomInChromium(path, dir, &output, &status)) return;
+  ASSERT_EQ(status, 0) << output;
   EXPECT_NE(output.find("data-render-status=\"ok\""), std::string::npos) << output.substr(0, 4000);
   EXPECT_EQ(output.find("Uncaught"), std::string::npos) << output.substr(0, 4000);
 }

@@ -69,6 +69,18 @@ ReportData SampleReport() {
                  {"lines", {{{"name", "ARW"}, {"tau_s", {0.01, 1.0}}, {"adev_dps", {1.0, 0.1}}}}}}};
   c["drift"] = {{"temp_c", {30, -10, 20, std::nan("")}}, {"drift_dps", {0.1, -0.2, 0.05, 0.0}},
                 {"model_temp_c", {-10, 30}}, {"model_dps", {-0.2, 0.1}}};
+  // An xy section: unsorted x, a temperature two points share, a line and a band; and one with
+  // no chart (a skipped sensor's).
+  c["sections"] = {{{"title", "sensor 0"}, {"note", "points, curve and band"},
+                    {"table", {{"columns", {"axis", "rms"}}, {"rows", nlohmann::json::array({nlohmann::json::array({"x", 0.1})})}}},
+                    {"charts", {{{"title", "drift"}, {"x_label", "temperature (deg C)"}, {"y_label", "drift"},
+                                 {"points", {{{"name", "log 1"}, {"x", {30.0, 10.0, 20.0, 20.0}}, {"y", {0.3, 0.1, 0.2, 0.25}}},
+                                             {{"name", "log 2"}, {"x", {15.0, 25.0}}, {"y", {0.15, 0.2}}}}},
+                                 {"lines", {{{"name", "cubic"}, {"x", {10.0, 20.0, 30.0}}, {"y", {0.1, 0.2, 0.3}}}}},
+                                 {"bands", {{{"name", "90% band"}, {"x", {10.0, 20.0, 30.0}}, {"lo", {0.0, 0.1, 0.2}},
+                                             {"hi", {0.2, 0.3, 0.4}}}}}},
+                                {{"title", "residual"}, {"points", {{{"name", "log 1"}, {"x", {10.0}}, {"y", {0.0}}}}}}}}},
+                   {{"title", "sensor 1: skipped"}, {"note", "why"}, {"charts", nlohmann::json::array()}}};
   c["tables"] = {{{"title", "comparison"}, {"columns", {"method", "rmse"}}, {"rows", {{"a", 1.0}}}}};
   c["parameters"] = {{"vmd", {{"K", 6}}}};
   c["versions"] = {{"gyrocomp", "test"}};
@@ -110,6 +122,9 @@ TEST(RenderReportHtml, RendersInHeadlessChromium) {
   EXPECT_NE(output.find("data-render-status=\"ok\""), std::string::npos) << output.substr(0, 4000);
   EXPECT_EQ(output.find("Uncaught"), std::string::npos) << output.substr(0, 4000);
   EXPECT_EQ(output.find(":CONSOLE("), std::string::npos) << output.substr(0, 4000);
+  // Every chart of each section was drawn (report.h, sections), none for the chartless one.
+  EXPECT_NE(output.find("data-title=\"sensor 0\" data-charts=\"2\""), std::string::npos) << output.substr(0, 4000);
+  EXPECT_NE(output.find("data-title=\"sensor 1: skipped\" data-charts=\"0\""), std::string::npos) << output.substr(0, 4000);
   std::filesystem::remove_all(dir);
 }
 

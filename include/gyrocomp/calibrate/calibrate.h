@@ -139,6 +139,29 @@ struct CalibratedSensor {
   // Pooled: per axis, 1 sigma of the fitted curve over the range from the fit's covariance
   // (FitPooledCubic's curve_sd), firmware unit; empty for a single run (it has `expected`).
   std::vector<double> curve_sd;
+  // The rows the fit saw, for drawing them under the exported cubics (the calibrate report): a
+  // single run's block means, or every log's still rows of a pooled fit, constant included.
+  struct FitRows {
+    std::vector<double> temp_c;  // deg C
+    std::vector<std::vector<double>> values;  // per axis, firmware unit
+    std::vector<int> log;  // index into CalibrateResult::inputs
+    // The constant the row shares (a single run: 0; pooled: its log for a gyro or barometer, its
+    // still segment for an accelerometer, as the pooled fit groups them).
+    std::vector<int> group;
+  };
+  FitRows fit_rows;  // empty when skipped
+  // Per axis, the exported cubic's band against temperature, firmware unit: the half-width is
+  // z(level) sd. A single run: sd = sqrt((cubic - model)^2 + band_sd^2) of the steady condition
+  // (SteadyCubicErrorProfile; its RMS over temp_c is the expected steady error); pooled: sd =
+  // curve_sd at every temperature (the fit's 1 sigma of the curve, its RMS over the range).
+  // Empty sd: no band (a model without one, band_reason says why).
+  struct CurveBand {
+    double level = 0.9;
+    double z = 0.0;  // z(level)
+    std::vector<double> temp_c;  // deg C, over [temp_min_c, temp_max_c]
+    std::vector<double> sd;  // firmware unit
+  };
+  std::vector<CurveBand> curve_bands;  // per axis, when calibrated
   // What the logs identify for a sensor.
   struct Identification {
     double temp_min_c = 0.0;  // lowest still temperature over all logs, deg C

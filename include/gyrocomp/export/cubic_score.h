@@ -68,6 +68,20 @@ struct CubicExpectedErrorOptions {
   // False with the reason in `error` when a setting is out of range.
   bool IsValid(std::string* error) const;
 };
+// z of a two-sided normal interval at `level` (0.9 -> 1.645): a band's half-width is z sd.
+double TwoSidedZ(double level);
+// The steady condition of ExpectedCubicError temperature by temperature (the report's band about
+// the exported curve): at `points` temperatures over the cubic's range, cubic - model(T, 0) and the
+// band's standard deviation there; sqrt(projection^2 + band_sd^2) is the expected next-run error's
+// standard deviation at T, and its RMS over the grid is ExpectedCubicError's steady.total_rms.
+// Model unit, `cubic` before any constant is removed. Errors: as ExpectedCubicError's steady part.
+struct CubicErrorProfile {
+  double level = 0.9;  // the band's level
+  std::vector<double> temp_c;  // the grid over [temp_min_c, temp_max_c]
+  std::vector<double> projection;  // cubic(T) - model(T, state 0)
+  std::vector<double> band_sd;  // the model's band half-width / z(level) at T
+};
+Result<CubicErrorProfile> SteadyCubicErrorProfile(const DriftModel& model, const TemperatureCubic& cubic, int points = 401);
 // `cubic` in the model's target unit, before any constant is removed. Errors: the model has no
 // band (an older model file), invalid options, Predict errors.
 Result<CubicExpectedError> ExpectedCubicError(const DriftModel& model, const TemperatureCubic& cubic,

@@ -39,6 +39,13 @@ std::vector<DisplaySeries> MinMaxEnvelopes(std::span<const double> x,
 //   allan: [{name, tau_s: [..], adev_dps: [..], lo_dps: [..], hi_dps: [..],
 //            lines: [{name, tau_s: [..], adev_dps: [..]}]}]    fitted noise-term lines
 //   drift: {temp_c: [..], drift_dps: [..], model_temp_c: [..], model_dps: [..]}
+//   sections: [{title, note, table: {columns, rows, note}, charts: [xy]}]  groups of charts with
+//            their table (drawn after drift, before tables; e.g. one per calibrated sensor), table
+//            and charts optional; an xy chart is a scatter with line overlays and bands:
+//            {title, x_label, y_label, points: [{name, x: [..], y: [..]}] (one colour each),
+//             lines: [{name, x: [..], y: [..]}], bands: [{name, x: [..], lo: [..], hi: [..]}]}
+//            (x need not be sorted; every entry has its own x; other fields of an entry, e.g.
+//            calibrate's rows / every of a thinned points entry, are not drawn)
 //   tables: [{title, columns: [str], rows: [[..]], note}]
 //   parameters: any JSON (printed verbatim); versions: {name: version}
 struct ReportData {

@@ -141,6 +141,68 @@
             axes: [{ label: "temperature (deg C)" }, { label: "drift (deg/s)", size: 70 }] }, uPlot.join(tables));
   }
 
+  // The columns of an xy chart (report.h, sections) on one sorted x: every points / line / band
+  // entry has its own x, merged with duplicates kept (uPlot.join keeps one y per x of an entry,
+  // and block means often share a temperature), null where an entry has no value.
+  function xyData(spec) {
+    const cols = [];
+    for (const p of spec.points || []) cols.push([p.x, p.y]);
+    for (const l of spec.lines || []) cols.push([l.x, l.y]);
+    for (const b of spec.bands || []) { cols.push([b.x, b.lo]); cols.push([b.x, b.hi]); }
+    const rows = [];
+    cols.forEach((c, s) => c[0].forEach((x, i) => {
+      if (x !== null && c[1][i] !== null) rows.push([x, s, c[1][i]]);
+    }));
+    rows.sort((a, b) => a[0] - b[0]);
+    const data = [rows.map(r => r[0])];
+    for (let s = 0; s < cols.length; ++s) data.push(new Array(rows.length).fill(null));
+    rows.forEach((r, i) => { data[r[1] + 1][i] = r[2]; });
+    return data;
+  }
+
+  // Points one colour per entry, lines solid, bands dashed edges with a fill between them.
+  function drawXY(spec, parent, w) {
+    const series = [{ label: spec.x_label || "x" }];
+    const bands = [];
+    (spec.points || []).forEach((p, i) => {
+      const c = COLORS[i % COLORS.length];
+      series.push({ label: p.name, stroke: c, paths: () => null, points: { show: true, size: 3, fill: c, stroke: c } });
+    });
+    for (const l of spec.lines || []) {
+      series.push({ label: l.name, stroke: "#1d2330", width: 2, spanGaps: true, points: { show: false } });
+    }
+    for (const b of spec.bands || []) {
+      const lo = series.length;
+      for (const edge of ["lower", "upper"]) {
+        series.push({ label: `${b.name} (${edge})`, stroke: "#5b6577", width: 1, dash: [6, 4], spanGaps: true,
+                      points: { show: false } });
+      }
+      bands.push({ series: [lo + 1, lo], fill: "#5b657722" });
+    }
+    const box = el("div");
+    parent.appendChild(box);
+    if (spec.title) box.appendChild(el("h3", {}, spec.title));
+    return chart({ width: w, height: 260, bands, legend: { live: false }, scales: { x: { time: false } }, series,
+                   axes: [{ label: spec.x_label || "" }, { label: spec.y_label || "", size: 70 }] }, xyData(spec), box);
+  }
+
+  // One block per section: heading, note, table, its charts two abreast; data-charts = charts drawn.
+  function drawSections(sections) {
+    for (const s of sections) {
+      const box = el("section", { class: "xy-section", "data-title": s.title || "" });
+      root.appendChild(box);
+      box.appendChild(el("h2", {}, s.title || ""));
+      if (s.note) box.appendChild(el("p", { class: "note" }, s.note));
+      if (s.table) table(s.table, box);
+      const grid = el("div", { class: "grid2" });
+      box.appendChild(grid);
+      const w = Math.max(300, Math.floor((width() - 20) / 2));
+      let drawn = 0;
+      for (const c of s.charts || []) { drawXY(c, grid, w); ++drawn; }
+      box.setAttribute("data-charts", String(drawn));
+    }
+  }
+
   function render() {
     const data = JSON.parse(document.getElementById("report-data").textContent);
     if (data.subtitle) root.appendChild(el("p", { class: "subtitle" }, data.subtitle));
@@ -149,6 +211,7 @@
     if (data.modes) drawModes(data.modes);
     if (data.allan) drawAllan(data.allan);
     if (data.drift) drawDrift(data.drift);
+    if (data.sections) drawSections(data.sections);
     for (const t of data.tables || []) { section(t.title); table(t); }
     if (data.parameters) { section("Parameters", "Everything needed to repeat this run."); root.appendChild(el("pre", {}, JSON.stringify(data.parameters, null, 2))); }
     if (data.versions) { section("Software"); table({ columns: ["component", "version"], rows: Object.entries(data.versions) }); }

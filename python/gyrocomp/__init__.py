@@ -78,6 +78,7 @@ compute_deviation = _returns("DeviationCurve")(_core.compute_deviation)
 kalibr_imu_yaml = _core.kalibr_imu_yaml
 simulate = _returns("SimulatedRun")(_core.simulate)
 vmd = _returns("VmdResult")(_core.vmd)
+decompose = _returns("Decomposition")(_core.decompose)
 sample_entropy = _returns("SampleEntropyResult")(_core.sample_entropy)
 wavelet_denoise = _returns("WaveletDenoiseResult")(_core.wavelet_denoise)
 flp_denoise = _returns("FlpResult")(_core.flp_denoise)
@@ -91,6 +92,8 @@ px4_thermal_params = _core.px4_thermal_params
 ardupilot_thermal_params = _core.ardupilot_thermal_params
 validate_drift_model = _returns("DriftValidation")(_core.validate_drift_model)
 generate_c = _returns("GeneratedC")(_core.generate_c)
+plan = _returns("PlanResult")(_core.plan)
+inspect = _returns("LogInventory")(_core.inspect)
 
 
 def export_params(models, format, **options):
@@ -114,8 +117,8 @@ def export_params(models, format, **options):
 
 __all__ = [
     "CancellationToken", "Cancelled", "DriftModel", "Result", "ardupilot_thermal_params", "compute_allan",
-    "compute_deviation", "export_params", "project_onto_cubic", "px4_thermal_params", "read_log",
-    "drift_model_from_json", "fit_drift_model", "flp_denoise", "kalibr_imu_yaml", "load_drift_model",
-    "run_parallel_model", "sample_entropy", "simulate", "validate_drift_model", "generate_c", "vmd",
+    "compute_deviation", "decompose", "export_params", "project_onto_cubic", "px4_thermal_params", "read_log",
+    "drift_model_from_json", "fit_drift_model", "flp_denoise", "inspect", "kalibr_imu_yaml", "load_drift_model",
+    "plan", "run_parallel_model", "sample_entropy", "simulate", "validate_drift_model", "generate_c", "vmd",
     "wavelet_denoise", "wflp_denoise",
 ]

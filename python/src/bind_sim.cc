@@ -5,10 +5,9 @@
 #include "gyrocomp/sim/simulator.h"
 
 namespace gyrocomp::python {
-namespace {
 
-void ReadProfile(py::dict d, ThermalProfileOptions* p) {
-  Kwargs kw(d, "simulate(profile=...)");
+void ReadProfile(py::dict d, ThermalProfileOptions* p, const std::string& function) {
+  Kwargs kw(d, function + "(profile=...)");
   py::object kind = kw.Take("kind");
   if (!kind.is_none()) {
     const std::string name = py::str(kind);
@@ -30,8 +29,8 @@ void ReadProfile(py::dict d, ThermalProfileOptions* p) {
   kw.Done();
 }
 
-void ReadBias(py::dict d, BiasModelOptions* b) {
-  Kwargs kw(d, "simulate(bias=...)");
+void ReadBias(py::dict d, BiasModelOptions* b, const std::string& function) {
+  Kwargs kw(d, function + "(bias=...)");
   kw.Get("reference_temp_c", &b->reference_temp_c);
   kw.Get("poly_dps", &b->poly_dps);
   kw.Get("dtemp_coeff_dps_per_c_per_s", &b->dtemp_coeff_dps_per_c_per_s);
@@ -40,8 +39,8 @@ void ReadBias(py::dict d, BiasModelOptions* b) {
   kw.Done();
 }
 
-void ReadNoise(py::dict d, NoiseOptions* n) {
-  Kwargs kw(d, "simulate(noise=...)");
+void ReadNoise(py::dict d, NoiseOptions* n, const std::string& function) {
+  Kwargs kw(d, function + "(noise=...)");
   kw.Get("arw_deg_per_sqrt_h", &n->arw_deg_per_sqrt_h);
   kw.Get("bias_instability_deg_per_h", &n->bias_instability_deg_per_h);
   kw.Get("flicker_min_corr_s", &n->flicker_min_corr_s);
@@ -52,6 +51,8 @@ void ReadNoise(py::dict d, NoiseOptions* n) {
   kw.Get("resolution_dps", &n->resolution_dps);
   kw.Done();
 }
+
+namespace {
 
 void ReadTrueRate(py::dict d, TrueRateOptions* t) {
   Kwargs kw(d, "simulate(true_rate=...)");
@@ -76,9 +77,9 @@ void BindSimulator(py::module_& m) {
         kw.Get("duration_s", &o.duration_s);
         kw.Get("thermal_lag_s", &o.thermal_lag_s);
         kw.Get("temp_noise_c", &o.temp_noise_c);
-        ReadProfile(kw.Nested("profile"), &o.profile);
-        ReadBias(kw.Nested("bias"), &o.bias);
-        ReadNoise(kw.Nested("noise"), &o.noise);
+        ReadProfile(kw.Nested("profile"), &o.profile, "simulate");
+        ReadBias(kw.Nested("bias"), &o.bias, "simulate");
+        ReadNoise(kw.Nested("noise"), &o.noise, "simulate");
         ReadTrueRate(kw.Nested("true_rate"), &o.true_rate);
         kw.Done();
         SimulatedRun r = Unwrap(WithoutGil([&] { return Simulate(o); }));

@@ -64,3 +64,132 @@ def test_generate_c_equals_export_format_c(cli, chamber):
     assert got["header_name"] == "drift.h" and got["source_name"] == "drift.c"
     assert got["header"] == (out.parent / "drift.h").read_text()
     assert got["source"] == (out.parent / "drift.c").read_text()
+
+
+# gyrocomp.plan (PlanChamberRun) equals `gyrocomp plan --json`: the library's names on the Python
+# side, the CLI's JSON keys on the other.
+_PLAN_PROFILE_KEYS = {
+    "profile": "profile", "hours": "hours", "models": "models", "excluded": "left_out",
+    "predicted_heat_dps": "predicted_rms_heating", "predicted_cool_dps": "predicted_rms_cooling",
+    "simulated_heat_dps": "simulated_rms_heating", "simulated_cool_dps": "simulated_rms_cooling",
+    "predicted_dps": "predicted_rms", "simulated_dps": "simulated_rms", "simulated_rel_se": "simulated_rms_rel_se",
+}
+
+
+def _same_value(a, b):
+    if isinstance(a, str) or isinstance(b, str):
+        return a == b
+    if isinstance(a, list) and a and isinstance(a[0], str):
+        return a == b
+    return _same(a, b)
+
+
+def _assert_plan_equals_json(got, want):
+    unit, wu = got.unit, want["unit"]
+    for key in ("arw_deg_per_sqrt_h", "bias_instability_deg_per_h", "rrw_deg_per_h_per_sqrt_h"):
+        assert _same(getattr(unit.noise, key), wu["noise"][key]), key
+    assert unit.noise_source == wu["noise"]["source"]
+    for key in ("reference_temp_c", "poly_dps", "dtemp_coeff_dps_per_c_per_s", "hysteresis_width_c",
+                "hysteresis_coeff_dps_per_c"):
+        assert _same(getattr(unit.bias, key), wu["drift"][key]), key
+    assert _same(unit.thermal_lag_s, wu["drift"]["thermal_lag_s"])
+    assert unit.family_source == wu["drift"]["source"]
+    assert _same(unit.cold_temp_c, wu["cold_c"]) and _same(unit.hot_temp_c, wu["hot_c"])
+    assert unit.notes == wu["notes"]
+    assert len(got.profiles) == len(want["profiles"])
+    for o, w in zip(got.profiles, want["profiles"]):
+        for key, json_key in _PLAN_PROFILE_KEYS.items():
+            assert _same_value(o[key], w[json_key]), (o.profile, key, o[key], w[json_key])
+        assert len(o.simulated_ms_per_seed) == want["seeds"]
+    assert got.recommended_profile == want["recommended"]
+    assert got.profiles[got.recommended].profile == want["recommended"]
+    assert got.seeds == want["seeds"]
+    assert got.brief_report.startswith("recommended: " + want["recommended"])
+
+
+def test_plan_equals_plan_json(cli, tmp_path):
+    _run(cli, "plan", "--profiles", "ramp,paper", "--seeds", "2", "--fs", "0.2", "--arw", "0.5",
+         "--bias-instability", "10", "--cold", "-20", "--hot", "70", "--drift-poly", "0.01,0.001",
+         "--json", str(tmp_path / "p.json"))
+    want = json.loads((tmp_path / "p.json").read_text())
+    got = gyrocomp.plan(profiles=["ramp", "paper"], seeds=2, fs_hz=0.2,
+                        noise={"arw_deg_per_sqrt_h": 0.5, "bias_instability_deg_per_h": 10.0},
+                        profile={"cold_temp_c": -20.0, "hot_temp_c": 70.0}, bias={"poly_dps": [0.01, 0.001]})
+    _assert_plan_equals_json(got, want)
+
+
+def test_plan_with_a_pilot_and_an_allan_run_equals_plan_json(cli, tmp_path):
+    pilot, static = str(tmp_path / "pilot.csv"), str(tmp_path / "static.csv")
+    _run(cli, "simulate", "--profile", "cycle", "--fs", "0.5", "--seed", "37", "-o", pilot)
+    _run(cli, "simulate", "--profile", "soak", "--soak-duration", "3600", "--fs", "10", "--seed", "31", "-o", static)
+    _run(cli, "plan", "--pilot", pilot, "--noise-from", static, "--profiles", "paper,ramp", "--seeds", "1",
+         "--fs", "0.2", "--rrw", "2", "--json", str(tmp_path / "p.json"))
+    want = json.loads((tmp_path / "p.json").read_text())
+    got = gyrocomp.plan(pilot, static, profiles="paper,ramp", seeds=1, fs_hz=0.2,
+                        noise={"rrw_deg_per_h_per_sqrt_h": 2.0})
+    _assert_plan_equals_json(got, want)
+    assert got.profiles[0].simulated_rel_se is None  # one seed: no scatter to read
+
+
+def test_plan_errors_are_the_libraries(tmp_path):
+    with pytest.raises(ValueError, match="--profiles: 'nosuch'"):
+        gyrocomp.plan(profiles=["nosuch"], seeds=1)
+    with pytest.raises(ValueError, match="seeds"):
+        gyrocomp.plan(seeds=0)
+    with pytest.raises(TypeError, match="plan"):
+        gyrocomp.plan(nosuch=1)
+
+
+# gyrocomp.inspect (InspectLog) equals `gyrocomp inspect --json` (which adds only "input") on a
+# ULog, an appended ULog, a DataFlash log and a ROS 2 bag.
+@pytest.mark.parametrize("relative", [
+    "tests/fieldlogs/sample_log_small.ulg",
+    "tests/fieldlogs/sample_appended_multiple.ulg",
+    "../shared/fieldlogs/ardupilot/test.BIN",
+    "tests/bags/rosbag2/talker_mcap",
+])
+def test_inspect_equals_inspect_json(cli, golden_dir, tmp_path, relative):
+    path = (golden_dir.parents[1] / relative).resolve()
+    if not path.exists():
+        pytest.skip(f"{relative} is not here (the shared field logs are licensed data)")
+    _run(cli, "inspect", "-i", str(path), "--json", str(tmp_path / "i.json"))
+    want = json.loads((tmp_path / "i.json").read_text())
+    assert want.pop("input") == str(path)
+    got = gyrocomp.inspect(str(path)).to_dict()
+    brief = got.pop("brief_report")
+    assert got == want
+    assert brief.startswith(want["format"] + ": ")
+
+
+def test_inspect_refuses_a_csv(tmp_path):
+    (tmp_path / "x.csv").write_text("time_s,rate_dps\n0,1\n")
+    with pytest.raises(ValueError, match="not a PX4 ULog"):
+        gyrocomp.inspect(str(tmp_path / "x.csv"))
+
+
+# gyrocomp.decompose (DecomposeVmd + ClassifyVmdModes) equals `gyrocomp decompose --json` on one
+# axis: iterations, each mode's centre frequency, sample entropy and class, the rule; the modes
+# equal the CSV the CLI writes (written with 17 significant digits: 1e-12 relative).
+@pytest.mark.parametrize("rule", ["standard", "paper"])
+def test_decompose_equals_decompose_json(cli, tmp_path, rule):
+    log = str(tmp_path / "run.csv")
+    _run(cli, "simulate", "--profile", "ramp", "--fs", "2", "--seed", "4", "--duration", "3000", "-o", log)
+    _run(cli, "decompose", "-i", log, "--modes", "4", "--rule", rule, "--entropy-max-samples", "2000",
+         "--json", str(tmp_path / "d.json"), "-o", str(tmp_path / "modes.csv"))
+    want = json.loads((tmp_path / "d.json").read_text())
+    run = _table(log)
+    got = gyrocomp.decompose(run["rate_dps"], num_modes=4, fs_hz=2.0, rule=rule, entropy_max_samples=2000)
+    assert got.iterations == want["iterations"] and got.converged == want["converged"]
+    assert _same(got.final_update, want["final_update"])
+    assert len(got.classes) == len(want["modes"])
+    for c, w in zip(got.classes, want["modes"]):
+        assert c.index == w["index"] and c.feature == w["class"]
+        for key in ("center_frequency_hz", "center_frequency_cycles_per_sample", "sample_entropy"):
+            assert _same(c[key], w[key]), (c.index, key)
+    for key in ("drift_max_se", "noise_min_se", "drift_max_frequency_hz", "keep_lowest_mode"):
+        assert got.rule[key] == want["classification"][key], key
+    assert got.rule.rule_name == want["classification"]["rule"]
+    assert got.rule_text == want["classification"]["description"]
+    modes = _table(tmp_path / "modes.csv")
+    for k in range(4):
+        np.testing.assert_allclose(got.modes[k], modes[f"mode_{k + 1}"], rtol=1e-12, atol=1e-15)

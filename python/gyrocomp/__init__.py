@@ -85,6 +85,7 @@ flp_denoise = _returns("FlpResult")(_core.flp_denoise)
 wflp_denoise = _returns("WflpResult")(_core.wflp_denoise)
 fit_drift_model = _core.fit_drift_model
 run_parallel_model = _returns("PipelineResult")(_core.run_parallel_model)
+compare_methods = _returns("ComparisonResult")(_core.compare_methods)
 read_log = _returns("GyroLog")(_core.read_log)
 calibrate = _returns("CalibrateResult")(_core.calibrate)
 project_onto_cubic = _returns("TemperatureCubic")(_core.project_onto_cubic)
@@ -116,7 +117,8 @@ def export_params(models, format, **options):
     raise ValueError(f"export_params: format={format}: must be px4 or ardupilot")
 
 __all__ = [
-    "CancellationToken", "Cancelled", "DriftModel", "Result", "ardupilot_thermal_params", "compute_allan",
+    "CancellationToken", "Cancelled", "DriftModel", "Result", "ardupilot_thermal_params", "compare_methods",
+    "compute_allan",
     "compute_deviation", "decompose", "export_params", "project_onto_cubic", "px4_thermal_params", "read_log",
     "drift_model_from_json", "fit_drift_model", "flp_denoise", "inspect", "kalibr_imu_yaml", "load_drift_model",
     "plan", "run_parallel_model", "sample_entropy", "simulate", "validate_drift_model", "generate_c", "vmd",

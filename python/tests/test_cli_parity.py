@@ -193,3 +193,52 @@ def test_decompose_equals_decompose_json(cli, tmp_path, rule):
     modes = _table(tmp_path / "modes.csv")
     for k in range(4):
         np.testing.assert_allclose(got.modes[k], modes[f"mode_{k + 1}"], rtol=1e-12, atol=1e-15)
+
+
+# `gyrocomp apply` is DriftModel.predict / predict_band / check_temperature_range: the columns it
+# writes and the keys of apply --json equal them (plain and causal).
+@pytest.mark.parametrize("causal", [False, True])
+def test_drift_model_predict_equals_apply(cli, chamber, causal):
+    args = ["apply", "-m", str(chamber / "m.json"), "-i", str(chamber / "run2.csv"), "-o", str(chamber / "o.csv"),
+            "--json", str(chamber / "a.json")] + (["--causal"] if causal else [])
+    _run(cli, *args)
+    out = _table(chamber / "o.csv")
+    want = json.loads((chamber / "a.json").read_text())
+    run = _table(chamber / "run2.csv")
+    model = gyrocomp.load_drift_model(str(chamber / "m.json"))
+    predicted = model.predict(run["temp_c"], want["fs_hz"], causal=causal)
+    np.testing.assert_allclose(predicted, out["predicted_drift_dps"], rtol=1e-12, atol=1e-15)
+    np.testing.assert_allclose(run["rate_dps"] - predicted, out["compensated_dps"], rtol=1e-12, atol=1e-15)
+    band = model.predict_band(run["temp_c"], want["fs_hz"], causal=causal)
+    np.testing.assert_allclose(band["lo"], out["predicted_drift_lo_dps"], rtol=1e-12, atol=1e-15)
+    np.testing.assert_allclose(band["hi"], out["predicted_drift_hi_dps"], rtol=1e-12, atol=1e-15)
+    assert band["level"] == want["band_level"]
+    rng = model.check_temperature_range(run["temp_c"])
+    assert rng["outside"] == want["temp_outside_fitted_range"]
+    for key, json_key in (("below_c", "temp_below_fitted_c"), ("above_c", "temp_above_fitted_c"),
+                          ("fraction_outside", "fraction_outside_fitted_range")):
+        assert _same(rng[key], want[json_key]), key
+    rmse = float(np.sqrt(np.mean((predicted - run["true_drift_dps"]) ** 2)))
+    assert math.isclose(rmse, want["rmse_vs_true_drift_dps"], rel_tol=1e-9)  # summation order differs
+
+
+# gyrocomp.compare_methods (RunParallelModel + CompareMethods) equals `gyrocomp compare --json`:
+# every row's figures but its wall time. Without the grid search (as long as CS-SVR).
+def test_compare_methods_equals_compare_json(cli, chamber):
+    _run(cli, "compare", "-i", str(chamber / "run.csv"), "--no-grid", "--quiet", "--json", str(chamber / "c.json"))
+    want = json.loads((chamber / "c.json").read_text())
+    run = _table(chamber / "run.csv")
+    got = gyrocomp.compare_methods(run["rate_dps"], run["temp_c"], 2.0, true_rate_dps=run["true_rate_dps"],
+                                   true_drift_dps=run["true_drift_dps"], grid_search=False, measure_bandwidth=True)
+    assert [(r.group, r.method) for r in got.rows] == [(r["group"], r["method"]) for r in want["rows"]]
+    for r, w in zip(got.rows, want["rows"]):
+        for key, value in w.items():
+            if key == "seconds":  # wall time
+                continue
+            if key in ("group", "method", "note"):
+                assert r[key] == value, key
+                continue
+            g = r[key]
+            if g is not None and not math.isfinite(g):
+                g = None  # compare --json writes a non-finite figure as null
+            assert _same(g, value), (r.method, key, g, value)

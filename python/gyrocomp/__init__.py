@@ -87,6 +87,7 @@ fit_drift_model = _core.fit_drift_model
 run_parallel_model = _returns("PipelineResult")(_core.run_parallel_model)
 compare_methods = _returns("ComparisonResult")(_core.compare_methods)
 read_log = _returns("GyroLog")(_core.read_log)
+read_log_rows = _returns("FlightLogTable")(_core.read_log_rows)
 calibrate = _returns("CalibrateResult")(_core.calibrate)
 project_onto_cubic = _returns("TemperatureCubic")(_core.project_onto_cubic)
 px4_thermal_params = _core.px4_thermal_params
@@ -118,9 +119,8 @@ def export_params(models, format, **options):
 
 __all__ = [
     "CancellationToken", "Cancelled", "DriftModel", "Result", "ardupilot_thermal_params", "compare_methods",
-    "compute_allan",
-    "compute_deviation", "decompose", "export_params", "project_onto_cubic", "px4_thermal_params", "read_log",
-    "drift_model_from_json", "fit_drift_model", "flp_denoise", "inspect", "kalibr_imu_yaml", "load_drift_model",
-    "plan", "run_parallel_model", "sample_entropy", "simulate", "validate_drift_model", "generate_c", "vmd",
-    "wavelet_denoise", "wflp_denoise",
+    "compute_allan", "compute_deviation", "decompose", "drift_model_from_json", "export_params", "fit_drift_model",
+    "flp_denoise", "generate_c", "inspect", "kalibr_imu_yaml", "load_drift_model", "plan", "project_onto_cubic",
+    "px4_thermal_params", "read_log", "read_log_rows", "run_parallel_model", "sample_entropy", "simulate",
+    "validate_drift_model", "vmd", "wavelet_denoise", "wflp_denoise",
 ]

@@ -242,3 +242,33 @@ def test_compare_methods_equals_compare_json(cli, chamber):
             if g is not None and not math.isfinite(g):
                 g = None  # compare --json writes a non-finite figure as null
             assert _same(g, value), (r.method, key, g, value)
+
+
+# gyrocomp.read_log_rows equals `gyrocomp convert`: the CSV's columns (round-trip digits: exact)
+# and the keys of convert --json.
+@pytest.mark.parametrize("relative,instance", [
+    ("tests/fieldlogs/sample_log_small.ulg", 1),
+    ("tests/fieldlogs/sample_appended_multiple.ulg", None),
+    ("../shared/fieldlogs/ardupilot/test.BIN", 0),
+])
+def test_read_log_rows_equals_convert(cli, golden_dir, tmp_path, relative, instance):
+    path = (golden_dir.parents[1] / relative).resolve()
+    if not path.exists():
+        pytest.skip(f"{relative} is not here (the shared field logs are licensed data)")
+    extra = [] if instance is None else ["--instance", str(instance)]
+    _run(cli, "convert", "-i", str(path), *extra, "-o", str(tmp_path / "c.csv"), "--json", str(tmp_path / "c.json"))
+    want = json.loads((tmp_path / "c.json").read_text())
+    got = gyrocomp.read_log_rows(str(path), instance=instance)
+    for key in ("format", "origin", "instance", "device_id", "rows", "warnings", "damage"):
+        assert got[key] == want[key], key
+    assert got.names == want["columns"]
+    table = _table(tmp_path / "c.csv")
+    assert list(table) == got.names
+    for name in got.names:
+        np.testing.assert_array_equal(got.columns[name], table[name])
+
+
+def test_read_log_rows_refuses_a_csv(tmp_path):
+    (tmp_path / "x.csv").write_text("time_s,rate_dps\n0,1\n")
+    with pytest.raises(ValueError, match="read_log reads a CSV"):
+        gyrocomp.read_log_rows(str(tmp_path / "x.csv"))

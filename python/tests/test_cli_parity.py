@@ -272,3 +272,16 @@ def test_read_log_rows_refuses_a_csv(tmp_path):
     (tmp_path / "x.csv").write_text("time_s,rate_dps\n0,1\n")
     with pytest.raises(ValueError, match="read_log reads a CSV"):
         gyrocomp.read_log_rows(str(tmp_path / "x.csv"))
+
+
+# `gyrocomp entropy` is gyrocomp.sample_entropy: the same counts and value on the same column.
+@pytest.mark.parametrize("extra,options", [([], {}), (["--m", "3", "--r", "0.15"], {"m": 3, "r_factor": 0.15}),
+                                           (["--r-abs", "0.05"], {"r_absolute": 0.05})])
+def test_sample_entropy_equals_entropy_json(cli, chamber, extra, options):
+    _run(cli, "entropy", "-i", str(chamber / "run2.csv"), "--col", "rate_dps", *extra,
+         "--json", str(chamber / "e.json"))
+    want = json.loads((chamber / "e.json").read_text())
+    got = gyrocomp.sample_entropy(_table(chamber / "run2.csv")["rate_dps"], **options)
+    for key in ("m", "n", "a_matches", "b_matches", "defined"):
+        assert got[key] == want[key], key
+    assert _same(got.r, want["r"]) and _same(got.sample_entropy, want["sample_entropy"])

@@ -2,20 +2,18 @@
 // run, per hour of chamber time (docs/explanation/calibration-design.md). The comparison is the
 // library's (gyrocomp/plan/plan.h, PlanChamberRun); this file reads the options and the
 // recordings, and prints.
-#include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <iomanip>
 #include <iostream>
 #include <memory>
 #include <optional>
-#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "commands.h"
 #include "console.h"
-#include "gyrocomp/core/format.h"
 #include "gyrocomp/plan/plan.h"
 
 namespace gyrocomp::cli {

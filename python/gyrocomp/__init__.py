@@ -76,6 +76,7 @@ DriftModel.summary = property(lambda self: Result("DriftFitSummary", _summary_di
 compute_allan = _returns("AllanResult")(_core.compute_allan)
 compute_deviation = _returns("DeviationCurve")(_core.compute_deviation)
 kalibr_imu_yaml = _core.kalibr_imu_yaml
+imu_noise_files = _returns("ImuNoiseFiles")(_core.imu_noise_files)
 simulate = _returns("SimulatedRun")(_core.simulate)
 vmd = _returns("VmdResult")(_core.vmd)
 decompose = _returns("Decomposition")(_core.decompose)
@@ -120,7 +121,7 @@ def export_params(models, format, **options):
 __all__ = [
     "CancellationToken", "Cancelled", "DriftModel", "Result", "ardupilot_thermal_params", "compare_methods",
     "compute_allan", "compute_deviation", "decompose", "drift_model_from_json", "export_params", "fit_drift_model",
-    "flp_denoise", "generate_c", "inspect", "kalibr_imu_yaml", "load_drift_model", "plan", "project_onto_cubic",
+    "flp_denoise", "generate_c", "imu_noise_files", "inspect", "kalibr_imu_yaml", "load_drift_model", "plan", "project_onto_cubic",
     "px4_thermal_params", "read_log", "read_log_rows", "run_parallel_model", "sample_entropy", "simulate",
     "validate_drift_model", "vmd", "wavelet_denoise", "wflp_denoise",
 ]

@@ -285,3 +285,31 @@ def test_sample_entropy_equals_entropy_json(cli, chamber, extra, options):
     for key in ("m", "n", "a_matches", "b_matches", "defined"):
         assert got[key] == want[key], key
     assert _same(got.r, want["r"]) and _same(got.sample_entropy, want["sample_entropy"])
+
+
+# gyrocomp.imu_noise_files equals the noise files `gyrocomp allan` writes (Kalibr imu.yaml,
+# OpenVINS kalibr_imu_chain.yaml, VINS-Fusion's keys) for three gyro and three accelerometer axes.
+def test_imu_noise_files_equal_allan_files(cli, tmp_path):
+    fs = 50.0
+    rng = np.random.default_rng(7)
+    n = 30000  # 10 min: tau = 1 s and a few decades above
+    cols = {"gx": 0.01, "gy": 0.02, "gz": 0.015, "ax": 0.002, "ay": 0.003, "az": 0.004}
+    data = {name: sd * rng.standard_normal(n) + np.cumsum(sd * 1e-3 * rng.standard_normal(n))
+            for name, sd in cols.items()}
+    path = tmp_path / "imu.csv"
+    with open(path, "w") as f:
+        f.write(",".join(cols) + "\n")  # no time column: --fs
+        for i in range(n):
+            f.write(",".join(repr(float(data[c][i])) for c in cols) + "\n")
+    files = {k: tmp_path / f"{k}.yaml" for k in ("kalibr", "openvins", "vins")}
+    _run(cli, "allan", "-i", str(path), "--time-col", "none", "--fs", "50", "--rate-col", "gx,gy,gz",
+         "--accel-col", "ax,ay,az", "--rostopic", "/imu1", "--kalibr-yaml", str(files["kalibr"]), "--openvins-yaml", str(files["openvins"]),
+         "--vins-yaml", str(files["vins"]))
+    got = gyrocomp.imu_noise_files({c: data[c] for c in ("gx", "gy", "gz")}, fs,
+                                   accel_m_s2={c: data[c] for c in ("ax", "ay", "az")}, rostopic="/imu1",
+                                   source=str(path))
+    assert [a.axis for a in got.gyro] == ["gx", "gy", "gz"] and [a.axis for a in got.accel] == ["ax", "ay", "az"]
+    assert got.kalibr_imu_yaml == files["kalibr"].read_text()
+    assert got.openvins_imu_chain_yaml == files["openvins"].read_text()
+    assert got.vins_fusion_imu_yaml == files["vins"].read_text()
+    assert gyrocomp.imu_noise_files({"gx": data["gx"]}, fs).openvins_imu_chain_yaml is None

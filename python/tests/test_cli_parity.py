@@ -313,3 +313,14 @@ def test_imu_noise_files_equal_allan_files(cli, tmp_path):
     assert got.openvins_imu_chain_yaml == files["openvins"].read_text()
     assert got.vins_fusion_imu_yaml == files["vins"].read_text()
     assert gyrocomp.imu_noise_files({"gx": data["gx"]}, fs).openvins_imu_chain_yaml is None
+
+
+# `gyrocomp denoise --method wavelet | flp | wflp` is wavelet_denoise / flp_denoise / wflp_denoise
+# with the defaults: the denoised column equals the CSV it writes (round-trip digits: 1e-12).
+@pytest.mark.parametrize("method", ["wavelet", "flp", "wflp"])
+def test_denoisers_equal_denoise(cli, chamber, method):
+    _run(cli, "denoise", "-i", str(chamber / "run2.csv"), "--method", method, "-o", str(chamber / "d.csv"))
+    want = _table(chamber / "d.csv")["denoised_dps"]
+    x = _table(chamber / "run2.csv")["rate_dps"]
+    got = {"wavelet": gyrocomp.wavelet_denoise, "flp": gyrocomp.flp_denoise, "wflp": gyrocomp.wflp_denoise}[method](x)
+    np.testing.assert_allclose(got.denoised, want, rtol=1e-12, atol=1e-15)

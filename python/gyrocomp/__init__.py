@@ -84,6 +84,7 @@ sample_entropy = _returns("SampleEntropyResult")(_core.sample_entropy)
 wavelet_denoise = _returns("WaveletDenoiseResult")(_core.wavelet_denoise)
 flp_denoise = _returns("FlpResult")(_core.flp_denoise)
 wflp_denoise = _returns("WflpResult")(_core.wflp_denoise)
+measure_bandwidth = _returns("BandwidthResult")(_core.measure_bandwidth)
 fit_drift_model = _core.fit_drift_model
 run_parallel_model = _returns("PipelineResult")(_core.run_parallel_model)
 compare_methods = _returns("ComparisonResult")(_core.compare_methods)
@@ -121,7 +122,8 @@ def export_params(models, format, **options):
 __all__ = [
     "CancellationToken", "Cancelled", "DriftModel", "Result", "ardupilot_thermal_params", "compare_methods",
     "compute_allan", "compute_deviation", "decompose", "drift_model_from_json", "export_params", "fit_drift_model",
-    "flp_denoise", "generate_c", "imu_noise_files", "inspect", "kalibr_imu_yaml", "load_drift_model", "plan", "project_onto_cubic",
-    "px4_thermal_params", "read_log", "read_log_rows", "run_parallel_model", "sample_entropy", "simulate",
-    "validate_drift_model", "vmd", "wavelet_denoise", "wflp_denoise",
+    "flp_denoise", "generate_c", "imu_noise_files", "inspect", "kalibr_imu_yaml", "load_drift_model",
+    "measure_bandwidth", "plan", "project_onto_cubic", "px4_thermal_params", "read_log", "read_log_rows",
+    "run_parallel_model", "sample_entropy", "simulate", "validate_drift_model", "vmd", "wavelet_denoise",
+    "wflp_denoise",
 ]

@@ -4,6 +4,7 @@
 #include "gyrocomp/decompose/feature_classifier.h"
 #include "gyrocomp/decompose/sample_entropy.h"
 #include "gyrocomp/decompose/vmd.h"
+#include "gyrocomp/denoise/bandwidth.h"
 #include "gyrocomp/denoise/flp.h"
 #include "gyrocomp/denoise/wavelet_denoise.h"
 #include "gyrocomp/denoise/wflp.h"
@@ -254,6 +255,76 @@ void BindStages(py::module_& m) {
         return py::dict(py::arg("denoised") = ToNumpy(std::move(r.denoised)), py::arg("summary") = summary);
       },
       py::arg("x"), "Wavelet + FLP denoising of the paper (WflpOptions as keywords; flp={...}).");
+
+  m.def(
+      "measure_bandwidth",
+      [](const std::string& method, const DoubleArray& background, double fs_hz, const py::kwargs& kwargs) {
+        Kwargs kw(kwargs, "measure_bandwidth");
+        BandwidthOptions bo;
+        bo.fs_hz = fs_hz;
+        kw.Get("num_frequencies", &bo.num_frequencies);
+        kw.Get("min_frequency_hz", &bo.min_frequency_hz);
+        kw.Get("max_frequency_hz", &bo.max_frequency_hz);
+        kw.Get("amplitude", &bo.amplitude);
+        kw.Get("edge_fraction", &bo.edge_fraction);
+        // The denoiser under test with its options, as wavelet_denoise / flp_denoise / wflp_denoise
+        // take them (`gyrocomp denoise --method M --bandwidth`).
+        const py::dict options = kw.Nested("options");
+        kw.Done();
+        SignalProcessing p;
+        if (method == "wavelet") {
+          Kwargs mk(options, "measure_bandwidth(options=...)");
+          WaveletDenoiseOptions o;
+          ReadWaveletFields(mk, &o.wavelet, &o.level, &o.extension, &o.threshold, &o.threshold_mode, &o.noise_sigma);
+          mk.Done();
+          p = [o](std::span<const double> x) -> Result<std::vector<double>> {
+            Result<WaveletDenoiseResult> r = RunWaveletDenoise(x, o);
+            if (!r.ok()) return r.error();
+            return std::move(r->denoised);
+          };
+        } else if (method == "flp") {
+          const FlpOptions o = ReadFlp(options, "measure_bandwidth(options=...)");
+          p = [o](std::span<const double> x) -> Result<std::vector<double>> {
+            Result<FlpResult> r = RunFlp(x, o);
+            if (!r.ok()) return r.error();
+            return std::move(r->filtered);
+          };
+        } else if (method == "wflp") {
+          Kwargs mk(options, "measure_bandwidth(options=...)");
+          WflpOptions o;
+          ReadWaveletFields(mk, &o.wavelet, &o.level, &o.extension, &o.threshold, &o.threshold_mode, &o.noise_sigma);
+          o.flp = ReadFlp(mk.Nested("flp"), "measure_bandwidth(options=dict(flp=...))");
+          GetEnum(mk, "details", &o.details, ParseDetailHandling, "a DetailHandling name");
+          mk.Done();
+          p = [o](std::span<const double> x) -> Result<std::vector<double>> {
+            Result<WflpResult> r = RunWflp(x, o);
+            if (!r.ok()) return r.error();
+            return std::move(r->denoised);
+          };
+        } else {
+          throw py::value_error("measure_bandwidth(): method=" + method + ": must be wavelet, flp or wflp");
+        }
+        const std::span<const double> b = AsSpan(background, "background");
+        BandwidthResult r = Unwrap(WithoutGil([&] { return MeasureBandwidth(p, b, bo); }));
+        py::dict d;
+        d["brief_report"] = r.BriefReport();  // before the vectors move out (it reads them)
+        d["frequency_hz"] = ToNumpy(std::move(r.frequency_hz));
+        d["gain"] = ToNumpy(std::move(r.gain));
+        d["phase_rad"] = ToNumpy(std::move(r.phase_rad));
+        d["bandwidth_hz"] = r.bandwidth_hz;
+        d["bandwidth_below_range"] = r.bandwidth_below_range;
+        d["max_frequency_hz"] = r.max_frequency_hz;
+        d["delay_s"] = r.delay_s;
+        d["dc_gain"] = r.dc_gain;
+        d["amplitude"] = r.amplitude;
+        d["num_runs"] = r.num_runs;
+        return d;
+      },
+      py::arg("method"), py::arg("background"), py::arg("fs_hz"),
+      "The -3 dB bandwidth and delay of a denoiser (MeasureBandwidth; gyrocomp denoise --bandwidth): test sines "
+      "added to `background` (the CLI uses the record's first 32768 samples). method: wavelet | flp | wflp, "
+      "options={...} its keywords; BandwidthOptions as keywords (num_frequencies: 32 here, the CLI's default "
+      "is 24; min_frequency_hz, max_frequency_hz, amplitude, edge_fraction).");
 }
 
 }  // namespace gyrocomp::python

@@ -324,3 +324,20 @@ def test_denoisers_equal_denoise(cli, chamber, method):
     x = _table(chamber / "run2.csv")["rate_dps"]
     got = {"wavelet": gyrocomp.wavelet_denoise, "flp": gyrocomp.flp_denoise, "wflp": gyrocomp.wflp_denoise}[method](x)
     np.testing.assert_allclose(got.denoised, want, rtol=1e-12, atol=1e-15)
+
+
+# gyrocomp.measure_bandwidth equals `gyrocomp denoise --bandwidth`: the -3 dB bandwidth, delay and
+# test amplitude of each denoiser on the record's first segment, 24 frequencies as the CLI.
+@pytest.mark.parametrize("method", ["wavelet", "flp", "wflp"])
+def test_measure_bandwidth_equals_denoise_bandwidth(cli, chamber, method):
+    _run(cli, "denoise", "-i", str(chamber / "run2.csv"), "--method", method, "--bandwidth",
+         "--bandwidth-segment", "4096", "--json", str(chamber / "b.json"))
+    want = json.loads((chamber / "b.json").read_text())
+    x = _table(chamber / "run2.csv")["rate_dps"]
+    got = gyrocomp.measure_bandwidth(method, x[:4096], 2.0, num_frequencies=24)
+    assert _same(got.bandwidth_hz, want["bandwidth_hz"])
+    assert got.bandwidth_below_range == want["bandwidth_below_range"]
+    for key, json_key in (("max_frequency_hz", "bandwidth_max_tested_hz"), ("delay_s", "delay_s"),
+                          ("amplitude", "bandwidth_test_amplitude_dps")):
+        assert _same(got[key], want[json_key]), key
+    assert got.brief_report == want["bandwidth_report"]

@@ -78,6 +78,7 @@ compute_deviation = _returns("DeviationCurve")(_core.compute_deviation)
 kalibr_imu_yaml = _core.kalibr_imu_yaml
 imu_noise_files = _returns("ImuNoiseFiles")(_core.imu_noise_files)
 simulate = _returns("SimulatedRun")(_core.simulate)
+simulate_board = _returns("BoardRun")(_core.simulate_board)
 vmd = _returns("VmdResult")(_core.vmd)
 decompose = _returns("Decomposition")(_core.decompose)
 sample_entropy = _returns("SampleEntropyResult")(_core.sample_entropy)
@@ -124,6 +125,6 @@ __all__ = [
     "compute_allan", "compute_deviation", "decompose", "drift_model_from_json", "export_params", "fit_drift_model",
     "flp_denoise", "generate_c", "imu_noise_files", "inspect", "kalibr_imu_yaml", "load_drift_model",
     "measure_bandwidth", "plan", "project_onto_cubic", "px4_thermal_params", "read_log", "read_log_rows",
-    "run_parallel_model", "sample_entropy", "simulate", "validate_drift_model", "vmd", "wavelet_denoise",
+    "run_parallel_model", "sample_entropy", "simulate", "simulate_board", "validate_drift_model", "vmd", "wavelet_denoise",
     "wflp_denoise",
 ]

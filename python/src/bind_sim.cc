@@ -64,23 +64,82 @@ void ReadTrueRate(py::dict d, TrueRateOptions* t) {
   kw.Done();
 }
 
+// SimulatorOptions from keywords (nested structs as dicts); `function` names the caller in errors.
+SimulatorOptions ReadSimulatorOptions(Kwargs& kw, const std::string& function) {
+  SimulatorOptions o;
+  kw.Get("fs_hz", &o.fs_hz);
+  kw.Get("seed", &o.seed);
+  kw.Get("duration_s", &o.duration_s);
+  kw.Get("thermal_lag_s", &o.thermal_lag_s);
+  kw.Get("temp_noise_c", &o.temp_noise_c);
+  ReadProfile(kw.Nested("profile"), &o.profile, function);
+  ReadBias(kw.Nested("bias"), &o.bias, function);
+  ReadNoise(kw.Nested("noise"), &o.noise, function);
+  ReadTrueRate(kw.Nested("true_rate"), &o.true_rate);
+  return o;
+}
+
+py::list Axes(std::array<std::vector<double>, 3>&& v) {
+  py::list l;
+  for (std::vector<double>& a : v) l.append(ToNumpy(std::move(a)));
+  return l;
+}
+
 }  // namespace
 
 void BindSimulator(py::module_& m) {
   m.def(
+      "simulate_board",
+      [](int num_imus, std::optional<std::string> log_format, std::optional<double> log_rate_hz, int ahrs_orientation,
+         const py::kwargs& kwargs) {
+        Kwargs kw(kwargs, "simulate_board");
+        BoardSimOptions b;
+        b.chamber = ReadSimulatorOptions(kw, "simulate_board");
+        b.num_imus = num_imus;
+        kw.Get("with_baro", &b.with_baro);
+        kw.Done();
+        if (log_format && *log_format != "ulog" && *log_format != "dataflash")
+          throw py::value_error("simulate_board(): log_format=" + *log_format + ": must be ulog or dataflash");
+        BoardRun r = Unwrap(WithoutGil([&] { return SimulateBoard(b); }));
+        py::dict d;
+        if (log_format) {  // the file `gyrocomp simulate -o run.ulg / run.bin` writes, as bytes
+          const double rate = log_rate_hz.value_or(r.fs_hz);
+          const std::string bytes = Unwrap(WithoutGil([&] {
+            return *log_format == "ulog" ? EncodeBoardULog(r, rate) : EncodeBoardDataFlash(r, rate, ahrs_orientation);
+          }));
+          d["log_bytes"] = py::bytes(bytes);
+        } else {
+          d["log_bytes"] = py::none();
+        }
+        d["fs_hz"] = r.fs_hz;
+        d["time_s"] = ToNumpy(std::move(r.time_s));
+        py::list imus;
+        for (BoardImuRun& i : r.imus) {
+          py::dict x;
+          x["temp_c"] = ToNumpy(std::move(i.temp_c));
+          x["gyro_rad_s"] = Axes(std::move(i.gyro_rad_s));
+          x["accel_m_s2"] = Axes(std::move(i.accel_m_s2));
+          x["true_gyro_drift_rad_s"] = Axes(std::move(i.true_gyro_drift_rad_s));
+          x["true_accel_bias_m_s2"] = Axes(std::move(i.true_accel_bias_m_s2));
+          imus.append(x);
+        }
+        d["imus"] = imus;
+        d["baro_pressure_pa"] = ToNumpy(std::move(r.baro_pressure_pa));
+        d["baro_temp_c"] = ToNumpy(std::move(r.baro_temp_c));
+        return d;
+      },
+      py::kw_only(), py::arg("num_imus") = BoardSimOptions{}.num_imus, py::arg("log_format") = py::none(),
+      py::arg("log_rate_hz") = py::none(), py::arg("ahrs_orientation") = 0,
+      "A simulated board (SimulateBoard: num_imus IMUs, gyro and accel x / y / z, a barometer) with the "
+      "chamber's SimulatorOptions as simulate's keywords; log_format 'ulog' | 'dataflash' adds log_bytes, the "
+      "file `gyrocomp simulate -o run.ulg / run.bin` writes (log_rate_hz, ahrs_orientation as --log-rate, "
+      "--ahrs-orientation).");
+
+  m.def(
       "simulate",
       [](const py::kwargs& kwargs) {
         Kwargs kw(kwargs, "simulate");
-        SimulatorOptions o;
-        kw.Get("fs_hz", &o.fs_hz);
-        kw.Get("seed", &o.seed);
-        kw.Get("duration_s", &o.duration_s);
-        kw.Get("thermal_lag_s", &o.thermal_lag_s);
-        kw.Get("temp_noise_c", &o.temp_noise_c);
-        ReadProfile(kw.Nested("profile"), &o.profile, "simulate");
-        ReadBias(kw.Nested("bias"), &o.bias, "simulate");
-        ReadNoise(kw.Nested("noise"), &o.noise, "simulate");
-        ReadTrueRate(kw.Nested("true_rate"), &o.true_rate);
+        const SimulatorOptions o = ReadSimulatorOptions(kw, "simulate");
         kw.Done();
         SimulatedRun r = Unwrap(WithoutGil([&] { return Simulate(o); }));
         py::dict d;

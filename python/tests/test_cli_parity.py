@@ -341,3 +341,21 @@ def test_measure_bandwidth_equals_denoise_bandwidth(cli, chamber, method):
                           ("amplitude", "bandwidth_test_amplitude_dps")):
         assert _same(got[key], want[json_key]), key
     assert got.brief_report == want["bandwidth_report"]
+
+
+# gyrocomp.simulate_board's log_bytes are the file `gyrocomp simulate -o run.ulg / run.bin` writes
+# (two IMUs, 10 min at 10 Hz logged at 5 Hz; the DataFlash board rotated by AHRS_ORIENTATION 2).
+@pytest.mark.parametrize("suffix,log_format,extra", [(".ulg", "ulog", {}),
+                                                     (".bin", "dataflash", {"ahrs_orientation": 2})])
+def test_simulate_board_equals_simulate_log(cli, tmp_path, suffix, log_format, extra):
+    out = tmp_path / ("run" + suffix)
+    args = ["simulate", "--fs", "10", "--duration", "600", "--seed", "9", "--imus", "2", "--log-rate", "5"]
+    if "ahrs_orientation" in extra:
+        args += ["--ahrs-orientation", str(extra["ahrs_orientation"])]
+    _run(cli, *args, "-o", str(out))
+    got = gyrocomp.simulate_board(num_imus=2, log_format=log_format, log_rate_hz=5.0, fs_hz=10.0, duration_s=600.0,
+                                  seed=9, **extra)
+    assert got.log_bytes == out.read_bytes()
+    assert len(got.imus) == 2 and len(got.imus[0].gyro_rad_s) == 3
+    listing = gyrocomp.inspect(str(out))  # and the log reads back with two gyro instances
+    assert sum(1 for s in listing.sensors if s.type == "gyro") == 2

@@ -1,5 +1,6 @@
 // gyrocomp inspect: what a PX4 ULog or ArduPilot DataFlash log holds (topics / messages, gyro
-// instances with rows, sample rate and temperature range, compensation parameters found).
+// instances with rows, sample rate and temperature range, compensation parameters found). The
+// listing is the library's (gyrocomp/io/inspect.h, InspectLog); this file prints it.
 #include <algorithm>
 #include <iostream>
 #include <memory>
@@ -7,9 +8,7 @@
 #include <vector>
 
 #include "commands.h"
-#include "gyrocomp/io/bag.h"
-#include "gyrocomp/io/flight_log.h"
-#include "gyrocomp/io/log_damage.h"
+#include "gyrocomp/io/inspect.h"
 #include "table_printer.h"
 
 namespace gyrocomp::cli {
@@ -22,149 +21,6 @@ struct InspectArgs {
   std::string json_path;
   bool strict = false;
 };
-
-// One gyro instance: rows, time span, mean sample rate, temperature range.
-nlohmann::json InstanceJson(const std::string& source, int instance, const std::vector<std::uint64_t>& time_us,
-                            const std::vector<double>& temp_c, std::optional<std::uint32_t> device_id) {
-  nlohmann::json j;
-  j["source"] = source;
-  j["instance"] = instance;
-  j["rows"] = time_us.size();
-  j["device_id"] = device_id ? nlohmann::json(*device_id) : nlohmann::json();
-  const double span = time_us.size() > 1 ? static_cast<double>(time_us.back() - time_us.front()) / 1e6 : 0.0;
-  j["time_span_s"] = span;
-  j["sample_rate_hz"] = span > 0 ? nlohmann::json(static_cast<double>(time_us.size() - 1) / span) : nlohmann::json();
-  if (temp_c.empty()) {
-    j["temp_range_c"] = nlohmann::json();
-  } else {
-    const auto [lo, hi] = std::minmax_element(temp_c.begin(), temp_c.end());
-    j["temp_range_c"] = {*lo, *hi};
-  }
-  return j;
-}
-
-nlohmann::json CompensationJson(const std::map<std::string, double>& params, const std::string& prefix) {
-  nlohmann::json j = nlohmann::json::object();
-  for (const auto& [name, value] : params) {
-    if (name.rfind(prefix, 0) == 0 && (name.find("ENABLE") != std::string::npos || name.find("_ID") != std::string::npos)) {
-      j[name] = value;
-    }
-  }
-  return j;
-}
-
-nlohmann::json InspectULog(const ULogContents& log) {
-  nlohmann::json j;
-  j["format"] = "ulog";
-  j["ulog_version"] = log.version;
-  nlohmann::json info = nlohmann::json::object();  // the short ones: sys_name, ver_hw, ... (not perf dumps)
-  for (const auto& [key, value] : log.info) {
-    if (value.size() <= 64 && key.rfind("perf_", 0) != 0) info[key] = value;
-  }
-  j["info"] = info;
-  nlohmann::json topics = nlohmann::json::array();
-  for (const ULogTopic& t : log.topics) topics.push_back({{"name", t.name}, {"multi_id", t.multi_id}, {"rows", t.rows}});
-  j["topics"] = topics;
-  nlohmann::json gyros = nlohmann::json::array();
-  for (const auto* list : {&log.gyros, &log.combined}) {
-    for (const ULogGyroSeries& g : *list) {
-      gyros.push_back(InstanceJson(g.topic, g.multi_id, g.timestamp_us, g.temperature_c, g.device_id));
-    }
-  }
-  j["gyro_instances"] = gyros;
-  // Every sensor kind and instance: gyro (sensor_gyro; sensor_combined when it is the only one),
-  // accel (sensor_accel), baro (sensor_baro), each with its device_id as logged.
-  nlohmann::json sensors = nlohmann::json::array();
-  for (nlohmann::json g : gyros) {
-    g["type"] = "gyro";
-    sensors.push_back(g);
-  }
-  for (const ULogAccelSeries& a : log.accels) {
-    nlohmann::json s = InstanceJson("sensor_accel", a.multi_id, a.timestamp_us, a.temperature_c, a.device_id);
-    s["type"] = "accel";
-    sensors.push_back(s);
-  }
-  for (const ULogBaroSeries& b : log.baros) {
-    nlohmann::json s = InstanceJson("sensor_baro", b.multi_id, b.timestamp_us, b.temperature_c, b.device_id);
-    s["type"] = "baro";
-    sensors.push_back(s);
-  }
-  j["sensors"] = sensors;
-  j["damage"] = DamageJson(log.damage);
-  std::size_t dropout_ms = 0;
-  for (const ULogDropout& d : log.dropouts) dropout_ms += d.duration_ms;
-  j["dropouts"] = {{"count", log.dropouts.size()}, {"total_ms", dropout_ms}};
-  j["appended_segments"] = log.appended_offsets.size();
-  // PX4 thermal compensation: TC_G_ENABLE and the TC_G{i}_ID device ids it applies to.
-  j["compensation_parameters"] = CompensationJson(log.parameters, "TC_G");
-  j["warnings"] = log.warnings;
-  return j;
-}
-
-nlohmann::json InspectDataFlash(const DataFlashContents& log) {
-  nlohmann::json j;
-  j["format"] = "dataflash";
-  j["messages"] = log.message_counts;
-  // Device ids: ArduPilot's INS_GYR_ID, INS_GYR2_ID, INS_GYR3_ID (INS_ACC*_ID for accels) hold
-  // the id of IMU instance 0, 1, 2 (AP_InertialSensor::var_info); BARO{n}_DEVID of baro n-1.
-  auto param_id = [&](const std::string& name) -> std::optional<std::uint32_t> {
-    const auto it = log.parameters.find(name);
-    if (it == log.parameters.end() || it->second <= 0) return std::nullopt;
-    return static_cast<std::uint32_t>(it->second);
-  };
-  auto ins_id = [&](const char* kind, int instance) {
-    return param_id(std::string("INS_") + kind + (instance == 0 ? "" : std::to_string(instance + 1)) + "_ID");
-  };
-  nlohmann::json gyros = nlohmann::json::array();
-  nlohmann::json sensors = nlohmann::json::array();
-  for (const DataFlashImuSeries& s : log.imus) {
-    nlohmann::json g = InstanceJson(s.message, s.instance, s.time_us, s.temp_c, ins_id("GYR", s.instance));
-    gyros.push_back(g);
-    g["type"] = "gyro";
-    sensors.push_back(g);
-    if (!s.acc_x_m_s2.empty() || s.gyr_x_rad_s.empty()) {
-      nlohmann::json a = InstanceJson(s.message, s.instance, s.time_us, s.temp_c, ins_id("ACC", s.instance));
-      a["type"] = "accel";
-      sensors.push_back(a);
-    }
-  }
-  // Barometers: the BARO message's records (the reader keeps no baro rows) and BARO{n}_DEVID.
-  for (const char* name : {"BARO", "BAR2", "BAR3"}) {
-    const auto it = log.message_counts.find(name);
-    if (it == log.message_counts.end() || it->second == 0) continue;
-    const int n = name[3] == 'O' ? 0 : name[3] - '1';
-    sensors.push_back({{"type", "baro"}, {"source", name}, {"instance", n}, {"rows", it->second},
-                       {"device_id", param_id("BARO" + std::to_string(n + 1) + "_DEVID")
-                                         ? nlohmann::json(*param_id("BARO" + std::to_string(n + 1) + "_DEVID"))
-                                         : nlohmann::json()},
-                       {"sample_rate_hz", nullptr}, {"temp_range_c", nullptr}, {"time_span_s", nullptr}});
-  }
-  j["gyro_instances"] = gyros;
-  j["sensors"] = sensors;
-  j["damage"] = DamageJson(log.damage);
-  // ArduPilot thermal calibration: INS_TCAL{n}_ENABLE for IMU n-1.
-  j["compensation_parameters"] = CompensationJson(log.parameters, "INS_TCAL");
-  j["warnings"] = log.warnings;
-  return j;
-}
-
-// A ROS bag: every topic with its type, encoding, message count and mean rate (by
-// receive time); the IMU topics are the ones `--topic` chooses from.
-nlohmann::json InspectBag(const BagListing& bag) {
-  nlohmann::json j;
-  j["format"] = std::string(BagFormatName(bag.format));
-  nlohmann::json topics = nlohmann::json::array();
-  for (const BagTopicInfo& t : bag.topics) {
-    const std::optional<double> rate = t.RateHz();
-    topics.push_back({{"topic", t.topic}, {"type", t.type}, {"encoding", t.encoding}, {"messages", t.messages},
-                      {"rate_hz", rate ? nlohmann::json(*rate) : nlohmann::json()},
-                      {"imu", t.type == "sensor_msgs/msg/Imu" || t.type == "sensor_msgs/Imu"}});
-  }
-  j["topics"] = topics;
-  j["damage"] = DamageJson(bag.damage);
-  j["warnings"] = bag.warnings;
-  return j;
-}
 
 void PrintBag(const nlohmann::json& j) {
   std::cout << j["input"].get<std::string>() << ": " << j["format"].get<std::string>() << ", " << j["topics"].size()
@@ -217,36 +73,11 @@ void PrintText(const nlohmann::json& j) {
 }
 
 int Run(const InspectArgs& a) {
-  nlohmann::json j;
-  switch (DetectLogFormat(a.input)) {
-    case LogFormat::kULog: {
-      ULogReadOptions options;
-      options.strict = a.strict;
-      Result<ULogContents> log = ReadULog(a.input, options);
-      if (!log.ok()) return ReportError(kInspectName, log.error());
-      j = InspectULog(*log);
-      break;
-    }
-    case LogFormat::kDataFlash: {
-      DataFlashReadOptions options;
-      options.strict = a.strict;
-      Result<DataFlashContents> log = ReadDataFlash(a.input, options);
-      if (!log.ok()) return ReportError(kInspectName, log.error());
-      j = InspectDataFlash(*log);
-      break;
-    }
-    case LogFormat::kRosBag: {
-      BagReadOptions options;
-      options.strict = a.strict;
-      Result<BagListing> bag = ListBag(a.input, options);
-      if (!bag.ok()) return ReportError(kInspectName, bag.error());
-      j = InspectBag(*bag);
-      break;
-    }
-    default:
-      return ReportError(kInspectName, InvalidInput(a.input + ": not a PX4 ULog, ArduPilot DataFlash log or ROS bag (by its "
-                                                       "first bytes); inspect reads flight-controller logs and bags"));
-  }
+  InspectOptions options;
+  options.strict = a.strict;
+  Result<LogInventory> inventory = InspectLog(a.input, options);
+  if (!inventory.ok()) return ReportError(kInspectName, inventory.error());
+  nlohmann::json j = std::move(inventory->listing);
   j["input"] = a.input;
   if (!a.json_path.empty()) {
     if (Status s = WriteJson(a.json_path, j); !s.ok()) return ReportError(kInspectName, s.error());

@@ -76,21 +76,29 @@ DriftModel.summary = property(lambda self: Result("DriftFitSummary", _summary_di
 compute_allan = _returns("AllanResult")(_core.compute_allan)
 compute_deviation = _returns("DeviationCurve")(_core.compute_deviation)
 kalibr_imu_yaml = _core.kalibr_imu_yaml
+imu_noise_files = _returns("ImuNoiseFiles")(_core.imu_noise_files)
 simulate = _returns("SimulatedRun")(_core.simulate)
+simulate_board = _returns("BoardRun")(_core.simulate_board)
 vmd = _returns("VmdResult")(_core.vmd)
+decompose = _returns("Decomposition")(_core.decompose)
 sample_entropy = _returns("SampleEntropyResult")(_core.sample_entropy)
 wavelet_denoise = _returns("WaveletDenoiseResult")(_core.wavelet_denoise)
 flp_denoise = _returns("FlpResult")(_core.flp_denoise)
 wflp_denoise = _returns("WflpResult")(_core.wflp_denoise)
+measure_bandwidth = _returns("BandwidthResult")(_core.measure_bandwidth)
 fit_drift_model = _core.fit_drift_model
 run_parallel_model = _returns("PipelineResult")(_core.run_parallel_model)
+compare_methods = _returns("ComparisonResult")(_core.compare_methods)
 read_log = _returns("GyroLog")(_core.read_log)
+read_log_rows = _returns("FlightLogTable")(_core.read_log_rows)
 calibrate = _returns("CalibrateResult")(_core.calibrate)
 project_onto_cubic = _returns("TemperatureCubic")(_core.project_onto_cubic)
 px4_thermal_params = _core.px4_thermal_params
 ardupilot_thermal_params = _core.ardupilot_thermal_params
 validate_drift_model = _returns("DriftValidation")(_core.validate_drift_model)
 generate_c = _returns("GeneratedC")(_core.generate_c)
+plan = _returns("PlanResult")(_core.plan)
+inspect = _returns("LogInventory")(_core.inspect)
 
 
 def export_params(models, format, **options):
@@ -113,9 +121,10 @@ def export_params(models, format, **options):
     raise ValueError(f"export_params: format={format}: must be px4 or ardupilot")
 
 __all__ = [
-    "CancellationToken", "Cancelled", "DriftModel", "Result", "ardupilot_thermal_params", "compute_allan",
-    "compute_deviation", "export_params", "project_onto_cubic", "px4_thermal_params", "read_log",
-    "drift_model_from_json", "fit_drift_model", "flp_denoise", "kalibr_imu_yaml", "load_drift_model",
-    "run_parallel_model", "sample_entropy", "simulate", "validate_drift_model", "generate_c", "vmd",
-    "wavelet_denoise", "wflp_denoise",
+    "CancellationToken", "Cancelled", "DriftModel", "Result", "ardupilot_thermal_params", "compare_methods",
+    "compute_allan", "compute_deviation", "decompose", "drift_model_from_json", "export_params", "fit_drift_model",
+    "flp_denoise", "generate_c", "imu_noise_files", "inspect", "kalibr_imu_yaml", "load_drift_model",
+    "measure_bandwidth", "plan", "project_onto_cubic", "px4_thermal_params", "read_log", "read_log_rows",
+    "run_parallel_model", "sample_entropy", "simulate", "simulate_board", "validate_drift_model", "vmd", "wavelet_denoise",
+    "wflp_denoise",
 ]

@@ -4,6 +4,7 @@
 #include "gyrocomp/allan/allan.h"
 #include "gyrocomp/allan/deviations.h"
 #include "gyrocomp/allan/kalibr.h"
+#include "gyrocomp/allan/vio_noise.h"
 
 namespace gyrocomp::python {
 namespace {
@@ -136,6 +137,66 @@ void BindAllan(py::module_& m) {
       },
       py::arg("rate_dps"), py::arg("fs_hz"), py::arg("rostopic") = KalibrYamlOptions{}.rostopic,
       "Kalibr imu.yaml text for one gyro axis (docs/guides/imu-noise.md).");
+
+  m.def(
+      "imu_noise_files",
+      [](const py::dict& gyro_dps, double fs_hz, std::optional<py::dict> accel_m_s2, const std::string& rostopic,
+         const std::string& source, const py::kwargs& kwargs) {
+        Kwargs kw(kwargs, "imu_noise_files");
+        const AllanOptions o = ReadAllanOptions(kw);
+        kw.Done();
+        // As `gyrocomp allan --kalibr-yaml / --openvins-yaml / --vins-yaml`: every axis's ADEV (gyro
+        // axes, then accelerometer axes), Kalibr's figures per axis, the three files' text.
+        std::vector<DoubleArray> keep;  // the arrays the spans look into
+        std::vector<AllanAxisInput> axes;
+        const py::dict* accel_axes = accel_m_s2 ? &*accel_m_s2 : nullptr;
+        for (const py::dict* d : {&gyro_dps, accel_axes}) {
+          if (!d) continue;
+          for (auto item : *d) {
+            keep.push_back(item.second.cast<DoubleArray>());
+            axes.push_back({py::str(item.first), AsSpan(keep.back(), "axis"), fs_hz});
+          }
+        }
+        if (gyro_dps.empty()) throw py::value_error("imu_noise_files(): gyro_dps: no axis");
+        std::vector<AllanResult> results = Unwrap(WithoutGil([&] { return ComputeAllan(axes, source, o); }));
+        std::vector<KalibrAxisNoise> gyro, accel;
+        for (std::size_t k = 0; k < results.size(); ++k) {
+          const bool is_gyro = k < gyro_dps.size();
+          KalibrAxisNoise n = Unwrap(KalibrNoiseFromAllan(
+              results[k], is_gyro ? KalibrSensor::kGyroscope : KalibrSensor::kAccelerometer, o.min_edf_for_terms));
+          (is_gyro ? gyro : accel).push_back(std::move(n));
+        }
+        auto axis_list = [](const std::vector<KalibrAxisNoise>& v) {
+          py::list l;
+          for (const KalibrAxisNoise& n : v)
+            l.append(py::dict(py::arg("axis") = n.axis, py::arg("noise_density") = n.noise_density,
+                              py::arg("random_walk") = n.random_walk,
+                              py::arg("random_walk_is_upper_bound") = n.random_walk_is_upper_bound));
+          return l;
+        };
+        KalibrYamlOptions ko;
+        ko.rostopic = rostopic;
+        ko.source = source;
+        VioNoiseFileOptions vo;
+        vo.rostopic = rostopic;
+        vo.source = source;
+        py::dict d;
+        d["gyro"] = axis_list(gyro);
+        d["accel"] = axis_list(accel);
+        d["kalibr_imu_yaml"] = KalibrImuYaml(gyro, accel, fs_hz, ko);
+        // OpenVINS and VINS-Fusion need the accelerometer's figures too: None without them.
+        d["openvins_imu_chain_yaml"] = accel.empty() ? py::object(py::none())
+                                                     : py::object(py::str(OpenVinsImuChainYaml(gyro, accel, fs_hz, vo)));
+        d["vins_fusion_imu_yaml"] = accel.empty() ? py::object(py::none())
+                                                  : py::object(py::str(VinsFusionImuYaml(gyro, accel, fs_hz, vo)));
+        return d;
+      },
+      py::arg("gyro_dps"), py::arg("fs_hz"), py::kw_only(), py::arg("accel_m_s2") = py::none(),
+      py::arg("rostopic") = KalibrYamlOptions{}.rostopic, py::arg("source") = "",
+      "The robotics noise files of `gyrocomp allan` (docs/guides/imu-noise.md) from every axis: gyro_dps "
+      "{axis name: rate, deg/s}, accel_m_s2 {axis name: m/s^2} (OpenVINS and VINS-Fusion need it); "
+      "AllanOptions as keywords. Returns gyro / accel (Kalibr figures per axis), kalibr_imu_yaml, "
+      "openvins_imu_chain_yaml, vins_fusion_imu_yaml (None without accelerometer axes).");
 }
 
 }  // namespace gyrocomp::python

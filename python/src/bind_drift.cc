@@ -8,9 +8,9 @@
 namespace gyrocomp::python {
 namespace {
 
-std::vector<double> Predict(const DriftModel& model, const DoubleArray& temp_c, double fs_hz) {
+std::vector<double> Predict(const DriftModel& model, const DoubleArray& temp_c, double fs_hz, bool causal = false) {
   const DriftInputs inputs{AsSpan(temp_c, "temp_c"), fs_hz};
-  return Unwrap(WithoutGil([&] { return model.Predict(inputs); }));
+  return Unwrap(WithoutGil([&] { return model.Predict(inputs, causal); }));
 }
 
 }  // namespace
@@ -157,15 +157,17 @@ void BindDrift(py::module_& m) {
   py::class_<DriftModel>(m, "DriftModel", "A fitted temperature-drift model (docs/explanation/drift-models.md).")
       .def(
           "predict",
-          [](const DriftModel& model, const DoubleArray& temp_c, double fs_hz) {
-            return ToNumpy(Predict(model, temp_c, fs_hz));
+          [](const DriftModel& model, const DoubleArray& temp_c, double fs_hz, bool causal) {
+            return ToNumpy(Predict(model, temp_c, fs_hz, causal));
           },
-          py::arg("temp_c"), py::arg("fs_hz"), "Predicted drift (target units, deg/s) for a temperature record.")
+          py::arg("temp_c"), py::arg("fs_hz"), py::arg("causal") = false,
+          "Predicted drift (target units, deg/s) for a temperature record, what `gyrocomp apply` subtracts. "
+          "causal: evaluated as firmware would (DriftEvaluator, apply --causal).")
       .def(
           "predict_band",
-          [](const DriftModel& model, const DoubleArray& temp_c, double fs_hz) {
+          [](const DriftModel& model, const DoubleArray& temp_c, double fs_hz, bool causal) {
             const DriftInputs inputs{AsSpan(temp_c, "temp_c"), fs_hz};
-            DriftBand b = Unwrap(WithoutGil([&] { return model.PredictBand(inputs); }));
+            DriftBand b = Unwrap(WithoutGil([&] { return model.PredictBand(inputs, causal); }));
             py::dict d;
             d["center"] = ToNumpy(std::move(b.center));
             d["lo"] = ToNumpy(std::move(b.lo));
@@ -173,9 +175,20 @@ void BindDrift(py::module_& m) {
             d["level"] = b.level;
             return d;
           },
-          py::arg("temp_c"), py::arg("fs_hz"),
+          py::arg("temp_c"), py::arg("fs_hz"), py::arg("causal") = false,
           "Predicted drift with its prediction band: dict center, lo, hi (numpy), level (0.9). "
           "Raises for a model loaded from a file written before the bands existed.")
+      .def(
+          "check_temperature_range",
+          [](const DriftModel& model, const DoubleArray& temp_c) {
+            const TemperatureExcursion e = model.CheckTemperatureRange(AsSpan(temp_c, "temp_c"));
+            return py::dict(py::arg("outside") = e.outside, py::arg("below_c") = e.below_c,
+                            py::arg("above_c") = e.above_c, py::arg("fraction_outside") = e.fraction_outside,
+                            py::arg("message") = e.Message());
+          },
+          py::arg("temp_c"),
+          "Where a record leaves the fitted temperature range (the warning of `gyrocomp apply`): dict outside, "
+          "below_c, above_c, fraction_outside, message.")
       .def("save", [](const DriftModel& model, const std::string& path) { Check(SaveDriftModel(model, path)); },
            py::arg("path"), "Writes the model file (JSON, atomic).")
       .def("to_json", &DriftModelToJson)

@@ -1,8 +1,15 @@
-// gyrocomp.read_log: CSV, PX4 ULog or ArduPilot DataFlash (the flight-log readers) as a GyroLog.
+// gyrocomp.read_log: CSV, PX4 ULog or ArduPilot DataFlash (the flight-log readers) as a GyroLog;
+// gyrocomp.read_log_rows: the rows the flight-log and bag readers see, unchecked (`gyrocomp convert`).
+#include <nlohmann/json.hpp>
+
 #include "bindings.h"
 
 #include "gyrocomp/core/units.h"
+#include "gyrocomp/io/bag.h"
+#include "gyrocomp/io/bag_log.h"
+#include "gyrocomp/io/flight_log.h"
 #include "gyrocomp/io/gyro_log.h"
+#include "gyrocomp/io/log_damage.h"
 
 namespace gyrocomp::python {
 namespace {
@@ -47,6 +54,50 @@ py::dict SamplingDict(const SamplingReport& r) {
 }  // namespace
 
 void BindIo(py::module_& m) {
+  m.def(
+      "read_log_rows",
+      [](const std::string& path, std::optional<int> instance, std::optional<std::string> topic,
+         const std::string& time_source, bool strict) {
+        if (time_source != "header" && time_source != "receive")
+          throw py::value_error("read_log_rows(): time_source=" + time_source + ": must be header or receive");
+        // As `gyrocomp convert`: the format by the first bytes; a bag's IMU topic, or a flight log's
+        // gyro instance (ReadFlightLog: DataFlash rotated to the sensor frame, TCAL added back).
+        const LogFormat format = DetectLogFormat(path);
+        if (format == LogFormat::kCsv)
+          throw py::value_error(path + ": not a PX4 ULog, ArduPilot DataFlash log or ROS bag (by its first bytes); "
+                                       "read_log_rows reads flight-controller logs and bags (read_log reads a CSV)");
+        FlightLogTable t = Unwrap(WithoutGil([&]() -> Result<FlightLogTable> {
+          if (format != LogFormat::kRosBag) return ReadFlightLog(path, instance, strict);
+          LogSpec spec;
+          spec.topic = topic;
+          spec.bag_time = time_source == "receive" ? BagTimeSource::kReceive : BagTimeSource::kHeader;
+          BagReadOptions options = BagOptionsFromSpec(spec);
+          options.strict = strict;
+          Result<BagImuTable> bag = ReadBagImu(path, options);
+          if (!bag.ok()) return bag.error();
+          return BagFlightLog(std::move(*bag));
+        }));
+        py::dict d;
+        d["format"] = std::string(LogFormatName(t.format));
+        d["origin"] = t.origin;
+        d["instance"] = t.instance;
+        d["device_id"] = t.device_id;
+        d["rows"] = t.table.num_rows();
+        d["names"] = t.table.names;
+        py::dict columns;  // name -> numpy array, in file order (time_s, x_rad_s, ...)
+        for (std::size_t j = 0; j < t.table.names.size(); ++j)
+          columns[py::str(t.table.names[j])] = ToNumpy(std::move(t.table.columns[j]));
+        d["columns"] = columns;
+        d["warnings"] = t.warnings;
+        d["damage"] = py::module_::import("json").attr("loads")(DamageJson(t.damage).dump());
+        return d;
+      },
+      py::arg("path"), py::kw_only(), py::arg("instance") = py::none(), py::arg("topic") = py::none(),
+      py::arg("time_source") = "header", py::arg("strict") = false,
+      "The rows a PX4 ULog, ArduPilot DataFlash log or ROS bag IMU topic holds, without sampling checks (gyrocomp "
+      "convert): columns {name: array} (time_s, x_rad_s, y_rad_s, z_rad_s, temp_c; a bag's x_m_s2, ...), origin, "
+      "instance, device_id, warnings, damage.");
+
   m.def(
       "read_log",
       [](const std::string& path, const py::kwargs& kwargs) {

@@ -1,6 +1,8 @@
-// gyrocomp.run_parallel_model: the paper's VMD-SE-WFLP-CS-SVR model on one record.
+// gyrocomp.run_parallel_model: the paper's VMD-SE-WFLP-CS-SVR model on one record;
+// gyrocomp.compare_methods: the paper's comparisons on it (`gyrocomp compare`).
 #include "bindings.h"
 
+#include "gyrocomp/pipeline/compare.h"
 #include "gyrocomp/pipeline/pipeline.h"
 
 namespace gyrocomp::python {
@@ -65,9 +67,72 @@ py::dict ResultDict(PipelineResult&& r) {
   return d;
 }
 
+py::object Optional(const std::optional<double>& v) { return v ? py::object(py::float_(*v)) : py::object(py::none()); }
+
+py::dict MethodRowDict(const MethodRow& r) {
+  return py::dict(py::arg("group") = r.group, py::arg("method") = r.method,
+                  py::arg("arw_deg_per_sqrt_h") = Optional(r.arw_deg_per_sqrt_h),
+                  py::arg("adev_min_deg_per_h") = Optional(r.adev_min_deg_per_h),
+                  py::arg("bias_instability_deg_per_h") = Optional(r.bias_instability_deg_per_h),
+                  py::arg("bandwidth_hz") = Optional(r.bandwidth_hz),
+                  py::arg("rmse_vs_true_rate_dps") = Optional(r.rmse_vs_true_rate_dps),
+                  py::arg("drift_rmse_vs_truth_dps") = Optional(r.drift_rmse_vs_truth_dps),
+                  py::arg("drift_cv_rmse_dps") = Optional(r.drift_cv_rmse_dps), py::arg("seconds") = r.seconds,
+                  py::arg("note") = r.note);
+}
+
 }  // namespace
 
 void BindPipeline(py::module_& m) {
+  m.def(
+      "compare_methods",
+      [](const DoubleArray& rate_dps, const DoubleArray& temp_c, double fs_hz, std::optional<DoubleArray> true_rate_dps,
+         std::optional<DoubleArray> true_drift_dps, py::object progress, const CancellationToken* cancel,
+         const py::kwargs& kwargs) {
+        Kwargs kw(kwargs, "compare_methods");
+        ComparisonOptions co;
+        co.pipeline = ReadPipelineOptions(kw);
+        kw.Get("denoising", &co.denoising);
+        kw.Get("drift_models", &co.drift_models);
+        kw.Get("grid_search", &co.grid_search);
+        kw.Get("schemes", &co.schemes);
+        kw.Get("serial_reuses_parallel_parameters", &co.serial_reuses_parallel_parameters);
+        kw.Done();
+        if (std::string why; !co.IsValid(&why)) throw py::value_error(why);
+        PipelineInput input;
+        input.rate_dps = AsSpan(rate_dps, "rate_dps");
+        input.temp_c = AsSpan(temp_c, "temp_c");
+        input.fs_hz = fs_hz;
+        ComparisonTruth truth;
+        if (true_rate_dps) truth.true_rate_dps = AsSpan(*true_rate_dps, "true_rate_dps");
+        if (true_drift_dps) truth.true_drift_dps = AsSpan(*true_drift_dps, "true_drift_dps");
+        LongCall call(cancel);
+        PipelineOptions& o = co.pipeline;
+        o.vmd.cancel = o.entropy.cancel = o.allan.cancel = call.token();
+        o.drift.cancel = o.drift.search.cuckoo.cancel = o.drift.svr.cancel = call.token();
+        const Hooks hooks(std::move(progress), call.token());
+        const ProgressCallback callback = [&hooks](const std::string& stage, double fraction) {
+          hooks.Poll(stage, fraction);
+        };
+        // As `gyrocomp compare`: the parallel model first, then the comparisons that reuse it.
+        PipelineResult parallel = Unwrap(call.Run([&] { return RunParallelModel(input, o, callback); }));
+        const ComparisonResult r = Unwrap(call.Run([&] { return CompareMethods(input, parallel, truth, co); }));
+        py::dict d;
+        py::list rows;
+        for (const MethodRow& row : r.rows) rows.append(MethodRowDict(row));
+        d["rows"] = rows;
+        d["brief_report"] = r.BriefReport();
+        d["parallel"] = ResultDict(std::move(parallel));
+        return d;
+      },
+      py::arg("rate_dps"), py::arg("temp_c"), py::arg("fs_hz"), py::kw_only(), py::arg("true_rate_dps") = py::none(),
+      py::arg("true_drift_dps") = py::none(), py::arg("progress") = py::none(), py::arg("cancel") = nullptr,
+      "The paper's comparisons on one record (gyrocomp compare): the parallel model, then denoisers, drift "
+      "models and schemes (ComparisonOptions: denoising, drift_models, grid_search, schemes, "
+      "serial_reuses_parallel_parameters; PipelineOptions as run_parallel_model's). rows: one MethodRow dict "
+      "per method (the rows of compare --json); errors against the truth when true_rate_dps / "
+      "true_drift_dps are given; parallel: the run_parallel_model result.");
+
   m.def(
       "run_parallel_model",
       [](const DoubleArray& rate_dps, const DoubleArray& temp_c, double fs_hz, std::optional<DoubleArray> known_rate_dps,

@@ -5,10 +5,9 @@
 #include "gyrocomp/sim/simulator.h"
 
 namespace gyrocomp::python {
-namespace {
 
-void ReadProfile(py::dict d, ThermalProfileOptions* p) {
-  Kwargs kw(d, "simulate(profile=...)");
+void ReadProfile(py::dict d, ThermalProfileOptions* p, const std::string& function) {
+  Kwargs kw(d, function + "(profile=...)");
   py::object kind = kw.Take("kind");
   if (!kind.is_none()) {
     const std::string name = py::str(kind);
@@ -30,8 +29,8 @@ void ReadProfile(py::dict d, ThermalProfileOptions* p) {
   kw.Done();
 }
 
-void ReadBias(py::dict d, BiasModelOptions* b) {
-  Kwargs kw(d, "simulate(bias=...)");
+void ReadBias(py::dict d, BiasModelOptions* b, const std::string& function) {
+  Kwargs kw(d, function + "(bias=...)");
   kw.Get("reference_temp_c", &b->reference_temp_c);
   kw.Get("poly_dps", &b->poly_dps);
   kw.Get("dtemp_coeff_dps_per_c_per_s", &b->dtemp_coeff_dps_per_c_per_s);
@@ -40,8 +39,8 @@ void ReadBias(py::dict d, BiasModelOptions* b) {
   kw.Done();
 }
 
-void ReadNoise(py::dict d, NoiseOptions* n) {
-  Kwargs kw(d, "simulate(noise=...)");
+void ReadNoise(py::dict d, NoiseOptions* n, const std::string& function) {
+  Kwargs kw(d, function + "(noise=...)");
   kw.Get("arw_deg_per_sqrt_h", &n->arw_deg_per_sqrt_h);
   kw.Get("bias_instability_deg_per_h", &n->bias_instability_deg_per_h);
   kw.Get("flicker_min_corr_s", &n->flicker_min_corr_s);
@@ -53,6 +52,8 @@ void ReadNoise(py::dict d, NoiseOptions* n) {
   kw.Done();
 }
 
+namespace {
+
 void ReadTrueRate(py::dict d, TrueRateOptions* t) {
   Kwargs kw(d, "simulate(true_rate=...)");
   kw.Get("constant_dps", &t->constant_dps);
@@ -63,23 +64,82 @@ void ReadTrueRate(py::dict d, TrueRateOptions* t) {
   kw.Done();
 }
 
+// SimulatorOptions from keywords (nested structs as dicts); `function` names the caller in errors.
+SimulatorOptions ReadSimulatorOptions(Kwargs& kw, const std::string& function) {
+  SimulatorOptions o;
+  kw.Get("fs_hz", &o.fs_hz);
+  kw.Get("seed", &o.seed);
+  kw.Get("duration_s", &o.duration_s);
+  kw.Get("thermal_lag_s", &o.thermal_lag_s);
+  kw.Get("temp_noise_c", &o.temp_noise_c);
+  ReadProfile(kw.Nested("profile"), &o.profile, function);
+  ReadBias(kw.Nested("bias"), &o.bias, function);
+  ReadNoise(kw.Nested("noise"), &o.noise, function);
+  ReadTrueRate(kw.Nested("true_rate"), &o.true_rate);
+  return o;
+}
+
+py::list Axes(std::array<std::vector<double>, 3>&& v) {
+  py::list l;
+  for (std::vector<double>& a : v) l.append(ToNumpy(std::move(a)));
+  return l;
+}
+
 }  // namespace
 
 void BindSimulator(py::module_& m) {
   m.def(
+      "simulate_board",
+      [](int num_imus, std::optional<std::string> log_format, std::optional<double> log_rate_hz, int ahrs_orientation,
+         const py::kwargs& kwargs) {
+        Kwargs kw(kwargs, "simulate_board");
+        BoardSimOptions b;
+        b.chamber = ReadSimulatorOptions(kw, "simulate_board");
+        b.num_imus = num_imus;
+        kw.Get("with_baro", &b.with_baro);
+        kw.Done();
+        if (log_format && *log_format != "ulog" && *log_format != "dataflash")
+          throw py::value_error("simulate_board(): log_format=" + *log_format + ": must be ulog or dataflash");
+        BoardRun r = Unwrap(WithoutGil([&] { return SimulateBoard(b); }));
+        py::dict d;
+        if (log_format) {  // the file `gyrocomp simulate -o run.ulg / run.bin` writes, as bytes
+          const double rate = log_rate_hz.value_or(r.fs_hz);
+          const std::string bytes = Unwrap(WithoutGil([&] {
+            return *log_format == "ulog" ? EncodeBoardULog(r, rate) : EncodeBoardDataFlash(r, rate, ahrs_orientation);
+          }));
+          d["log_bytes"] = py::bytes(bytes);
+        } else {
+          d["log_bytes"] = py::none();
+        }
+        d["fs_hz"] = r.fs_hz;
+        d["time_s"] = ToNumpy(std::move(r.time_s));
+        py::list imus;
+        for (BoardImuRun& i : r.imus) {
+          py::dict x;
+          x["temp_c"] = ToNumpy(std::move(i.temp_c));
+          x["gyro_rad_s"] = Axes(std::move(i.gyro_rad_s));
+          x["accel_m_s2"] = Axes(std::move(i.accel_m_s2));
+          x["true_gyro_drift_rad_s"] = Axes(std::move(i.true_gyro_drift_rad_s));
+          x["true_accel_bias_m_s2"] = Axes(std::move(i.true_accel_bias_m_s2));
+          imus.append(x);
+        }
+        d["imus"] = imus;
+        d["baro_pressure_pa"] = ToNumpy(std::move(r.baro_pressure_pa));
+        d["baro_temp_c"] = ToNumpy(std::move(r.baro_temp_c));
+        return d;
+      },
+      py::kw_only(), py::arg("num_imus") = BoardSimOptions{}.num_imus, py::arg("log_format") = py::none(),
+      py::arg("log_rate_hz") = py::none(), py::arg("ahrs_orientation") = 0,
+      "A simulated board (SimulateBoard: num_imus IMUs, gyro and accel x / y / z, a barometer) with the "
+      "chamber's SimulatorOptions as simulate's keywords; log_format 'ulog' | 'dataflash' adds log_bytes, the "
+      "file `gyrocomp simulate -o run.ulg / run.bin` writes (log_rate_hz, ahrs_orientation as --log-rate, "
+      "--ahrs-orientation).");
+
+  m.def(
       "simulate",
       [](const py::kwargs& kwargs) {
         Kwargs kw(kwargs, "simulate");
-        SimulatorOptions o;
-        kw.Get("fs_hz", &o.fs_hz);
-        kw.Get("seed", &o.seed);
-        kw.Get("duration_s", &o.duration_s);
-        kw.Get("thermal_lag_s", &o.thermal_lag_s);
-        kw.Get("temp_noise_c", &o.temp_noise_c);
-        ReadProfile(kw.Nested("profile"), &o.profile);
-        ReadBias(kw.Nested("bias"), &o.bias);
-        ReadNoise(kw.Nested("noise"), &o.noise);
-        ReadTrueRate(kw.Nested("true_rate"), &o.true_rate);
+        const SimulatorOptions o = ReadSimulatorOptions(kw, "simulate");
         kw.Done();
         SimulatedRun r = Unwrap(WithoutGil([&] { return Simulate(o); }));
         py::dict d;

@@ -1,11 +1,14 @@
-// gyrocomp.vmd, sample_entropy, wavelet_denoise, flp_denoise, wflp_denoise.
+// gyrocomp.vmd, decompose, sample_entropy, wavelet_denoise, flp_denoise, wflp_denoise.
 #include "bindings.h"
 
+#include "gyrocomp/decompose/feature_classifier.h"
 #include "gyrocomp/decompose/sample_entropy.h"
 #include "gyrocomp/decompose/vmd.h"
+#include "gyrocomp/denoise/bandwidth.h"
 #include "gyrocomp/denoise/flp.h"
 #include "gyrocomp/denoise/wavelet_denoise.h"
 #include "gyrocomp/denoise/wflp.h"
+#include "gyrocomp/pipeline/pipeline.h"  // kDefaultEntropyMaxSamples, the default of `decompose` and `process`
 
 namespace gyrocomp::python {
 namespace {
@@ -57,19 +60,7 @@ py::dict ThresholdsDict(const WaveletDenoiseSummary& s) {
                   py::arg("brief_report") = s.BriefReport());
 }
 
-py::dict Vmd(const DoubleArray& signal, py::object progress, const CancellationToken* cancel, const py::kwargs& kwargs) {
-  Kwargs kw(kwargs, "vmd");
-  VmdOptions o = ReadVmdOptions(kw);
-  kw.Done();
-  LongCall call(cancel);
-  o.cancel = call.token();
-  const Hooks hooks(std::move(progress), call.token());
-  const int max_iterations = o.max_iterations;
-  o.on_iteration = [&hooks, max_iterations](int iteration, double) {
-    hooks.Poll("vmd", static_cast<double>(iteration) / max_iterations);
-  };
-  const std::span<const double> x = AsSpan(signal, "signal");
-  VmdResult r = Unwrap(call.Run([&] { return DecomposeVmd(x, o); }));
+py::dict VmdDict(VmdResult&& r) {
   const VmdSummary& s = r.summary;
   py::dict d;
   d["modes"] = ToNumpy2d(r.modes);
@@ -84,6 +75,87 @@ py::dict Vmd(const DoubleArray& signal, py::object progress, const CancellationT
   d["threads_used"] = s.threads_used;
   d["elapsed_s"] = s.elapsed_s;
   d["brief_report"] = s.BriefReport();
+  return d;
+}
+
+py::dict Vmd(const DoubleArray& signal, py::object progress, const CancellationToken* cancel, const py::kwargs& kwargs) {
+  Kwargs kw(kwargs, "vmd");
+  VmdOptions o = ReadVmdOptions(kw);
+  kw.Done();
+  LongCall call(cancel);
+  o.cancel = call.token();
+  const Hooks hooks(std::move(progress), call.token());
+  const int max_iterations = o.max_iterations;
+  o.on_iteration = [&hooks, max_iterations](int iteration, double) {
+    hooks.Poll("vmd", static_cast<double>(iteration) / max_iterations);
+  };
+  const std::span<const double> x = AsSpan(signal, "signal");
+  return VmdDict(Unwrap(call.Run([&] { return DecomposeVmd(x, o); })));
+}
+
+// gyrocomp.decompose: VMD, sample entropy of each mode, the drift / mixed / noise classes
+// (DecomposeVmd + ClassifyVmdModes), the work of `gyrocomp decompose` on one axis.
+py::dict Decompose(const DoubleArray& signal, py::object progress, const CancellationToken* cancel,
+                   const py::kwargs& kwargs) {
+  Kwargs kw(kwargs, "decompose");
+  VmdOptions o = ReadVmdOptions(kw);
+  SampleEntropyOptions se;
+  {
+    Kwargs ek(kw.Nested("entropy"), "decompose(entropy=...)");
+    ek.Get("m", &se.m);
+    ek.Get("r_factor", &se.r_factor);
+    ek.Done();
+  }
+  std::string rule_name = "standard";
+  kw.Get("rule", &rule_name);
+  if (rule_name != "standard" && rule_name != "paper")
+    throw py::value_error("decompose(): rule=" + rule_name + ": must be standard or paper");
+  ClassifierOptions rule = rule_name == "paper" ? ClassifierOptions::Paper() : ClassifierOptions::Standard();
+  std::optional<double> drift_max_se, noise_min_se, drift_max_frequency_hz;
+  kw.Get("drift_max_se", &drift_max_se);
+  kw.Get("noise_min_se", &noise_min_se);
+  kw.Get("drift_max_frequency_hz", &drift_max_frequency_hz);
+  if (drift_max_se) rule.drift_max_se = *drift_max_se;
+  if (noise_min_se) rule.noise_min_se = *noise_min_se;
+  if (drift_max_frequency_hz) rule.drift_max_frequency_hz = *drift_max_frequency_hz;
+  if (drift_max_se || noise_min_se || drift_max_frequency_hz) rule.rule_name = "custom";
+  // Sample entropy on at most this many samples of each mode (None: all), as `process`.
+  std::optional<std::size_t> entropy_max_samples = kDefaultEntropyMaxSamples;
+  if (kwargs.contains("entropy_max_samples")) {
+    py::object v = kw.Take("entropy_max_samples");
+    entropy_max_samples = v.is_none() ? std::nullopt : std::optional<std::size_t>(v.cast<std::size_t>());
+  }
+  kw.Done();
+  std::string why;
+  if (!se.IsValid(&why) || !rule.IsValid(&why)) throw py::value_error(why);
+  LongCall call(cancel);
+  o.cancel = call.token();
+  se.cancel = call.token();
+  const Hooks hooks(std::move(progress), call.token());
+  const int max_iterations = o.max_iterations;
+  o.on_iteration = [&hooks, max_iterations](int iteration, double) {
+    hooks.Poll("vmd", static_cast<double>(iteration) / max_iterations);
+  };
+  const std::span<const double> x = AsSpan(signal, "signal");
+  // Two runs of the worker, each result unwrapped here (a Python error is raised with the GIL held).
+  VmdResult v = Unwrap(call.Run([&] { return DecomposeVmd(x, o); }));
+  const ClassificationResult c = Unwrap(call.Run([&] { return ClassifyVmdModes(v, se, rule, entropy_max_samples); }));
+  py::dict d = VmdDict(std::move(v));
+  py::list modes;
+  for (const ModeClassification& m : c.modes) {
+    modes.append(py::dict(py::arg("index") = m.index, py::arg("sample_entropy") = m.sample_entropy,
+                          py::arg("center_frequency_cycles_per_sample") = m.center_frequency_cycles_per_sample,
+                          py::arg("center_frequency_hz") = m.center_frequency_hz,
+                          py::arg("feature") = FeatureClassName(m.feature)));
+  }
+  d["classes"] = modes;
+  const ClassifierOptions& r = c.rule;
+  d["rule"] = py::dict(py::arg("rule_name") = r.rule_name, py::arg("drift_max_se") = r.drift_max_se,
+                       py::arg("noise_min_se") = r.noise_min_se,
+                       py::arg("drift_max_frequency_hz") = r.drift_max_frequency_hz,
+                       py::arg("keep_lowest_mode") = r.keep_lowest_mode);
+  d["rule_text"] = c.rule_text;
+  d["classification_report"] = c.BriefReport();
   return d;
 }
 
@@ -110,6 +182,11 @@ void BindStages(py::module_& m) {
         py::arg("cancel") = nullptr,
         "Variational mode decomposition (VmdOptions as keywords). progress(stage, fraction) is called "
         "every iteration; cancel: a CancellationToken.");
+  m.def("decompose", &Decompose, py::arg("signal"), py::kw_only(), py::arg("progress") = py::none(),
+        py::arg("cancel") = nullptr,
+        "VMD, sample entropy per mode and the drift / mixed / noise classes (gyrocomp decompose): VmdOptions "
+        "as keywords, entropy={m, r_factor}, entropy_max_samples (None: all), rule ('standard' | 'paper'), "
+        "drift_max_se, noise_min_se, drift_max_frequency_hz. classes: one dict per mode.");
 
   m.def(
       "sample_entropy",
@@ -178,6 +255,76 @@ void BindStages(py::module_& m) {
         return py::dict(py::arg("denoised") = ToNumpy(std::move(r.denoised)), py::arg("summary") = summary);
       },
       py::arg("x"), "Wavelet + FLP denoising of the paper (WflpOptions as keywords; flp={...}).");
+
+  m.def(
+      "measure_bandwidth",
+      [](const std::string& method, const DoubleArray& background, double fs_hz, const py::kwargs& kwargs) {
+        Kwargs kw(kwargs, "measure_bandwidth");
+        BandwidthOptions bo;
+        bo.fs_hz = fs_hz;
+        kw.Get("num_frequencies", &bo.num_frequencies);
+        kw.Get("min_frequency_hz", &bo.min_frequency_hz);
+        kw.Get("max_frequency_hz", &bo.max_frequency_hz);
+        kw.Get("amplitude", &bo.amplitude);
+        kw.Get("edge_fraction", &bo.edge_fraction);
+        // The denoiser under test with its options, as wavelet_denoise / flp_denoise / wflp_denoise
+        // take them (`gyrocomp denoise --method M --bandwidth`).
+        const py::dict options = kw.Nested("options");
+        kw.Done();
+        SignalProcessing p;
+        if (method == "wavelet") {
+          Kwargs mk(options, "measure_bandwidth(options=...)");
+          WaveletDenoiseOptions o;
+          ReadWaveletFields(mk, &o.wavelet, &o.level, &o.extension, &o.threshold, &o.threshold_mode, &o.noise_sigma);
+          mk.Done();
+          p = [o](std::span<const double> x) -> Result<std::vector<double>> {
+            Result<WaveletDenoiseResult> r = RunWaveletDenoise(x, o);
+            if (!r.ok()) return r.error();
+            return std::move(r->denoised);
+          };
+        } else if (method == "flp") {
+          const FlpOptions o = ReadFlp(options, "measure_bandwidth(options=...)");
+          p = [o](std::span<const double> x) -> Result<std::vector<double>> {
+            Result<FlpResult> r = RunFlp(x, o);
+            if (!r.ok()) return r.error();
+            return std::move(r->filtered);
+          };
+        } else if (method == "wflp") {
+          Kwargs mk(options, "measure_bandwidth(options=...)");
+          WflpOptions o;
+          ReadWaveletFields(mk, &o.wavelet, &o.level, &o.extension, &o.threshold, &o.threshold_mode, &o.noise_sigma);
+          o.flp = ReadFlp(mk.Nested("flp"), "measure_bandwidth(options=dict(flp=...))");
+          GetEnum(mk, "details", &o.details, ParseDetailHandling, "a DetailHandling name");
+          mk.Done();
+          p = [o](std::span<const double> x) -> Result<std::vector<double>> {
+            Result<WflpResult> r = RunWflp(x, o);
+            if (!r.ok()) return r.error();
+            return std::move(r->denoised);
+          };
+        } else {
+          throw py::value_error("measure_bandwidth(): method=" + method + ": must be wavelet, flp or wflp");
+        }
+        const std::span<const double> b = AsSpan(background, "background");
+        BandwidthResult r = Unwrap(WithoutGil([&] { return MeasureBandwidth(p, b, bo); }));
+        py::dict d;
+        d["brief_report"] = r.BriefReport();  // before the vectors move out (it reads them)
+        d["frequency_hz"] = ToNumpy(std::move(r.frequency_hz));
+        d["gain"] = ToNumpy(std::move(r.gain));
+        d["phase_rad"] = ToNumpy(std::move(r.phase_rad));
+        d["bandwidth_hz"] = r.bandwidth_hz;
+        d["bandwidth_below_range"] = r.bandwidth_below_range;
+        d["max_frequency_hz"] = r.max_frequency_hz;
+        d["delay_s"] = r.delay_s;
+        d["dc_gain"] = r.dc_gain;
+        d["amplitude"] = r.amplitude;
+        d["num_runs"] = r.num_runs;
+        return d;
+      },
+      py::arg("method"), py::arg("background"), py::arg("fs_hz"),
+      "The -3 dB bandwidth and delay of a denoiser (MeasureBandwidth; gyrocomp denoise --bandwidth): test sines "
+      "added to `background` (the CLI uses the record's first 32768 samples). method: wavelet | flp | wflp, "
+      "options={...} its keywords; BandwidthOptions as keywords (num_frequencies: 32 here, the CLI's default "
+      "is 24; min_frequency_hz, max_frequency_hz, amplitude, edge_fraction).");
 }
 
 }  // namespace gyrocomp::python

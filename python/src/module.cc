@@ -31,6 +31,8 @@ PYBIND11_MODULE(_core, m) {
   BindExport(m);
   BindIo(m);
   BindCalibrate(m);
+  BindPlan(m);
+  BindInspect(m);
 }
 
 }  // namespace gyrocomp::python

@@ -98,6 +98,7 @@ DriftFitOptions ReadFitOptions(Kwargs& kw) {
   kw.Get("target_name", &o.target_name);
   kw.Get("degree", &o.polynomial.degree);
   kw.Get("dtemp_degree", &o.polynomial.dtemp_degree);
+  kw.Get("gain_temp_degree", &o.polynomial.gain_temp_degree);
   kw.Get("num_nests", &o.search.cuckoo.num_nests);
   kw.Get("max_generations", &o.search.cuckoo.max_generations);
   kw.Get("seed", &o.search.cuckoo.seed);

@@ -346,7 +346,7 @@ Result<DriftModel> FitAuto(const DriftInputs& inputs, std::span<const double> ta
   c.cv_scheme = plan.scheme;
   c.search.cuckoo.max_generations = o.auto_select.search_generations;
   c.polynomial.degree = sup.degree;
-  // A gain that varies with T is not an auto candidate: Eq. A-4 rejected it on every run measured
+  // A gain that varies with T is not an auto candidate: Eq. A-4 rejected it on 23 of 24 runs where it helps
   // (docs/explanation/accuracy.md "A gain that varies with temperature").
   c.polynomial.gain_temp_degree = 0;
   const bool memory = sup.memory;

@@ -95,6 +95,20 @@ std::string BuiltIn(LogKind kind) {
   return b ? *b : std::string();
 }
 
+// The length (header included) that the record at `pos` declares: ULog, 3 + its size field;
+// DataFlash, the FMT length of its type when it starts with A3 95 and the type is in `book`.
+// 0 when no record is declared there (fewer than 3 bytes left, no A3 95, a type with no FMT).
+std::size_t DeclaredLength(LogKind kind, const RecordBook& book, const std::uint8_t* d, std::size_t n,
+                           std::size_t pos) {
+  if (pos + 3 > n) return 0;
+  if (kind == LogKind::kULog) return 3 + (d[pos] | (d[pos + 1] << 8));
+  if (d[pos] != 0xA3 || d[pos + 1] != 0x95) return 0;
+  const auto it = book.dataflash_length.find(d[pos + 2]);
+  return it == book.dataflash_length.end() ? 0 : it->second;
+}
+
+std::size_t FirstRecord(LogKind kind) { return kind == LogKind::kULog ? 16 : 0; }  // after the ULog file header
+
 // Record boundaries (offset, size with header) of the original's records still intact in a
 // mutated log. Damaged bytes (a cut record, a broken header) are skipped byte by byte until an
 // intact record starts again, so every mutation splits and joins the log only where a record of
@@ -108,15 +122,9 @@ std::vector<std::pair<std::size_t, std::size_t>> Records(LogKind kind, const Rec
   const auto intact = [&](std::size_t pos, std::size_t len) {
     return pos + len <= n && book.records.count(std::string(reinterpret_cast<const char*>(d) + pos, len)) > 0;
   };
-  std::size_t pos = kind == LogKind::kULog ? 16 : 0;
+  std::size_t pos = FirstRecord(kind);
   while (pos + 3 <= n) {
-    std::size_t len = 0;
-    if (kind == LogKind::kULog) {
-      len = 3 + (d[pos] | (d[pos + 1] << 8));
-    } else if (d[pos] == 0xA3 && d[pos + 1] == 0x95) {
-      const auto it = book.dataflash_length.find(d[pos + 2]);
-      if (it != book.dataflash_length.end()) len = it->second;
-    }
+    const std::size_t len = DeclaredLength(kind, book, d, n, pos);
     if (len >= 3 && intact(pos, len)) {
       out.emplace_back(pos, len);
       pos += len;
@@ -127,41 +135,40 @@ std::vector<std::pair<std::size_t, std::size_t>> Records(LogKind kind, const Rec
   return out;
 }
 
+// Whether a chain of records starts somewhere in [from, end of s) and ends exactly at the end,
+// each header one the original has (ULog: its type with that size; DataFlash: a type of its
+// FMTs). From the end backwards, so the tail is walked once: a chain from p reaches the end when
+// its first record does or the chain from where that record ends does.
+bool ChainEndsAtEnd(LogKind kind, const RecordBook& book, const std::string& s, std::size_t from) {
+  const auto* d = reinterpret_cast<const std::uint8_t*>(s.data());
+  const std::size_t n = s.size();
+  if (from >= n) return false;
+  std::vector<char> reaches(n - from + 1, 0);  // reaches[p - from]: a chain from p ends at n
+  reaches[n - from] = 1;
+  for (std::size_t p = n; p-- > from;) {
+    const std::size_t len = DeclaredLength(kind, book, d, n, p);
+    const auto known = [&] {
+      return kind == LogKind::kDataFlash || book.ulog_headers.count({static_cast<char>(d[p + 2]), len}) > 0;
+    };
+    reaches[p - from] = len >= 3 && p + len <= n && known() && reaches[p + len - from];
+    if (reaches[p - from]) return true;
+  }
+  return false;
+}
+
 // A damaged record (cut short, its size now reaching into what followed) that the end of the file
 // cuts exactly where its declared size ends looks like an intact last record: nothing follows it
 // to refuse it by, and no reader can tell (ulog_recovery.cc decodes a record only when what
 // follows is a record or the end). The mutator keeps that one case out by dropping the last byte,
 // so that the record is a truncated one; every other damage stays. A chain of records from any
 // offset after the last intact record, each header one the original has, ending exactly at the
-// end, is that case.
+// end, is that case. Records() runs once: a byte is dropped only when a chain starts after the
+// last intact record, so that record ends before the new end and the intact records stay the
+// same; only the tail after it is looked at again.
 void KeepUndecidableEndOut(LogKind kind, const RecordBook& book, std::string& s) {
-  const auto* d = reinterpret_cast<const std::uint8_t*>(s.data());
-  const auto header_len = [&](std::size_t pos) -> std::size_t {  // 0: not a header the original has
-    if (pos + 3 > s.size()) return 0;
-    if (kind == LogKind::kULog) {
-      const std::size_t len = 3 + (d[pos] | (d[pos + 1] << 8));
-      return book.ulog_headers.count({static_cast<char>(d[pos + 2]), len}) ? len : 0;
-    }
-    if (d[pos] != 0xA3 || d[pos + 1] != 0x95) return 0;
-    const auto it = book.dataflash_length.find(d[pos + 2]);
-    return it == book.dataflash_length.end() ? 0 : it->second;
-  };
-  for (int guard = 0; guard < 64 && !s.empty(); ++guard) {
-    const auto intact = Records(kind, book, d, s.size());
-    std::size_t from = intact.empty() ? (kind == LogKind::kULog ? 16 : 0) : intact.back().first + intact.back().second;
-    bool undecidable = false;
-    for (std::size_t p = from; p < s.size() && !undecidable; ++p) {
-      std::size_t q = p;
-      while (const std::size_t len = header_len(q)) {
-        if (len < 3 || q + len > s.size()) break;
-        q += len;
-      }
-      undecidable = q == s.size() && q > p;
-    }
-    if (!undecidable) return;
-    s.pop_back();
-    d = reinterpret_cast<const std::uint8_t*>(s.data());
-  }
+  const auto intact = Records(kind, book, reinterpret_cast<const std::uint8_t*>(s.data()), s.size());
+  const std::size_t from = intact.empty() ? FirstRecord(kind) : intact.back().first + intact.back().second;
+  for (int guard = 0; guard < 64 && !s.empty() && ChainEndsAtEnd(kind, book, s, from); ++guard) s.pop_back();
 }
 
 // The original's own records, walked by their declared sizes (an original is undamaged).
@@ -169,18 +176,11 @@ RecordBook BookOf(LogKind kind, const std::string& bytes) {
   RecordBook book;
   const auto* d = reinterpret_cast<const std::uint8_t*>(bytes.data());
   const std::size_t n = bytes.size();
-  std::size_t pos = kind == LogKind::kULog ? 16 : 0;
+  std::size_t pos = FirstRecord(kind);
   while (pos + 3 <= n) {
-    std::size_t len = 0;
-    if (kind == LogKind::kULog) {
-      len = 3 + (d[pos] | (d[pos + 1] << 8));
-    } else {
-      if (d[pos] != 0xA3 || d[pos + 1] != 0x95) break;
-      const auto it = book.dataflash_length.find(d[pos + 2]);
-      if (it == book.dataflash_length.end() || it->second < 3) break;
-      len = it->second;
-      if (d[pos + 2] == 0x80 && pos + 5 <= n) book.dataflash_length[d[pos + 3]] = d[pos + 4];
-    }
+    const std::size_t len = DeclaredLength(kind, book, d, n, pos);  // the FMTs read so far
+    if (len < 3) break;
+    if (kind == LogKind::kDataFlash && d[pos + 2] == 0x80 && pos + 5 <= n) book.dataflash_length[d[pos + 3]] = d[pos + 4];
     if (pos + len > n) break;
     book.records.insert(bytes.substr(pos, len));
     if (kind == LogKind::kULog) book.ulog_headers.insert({static_cast<char>(d[pos + 2]), len});

@@ -51,8 +51,8 @@ void AddLogOptions(CLI::App* app, LogOptions* o, bool input_required) {
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
   app->add_flag("--strict", o->strict,
-                "ULog / DataFlash / ROS 1 bag / MCAP: refuse a damaged log at its first bad record (exit 2, naming the byte offset) "
-                "instead of skipping to the next valid record with a warning");
+                "ULog / DataFlash / ROS 1 bag / MCAP / rosbag2 .db3: refuse a damaged log at its first bad record (exit 2, "
+                "naming the byte offset or message id) instead of skipping to the next valid record with a warning");
 }
 
 CLI::Validator IntegerRange(std::int64_t lo, std::int64_t hi, const std::string& source) {

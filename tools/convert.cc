@@ -82,7 +82,8 @@ Command MakeConvert(CLI::App& app) {
       "ROS bags (ROS 1, MCAP, rosbag2 .db3 / folder): time_s (header stamp, or --time receive),\n"
       "x_rad_s, y_rad_s, z_rad_s (angular_velocity), x_m_s2, y_m_s2, z_m_s2 (linear_acceleration),\n"
       "temp_c (a sensor_msgs/Temperature topic joined by nearest time). A damaged ROS 1 bag or MCAP record\n"
-      "or chunk is skipped the same way (--strict refuses). gyrocomp convert -i imu.mcap --topic /imu0 -o imu.csv");
+      "or chunk, or a .db3 row SQLite cannot read, is skipped the same way (--strict refuses).\n"
+      "gyrocomp convert -i imu.mcap --topic /imu0 -o imu.csv");
   AddInputOption(sub, "-i,--input", &a->input, "Input log (ULog, DataFlash or ROS bag, recognised by its first bytes)")->required();
   sub->add_option("--instance", a->instance, "Gyro instance (default: the only one; several are listed)")
       ->check(CLI::NonNegativeNumber);
@@ -91,7 +92,8 @@ Command MakeConvert(CLI::App& app) {
       ->check(CLI::IsMember({"header", "receive"}))
       ->capture_default_str();
   sub->add_flag("--strict", a->strict,
-                "Refuse a damaged ULog / DataFlash log, ROS 1 bag or MCAP at its first bad record (exit 2, naming the byte offset)");
+                "Refuse a damaged ULog / DataFlash log, ROS 1 bag, MCAP or rosbag2 .db3 at its first bad record (exit 2, "
+                "naming the byte offset or message id)");
   AddOutputOption(sub, "-o,--output", &a->output, "Output CSV (.gz: gzip; '-' = stdout)")->required();
   AddOutputOption(sub, "--json", &a->json_path, "Write what was converted as JSON ('-' = stdout)");
   return {sub, [a] { return Run(*a); }};

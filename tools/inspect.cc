@@ -22,6 +22,27 @@ struct InspectArgs {
   bool strict = false;
 };
 
+// "2 byte range(s), 120 bytes skipped (...)"; a rosbag2 .db3's damage is message id ranges
+// (DamageJson), "1 message id range(s), 12 message ids skipped (...)".
+std::string DamageSummary(const nlohmann::json& damage) {
+  std::size_t byte_ranges = 0, bytes = 0, id_ranges = 0, ids = 0;
+  for (const auto& d : damage) {
+    if (d.contains("bytes")) {
+      ++byte_ranges;
+      bytes += d["bytes"].get<std::size_t>();
+    } else {
+      ++id_ranges;
+      ids += d["messages"].get<std::size_t>();
+    }
+  }
+  std::string s;
+  if (byte_ranges) s = std::to_string(byte_ranges) + " byte range(s), " + std::to_string(bytes) + " bytes";
+  if (id_ranges) {
+    s += (s.empty() ? "" : "; ") + std::to_string(id_ranges) + " message id range(s), " + std::to_string(ids) + " message ids";
+  }
+  return s + " skipped (see the warning; every range in --json \"damage\")";
+}
+
 void PrintBag(const nlohmann::json& j) {
   std::cout << j["input"].get<std::string>() << ": " << j["format"].get<std::string>() << ", " << j["topics"].size()
             << " topics\n";
@@ -32,12 +53,7 @@ void PrintBag(const nlohmann::json& j) {
                     FormatNumber(t["rate_hz"].is_null() ? std::nullopt : std::optional<double>(t["rate_hz"].get<double>()))});
   }
   std::cout << FormatTable({"topic", "type", "encoding", "messages", "rate_hz"}, rows);
-  if (!j["damage"].empty()) {
-    std::size_t bytes = 0;
-    for (const auto& d : j["damage"]) bytes += d["bytes"].get<std::size_t>();
-    std::cout << "damage: " << j["damage"].size() << " byte range(s), " << bytes
-              << " bytes skipped (see the warning; every range in --json \"damage\")\n";
-  }
+  if (!j["damage"].empty()) std::cout << "damage: " << DamageSummary(j["damage"]) << "\n";
   for (const auto& w : j["warnings"]) std::cout << "warning: " << w.get<std::string>() << "\n";
 }
 
@@ -62,10 +78,7 @@ void PrintText(const nlohmann::json& j) {
   if (j["damage"].empty()) {
     std::cout << "damage: none found\n";
   } else {
-    std::size_t bytes = 0;
-    for (const auto& d : j["damage"]) bytes += d["bytes"].get<std::size_t>();
-    std::cout << "damage: " << j["damage"].size() << " byte range(s), " << bytes
-              << " bytes skipped (see the warning; every range in --json \"damage\")\n";
+    std::cout << "damage: " << DamageSummary(j["damage"]) << "\n";
   }
   std::cout << "compensation parameters: " << (j["compensation_parameters"].empty() ? "none found" : j["compensation_parameters"].dump())
             << "\n";
@@ -102,7 +115,8 @@ Command MakeInspect(CLI::App& app) {
   AddInputOption(sub, "-i,--input", &a->input, "Input log (ULog, DataFlash or ROS bag, recognised by its first bytes)")->required();
   AddOutputOption(sub, "--json", &a->json_path, "Write the listing as JSON ('-' = stdout, then no text)");
   sub->add_flag("--strict", a->strict,
-                "Refuse a damaged ULog / DataFlash log, ROS 1 bag or MCAP at its first bad record (exit 2, naming the byte offset)");
+                "Refuse a damaged ULog / DataFlash log, ROS 1 bag, MCAP or rosbag2 .db3 at its first bad record (exit 2, "
+                "naming the byte offset or message id)");
   return {sub, [a] { return Run(*a); }};
 }
 

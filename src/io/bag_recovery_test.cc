@@ -40,38 +40,12 @@ using testing::Sample;
 constexpr int kChunks = 4;
 constexpr int kPerChunk = 30;  // IMU messages per chunk; a temperature message every 10th
 
-// ---- Rows as bits ----
+// ---- Rows as bits (bag_test_util.h) ----
 
-// An IMU row: time_s, gyro x y z, accel x y z (the joined temperature is left out: a lost
-// temperature message changes which one is nearest, not the IMU message).
-using Row = std::tuple<std::uint64_t, std::uint64_t, std::uint64_t, std::uint64_t, std::uint64_t, std::uint64_t,
-                       std::uint64_t>;
-std::uint64_t Bits(double v) {
-  std::uint64_t b;
-  std::memcpy(&b, &v, sizeof b);
-  return b;
-}
-std::vector<Row> Rows(const BagImuTable& t) {
-  std::vector<Row> out;
-  const auto& c = t.table.columns;
-  for (std::size_t i = 0; i < t.table.num_rows(); ++i) {
-    out.emplace_back(Bits(c[0][i]), Bits(c[1][i]), Bits(c[2][i]), Bits(c[3][i]), Bits(c[4][i]), Bits(c[5][i]), Bits(c[6][i]));
-  }
-  std::sort(out.begin(), out.end());
-  return out;
-}
-bool IsSubset(const std::vector<Row>& got, const std::vector<Row>& all) {
-  return std::includes(all.begin(), all.end(), got.begin(), got.end());
-}
-std::size_t DamageLines(const BagImuTable& t) {
-  return static_cast<std::size_t>(std::count_if(t.warnings.begin(), t.warnings.end(), [](const std::string& w) {
-    return w.find(": damaged: ") != std::string::npos;
-  }));
-}
-std::size_t Lost(const LogDamage& d, const std::string& topic) {
-  const auto it = d.rows_lost.find(topic);
-  return it == d.rows_lost.end() ? 0 : it->second;
-}
+using Row = testing::BagRow;
+using testing::DamageLines;
+using testing::IsSubset;
+using testing::Lost;
 
 std::uint64_t ReceiveNs(int i) { return static_cast<std::uint64_t>(Sample(i).StampNs() + 2000000); }
 
@@ -172,7 +146,7 @@ class BagRecoveryTest : public testing::FileTest {
     Result<BagImuTable> r = ReadBagImu(path, {});
     EXPECT_TRUE(r.ok()) << (r.ok() ? "" : r.error().message);
     if (!r.ok()) return {};
-    EXPECT_TRUE(IsSubset(Rows(*r), original)) << "a row that is not in the undamaged bag";
+    EXPECT_TRUE(IsSubset(testing::BagRows(*r), original)) << "a row that is not in the undamaged bag";
     EXPECT_FALSE(r->damage.empty());
     EXPECT_EQ(DamageLines(*r), 1u);
     BagReadOptions strict;
@@ -192,7 +166,7 @@ std::vector<Row> ReadRows(const std::string& path) {
   Result<BagImuTable> r = ReadBagImu(path, {});
   EXPECT_TRUE(r.ok()) << (r.ok() ? "" : r.error().message);
   EXPECT_TRUE(r.ok() && r->damage.empty() && r->warnings.empty());
-  return r.ok() ? Rows(*r) : std::vector<Row>{};
+  return r.ok() ? testing::BagRows(*r) : std::vector<Row>{};
 }
 
 TEST_F(BagRecoveryTest, Ros1FlippedChunkHeaderLosesOnlyThatChunk) {
@@ -519,7 +493,7 @@ TEST_F(BagRecoveryTest, EveryFlippedByteKeepsOnlyRowsOfTheUndamagedBag) {
         continue;
       }
       ++read;
-      ASSERT_TRUE(IsSubset(Rows(*r), all)) << "byte " << byte;
+      ASSERT_TRUE(IsSubset(testing::BagRows(*r), all)) << "byte " << byte;
       ASSERT_LE(DamageLines(*r), 1u) << "byte " << byte;
     }
     EXPECT_GT(read, tried * 7 / 10);
@@ -564,7 +538,7 @@ TEST_F(BagRecoveryTest, RandomRangeDamageNeverInventsARow) {
         continue;
       }
       ++read;
-      std::vector<Row> rows = Rows(*r);
+      std::vector<Row> rows = testing::BagRows(*r);
       if (k % 4 == 1) rows.erase(std::unique(rows.begin(), rows.end()), rows.end());  // a duplicated record reads twice
       if (checksummed) {
         ASSERT_TRUE(IsSubset(rows, all)) << "damage " << k % 4 << " at " << from << " of " << len;

@@ -1,11 +1,13 @@
 // Test-only pieces shared by the ROS bag reader tests (cdr_test, mcap_test, rosbag1_test,
-// bag_test): little-endian bytes, the simulated IMU messages the hand-built bags hold and the
-// check that a table read back holds them.
+// bag_test, the recovery tests): little-endian bytes, the simulated IMU messages the hand-built
+// bags hold, the check that a table read back holds them, and rows as bits.
 #pragma once
 
 #include <algorithm>
 #include <cstdint>
+#include <cstring>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -100,6 +102,41 @@ inline void ExpectSamples(const BagImuTable& t, int n) {
     const int nearest = (i % 10 <= 5) ? i / 10 * 10 : i / 10 * 10 + 10;
     EXPECT_EQ(t.table.columns[7][i], 20.0 + std::min(nearest, (n - 1) / 10 * 10)) << i;
   }
+}
+
+// An IMU row as bits: time_s, gyro x y z, accel x y z (the joined temperature is left out: a lost
+// temperature message changes which one is nearest, not the IMU message).
+using BagRow = std::tuple<std::uint64_t, std::uint64_t, std::uint64_t, std::uint64_t, std::uint64_t, std::uint64_t,
+                          std::uint64_t>;
+inline std::uint64_t Bits(double v) {
+  std::uint64_t b;
+  std::memcpy(&b, &v, sizeof b);
+  return b;
+}
+// A table's rows, sorted.
+inline std::vector<BagRow> BagRows(const BagImuTable& t) {
+  std::vector<BagRow> out;
+  const auto& c = t.table.columns;
+  for (std::size_t i = 0; i < t.table.num_rows(); ++i) {
+    out.emplace_back(Bits(c[0][i]), Bits(c[1][i]), Bits(c[2][i]), Bits(c[3][i]), Bits(c[4][i]), Bits(c[5][i]), Bits(c[6][i]));
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+// Every row of `got` is one of `all` (both sorted).
+inline bool IsSubset(const std::vector<BagRow>& got, const std::vector<BagRow>& all) {
+  return std::includes(all.begin(), all.end(), got.begin(), got.end());
+}
+// Warnings that report damage (one per file is the rule).
+inline std::size_t DamageLines(const BagImuTable& t) {
+  return static_cast<std::size_t>(std::count_if(t.warnings.begin(), t.warnings.end(), [](const std::string& w) {
+    return w.find(": damaged: ") != std::string::npos;
+  }));
+}
+// Rows a damage lost on `topic`.
+inline std::size_t Lost(const LogDamage& d, const std::string& topic) {
+  const auto it = d.rows_lost.find(topic);
+  return it == d.rows_lost.end() ? 0 : it->second;
 }
 
 }  // namespace gyrocomp::testing

@@ -17,7 +17,9 @@
 // Damage (BagReadOptions::strict false, the default): the ROS 1 and MCAP readers skip a damaged
 // record or chunk to the next valid record (log_damage.h), keep every intact message and list
 // what they skipped in BagImuTable::damage / BagListing::damage, with one warning line per file.
-// A kept row is always the bytes of one intact message record; none is invented or altered.
+// The rosbag2 sqlite3 reader does the same as far as SQLite tells: rows SQLite cannot read (a
+// damaged page) and wanted rows whose data do not decode are skipped, listed as message id
+// ranges. A kept row is always the bytes of one intact message record; none is invented or altered.
 //
 // Format readers: src/io/mcap.cc (MCAP), src/io/ros2_sqlite.cc, src/io/rosbag1.cc; message
 // decoding: gyrocomp/io/cdr.h.
@@ -80,8 +82,11 @@ struct BagReadOptions {
   // running past its chunk or the file) is skipped to the next valid record; every intact
   // message is kept and the skipped byte ranges, with the messages lost per topic where the
   // file's own index tells, go to BagVisitor::OnDamage. true: the first damaged record is an
-  // error naming its byte offset. (rosbag2 .db3 files are read through SQLite, which refuses a
-  // damaged database either way.)
+  // error naming its byte offset. rosbag2 .db3 (src/io/ros2_sqlite_recovery.cc): a row SQLite
+  // reports damaged (SQLITE_CORRUPT) or a wanted row whose CDR does not decode is skipped, the
+  // table sought again at the next readable message id, the ids skipped reported (LogDamage::
+  // message_ids); true: the first such row is an error. A .db3 whose schema or topics table
+  // cannot be read is refused either way.
   bool strict = false;
   // Checks the byte limits are > 0; false with the reason in `error`.
   bool IsValid(std::string* error) const;

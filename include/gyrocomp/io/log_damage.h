@@ -17,7 +17,7 @@
 
 namespace gyrocomp {
 
-// One skipped byte range [begin, end) of the file.
+// One skipped byte range [begin, end) of the file (or, for a rosbag2 .db3, a range of message ids).
 struct LogDamage {
   // An empty range.
   LogDamage() = default;
@@ -31,13 +31,18 @@ struct LogDamage {
   // whose topic could still be told (a record header intact, or a data size only one topic has).
   std::map<std::string, std::size_t> rows_lost;
   std::size_t records_unidentified = 0;  // records (or parts) in the range no topic could be given to
+  // true: [begin, end) are rosbag2 messages.id values, not bytes (a .db3 is read through SQLite,
+  // which names rows, not offsets); end == begin when no row after the damage could be read.
+  bool message_ids = false;
 };
 
-// One line for a file's damage ("<source>: damaged: 2 byte ranges skipped (...)"), empty when none.
+// One line for a file's damage ("<source>: damaged: skipped 2 byte ranges (...)"; a .db3's as
+// message id ranges), empty when none.
 std::string DamageWarning(const std::string& source, const std::vector<LogDamage>& damage);
 
 // The damage as JSON: [{"begin_byte", "end_byte", "bytes", "what", "rows_lost": {...},
-// "records_unidentified"}].
+// "records_unidentified"}]; a message id range has "begin_message_id", "end_message_id" (null:
+// nothing after it could be read) and "messages" (ids in the range) instead of the byte keys.
 nlohmann::json DamageJson(const std::vector<LogDamage>& damage);
 
 }  // namespace gyrocomp

@@ -250,7 +250,9 @@ TEST(PooledCubic, RateTermOnlyWhenItsHeldOutGainBeatsItsStandardError) {
     ASSERT_TRUE(f.ok()) << f.error().message;
     EXPECT_EQ(f->rate_term.pairs, 6u) << true_gain;
     EXPECT_EQ(f->rate_used, true_gain > 0.0) << f->rate_term.BriefReport();
-    if (true_gain > 0.0) EXPECT_NEAR(f->rate_gain, true_gain, 0.02);
+    if (true_gain > 0.0) {
+      EXPECT_NEAR(f->rate_gain, true_gain, 0.02);
+    }
     EXPECT_NEAR(f->slope[0], 0.01, 2e-4) << true_gain;
   }
 }

@@ -139,7 +139,9 @@ void CheckCalibratedSection(const nlohmann::json& sec, const nlohmann::json& s, 
       EXPECT_NEAR(Rms(sd), steady, 1e-6 * steady) << sec["title"] << " " << k;
     }
     // The simulated accelerometer and barometer drift is static: the cubic removes most of it.
-    if (s["type"] != "gyro") EXPECT_LT(row[2].get<double>(), 0.5 * row[1].get<double>()) << sec["title"] << " " << k;
+    if (s["type"] != "gyro") {
+      EXPECT_LT(row[2].get<double>(), 0.5 * row[1].get<double>()) << sec["title"] << " " << k;
+    }
   }
 }
 
@@ -158,7 +160,9 @@ TEST_F(CalibrateReportCli, SingleRunEverySensorHasItsRowsCurveAndResidual) {
   }
   EXPECT_EQ(want, (std::vector<int>{6, 6, 6, 6, 2}));  // 2 gyros, 2 accels, the barometer
   const std::vector<int> drawn = ChartsDrawn();
-  if (!drawn.empty()) EXPECT_EQ(drawn, want);
+  if (!drawn.empty()) {
+    EXPECT_EQ(drawn, want);
+  }
 }
 
 // A soak of two IMUs pooled with a ramp of the first: IMU 0 and the barometer are calibrated over
@@ -188,7 +192,9 @@ TEST_F(CalibrateReportCli, PooledLogsColouredPerLogAndSkippedSensorsHaveNoChart)
   }
   EXPECT_EQ(want, (std::vector<int>{6, 0, 6, 0, 2}));  // gyro 0, gyro 1, accel 0, accel 1, baro 0
   const std::vector<int> drawn = ChartsDrawn();
-  if (!drawn.empty()) EXPECT_EQ(drawn, want);
+  if (!drawn.empty()) {
+    EXPECT_EQ(drawn, want);
+  }
 }
 
 // At 1 row a second the ramp's 4200 rows are drawn every second row (at most 2500 a log and chart).

@@ -156,7 +156,7 @@ struct CalibratedSensor {
   // curve_sd at every temperature (the fit's 1 sigma of the curve, its RMS over the range).
   // Empty sd: no band (a model without one, band_reason says why).
   struct CurveBand {
-    double level = 0.9;
+    double level = 0.9;  // the band's level (two-sided)
     double z = 0.0;  // z(level)
     std::vector<double> temp_c;  // deg C, over [temp_min_c, temp_max_c]
     std::vector<double> sd;  // firmware unit

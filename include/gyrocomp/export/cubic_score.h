@@ -74,13 +74,14 @@ double TwoSidedZ(double level);
 // the exported curve): at `points` temperatures over the cubic's range, cubic - model(T, 0) and the
 // band's standard deviation there; sqrt(projection^2 + band_sd^2) is the expected next-run error's
 // standard deviation at T, and its RMS over the grid is ExpectedCubicError's steady.total_rms.
-// Model unit, `cubic` before any constant is removed. Errors: as ExpectedCubicError's steady part.
 struct CubicErrorProfile {
   double level = 0.9;  // the band's level
   std::vector<double> temp_c;  // the grid over [temp_min_c, temp_max_c]
   std::vector<double> projection;  // cubic(T) - model(T, state 0)
   std::vector<double> band_sd;  // the model's band half-width / z(level) at T
 };
+// CubicErrorProfile of `cubic` against `model` at `points` temperatures. Model unit, `cubic`
+// before any constant is removed. Errors: as ExpectedCubicError's steady part.
 Result<CubicErrorProfile> SteadyCubicErrorProfile(const DriftModel& model, const TemperatureCubic& cubic, int points = 401);
 // `cubic` in the model's target unit, before any constant is removed. Errors: the model has no
 // band (an older model file), invalid options, Predict errors.

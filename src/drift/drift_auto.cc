@@ -337,6 +337,41 @@ std::string FlagCvScale(const std::vector<Candidate>& all, double span) {
          "the drift is that large";
 }
 
+// The kernel candidates (svr, cs-svr, hybrid), fitted or skipped with the reason, after the
+// structured ones: eligible only on runs that heat and cool (Eq. I-3) with enough points (Eq. I-0).
+void AddKernelCandidates(const DriftInputs& inputs, std::span<const double> target, DriftFitOptions c,
+                         const CvPlan& plan, const Support& sup, std::size_t best_poly, std::vector<Candidate>* out) {
+  std::vector<Candidate>& all = *out;
+  const bool kernels = sup.memory && sup.kernels;
+  const std::string why_not = !sup.kernels ? "not fitted: too few points for a kernel (Eq. I-0)"
+                                           : "not fitted: the run does not cover both directions, an RBF kernel "
+                                             "cannot extrapolate the state";
+  // A pure kernel in (T, dT/dt) when the structured model carries both states the run
+  // identifies: the kernel has no memory input, so it can only stand the hysteresis in for a
+  // function of dT/dt, which another run at other rates does not share. On 24 rate-cycles
+  // calibrations (4 structures x 6 seeds) cs-svr won the segment CV on 8 and was worse than
+  // poly(T, dT/dt, memory) on all 16 held-out runs of those 8 (docs/explanation/drift-models.md, "The selection
+  // rule"). The hybrid (the two-state polynomial plus a kernel that passes Eq. H-1) stays.
+  const bool pure_kernels = kernels && all[best_poly].inputs != DriftInputSet::kTempRateAndMemory;
+  const std::string why_not_pure =
+      kernels ? "not fitted: the structured model carries both identified states (dT/dt and memory); a kernel "
+                "in (T, dT/dt) lacks the memory (the hybrid keeps a kernel on the two-state model)"
+              : why_not;
+  c.inputs = DriftInputSet::kTempAndRate;
+  for (DriftModelKind k : {DriftModelKind::kSvr, DriftModelKind::kCsSvr})
+    all.push_back(pure_kernels ? FitCandidate(inputs, target, k, c, plan) : Skipped(k, c.inputs, c, why_not_pure));
+  // The hybrid on the best structured state (and its tau), on runs that heat and cool only: its
+  // kernel in (T, state) is validated on the direction(s) the run covers, and on a cooling
+  // calibration it learnt what the cooling blocks share (flicker, a hysteresis branch) and
+  // applied it to the next heating run: B6 passed Eq. H-1 and was 1.88x poly's heating error.
+  c = OptionsOf(all[best_poly], c);
+  all.push_back(kernels ? FitCandidate(inputs, target, DriftModelKind::kHybrid, c, plan)
+                        : Skipped(DriftModelKind::kHybrid, c.inputs, c,
+                                  !sup.kernels ? why_not
+                                               : "not fitted: the run does not cover both directions, its kernel "
+                                                 "cannot be validated on the other"));
+}
+
 Result<DriftModel> FitAuto(const DriftInputs& inputs, std::span<const double> target, const DriftFitOptions& o,
                            const CvPlan& plan, std::size_t points, double train_period_s, const std::string& plan_note) {
   std::vector<Candidate> all;
@@ -346,8 +381,8 @@ Result<DriftModel> FitAuto(const DriftInputs& inputs, std::span<const double> ta
   c.cv_scheme = plan.scheme;
   c.search.cuckoo.max_generations = o.auto_select.search_generations;
   c.polynomial.degree = sup.degree;
-  // A gain that varies with T is not an auto candidate: Eq. A-4 rejected it on 23 of 24 runs where it helps
-  // (docs/explanation/accuracy.md "A gain that varies with temperature").
+  // A gain that varies with T is not an auto candidate: Eq. A-4 rejected it on 23 of 24 two-direction
+  // runs of bench/sim2 (docs/explanation/accuracy.md "A gain that varies with temperature").
   c.polynomial.gain_temp_degree = 0;
   const bool memory = sup.memory;
   // Structured candidates: the polynomial with each thermal state the run identifies.
@@ -395,36 +430,7 @@ Result<DriftModel> FitAuto(const DriftInputs& inputs, std::span<const double> ta
   std::vector<TermAdmission> tests;
   const std::size_t best_poly = ChooseStructured(inputs, target, c, plan, &all, &tests);
   const std::string state_reason = AdmissionReason(tests);
-  if (o.auto_select.try_svr) {
-    const bool kernels = memory && sup.kernels;
-    const std::string why_not = !sup.kernels ? "not fitted: too few points for a kernel (Eq. I-0)"
-                                             : "not fitted: the run does not cover both directions, an RBF kernel "
-                                               "cannot extrapolate the state";
-    // A pure kernel in (T, dT/dt) when the structured model carries both states the run
-    // identifies: the kernel has no memory input, so it can only stand the hysteresis in for a
-    // function of dT/dt, which another run at other rates does not share. On 24 rate-cycles
-    // calibrations (4 structures x 6 seeds) cs-svr won the segment CV on 8 and was worse than
-    // poly(T, dT/dt, memory) on all 16 held-out runs of those 8 (docs/explanation/drift-models.md, "The selection
-    // rule"). The hybrid (the two-state polynomial plus a kernel that passes Eq. H-1) stays.
-    const bool pure_kernels = kernels && all[best_poly].inputs != DriftInputSet::kTempRateAndMemory;
-    const std::string why_not_pure =
-        kernels ? "not fitted: the structured model carries both identified states (dT/dt and memory); a kernel "
-                  "in (T, dT/dt) lacks the memory (the hybrid keeps a kernel on the two-state model)"
-                : why_not;
-    c.inputs = DriftInputSet::kTempAndRate;
-    for (DriftModelKind k : {DriftModelKind::kSvr, DriftModelKind::kCsSvr})
-      all.push_back(pure_kernels ? FitCandidate(inputs, target, k, c, plan) : Skipped(k, c.inputs, c, why_not_pure));
-    // The hybrid on the best structured state (and its tau), on runs that heat and cool only: its
-    // kernel in (T, state) is validated on the direction(s) the run covers, and on a cooling
-    // calibration it learnt what the cooling blocks share (flicker, a hysteresis branch) and
-    // applied it to the next heating run: B6 passed Eq. H-1 and was 1.88x poly's heating error.
-    c = OptionsOf(all[best_poly], c);
-    all.push_back(kernels ? FitCandidate(inputs, target, DriftModelKind::kHybrid, c, plan)
-                          : Skipped(DriftModelKind::kHybrid, c.inputs, c,
-                                    !sup.kernels ? why_not
-                                                 : "not fitted: the run does not cover both directions, its kernel "
-                                                   "cannot be validated on the other"));
-  }
+  if (o.auto_select.try_svr) AddKernelCandidates(inputs, target, c, plan, sup, best_poly, &all);
   // A kernel candidate must beat the best structured one by one standard error of the latter's
   // fold scores: the CV error is dominated by the flicker bias no model can predict, and a
   // searched model's CV score is optimistic (its parameters were chosen on it), so a small CV

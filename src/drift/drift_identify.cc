@@ -7,7 +7,7 @@
 //     decimated copy the CV scores: block means of train_period_s, or every row of a short
 //     table). 25 plateau means: p <= 4, a cubic in T and no state; kernels need n >= 60.
 //   Eq. I-1 (dT/dt gain), (a)-(c) must hold on the decimated (T, r = dT/dt) of the run; (d) is
-//     reported (and carried by the band), not a gate:
+//     reported, not a gate:
 //     (a) contrast over the range: dT/dt must vary at fixed temperature. The fitted range is cut
 //         into 5 equal bins; a bin contrasts when it has >= max(3, 2% of n) points and the SD
 //         of r among them is >= 0.25x the SD of r over the run (holds and ramps, or heating

@@ -2,6 +2,7 @@
 // and small readers for them that do not depend on gyrocomp's own CSV reader.
 #pragma once
 
+#include <cstdint>
 #include <functional>
 #include <map>
 #include <string>
@@ -20,8 +21,26 @@ std::string GoldenPath(const std::string& relative);
 // that need it call GTEST_SKIP() with the reason then.
 std::string RealdataPath(const std::string& relative);
 
+// n samples of white Gaussian noise of standard deviation sigma (NormalGenerator, seeded).
+std::vector<double> WhiteNoise(std::size_t n, double sigma, std::uint64_t seed);
+
 // Path of the built gyrocomp CLI (for end-to-end tests), or "" when the CLI is not built.
 std::string CliPath();
+
+// tests/fieldlogs (small public logs kept in the tree; see its README.md).
+std::string FieldlogsDir();
+
+// ../shared/fieldlogs (licensed logs made by others; absent in a user's clone).
+std::string SharedFieldlogsDir();
+
+// FieldlogsDir()/name.
+std::string FieldlogPath(const std::string& name);
+
+// Debian's python3 (its numpy, rosbag, sqlite3), whatever python3 comes first on PATH.
+inline constexpr char kPython3[] = "/usr/bin/python3";
+
+// tests/bags: rosbag2's own test bags (tests/bags/README.md) and make_imu_bags.py.
+std::string BagsDir();
 
 nlohmann::json ReadJsonFile(const std::string& path);
 
@@ -56,6 +75,9 @@ std::string WriteGzFile(const std::string& path, const std::string& bytes);
 
 // The bytes of the file at `path`, "" when it cannot be read.
 std::string ReadFile(const std::string& path);
+
+// ReadFile, failing the test (not aborting it) when the file cannot be opened.
+std::string ReadExistingFile(const std::string& path);
 
 // Runs `call` while another thread cancels `token` 50 ms in; true when `call` threw Cancelled
 // (anything else propagates). The time from the cancel to the end of `call` is printed after

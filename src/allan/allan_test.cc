@@ -16,12 +16,7 @@
 namespace gyrocomp {
 namespace {
 
-std::vector<double> WhiteNoise(std::size_t n, double sigma, std::uint64_t seed) {
-  NormalGenerator g(seed);
-  std::vector<double> y(n);
-  for (double& v : y) v = sigma * g.Next();
-  return y;
-}
+using testing::WhiteNoise;
 
 // Least-squares slope of ln(adev) against ln(tau) over the points with tau_lo <= tau <= tau_hi.
 double LogLogSlope(const AllanCurve& c, double tau_lo, double tau_hi) {

@@ -13,12 +13,7 @@
 namespace gyrocomp {
 namespace {
 
-std::vector<double> WhiteNoise(std::size_t n, double sigma, std::uint64_t seed) {
-  NormalGenerator g(seed);
-  std::vector<double> y(n);
-  for (double& v : y) v = sigma * g.Next();
-  return y;
-}
+using testing::WhiteNoise;
 
 void ExpectMatchesGolden(DeviationKind kind) {
   const auto csv = testing::ReadGoldenCsv(testing::GoldenPath("allan_kinds/rate.csv"));

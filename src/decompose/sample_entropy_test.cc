@@ -356,8 +356,9 @@ TEST(SampleEntropyCancel, ATokenSetBeforeTheCallThrowsCancelled) {
 }
 
 TEST(SampleEntropyCancel, AnUnsetTokenChangesNoCount) {
-  // Long enough for several cancellation chunks (2^16 templates) in every counter.
-  const std::vector<double> x = WhiteNoise(300000, 2);
+  // Long enough for several cancellation chunks in every counter (2^16 templates or 2^22 pairs:
+  // 2.3 template chunks here, and ~10^9 candidate pairs in the sorted window).
+  const std::vector<double> x = WhiteNoise(150000, 2);
   const CancellationToken token;
   for (auto algo : {SampleEntropyAlgorithm::kRangeCount, SampleEntropyAlgorithm::kSortedWindow}) {
     for (int threads : {1, 2}) {

@@ -40,7 +40,7 @@ struct Series {
 // Continuous, quantized (distances equal to r occur), few levels (long runs of ties), smooth
 // (almost every pair matches), a narrow-band VMD-like mode, and values of both signs around 0
 // including -0.0 and +0.0.
-std::vector<Series> Inputs(std::size_t n, unsigned seed) {
+std::vector<Series> SeriesInputs(std::size_t n, unsigned seed) {
   std::mt19937 rng(seed);
   std::normal_distribution<double> g(0, 1);
   std::vector<Series> s = {{"white", {}}, {"quantized", {}}, {"few_levels", {}}, {"smooth", {}},
@@ -63,7 +63,7 @@ std::vector<Series> Inputs(std::size_t n, unsigned seed) {
 TEST(SampleEntropyCounters, EachCounterEqualsBruteForce) {
   for (unsigned seed : {1u, 2u}) {
     for (std::size_t n : {3u, 4u, 9u, 17u, 30u, 257u, 1000u}) {
-      for (const Series& c : Inputs(n, seed)) {
+      for (const Series& c : SeriesInputs(n, seed)) {
         const double sd = PopulationSd(c.x);
         for (int m : {1, 2, 3, 4, 5}) {
           if (n < static_cast<std::size_t>(m) + 2) continue;
@@ -106,7 +106,7 @@ TEST(SampleEntropyCounters, EachCounterMatchesAntropyGoldenValues) {
 
 TEST(SampleEntropyCounters, WindowThreadCountDoesNotChangeCounts) {
   // 30,000 samples: slices of more than 1024 templates per thread, so 2 and 3 threads split.
-  for (const Series& c : Inputs(30000, 4)) {
+  for (const Series& c : SeriesInputs(30000, 4)) {
     if (c.name == "few_levels" || c.name == "signed_zeros") continue;  // W ~ N^2 / 6: slow, not new
     const double r = 0.2 * PopulationSd(c.x);
     const auto one = CountTemplateMatches(c.x, 2, r, SampleEntropyAlgorithm::kSortedWindow, 1);
@@ -129,7 +129,7 @@ TEST(SampleEntropyCounters, EveryKernelPathGivesTheBruteForceCounts) {
   for (auto path : {se_detail::WindowPath::kAvx512bw, se_detail::WindowPath::kAvx2, se_detail::WindowPath::kBaseline}) {
     if (!se_detail::WindowPathSupported(path)) continue;
     ++paths_run;
-    for (const Series& c : Inputs(1000, 6)) {
+    for (const Series& c : SeriesInputs(1000, 6)) {
       const std::vector<std::uint32_t> order = se_detail::OrderByValue(c.x);
       for (int m = 1; m <= se_detail::kWindowMaxM; ++m) {
         const double r = 0.3 * PopulationSd(c.x);
@@ -148,7 +148,7 @@ TEST(SampleEntropyCounters, EveryKernelPathGivesTheBruteForceCounts) {
 TEST(SampleEntropyCounters, WideRanksAboveSixtyFiveThousandDistinctValues) {
   // 70,000 distinct values: 32-bit ranks (16-bit up to 65,536). Against range counting (the
   // brute force would take minutes), on every kernel path, both layouts, m = 1..3.
-  for (const Series& c : Inputs(70000, 8)) {
+  for (const Series& c : SeriesInputs(70000, 8)) {
     if (c.name != "white" && c.name != "narrow_band" && c.name != "smooth") continue;
     const std::vector<std::uint32_t> order = se_detail::OrderByValue(c.x);
     for (int m = 1; m <= 3; ++m) {
@@ -197,7 +197,7 @@ TEST(SampleEntropyCounters, PlanKeepsTheLayoutWithFewerChecks) {
   EXPECT_EQ(se_detail::PlanWindow(x, order, 4, 1, 10.0).pairs, 6u);  // one group: every pair
   // White noise, r = 0.2 SD, m = 2: the cells keep ~3% of the N^2 / 2 pairs (the strip of the
   // first value alone ~11%): a property of the plan, not a timing.
-  const Series white = Inputs(20000, 3)[0];
+  const Series white = SeriesInputs(20000, 3)[0];
   const auto plan = se_detail::PlanWindow(white.x, se_detail::OrderByValue(white.x), 19998, 2,
                                           0.2 * PopulationSd(white.x));
   EXPECT_LT(plan.pairs, 500u * 19998u);

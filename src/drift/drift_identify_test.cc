@@ -13,7 +13,7 @@
 namespace gyrocomp {
 namespace {
 
-double Cubic(double t) {
+double IdentifyCubic(double t) {
   const double x = (t - 20.0) / 40.0;
   return 0.02 + 0.05 * x - 0.03 * x * x + 0.01 * x * x * x;
 }
@@ -34,7 +34,7 @@ TEST(DriftIdentify, PlateauTableOf25RowsGetsACubicOrLessAndSaysWhy) {
   std::vector<double> temp, y;
   for (int i = 0; i < 22; ++i) temp.push_back(60.0 - 80.0 * i / 21.0);
   for (double t : {-20.1, -20.0, -20.05}) temp.push_back(t);
-  for (double t : temp) y.push_back(Cubic(t) + noise(rng));
+  for (double t : temp) y.push_back(IdentifyCubic(t) + noise(rng));
   DriftFitOptions o;  // the default: auto
   auto m = FitDriftModel({temp, 1.0 / 1200.0}, y, o);
   ASSERT_TRUE(m.ok()) << m.error().message;
@@ -58,7 +58,7 @@ TEST(DriftIdentify, PlateauTableOf25RowsGetsACubicOrLessAndSaysWhy) {
 TEST(DriftIdentify, FewerPointsLowerTheDegree) {
   std::vector<double> temp, y;
   for (int i = 0; i < 13; ++i) temp.push_back(60.0 - 80.0 * i / 12.0);
-  for (double t : temp) y.push_back(Cubic(t));
+  for (double t : temp) y.push_back(IdentifyCubic(t));
   auto m = FitDriftModel({temp, 1.0 / 1200.0}, y, DriftFitOptions{});
   ASSERT_TRUE(m.ok()) << m.error().message;
   EXPECT_EQ(m->summary.degree, 1);
@@ -88,7 +88,7 @@ std::vector<double> Drift(const std::vector<double>& temp, double fs_hz, unsigne
   std::normal_distribution<double> noise(0.0, 0.003);
   auto rate = TemperatureRate(temp, fs_hz);
   std::vector<double> y(temp.size());
-  for (std::size_t i = 0; i < temp.size(); ++i) y[i] = Cubic(temp[i]) + 1.5 * (*rate)[i] + noise(rng);
+  for (std::size_t i = 0; i < temp.size(); ++i) y[i] = IdentifyCubic(temp[i]) + 1.5 * (*rate)[i] + noise(rng);
   return y;
 }
 
@@ -146,7 +146,7 @@ TEST(DriftIdentify, SegmentFoldLeavingOnlyANoisyHoldFallsBackToBlocks) {
 TEST(DriftIdentify, ExcludedTermsRoundTripThroughTheModelFile) {
   std::vector<double> temp, y;
   for (int i = 0; i < 25; ++i) temp.push_back(60.0 - 80.0 * i / 24.0);
-  for (double t : temp) y.push_back(Cubic(t));
+  for (double t : temp) y.push_back(IdentifyCubic(t));
   auto m = FitDriftModel({temp, 1.0 / 1200.0}, y, DriftFitOptions{});
   ASSERT_TRUE(m.ok()) << m.error().message;
   ASSERT_FALSE(m->summary.excluded_terms.empty());

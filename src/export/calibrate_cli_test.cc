@@ -25,11 +25,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string ReadAll(const std::string& path) {
-  std::ifstream f(path);
-  return std::string((std::istreambuf_iterator<char>(f)), {});
-}
-
 // QGroundControl (param_files_test_util.h): names <= 16 characters (MAVLink param_id), TYPE 6
 // (INT32) for IDs and enables, 9 (REAL32) otherwise.
 std::map<std::string, std::string> ReadQgc(const std::string& text) {
@@ -93,7 +88,7 @@ TEST_F(CalibrateCli, Px4FileHoldsEverySensorAndTheFirmwareFormulaGivesTheCubic) 
   ASSERT_EQ(Run("calibrate -i " + log + " --format px4 -o " + dir_ + "/tc.params --models " + dir_ +
                     "/models --json " + dir_ + "/cal.json", &out), 0) << out;
   EXPECT_NE(out.find("gyro 2 (id "), std::string::npos) << out;  // the console summary, one line per sensor
-  const auto p = ReadQgc(ReadAll(dir_ + "/tc.params"));
+  const auto p = ReadQgc(testing::ReadFile(dir_ + "/tc.params"));
   const nlohmann::json j = testing::ReadJsonFile(dir_ + "/cal.json");
   ASSERT_EQ(j["sensors"].size(), 7u);  // 3 gyros, 3 accels, 1 baro
   EXPECT_EQ(p.at("TC_G_ENABLE"), "1");
@@ -143,7 +138,7 @@ TEST_F(CalibrateCli, ArduPilotFileIsRelativeToTheBootOffsetAndIgnoresBoardRotati
     std::string out;
     const std::string file = dir_ + "/tc" + std::to_string(r) + ".param", json = dir_ + "/cal" + std::to_string(r) + ".json";
     ASSERT_EQ(Run("calibrate -i " + log + " --format ardupilot -o " + file + " --json " + json, &out), 0) << out;
-    params[r] = testing::ReadMissionPlannerFile(ReadAll(file));
+    params[r] = testing::ReadMissionPlannerFile(testing::ReadFile(file));
     jsons[r] = testing::ReadJsonFile(json);
   }
   const auto& p = params[0];
@@ -208,7 +203,7 @@ TEST_F(CalibrateCli, NothingCalibratableIsAnErrorAndNoFile) {
 // A real PX4 log (tests/fieldlogs, 6 rows per sensor): every sensor_gyro / accel / baro instance
 // is read and keeps its row with the reason; nothing calibratable -> exit 2.
 TEST_F(CalibrateCli, RealPx4LogListsEverySensorWithItsReason) {
-  const std::string ulg = std::string(GYROCOMP_FIELDLOGS_DIR) + "/sample_log_small.ulg";
+  const std::string ulg = testing::FieldlogsDir() + "/sample_log_small.ulg";
   if (!fs::exists(ulg)) GTEST_SKIP() << "tests/fieldlogs/sample_log_small.ulg absent";
   std::string out;
   EXPECT_EQ(Run("calibrate -i '" + ulg + "' --format px4 -o " + dir_ + "/x.params", &out), 2) << out;

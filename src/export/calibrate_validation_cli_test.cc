@@ -23,11 +23,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string ReadAll(const std::string& path) {
-  std::ifstream f(path);
-  return std::string((std::istreambuf_iterator<char>(f)), {});
-}
-
 std::map<std::string, float> ReadQgcValues(const std::string& text) {
   std::map<std::string, float> p;
   for (const auto& [name, param] : testing::ReadQgcFile(text).params) p[name] = std::stof(param.value);
@@ -97,7 +92,7 @@ TEST_F(CalibrateValidationCli, ScoresEveryCubicWithTheFirmwareFormulaOnTheValida
   EXPECT_NE(out.find("validation run: RMS of block means"), std::string::npos) << out;
   const nlohmann::json j = testing::ReadJsonFile(dir_ + "/c.json");
   EXPECT_EQ(j["validation_run"], val);
-  const auto p = ReadQgcValues(ReadAll(dir_ + "/tc.params"));
+  const auto p = ReadQgcValues(testing::ReadFile(dir_ + "/tc.params"));
   ULogReadOptions ro;
   ro.average_window_us = 1000000;  // the rows calibrate scores: 1 s means (--fit-rate 1)
   auto log = ReadULog(val, ro);
@@ -135,7 +130,7 @@ TEST_F(CalibrateValidationCli, ScoresEveryCubicWithTheFirmwareFormulaOnTheValida
   EXPECT_EQ(scored, 12);  // 2 gyros + 2 accels x 3 axes
   // The report: self-contained HTML with the three tables and each sensor's charts
   // (src/report/calibrate_report_cli_test.cc checks their data).
-  const std::string html = ReadAll(dir_ + "/r.html");
+  const std::string html = testing::ReadFile(dir_ + "/r.html");
   for (const char* s : {"<html", "Sensors", "Exported cubics", "Validation on", "gyro 0 (slot 0): single run",
                         "x_rad_s: drift and exported cubic", "expected error, steady"})
     EXPECT_NE(html.find(s), std::string::npos) << s;
@@ -146,7 +141,7 @@ TEST_F(CalibrateValidationCli, ExpectedErrorPerConditionInTheHeaderAndTheJson) {
   std::string out;
   ASSERT_EQ(Run("calibrate -i " + cal + " --format px4 -o " + dir_ + "/tc.params --json " + dir_ + "/c.json", &out), 0)
       << out;
-  const std::string text = ReadAll(dir_ + "/tc.params");
+  const std::string text = testing::ReadFile(dir_ + "/tc.params");
   EXPECT_NE(text.find("#     expected error steady "), std::string::npos) << text;
   EXPECT_NE(text.find("; warm-up "), std::string::npos) << text;
   const nlohmann::json j = testing::ReadJsonFile(dir_ + "/c.json");
@@ -235,7 +230,7 @@ TEST_F(CalibrateValidationCli, AutoStaticWeightExportsTheChosenEstimatorPerAxis)
     j[w] = testing::ReadJsonFile(dir_ + "/" + name + ".json");
     if (!*w) {
       EXPECT_NE(out.find("static weight"), std::string::npos) << out;
-      EXPECT_NE(ReadAll(dir_ + "/" + name + ".params").find("static weight"), std::string::npos);
+      EXPECT_NE(testing::ReadFile(dir_ + "/" + name + ".params").find("static weight"), std::string::npos);
     }
   }
   EXPECT_EQ(j[""]["static_weight"], "auto");
@@ -274,7 +269,7 @@ TEST_F(CalibrateValidationCli, ExportCarriesTheLibrarysExpectedError) {
   std::string out;
   ASSERT_EQ(Run("export" + models + " --format ardupilot -i " + dir_ + "/cal.csv -o " + dir_ + "/tc.param --json " + dir_ +
                     "/e.json", &out), 0) << out;
-  EXPECT_NE(ReadAll(dir_ + "/tc.param").find("expected next-run error of the cubic"), std::string::npos);
+  EXPECT_NE(testing::ReadFile(dir_ + "/tc.param").find("expected next-run error of the cubic"), std::string::npos);
   const nlohmann::json j = testing::ReadJsonFile(dir_ + "/e.json");
   TemperatureCubic c;
   c.ref_temp_c = j["ref_temp_c"].get<double>();

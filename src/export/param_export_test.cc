@@ -17,7 +17,7 @@
 namespace gyrocomp {
 namespace {
 
-constexpr double kRadPerDeg = std::numbers::pi / 180.0;
+constexpr double kRadPerDegree = std::numbers::pi / 180.0;
 constexpr double kFloatEps = 1.0 / (1 << 24);  // float32 unit roundoff
 
 // ---- PX4: TemperatureCompensation::calc_thermal_offsets_3D, in float as on the vehicle ----
@@ -154,14 +154,14 @@ ThreeAxisCubics ProjectRadps(const std::vector<DriftModel>& models) {
   for (int a = 0; a < 3; ++a) {
     auto p = ProjectOntoCubic(models[a], po);
     EXPECT_TRUE(p.ok());
-    c[a] = p->Scaled(kRadPerDeg);
+    c[a] = p->Scaled(kRadPerDegree);
   }
   return c;
 }
 
 double ModelRadps(const DriftModel& m, double temp_c) {
   const double t = std::clamp(temp_c, m.summary.temp_min_c, m.summary.temp_max_c);
-  return EvaluateDriftModel(m, t, 0.0) * kRadPerDeg;
+  return EvaluateDriftModel(m, t, 0.0) * kRadPerDegree;
 }
 
 // Float rounding bound of the firmware's sum_k c_k x^k at x = T - Tref: each term carries a few
@@ -236,20 +236,20 @@ TEST(Px4Export, NonCubicModelsCostIsWhatTheFirmwareLoses) {
     ASSERT_TRUE(text.ok());
     const Px4GyroCal cal = ReadPx4(*text, 0, 1);
     for (int a = 0; a < 3; ++a) {
-      auto cost = MeasureCubicProjectionCost(models[a], radps[a].Scaled(1.0 / kRadPerDeg), DriftInputs{run.temp_c, 1.0});
+      auto cost = MeasureCubicProjectionCost(models[a], radps[a].Scaled(1.0 / kRadPerDegree), DriftInputs{run.temp_c, 1.0});
       ASSERT_TRUE(cost.ok());
       auto full = models[a].Predict(DriftInputs{run.temp_c, 1.0});
       double ss = 0.0, bound = 0.0;
       for (std::size_t i = 0; i < run.temp_c.size(); ++i) {
         float off[3];
         Px4Offsets(cal, static_cast<float>(run.temp_c[i]), off);
-        const double e = (*full)[i] * kRadPerDeg - off[a];
+        const double e = (*full)[i] * kRadPerDegree - off[a];
         ss += e * e;
         const auto& c = radps[a].coeff;
         bound = std::max(bound, FloatBound(c[0], c[1], c[2], c[3], run.temp_c[i] - cal.tref, run.temp_c[i], cal.tref));
       }
       const double rms_fw = std::sqrt(ss / static_cast<double>(run.temp_c.size()));
-      EXPECT_NEAR(rms_fw, cost->rms * kRadPerDeg, bound) << "seed " << seed << " axis " << a;
+      EXPECT_NEAR(rms_fw, cost->rms * kRadPerDegree, bound) << "seed " << seed << " axis " << a;
       EXPECT_GT(cost->rms, 0.0);
       EXPECT_LT(cost->rms, cost->model_span);  // a projection, not garbage
     }

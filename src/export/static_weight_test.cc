@@ -15,7 +15,7 @@
 namespace gyrocomp {
 namespace {
 
-double Cubic(double t) {
+double WeightCubic(double t) {
   const double d = t - 25.0;
   return 0.02 + 1.5e-3 * d + 1.2e-5 * d * d - 2.0e-7 * d * d * d;
 }
@@ -34,7 +34,7 @@ ChamberHeat HeatingRun(double rate_gain, double noise_sd, unsigned seed) {
   EXPECT_TRUE(rate.ok());
   std::mt19937 gen(seed);
   std::normal_distribution<double> n(0.0, noise_sd);
-  for (std::size_t i = 0; i < r.temp_c.size(); ++i) r.y.push_back(Cubic(r.temp_c[i]) + rate_gain * (*rate)[i] + n(gen));
+  for (std::size_t i = 0; i < r.temp_c.size(); ++i) r.y.push_back(WeightCubic(r.temp_c[i]) + rate_gain * (*rate)[i] + n(gen));
   return r;
 }
 

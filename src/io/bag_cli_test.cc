@@ -22,7 +22,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const char* kPython = "/usr/bin/python3";
 const std::vector<std::string> kBags = {"imu.bag",  "imu_bz2.bag",   "imu_lz4.bag", "imu.mcap",
                                         "imu_zstd.mcap", "imu_lz4.mcap", "imu_db3",     "imu_db3/imu_db3_0.db3"};
 constexpr std::size_t kRows = 60 * 200;
@@ -33,13 +32,13 @@ class BagCliTest : public ::testing::Test {
     skip_ = testing::CliSkipReason();
     if (!skip_.empty()) return;
     std::string out;
-    if (testing::RunCommand(std::string(kPython) + " -c 'import rosbag, roslz4, sensor_msgs.msg, numpy'", &out) != 0) {
+    if (testing::RunCommand(std::string(testing::kPython3) + " -c 'import rosbag, roslz4, sensor_msgs.msg, numpy'", &out) != 0) {
       skip_ = "python3-rosbag, python3-roslz4 or python3-sensor-msgs is not installed (scripts/install-deps.sh): " + out;
       return;
     }
     dir_ = testing::MakeTempDir("gyrocomp_bag_cli_test");
     // 60 s at 200 Hz, a 1 Hz temperature topic and a 500-byte image every 10th IMU message.
-    const std::string cmd = std::string(kPython) + " '" + Script() + "' '" + dir_ + "' --seconds 60 --rate 200 --camera-bytes 500";
+    const std::string cmd = std::string(testing::kPython3) + " '" + Script() + "' '" + dir_ + "' --seconds 60 --rate 200 --camera-bytes 500";
     if (testing::RunCommand(cmd, &out) != 0) skip_ = "make_imu_bags.py failed: " + out;
   }
   static void TearDownTestSuite() {
@@ -48,7 +47,7 @@ class BagCliTest : public ::testing::Test {
   void SetUp() override {
     if (!skip_.empty()) GTEST_SKIP() << skip_;
   }
-  static std::string Script() { return std::string(GYROCOMP_FIELDLOGS_DIR) + "/../bags/make_imu_bags.py"; }
+  static std::string Script() { return testing::BagsDir() + "/make_imu_bags.py"; }
   static std::string P(const std::string& name) { return dir_ + "/" + name; }
   static std::string Flat(const std::string& name) {
     std::string s = name;
@@ -97,7 +96,7 @@ TEST_F(BagCliTest, Ros1BagsEqualPythonRosbagsReading) {
   for (const std::string bag : {"imu.bag", "imu_bz2.bag", "imu_lz4.bag"}) {
     std::string out;
     const std::string ref = P("rosbag_" + Flat(bag) + ".csv");
-    ASSERT_EQ(testing::RunCommand(std::string(kPython) + " '" + Script() + "' --dump-ros1 '" + P(bag) + "' /imu0 '" + ref + "'", &out), 0) << out;
+    ASSERT_EQ(testing::RunCommand(std::string(testing::kPython3) + " '" + Script() + "' --dump-ros1 '" + P(bag) + "' /imu0 '" + ref + "'", &out), 0) << out;
     const std::string csv = P("convert_ref_" + Flat(bag) + ".csv");
     ASSERT_EQ(Run("convert -i '" + P(bag) + "' -o '" + csv + "'", &out), 0) << out;
     ExpectColumnsEqual(testing::ReadGoldenCsv(csv), testing::ReadGoldenCsv(ref),

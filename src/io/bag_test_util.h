@@ -18,9 +18,6 @@
 
 namespace gyrocomp::testing {
 
-// tests/bags: rosbag2's own test bags (tests/bags/README.md) and make_imu_bags.py.
-inline std::string BagsDir() { return std::string(GYROCOMP_FIELDLOGS_DIR) + "/../bags"; }
-
 // Appends v as n little-endian bytes, least significant first (bytes past the 8th are zero).
 inline void Le(std::string* s, std::uint64_t v, int n) {
   for (int i = 0; i < n; ++i) s->push_back(i < 8 ? static_cast<char>((v >> (8 * i)) & 0xff) : '\0');

@@ -108,7 +108,7 @@ TEST_F(CsvColumnsTest, ManyUnusedColumnsKeptValuesAreTheWholeReadsBitForBit) {
 
 TEST_F(CsvColumnsTest, TheRepositorysCsvFilesReadTheSameThroughAnySubset) {
   int files = 0;
-  for (const char* dir : {GYROCOMP_GOLDEN_DIR, GYROCOMP_FIELDLOGS_DIR}) {
+  for (const std::string& dir : {testing::GoldenPath(""), testing::FieldlogsDir()}) {
     if (!fs::exists(dir)) continue;
     for (const auto& e : fs::recursive_directory_iterator(dir)) {
       if (e.path().extension() != ".csv") continue;
@@ -282,7 +282,7 @@ TEST_F(CsvColumnsTest, LogErrorsNameTheSameLineAndFileColumnFromASubset) {
 // gyro_instance) and moves them into the table: the table of every instance, and the messages
 // for a missing or absent instance, are those of the whole read.
 TEST(FlightLogMemory, OneGyroOfAULogReadsAsFromTheWholeLog) {
-  const std::string path = std::string(GYROCOMP_FIELDLOGS_DIR) + "/sample_log_small.ulg";
+  const std::string path = testing::FieldlogsDir() + "/sample_log_small.ulg";
   if (!fs::exists(path)) GTEST_SKIP() << "no " << path;
   const Result<ULogContents> whole = ReadULog(path);
   ASSERT_TRUE(whole.ok()) << whole.error().message;

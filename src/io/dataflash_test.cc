@@ -17,7 +17,7 @@ namespace gyrocomp {
 namespace {
 
 std::string SharedFixture(const std::string& name) {
-  return std::string(GYROCOMP_SHARED_FIELDLOGS_DIR) + "/ardupilot/" + name;
+  return testing::SharedFieldlogsDir() + "/ardupilot/" + name;
 }
 
 void ExpectEqualsDfReaderCsv(const DataFlashContents& log, const std::string& csv_path) {

@@ -24,16 +24,14 @@ class FlightLogCliTest : public testing::CliTest {
   FlightLogCliTest() : CliTest("gyrocomp_flight_log_cli_test") {}
 };
 
-std::string Fixture(const std::string& name) { return std::string(GYROCOMP_FIELDLOGS_DIR) + "/" + name; }
-
 TEST_F(FlightLogCliTest, ConvertEqualsPyulogExtractForEachInstance) {
   for (int m = 0; m < 3; ++m) {
     const std::string out = dir_ + "/g" + std::to_string(m) + ".csv";
     std::string log;
-    ASSERT_EQ(Run("convert -i '" + Fixture("sample_log_small.ulg") + "' --instance " + std::to_string(m) + " -o '" +
+    ASSERT_EQ(Run("convert -i '" + testing::FieldlogPath("sample_log_small.ulg") + "' --instance " + std::to_string(m) + " -o '" +
                       out + "'", &log), 0) << log;
     const auto got = testing::ReadGoldenCsv(out);
-    const auto want = testing::ReadGoldenCsv(Fixture("sample_log_small.ulg.sensor_gyro_" + std::to_string(m) + ".csv"));
+    const auto want = testing::ReadGoldenCsv(testing::FieldlogPath("sample_log_small.ulg.sensor_gyro_" + std::to_string(m) + ".csv"));
     ASSERT_EQ(got.at("time_s").size(), want.at("timestamp_us").size());
     for (std::size_t i = 0; i < want.at("timestamp_us").size(); ++i) {
       // time_s = timestamp_us / 1e6 printed round-trip: back to the integer microsecond exactly.
@@ -47,7 +45,7 @@ TEST_F(FlightLogCliTest, ConvertEqualsPyulogExtractForEachInstance) {
 }
 
 TEST_F(FlightLogCliTest, ConvertEqualsDfReaderExtract) {
-  const std::string bin = std::string(GYROCOMP_SHARED_FIELDLOGS_DIR) + "/ardupilot/backend_log_80k.bin";
+  const std::string bin = testing::SharedFieldlogsDir() + "/ardupilot/backend_log_80k.bin";
   if (!fs::exists(bin)) GTEST_SKIP() << "../shared/fieldlogs absent (GPL-3.0 sample, not in the repository)";
   const auto want = testing::ReadGoldenCsv(bin + ".IMU.csv");
   for (int inst = 0; inst < 2; ++inst) {
@@ -76,7 +74,7 @@ TEST_F(FlightLogCliTest, ConvertEqualsDfReaderExtract) {
 TEST_F(FlightLogCliTest, InspectListsInstancesAndCompensation) {
   std::string log;
   const std::string json = dir_ + "/i.json";
-  ASSERT_EQ(Run("inspect -i '" + Fixture("sample_log_small.ulg") + "' --json '" + json + "'", &log), 0) << log;
+  ASSERT_EQ(Run("inspect -i '" + testing::FieldlogPath("sample_log_small.ulg") + "' --json '" + json + "'", &log), 0) << log;
   const auto j = testing::ReadJsonFile(json);
   EXPECT_EQ(j["format"], "ulog");
   ASSERT_EQ(j["gyro_instances"].size(), 4u);  // sensor_gyro 0, 1, 2 and sensor_combined 0
@@ -89,7 +87,7 @@ TEST_F(FlightLogCliTest, InspectListsInstancesAndCompensation) {
 }
 
 TEST_F(FlightLogCliTest, CorruptLogIsOneErrorLineWithTheOffset) {
-  std::ifstream in(Fixture("sample_log_small.ulg"), std::ios::binary);
+  std::ifstream in(testing::FieldlogPath("sample_log_small.ulg"), std::ios::binary);
   std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   bytes[16 + 3 + 8] = 2;  // 'B' message (first, at byte 16): incompat_flags[0] bit 1, unknown
   const std::string bad = dir_ + "/bad.ulg";
@@ -99,7 +97,7 @@ TEST_F(FlightLogCliTest, CorruptLogIsOneErrorLineWithTheOffset) {
   EXPECT_EQ(log, "gyrocomp allan: error: " + bad + ": byte 16: unknown incompatible flag bits set: cannot parse the log\n");
   EXPECT_FALSE(fs::exists(dir_ + "/out.csv"));
   // Several instances without --instance: refused, listed.
-  EXPECT_EQ(Run("allan -i '" + Fixture("sample_log_small.ulg") + "' -o '" + dir_ + "/out.csv'", &log), 2);
+  EXPECT_EQ(Run("allan -i '" + testing::FieldlogPath("sample_log_small.ulg") + "' -o '" + dir_ + "/out.csv'", &log), 2);
   EXPECT_NE(log.find("3 sensor_gyro instances: 0 (6 rows, device_id 2424842)"), std::string::npos) << log;
 }
 

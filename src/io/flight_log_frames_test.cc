@@ -18,7 +18,7 @@
 namespace gyrocomp {
 namespace {
 
-constexpr int kRows = 200;
+constexpr int kFrameRows = 200;
 
 // Sensor-frame truth: a drift in T on each axis plus gravity on the accel's z.
 double TempC(int i) { return 10.0 + 0.25 * i; }
@@ -39,7 +39,7 @@ DataFlashContents Log(int orientation, const std::map<std::string, float>& param
   if (orientation != 0) in.parameters["AHRS_ORIENTATION"] = static_cast<float>(orientation);
   DataFlashImuWriteInput imu;
   const auto r = ArduPilotRotationMatrix(orientation);
-  for (int i = 0; i < kRows; ++i) {
+  for (int i = 0; i < kFrameRows; ++i) {
     imu.time_us.push_back(1000000 + 10000 * static_cast<std::uint64_t>(i));
     auto g = Gyro(i), a = Accel(i);
     if (correct) g = correct(0, i, g), a = correct(1, i, a);
@@ -62,9 +62,9 @@ DataFlashContents Log(int orientation, const std::map<std::string, float>& param
 }
 
 void ExpectSensorFrame(const DataFlashImuSeries& s, double tol, const std::string& what) {
-  ASSERT_EQ(s.time_us.size(), static_cast<std::size_t>(kRows));
-  ASSERT_EQ(s.acc_x_m_s2.size(), static_cast<std::size_t>(kRows));
-  for (int i = 0; i < kRows; ++i) {
+  ASSERT_EQ(s.time_us.size(), static_cast<std::size_t>(kFrameRows));
+  ASSERT_EQ(s.acc_x_m_s2.size(), static_cast<std::size_t>(kFrameRows));
+  for (int i = 0; i < kFrameRows; ++i) {
     const auto g = Gyro(i), a = Accel(i);
     ASSERT_NEAR(s.gyr_x_rad_s[i], g[0], tol) << what << " row " << i;
     ASSERT_NEAR(s.gyr_y_rad_s[i], g[1], tol) << what << " row " << i;
@@ -170,7 +170,7 @@ TEST(FlightLogFrames, EncodedLogRoundTripsWithAccel) {
   EXPECT_EQ(log.parameters.at("INS_TCAL2_ENABLE"), 0.0);
   EXPECT_EQ(log.imus[0].acc_z_m_s2[3], static_cast<double>(static_cast<float>(Accel(3)[2])));
   EXPECT_EQ(log.imus[0].temp_c[3], static_cast<double>(static_cast<float>(TempC(3))));
-  EXPECT_EQ(log.message_counts.at("IMU"), static_cast<std::size_t>(kRows));
+  EXPECT_EQ(log.message_counts.at("IMU"), static_cast<std::size_t>(kFrameRows));
 }
 
 }  // namespace

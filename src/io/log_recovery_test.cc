@@ -26,16 +26,10 @@ namespace {
 
 // tests/fieldlogs (vendored), else ../shared/fieldlogs/px4; "" when neither has it.
 std::string Fixture(const std::string& name) {
-  for (const std::string& dir : {std::string(GYROCOMP_FIELDLOGS_DIR), std::string(GYROCOMP_SHARED_FIELDLOGS_DIR) + "/px4"}) {
+  for (const std::string& dir : {testing::FieldlogsDir(), testing::SharedFieldlogsDir() + "/px4"}) {
     if (std::ifstream(dir + "/" + name)) return dir + "/" + name;
   }
   return "";
-}
-
-std::string Bytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  EXPECT_TRUE(in) << path;
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
 }
 
 using test::AnySeries;
@@ -84,7 +78,7 @@ class ULogRecoveryTest : public ::testing::TestWithParam<const char*> {
  protected:
   void SetUp() override {
     if (Fixture(GetParam()).empty()) GTEST_SKIP() << GetParam() << " absent (not vendored; ../shared/fieldlogs/px4)";
-    bytes_ = Bytes(Fixture(GetParam()));
+    bytes_ = testing::ReadExistingFile(Fixture(GetParam()));
     Result<ULogContents> full = ParseU(bytes_, true);
     ASSERT_TRUE(full.ok()) << full.error().message;
     original_ = ULogRows(*full);
@@ -410,9 +404,9 @@ TEST(DataFlashRecoveryTest, RealLogsKeepAtLeastWhatPymavlinkKeeps) {
     std::size_t pymavlink_sync, pymavlink_type;
   };
   for (const Expect& e : {Expect{"test.BIN", 89, 44}, Expect{"backend_log_80k.bin", 19, 10}}) {
-    const std::string path = std::string(GYROCOMP_SHARED_FIELDLOGS_DIR) + "/ardupilot/" + e.file;
+    const std::string path = testing::SharedFieldlogsDir() + "/ardupilot/" + e.file;
     if (!std::ifstream(path)) GTEST_SKIP() << path << " absent (the shared field logs are not vendored)";
-    const std::string good = Bytes(path);
+    const std::string good = testing::ReadExistingFile(path);
     Result<DataFlashContents> full = ParseD(good, true);
     ASSERT_TRUE(full.ok()) << full.error().message;
     const auto original = DataFlashRows(*full);

@@ -27,7 +27,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string GoodLog(int rows) {
+std::string WarmingLog(int rows) {
   std::string s = "time_s,rate_dps,temp_c\n";
   for (int i = 0; i < rows; ++i) {
     s += std::to_string(i * 0.01) + "," + std::to_string(((i * 7919) % 101 - 50) * 1e-3) + "," +
@@ -43,7 +43,7 @@ class OutputCliTest : public testing::CliTest {
     CliTest::SetUp();
     if (IsSkipped()) return;
     in_ = dir_ + "/in.csv";
-    std::ofstream(in_) << GoodLog(400);
+    std::ofstream(in_) << WarmingLog(400);
   }
   std::vector<std::string> Temporaries() const {
     std::vector<std::string> out;

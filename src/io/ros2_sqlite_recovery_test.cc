@@ -26,7 +26,6 @@ using testing::BagRows;
 using testing::DamageLines;
 using testing::IsSubset;
 
-const char* kPython = "/usr/bin/python3";
 
 // sqlite3 fileformat2.html "1.3 The Database Header": page size at offset 16 (big-endian; 1 means
 // 65536); "1.6 B-tree Pages": the page type byte first (at 100 on page 1), 0x0D a table leaf.
@@ -54,13 +53,13 @@ class Ros2SqliteRecoveryTest : public testing::FileTest {
   // 4420 rows in about 400 pages of 4096 bytes.
   static void SetUpTestSuite() {
     std::string out;
-    if (testing::RunCommand(std::string(kPython) + " -c 'import numpy, sqlite3'", &out) != 0) {
+    if (testing::RunCommand(std::string(testing::kPython3) + " -c 'import numpy, sqlite3'", &out) != 0) {
       skip_ = "python3-numpy is not installed (scripts/install-deps.sh): " + out;
       return;
     }
     dir_ = testing::MakeTempDir("gyrocomp_ros2_sqlite_recovery_bags");
-    const std::string script = std::string(GYROCOMP_FIELDLOGS_DIR) + "/../bags/make_imu_bags.py";
-    if (testing::RunCommand(std::string(kPython) + " '" + script + "' '" + dir_ +
+    const std::string script = testing::BagsDir() + "/make_imu_bags.py";
+    if (testing::RunCommand(std::string(testing::kPython3) + " '" + script + "' '" + dir_ +
                                 "' --seconds 20 --rate 200 --camera-bytes 500 --formats db3",
                             &out) != 0) {
       skip_ = "make_imu_bags.py failed: " + out;
@@ -162,7 +161,7 @@ TEST_F(Ros2SqliteRecoveryTest, MessageThatDoesNotDecodeIsTheOnlyRowLost) {
   // the row, the CDR decoder refuses it (SQLite keeps no checksum of a row's data).
   const std::string path = Put("short.db3", bytes_);
   std::string out;
-  ASSERT_EQ(testing::RunCommand(std::string(kPython) + " -c \"import sqlite3; d = sqlite3.connect('" + path +
+  ASSERT_EQ(testing::RunCommand(std::string(testing::kPython3) + " -c \"import sqlite3; d = sqlite3.connect('" + path +
                                     "'); d.execute(\\\"UPDATE messages SET data = X'00010000' WHERE id = (SELECT id FROM "
                                     "messages WHERE topic_id = (SELECT id FROM topics WHERE name = '/imu0') ORDER BY id "
                                     "LIMIT 1 OFFSET 99)\\\"); d.commit()\"",

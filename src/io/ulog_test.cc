@@ -19,20 +19,12 @@
 namespace gyrocomp {
 namespace {
 
-std::string Fixture(const std::string& name) { return std::string(GYROCOMP_FIELDLOGS_DIR) + "/" + name; }
-
-std::string Bytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  EXPECT_TRUE(in) << path;
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
-
-Result<ULogContents> Parse(const std::string& bytes) {
+Result<ULogContents> ParseUlg(const std::string& bytes) {
   return ParseULog(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size(), "mem.ulg");
 }
 
 // ULogReadOptions::strict: the first damaged record is an error (recovery: log_recovery_test.cc).
-Result<ULogContents> ParseStrict(const std::string& bytes) {
+Result<ULogContents> ParseUlgStrict(const std::string& bytes) {
   ULogReadOptions options;
   options.strict = true;
   return ParseULog(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size(), "mem.ulg", options);
@@ -59,7 +51,7 @@ void ExpectSeriesEqualsCsv(const ULogGyroSeries& g, const std::string& csv_path,
 }
 
 TEST(ULogTest, SampleLogSmallEqualsPyulogExtracts) {
-  const std::string path = Fixture("sample_log_small.ulg");
+  const std::string path = testing::FieldlogPath("sample_log_small.ulg");
   Result<ULogContents> log = ReadULog(path);
   ASSERT_TRUE(log.ok()) << log.error().message;
   EXPECT_EQ(log->version, 1);
@@ -81,7 +73,7 @@ TEST(ULogTest, SampleLogSmallEqualsPyulogExtracts) {
 }
 
 TEST(ULogTest, AppendedDataFallsBackToSensorCombined) {
-  const std::string path = Fixture("sample_appended_multiple.ulg");
+  const std::string path = testing::FieldlogPath("sample_appended_multiple.ulg");
   Result<ULogContents> log = ReadULog(path);
   ASSERT_TRUE(log.ok()) << log.error().message;
   EXPECT_EQ(log->appended_offsets, (std::vector<std::uint64_t>{434369, 451825, 469281}));
@@ -99,7 +91,7 @@ TEST(ULogTest, AppendedDataFallsBackToSensorCombined) {
 }
 
 TEST(ULogTest, TaggedAndDefaultParamsEqualsPyulogExtracts) {
-  const std::string path = std::string(GYROCOMP_SHARED_FIELDLOGS_DIR) + "/px4/sample_logging_tagged_and_default_params.ulg";
+  const std::string path = testing::SharedFieldlogsDir() + "/px4/sample_logging_tagged_and_default_params.ulg";
   if (!std::ifstream(path)) GTEST_SKIP() << "../shared/fieldlogs absent (this fixture is not in the repository)";
   Result<ULogContents> log = ReadULog(path);
   ASSERT_TRUE(log.ok()) << log.error().message;
@@ -113,7 +105,7 @@ TEST(ULogTest, TaggedAndDefaultParamsEqualsPyulogExtracts) {
 }
 
 TEST(ULogTest, SeveralInstancesAreListedNotGuessed) {
-  Result<ULogContents> log = ReadULog(Fixture("sample_log_small.ulg"));
+  Result<ULogContents> log = ReadULog(testing::FieldlogPath("sample_log_small.ulg"));
   ASSERT_TRUE(log.ok());
   Result<FlightLogTable> none = FlightLogFromULog(*log, std::nullopt);
   ASSERT_FALSE(none.ok());
@@ -133,13 +125,13 @@ TEST(ULogTest, SeveralInstancesAreListedNotGuessed) {
 // Every cut of the file's last data message: the prefix is read, the cut record dropped with a
 // warning naming its offset, and the rows before it are all there.
 TEST(ULogTest, TruncatedLastRecordIsDroppedWithItsOffset) {
-  const std::string bytes = Bytes(Fixture("sample_log_small.ulg"));
-  Result<ULogContents> full = Parse(bytes);
+  const std::string bytes = testing::ReadExistingFile(testing::FieldlogPath("sample_log_small.ulg"));
+  Result<ULogContents> full = ParseUlg(bytes);
   ASSERT_TRUE(full.ok());
   for (std::size_t cut : {std::size_t{1}, std::size_t{2}, std::size_t{3}, std::size_t{17}, std::size_t{5000},
                           std::size_t{400000}}) {
     const std::string part = bytes.substr(0, bytes.size() - cut);
-    Result<ULogContents> log = Parse(part);
+    Result<ULogContents> log = ParseUlg(part);
     ASSERT_TRUE(log.ok()) << "cut " << cut << ": " << log.error().message;
     ASSERT_EQ(log->warnings.size(), 1u) << "cut " << cut;
     EXPECT_NE(log->warnings[0].find("truncated last record"), std::string::npos) << log->warnings[0];
@@ -153,16 +145,16 @@ TEST(ULogTest, TruncatedLastRecordIsDroppedWithItsOffset) {
 }
 
 TEST(ULogTest, StrictRefusesCorruptFilesWithTheByteOffset) {
-  const std::string bytes = Bytes(Fixture("sample_log_small.ulg"));
+  const std::string bytes = testing::ReadExistingFile(testing::FieldlogPath("sample_log_small.ulg"));
   {
-    Result<ULogContents> r = ParseStrict(bytes.substr(0, 10));
+    Result<ULogContents> r = ParseUlgStrict(bytes.substr(0, 10));
     ASSERT_FALSE(r.ok());
     EXPECT_NE(r.error().message.find("byte 10: file too short"), std::string::npos) << r.error().message;
   }
   {
     std::string bad = bytes;
     bad[3] = 'X';
-    Result<ULogContents> r = ParseStrict(bad);
+    Result<ULogContents> r = ParseUlgStrict(bad);
     ASSERT_FALSE(r.ok());
     EXPECT_NE(r.error().message.find("byte 0: not a ULog file"), std::string::npos) << r.error().message;
   }
@@ -173,7 +165,7 @@ TEST(ULogTest, StrictRefusesCorruptFilesWithTheByteOffset) {
     while (bad[pos + 2] != 'D') pos += 3 + (static_cast<unsigned char>(bad[pos]) | (static_cast<unsigned char>(bad[pos + 1]) << 8));
     bad[pos + 3] = static_cast<char>(0xFF);
     bad[pos + 4] = static_cast<char>(0xFF);
-    Result<ULogContents> r = ParseStrict(bad);
+    Result<ULogContents> r = ParseUlgStrict(bad);
     ASSERT_FALSE(r.ok());
     EXPECT_NE(r.error().message.find("byte " + std::to_string(pos) + ": data ('D') for msg_id 65535 without a subscription"),
               std::string::npos)
@@ -181,7 +173,7 @@ TEST(ULogTest, StrictRefusesCorruptFilesWithTheByteOffset) {
     // ... and a size that does not match its format.
     bad = bytes;
     bad[pos] = static_cast<char>(static_cast<unsigned char>(bad[pos]) - 1);
-    r = ParseStrict(bad);
+    r = ParseUlgStrict(bad);
     ASSERT_FALSE(r.ok());
     EXPECT_NE(r.error().message.find("byte " + std::to_string(pos) + ": data ('D') for"), std::string::npos)
         << r.error().message;
@@ -205,12 +197,12 @@ TEST(ULogTest, FormatBombIsRefused) {
   b += Message('F', "n2:n1[99999] b;");
   b += Message('F', "top:n2[99999] c;");
   b += Message('A', std::string("\0\0\0", 3) + "top");
-  Result<ULogContents> r = ParseStrict(b);
+  Result<ULogContents> r = ParseUlgStrict(b);
   ASSERT_FALSE(r.ok());
   EXPECT_NE(r.error().message.find("too many (nested) fields"), std::string::npos) << r.error().message;
   // A format that names itself.
   std::string c = b.substr(0, 16) + Message('F', "loop:loop x;") + Message('A', std::string("\0\0\0", 3) + "loop");
-  r = ParseStrict(c);
+  r = ParseUlgStrict(c);
   ASSERT_FALSE(r.ok());
   EXPECT_NE(r.error().message.find("nested deeper than"), std::string::npos) << r.error().message;
 }
@@ -232,7 +224,7 @@ TEST(ULogTest, WriterRoundTrip) {
   const ULogGyroWriteInput in = SmallSeries(500);
   Result<std::string> bytes = EncodeULogGyro(in);
   ASSERT_TRUE(bytes.ok()) << bytes.error().message;
-  Result<ULogContents> log = Parse(*bytes);
+  Result<ULogContents> log = ParseUlg(*bytes);
   ASSERT_TRUE(log.ok()) << log.error().message;
   EXPECT_TRUE(log->warnings.empty());
   ASSERT_EQ(log->gyros.size(), 1u);
@@ -271,7 +263,7 @@ TEST(ULogTest, CompensationEnabledDoesNotTouchSensorGyro) {
   in.int_parameters["TC_G_ENABLE"] = 1;
   Result<std::string> bytes = EncodeULogGyro(in);
   ASSERT_TRUE(bytes.ok());
-  Result<ULogContents> log = Parse(*bytes);
+  Result<ULogContents> log = ParseUlg(*bytes);
   ASSERT_TRUE(log.ok());
   Result<FlightLogTable> t = FlightLogFromULog(*log, std::nullopt);
   ASSERT_TRUE(t.ok());
@@ -284,21 +276,21 @@ TEST(ULogTest, ConstantTemperatureIsAWarning) {
   for (float& t : in.temperature_c) t = 0.0f;  // as PX4 SITL logs it
   Result<std::string> bytes = EncodeULogGyro(in);
   ASSERT_TRUE(bytes.ok());
-  Result<ULogContents> log = Parse(*bytes);
+  Result<ULogContents> log = ParseUlg(*bytes);
   ASSERT_TRUE(log.ok());
   Result<FlightLogTable> t = FlightLogFromULog(*log, std::nullopt);
   ASSERT_TRUE(t.ok());
   ASSERT_EQ(t->warnings.size(), 1u);
   EXPECT_NE(t->warnings[0].find("the temperature is 0 C in every row"), std::string::npos) << t->warnings[0];
   // ... and a varying one is not.
-  Result<ULogContents> varying = Parse(*EncodeULogGyro(SmallSeries(10)));
+  Result<ULogContents> varying = ParseUlg(*EncodeULogGyro(SmallSeries(10)));
   EXPECT_TRUE(FlightLogFromULog(*varying, std::nullopt)->warnings.empty());
 }
 
 TEST(ULogTest, NonFiniteValuesAreRefused) {
   ULogGyroWriteInput in = SmallSeries(10);
   in.y_rad_s[4] = std::numeric_limits<float>::quiet_NaN();
-  Result<ULogContents> log = Parse(*EncodeULogGyro(in));
+  Result<ULogContents> log = ParseUlg(*EncodeULogGyro(in));
   ASSERT_TRUE(log.ok());  // the reader reads what is logged ...
   Result<FlightLogTable> t = FlightLogFromULog(*log, std::nullopt);
   ASSERT_FALSE(t.ok());  // ... the gyro table refuses it, as ReadCsv refuses NaN

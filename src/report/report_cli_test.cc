@@ -17,9 +17,6 @@
 namespace gyrocomp {
 namespace {
 
-// The report's data block (report.h schema), parsed back.
-nlohmann::json ReportData(const std::string& html) { return testing::ReportDataOf(html); }
-
 const nlohmann::json* FindTable(const nlohmann::json& data, const std::string& title_prefix) {
   for (const auto& t : data["tables"]) {
     if (t["title"].get<std::string>().rfind(title_prefix, 0) == 0) return &t;
@@ -56,7 +53,7 @@ TEST_F(ReportCli, ValidateReportHasTheValidationSection) {
                 &out), 0) << out;
   const std::string html = testing::ReadFile(report);
   ASSERT_EQ(html.rfind("<!DOCTYPE html>", 0), 0u);
-  const nlohmann::json data = ReportData(html);
+  const nlohmann::json data = testing::ReportDataOf(html);
   ASSERT_TRUE(data.is_object());
   const nlohmann::json* table = FindTable(data, "Validation on a run the model was not fitted on");
   ASSERT_NE(table, nullptr) << data["tables"].dump();
@@ -122,7 +119,7 @@ TEST_F(ReportCli, ProcessMarksNotApplicableTermsAlike) {
   EXPECT_FALSE(j["before"].contains("arw_not_applicable"));
   EXPECT_TRUE(j["after"]["arw_deg_per_sqrt_h"].is_null());
   EXPECT_NE(j["after"]["arw_not_applicable"].get<std::string>().find("1/(2 bandwidth)"), std::string::npos);
-  const nlohmann::json data = ReportData(testing::ReadFile(dir_ + "/p.html"));
+  const nlohmann::json data = testing::ReportDataOf(testing::ReadFile(dir_ + "/p.html"));
   bool arw_na = false;
   for (const auto& r : data["summary"]["rows"]) {
     if (r[0].get<std::string>().rfind("ARW", 0) == 0) arw_na = r[1].is_number() && r[2] == "not applicable";
@@ -138,7 +135,7 @@ TEST_F(ReportCli, ProcessReportShowsTheDriftBand) {
   ASSERT_EQ(Run("simulate --fs 2 --seed 5 --room-hold 1200 --hold 1200 --step 25 --ramp-rate 2 --thermal-lag 300 -o " +
                 dir_ + "/run.csv", &out), 0) << out;
   ASSERT_EQ(Run("process -i " + dir_ + "/run.csv --report " + dir_ + "/p.html --model poly -q", &out), 0) << out;
-  const nlohmann::json data = ReportData(testing::ReadFile(dir_ + "/p.html"));
+  const nlohmann::json data = testing::ReportDataOf(testing::ReadFile(dir_ + "/p.html"));
   const nlohmann::json& d = data["drift"];
   ASSERT_TRUE(d.contains("model_lo_dps") && d.contains("model_hi_dps")) << d.dump().substr(0, 400);
   EXPECT_DOUBLE_EQ(d["band_level"].get<double>(), 0.9);
@@ -211,7 +208,7 @@ TEST_F(ReportCli, DemoTableRowsPresentAndFinite) {
   EXPECT_TRUE(j["before"]["arw_deg_per_sqrt_h"].is_number());
   // The report has the side-by-side and held-out tables, "not applicable" in the same cells.
   const std::string report = dir_ + "/demo/report.html";
-  const nlohmann::json data = ReportData(testing::ReadFile(report));
+  const nlohmann::json data = testing::ReportDataOf(testing::ReadFile(report));
   const nlohmann::json* side = &data["summary"];  // the headline table
   ASSERT_EQ((*side)["title"].get<std::string>().rfind("Side by side", 0), 0u);
   EXPECT_NE(FindTable(data, "Before and after"), nullptr);

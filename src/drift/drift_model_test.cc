@@ -363,7 +363,7 @@ TEST(DriftModelCancel, ACancelledTokenStopsEveryKindOfFit) {
     DriftFitOptions o;
     o.model = kind;
     o.cancel = &token;
-    EXPECT_THROW(FitDriftModel({temp, 1.0}, target, o), Cancelled) << static_cast<int>(kind);
+    EXPECT_THROW((void)FitDriftModel({temp, 1.0}, target, o), Cancelled) << static_cast<int>(kind);
   }
   // Set mid-search (after the first generation): the search, which has no token of its own,
   // stops on DriftFitOptions::cancel.
@@ -376,7 +376,7 @@ TEST(DriftModelCancel, ACancelledTokenStopsEveryKindOfFit) {
     ++generations;
     later.Cancel();
   };
-  EXPECT_THROW(FitDriftModel({temp, 1.0}, target, o), Cancelled);
+  EXPECT_THROW((void)FitDriftModel({temp, 1.0}, target, o), Cancelled);
   EXPECT_EQ(generations, 1);
 }
 

@@ -25,6 +25,10 @@ inline nlohmann::json ReportDataOf(const std::string& html) {
 // The DOM of the page at `path` after Debian's headless Chromium ran its script (--dump-dom),
 // with Chromium's log after it, into *output; `dir` holds the browser profile. False without
 // /usr/bin/chromium (scripts/install-deps.sh --browser installs it); else Chromium's exit status is 0.
+// The skip message of a test whose rendering part needs Chromium (its other checks have run).
+inline constexpr char kNoChromium[] =
+    "rendering not checked: no /usr/bin/chromium (scripts/install-deps.sh --browser); the data checks above passed";
+
 inline bool DumpDomInChromium(const std::string& path, const std::string& dir, std::string* output, int* status) {
   const char* chromium = "/usr/bin/chromium";
   if (!std::filesystem::exists(chromium)) return false;

@@ -5,7 +5,13 @@
 // - ten simulated flights of one board (ambients 0..35 C, per-power-on offsets of 0.05 deg/s and
 //   20 mg per axis, landing at another attitude) recover the true gyro and accelerometer curves;
 // - three short flights at one ambient do not identify the curve: no parameter entry, the reason
-//   and which log would help.
+//   and which log would help;
+// - the simulated flight ULogs carry the armed / landed state as PX4's topics: no still row is
+//   armed or in the air, and >= 90 % of the true still time is used;
+// - what is not refused between logs of one board, with a note naming both files and values: a
+//   board rotation (ArduPilot AHRS_ORIENTATION; the reader rotates each log back with its own
+//   value, so the pooled parameters are those of the unrotated logs) and a log rate (a flight
+//   logged at half the rate: the pooled curve as with every log at the full rate).
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -201,6 +207,138 @@ TEST(CalibrateFlights, ThreeShortFlightsAtOneAmbientAreRefusedWithWhatWouldHelp)
     EXPECT_NE(s.identification.would_help.find("C"), std::string::npos) << s.identification.would_help;
     std::printf("%s: %s | %s | help: %s\n", s.type.c_str(), s.reason.c_str(), s.identification.statement.c_str(),
                 s.identification.would_help.c_str());
+  }
+}
+
+// Three flights written with their armed / landed state (actuator_armed, vehicle_status,
+// vehicle_land_detected) read back by CalibrateLogs: the still segments hold no armed or in-air
+// sample, the rejected parts say why, and >= 90 % of the true still time is used.
+TEST(CalibrateFlights, TheLogsArmedAndLandedStateKeepsEveryStillRowOnTheGround) {
+  testing::TempDir dir("calibrate_flights_test");
+  std::vector<std::string> logs;
+  std::vector<FlightRun> truth;
+  for (int n = 0; n < 3; ++n) {
+    FlightSimOptions o = Flight(n, 10.0 * n, 120.0 + 60.0 * n, 200.0);
+    Result<FlightRun> run = SimulateFlight(o);
+    ASSERT_TRUE(run.ok()) << run.error().message;
+    truth.push_back(*run);
+    logs.push_back(testing::WriteFile(dir / ("flight" + std::to_string(n) + ".ulg"), *EncodeFlightULog({*run})));
+  }
+  Result<CalibrateResult> r = CalibrateLogs(logs, CalibrateOptions{});
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  ASSERT_EQ(r->logs.size(), 3u);
+  for (std::size_t n = 0; n < 3; ++n) {
+    const CalibrateResult::LogStill& l = r->logs[n];
+    EXPECT_NE(l.state.find("armed: actuator_armed.armed, vehicle_status.arming_state from 1.00 s"), std::string::npos) << l.state;
+    EXPECT_NE(l.state.find("landed: vehicle_land_detected.landed"), std::string::npos) << l.state;
+    const FlightRun& run = truth[n];
+    double still_true_s = 0.0, still_used_s = 0.0;
+    std::size_t armed_used = 0, in_air_used = 0;
+    for (std::size_t i = 0; i < run.time_s.size(); ++i) {
+      const double t = run.time_s[i] + 1.0;  // EncodeFlightULog: logging starts at 1 s
+      bool used = false;
+      for (const StillSegment& seg : l.detection.segments) used = used || (t >= seg.start_s && t < seg.start_s + seg.length_s);
+      armed_used += used && run.armed[i];
+      in_air_used += used && !run.landed[i];
+      still_true_s += run.truly_still[i] ? 1.0 / 100.0 : 0.0;
+      still_used_s += run.truly_still[i] && used ? 1.0 / 100.0 : 0.0;
+    }
+    std::printf("flight %zu: still used %.1f of %.1f s (%.1f %%); %s\n", n, still_used_s, still_true_s,
+                100.0 * still_used_s / still_true_s, l.detection.BriefReport().c_str());
+    EXPECT_EQ(armed_used, 0u) << l.detection.BriefReport();
+    EXPECT_EQ(in_air_used, 0u) << l.detection.BriefReport();
+    EXPECT_GE(still_used_s, 0.9 * still_true_s) << l.detection.BriefReport();
+    std::string reasons;
+    for (const RejectedPart& p : l.detection.rejected) reasons += p.reason + " | ";
+    EXPECT_NE(reasons.find("armed"), std::string::npos) << reasons;
+    EXPECT_NE(reasons.find("in the air (log's landed state)"), std::string::npos) << reasons;
+  }
+}
+
+// The largest |a(T) - b(T)| over the range of a, for every axis.
+double LargestDifference(const CalibratedSensor& a, const CalibratedSensor& b) {
+  double worst = 0.0;
+  for (std::size_t k = 0; k < a.cubics.size(); ++k)
+    for (double t = a.temp_min_c; t <= a.temp_max_c; t += 0.5) worst = std::max(worst, std::abs(a.cubics[k].Evaluate(t) - b.cubics[k].Evaluate(t)));
+  return worst;
+}
+// The largest change of a's cubics over its range (the drift's size), every axis.
+double LargestDrift(const CalibratedSensor& a) {
+  double worst = 0.0;
+  for (std::size_t k = 0; k < a.cubics.size(); ++k)
+    for (double t = a.temp_min_c; t <= a.temp_max_c; t += 0.5)
+      worst = std::max(worst, std::abs(a.cubics[k].Evaluate(t) - a.cubics[k].Evaluate(a.temp_min_c)));
+  return worst;
+}
+
+// Two chamber runs of one board as ArduPilot logs, the second logged once with AHRS_ORIENTATION 0
+// and once with 1 (yaw 45): not refused, a note names both files and values, and the pooled
+// parameters are those of the unrotated pair (the reader rotates each log back with its own
+// value; were it not, x and y would mix and the curves differ by the drift's size).
+TEST(CalibrateFlights, ABoardRotationChangeBetweenLogsIsUndoneAndNoted) {
+  testing::TempDir dir("calibrate_flights_test");
+  const BoardRun a = Chamber(ThermalProfileKind::kRamp, 51), b = Chamber(ThermalProfileKind::kPaper, 52);
+  CalibrateOptions o;
+  o.format = "ardupilot";
+  const std::string a0 = testing::WriteFile(dir / "a0.bin", *EncodeBoardDataFlash(a, a.fs_hz, 0));
+  const std::string b0 = testing::WriteFile(dir / "b0.bin", *EncodeBoardDataFlash(b, b.fs_hz, 0));
+  const std::string b1 = testing::WriteFile(dir / "b1.bin", *EncodeBoardDataFlash(b, b.fs_hz, 1));
+  Result<CalibrateResult> same = CalibrateLogs({a0, b0}, o), rotated = CalibrateLogs({a0, b1}, o);
+  ASSERT_TRUE(same.ok()) << same.error().message;
+  ASSERT_TRUE(rotated.ok()) << rotated.error().message;
+  std::string notes;
+  for (const std::string& n : rotated->notes) notes += n + "\n";
+  EXPECT_NE(notes.find("AHRS_ORIENTATION = 0 in " + a0 + ", 1 in " + b1 + ": pooled all the same"), std::string::npos) << notes;
+  for (const std::string& n : same->notes) EXPECT_EQ(n.find("AHRS_ORIENTATION = 0 in"), std::string::npos) << n;
+  ASSERT_EQ(same->sensors.size(), rotated->sensors.size());
+  for (std::size_t i = 0; i < same->sensors.size(); ++i) {
+    const CalibratedSensor &s = same->sensors[i], &t = rotated->sensors[i];
+    ASSERT_TRUE(s.calibrated()) << s.reason;
+    ASSERT_TRUE(t.calibrated()) << t.reason;
+    EXPECT_EQ(s.fit, "pooled");
+    const double diff = LargestDifference(s, t), drift = LargestDrift(s);
+    std::printf("%s: rotated vs unrotated pair, largest difference %.3g of a drift of %.3g %s\n", s.type.c_str(), diff, drift,
+                s.unit.c_str());
+    // float32 rows rotated and rotated back: the difference is rounding, far under 1e-3 of the drift.
+    EXPECT_LT(diff, 1e-3 * drift) << s.type;
+  }
+}
+
+// Four flights of one board, two of them logged at half the rate (50 Hz instead of 100 Hz): not
+// refused, a note names the sensor, both files and both rates, and the pooled curves are those
+// of the same four flights all logged at 100 Hz to within a small share of the drift (the still
+// detector reads each log at its own noise level; the fit sees 1 s means either way).
+TEST(CalibrateFlights, ALogRateChangeBetweenLogsIsPooledAndNoted) {
+  testing::TempDir dir("calibrate_flights_test");
+  std::vector<std::string> full, mixed;
+  for (int n = 0; n < 4; ++n) {
+    const FlightSimOptions o = Flight(n, 35.0 * n / 3.0, 300.0, 240.0);
+    Result<FlightRun> run = SimulateFlight(o);
+    ASSERT_TRUE(run.ok()) << run.error().message;
+    full.push_back(testing::WriteFile(dir / ("full" + std::to_string(n) + ".ulg"), *EncodeFlightULog({*run})));
+    mixed.push_back(n % 2 == 0 ? full.back()
+                               : testing::WriteFile(dir / ("half" + std::to_string(n) + ".ulg"), *EncodeFlightULog({*run}, 2)));
+  }
+  Result<CalibrateResult> rf = CalibrateLogs(full, CalibrateOptions{}), rm = CalibrateLogs(mixed, CalibrateOptions{});
+  ASSERT_TRUE(rf.ok()) << rf.error().message;
+  ASSERT_TRUE(rm.ok()) << rm.error().message;
+  std::string notes;
+  for (const std::string& n : rm->notes) notes += n + "\n";
+  EXPECT_NE(notes.find("gyro 0 (id " + std::to_string(BoardGyroDeviceId(0)) + "): logged at 100 Hz in " + mixed[0] +
+                       ", 50 Hz in " + mixed[1] + ": pooled all the same"), std::string::npos) << notes;
+  EXPECT_TRUE(rf->notes.empty()) << rf->notes.front();
+  ASSERT_EQ(rf->sensors.size(), rm->sensors.size());
+  for (std::size_t i = 0; i < rf->sensors.size(); ++i) {
+    const CalibratedSensor &f = rf->sensors[i], &m = rm->sensors[i];
+    ASSERT_TRUE(f.calibrated()) << f.reason << "; " << f.identification.statement;
+    ASSERT_TRUE(m.calibrated()) << m.reason << "; " << m.identification.statement;
+    EXPECT_NEAR(m.log_rate_hz, 100.0, 0.5);  // the first log's
+    const double diff = LargestDifference(f, m), drift = LargestDrift(f);
+    std::printf("%s: half-rate logs vs all at 100 Hz, largest difference %.3g of a drift of %.3g %s\n", f.type.c_str(), diff,
+                drift, f.unit.c_str());
+    // Half the rows: the block means' noise grows by sqrt(2), the still segments may move by a
+    // window; the curve stays within 5 % of the drift (as TenFlights' error against the truth).
+    EXPECT_LT(diff, 0.05 * drift) << f.type;
   }
 }
 

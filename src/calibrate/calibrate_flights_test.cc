@@ -280,6 +280,11 @@ TEST(CalibrateFlights, ABoardRotationChangeBetweenLogsIsUndoneAndNoted) {
   const BoardRun a = Chamber(ThermalProfileKind::kRamp, 51), b = Chamber(ThermalProfileKind::kPaper, 52);
   CalibrateOptions o;
   o.format = "ardupilot";
+  // The cubic alone: with the dT/dt gain (the default) the two pairs' gyro x, y and accel x
+  // curves differ by up to 19 % of the drift, because on chamber runs whose heating rate is nearly
+  // constant inside each log the gain is all but collinear with the log's constant and the float32
+  // rounding of the rotated rows decides it; that is the pooled fit's, not the rotation's.
+  o.pooled_dtemp = false;
   const std::string a0 = testing::WriteFile(dir / "a0.bin", *EncodeBoardDataFlash(a, a.fs_hz, 0));
   const std::string b0 = testing::WriteFile(dir / "b0.bin", *EncodeBoardDataFlash(b, b.fs_hz, 0));
   const std::string b1 = testing::WriteFile(dir / "b1.bin", *EncodeBoardDataFlash(b, b.fs_hz, 1));
@@ -299,8 +304,9 @@ TEST(CalibrateFlights, ABoardRotationChangeBetweenLogsIsUndoneAndNoted) {
     const double diff = LargestDifference(s, t), drift = LargestDrift(s);
     std::printf("%s: rotated vs unrotated pair, largest difference %.3g of a drift of %.3g %s\n", s.type.c_str(), diff, drift,
                 s.unit.c_str());
-    // float32 rows rotated and rotated back: the difference is rounding, far under 1e-3 of the drift.
-    EXPECT_LT(diff, 1e-3 * drift) << s.type;
+    // float32 rows rotated and rotated back: rounding only (measured 1.3e-9 and 6.5e-11 of the
+    // drift for gyro and accel); axes mixed would differ by the drift's size.
+    EXPECT_LT(diff, 1e-6 * drift) << s.type;
   }
 }
 
@@ -337,7 +343,8 @@ TEST(CalibrateFlights, ALogRateChangeBetweenLogsIsPooledAndNoted) {
     std::printf("%s: half-rate logs vs all at 100 Hz, largest difference %.3g of a drift of %.3g %s\n", f.type.c_str(), diff,
                 drift, f.unit.c_str());
     // Half the rows: the block means' noise grows by sqrt(2), the still segments may move by a
-    // window; the curve stays within 5 % of the drift (as TenFlights' error against the truth).
+    // window; measured 0.26 % (gyro) and 1.2 % (accel) of the drift; within 5 % of it, the bound
+    // TenFlights puts on the error against the truth.
     EXPECT_LT(diff, 0.05 * drift) << f.type;
   }
 }

@@ -13,8 +13,12 @@
 // A sensor that cannot be calibrated keeps its entry (its reason set) and its slot is disabled
 // in the file.
 //
-// Every log goes through the still detector (still.h) first: only the rows where the vehicle is
-// still feed the fit, and the result lists each log's still segments and the parts rejected.
+// Every log goes through the still detector (still.h) first, told the log's armed / landed state
+// where the log has one (io/vehicle_state.h): only the rows where the vehicle is still feed the
+// fit, and the result lists each log's still segments and the parts rejected, with the reasons.
+// Between logs, a board rotation parameter or a sensor's log rate that differs is noted, not
+// refused: the rows are in the sensor frame (the readers undo AHRS_ORIENTATION per log; PX4 logs
+// before any rotation) and the fit sees means over the same seconds whatever the rate.
 // One log that is still throughout (a chamber or bench run) is calibrated as above. Otherwise
 // (several logs, or a log in which the vehicle moves) each sensor of the first log is matched in
 // the others by its device id (PX4; the instance number where a log has none) and ONE pooled

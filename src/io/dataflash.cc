@@ -395,11 +395,15 @@ void Parser::TakeParameter(const Layout& l, const std::uint8_t* p, std::size_t a
 
 void Parser::TakeState(const Layout& l, const std::uint8_t* p) {
   const bool arm = l.fmt.name == "ARM";
-  const auto t = FieldIndex(l, "TimeUS");
-  const auto v = FieldIndex(l, arm ? "ArmState" : "Id");
-  if (!t || !v) return;
-  const auto time_us = Numeric(l.fmt.format[*t], p + l.offsets[*t]);
-  const auto value = Numeric(l.fmt.format[*v], p + l.offsets[*v]);
+  auto get = [&](const char* label) -> std::optional<double> {
+    const auto i = FieldIndex(l, label);
+    return i ? Numeric(l.fmt.format[*i], p + l.offsets[*i]) : std::nullopt;
+  };
+  std::optional<double> time_us = get("TimeUS");
+  if (!time_us) {
+    if (const auto ms = get("TimeMS")) time_us = *ms * 1000.0;  // logs before TimeUS, as TakeImu
+  }
+  const auto value = get(arm ? "ArmState" : "Id");
   if (!time_us || !value) return;
   (arm ? out_.arm_states : out_.events).push_back({static_cast<std::uint64_t>(*time_us), static_cast<int>(*value)});
 }

@@ -6,8 +6,10 @@
 //   20 mg per axis, landing at another attitude) recover the true gyro and accelerometer curves;
 // - three short flights at one ambient do not identify the curve: no parameter entry, the reason
 //   and which log would help;
-// - the simulated flight ULogs carry the armed / landed state as PX4's topics: no still row is
-//   armed or in the air, and >= 90 % of the true still time is used;
+// - the simulated flight ULogs carry the armed / landed state as PX4's topics, a DataFlash flight
+//   as ARM records and EV events: no still row is armed or in the air, and >= 90 % of the true
+//   still time is used (with the state ignored, both tests fail: the DataFlash flight's motors
+//   barely shake the board and the IMU alone uses 11600 armed rows);
 // - what is not refused between logs of one board, with a note naming both files and values: a
 //   board rotation (ArduPilot AHRS_ORIENTATION; the reader rotates each log back with its own
 //   value, so the pooled parameters are those of the unrotated logs) and a log rate (a flight
@@ -20,6 +22,7 @@
 
 #include "gyrocomp/calibrate/calibrate.h"
 #include "gyrocomp/calibrate/pooled_fit.h"
+#include "gyrocomp/io/dataflash.h"
 #include "gyrocomp/sim/flight.h"
 #include "gyrocomp/sim/simulator.h"
 #include "test_support.h"
@@ -253,6 +256,60 @@ TEST(CalibrateFlights, TheLogsArmedAndLandedStateKeepsEveryStillRowOnTheGround) 
     EXPECT_NE(reasons.find("armed"), std::string::npos) << reasons;
     EXPECT_NE(reasons.find("in the air (log's landed state)"), std::string::npos) << reasons;
   }
+}
+
+// The same through an ArduPilot DataFlash log: a flight whose motors barely shake the board (a
+// minute armed on the ground before take-off and after landing, vibration 0), its state as ARM
+// records and EV events (10 ARMED / 11 DISARMED, 28 NOT_LANDED / 18 LAND_COMPLETE). The IMU alone
+// would take the armed minutes for still; the log's state keeps every armed row out.
+TEST(CalibrateFlights, ADataFlashLogsArmAndEventRecordsKeepTheArmedRowsOut) {
+  testing::TempDir dir("calibrate_flights_test");
+  FlightSimOptions o = Flight(0, 15.0, 200.0, 200.0);
+  o.armed_ground_s = o.landed_armed_s = 60.0;
+  o.vibration_gyro_dps = o.vibration_accel_m_s2 = 0.0;
+  Result<FlightRun> run = SimulateFlight(o);
+  ASSERT_TRUE(run.ok()) << run.error().message;
+  DataFlashWriteInput in;
+  DataFlashImuWriteInput imu;
+  auto us = [&](std::size_t i) { return static_cast<std::uint64_t>(std::llround(run->time_s[i] * 1e6)) + 1000000; };
+  for (std::size_t i = 0; i < run->time_s.size(); ++i) {
+    imu.time_us.push_back(us(i));
+    imu.gyr_x_rad_s.push_back(static_cast<float>(run->gyro_rad_s[0][i]));
+    imu.gyr_y_rad_s.push_back(static_cast<float>(run->gyro_rad_s[1][i]));
+    imu.gyr_z_rad_s.push_back(static_cast<float>(run->gyro_rad_s[2][i]));
+    imu.acc_x_m_s2.push_back(static_cast<float>(run->accel_m_s2[0][i]));
+    imu.acc_y_m_s2.push_back(static_cast<float>(run->accel_m_s2[1][i]));
+    imu.acc_z_m_s2.push_back(static_cast<float>(run->accel_m_s2[2][i]));
+    imu.temp_c.push_back(static_cast<float>(run->temp_c[i]));
+    if (i == 0 || run->armed[i] != run->armed[i - 1]) {
+      in.arm_states.push_back({us(i), run->armed[i] ? 1 : 0});
+      if (i > 0) in.events.push_back({us(i), run->armed[i] ? 10 : 11});
+    }
+    if (i > 0 && run->landed[i] != run->landed[i - 1]) in.events.push_back({us(i), run->landed[i] ? 18 : 28});
+  }
+  in.imus.push_back(std::move(imu));
+  const std::string log = testing::WriteFile(dir / "flight.bin", *EncodeDataFlash(in));
+  CalibrateOptions co;
+  co.format = "ardupilot";
+  Result<CalibrateResult> r = CalibrateLogs({log}, co);
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  const CalibrateResult::LogStill& l = r->logs.at(0);
+  EXPECT_NE(l.state.find("armed: ARM.ArmState, EV ARMED / DISARMED from 1.00 s"), std::string::npos) << l.state;
+  EXPECT_NE(l.state.find("landed: EV LAND_COMPLETE / NOT_LANDED"), std::string::npos) << l.state;
+  std::size_t armed_used = 0;
+  double still_true_s = 0.0, still_used_s = 0.0;
+  for (std::size_t i = 0; i < run->time_s.size(); ++i) {
+    const double t = run->time_s[i] + 1.0;
+    bool used = false;
+    for (const StillSegment& seg : l.detection.segments) used = used || (t >= seg.start_s && t < seg.start_s + seg.length_s);
+    armed_used += used && run->armed[i];
+    still_true_s += run->truly_still[i] ? 0.01 : 0.0;
+    still_used_s += run->truly_still[i] && used ? 0.01 : 0.0;
+  }
+  std::printf("DataFlash flight: armed rows used %zu, still used %.1f of %.1f s; %s\n", armed_used, still_used_s, still_true_s,
+              l.detection.BriefReport().c_str());
+  EXPECT_EQ(armed_used, 0u) << l.detection.BriefReport();
+  EXPECT_GE(still_used_s, 0.9 * still_true_s) << l.detection.BriefReport();
 }
 
 // The largest |a(T) - b(T)| over the range of a, for every axis.

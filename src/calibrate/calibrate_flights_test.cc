@@ -387,8 +387,10 @@ TEST(CalibrateFlights, ALogRateChangeBetweenLogsIsPooledAndNoted) {
   ASSERT_TRUE(rm.ok()) << rm.error().message;
   std::string notes;
   for (const std::string& n : rm->notes) notes += n + "\n";
-  EXPECT_NE(notes.find("gyro 0 (id " + std::to_string(BoardGyroDeviceId(0)) + "): logged at 100 Hz in " + mixed[0] +
-                       ", 50 Hz in " + mixed[1] + ": pooled all the same"), std::string::npos) << notes;
+  EXPECT_NE(notes.find("gyro 0 (id " + std::to_string(BoardGyroDeviceId(0)) + "), accel 0 (id " +
+                       std::to_string(BoardAccelDeviceId(0)) + "): logged at 100 Hz in " + mixed[0] + ", 50 Hz in " +
+                       mixed[1] + ": pooled all the same"), std::string::npos) << notes;
+  EXPECT_EQ(rm->notes.size(), 2u) << notes;  // one per half-rate log
   EXPECT_TRUE(rf->notes.empty()) << rf->notes.front();
   ASSERT_EQ(rf->sensors.size(), rm->sensors.size());
   for (std::size_t i = 0; i < rf->sensors.size(); ++i) {

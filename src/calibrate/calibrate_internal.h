@@ -55,7 +55,8 @@ struct Run {
 };
 // Differences between the logs that do not change the fit but that a user should know of: a
 // board rotation parameter, or a sensor's log rate (more than 5 %) that differs from the first
-// log's, one note each, naming both files and both values (CalibrateResult::notes).
+// log's, one note per parameter / pair of rates, naming both files and both values
+// (CalibrateResult::notes).
 std::vector<std::string> DifferencesBetweenLogs(const std::vector<Run>& runs);
 
 // Reads one log: its sensors at still_rate_hz, the still detector on them, then the fit's rows.

@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <map>
+#include <utility>
 #include <numeric>
 #include <optional>
 #include <set>
@@ -343,16 +344,20 @@ std::vector<std::string> DifferencesBetweenLogs(const std::vector<Run>& runs) {
       notes.push_back(name + " = " + FormatNumber(it->second) + " in " + first.path + ", " + FormatNumber(value) + " in " +
                       runs[r].path + ": pooled all the same: " + RotationReason(name));
     }
+    // One note per pair of rates (as printed), listing the sensors logged at them.
+    std::map<std::pair<std::string, std::string>, std::string> sensors_at;
     for (const Sensor& s : first.sensors) {
       const Sensor* m = Match(runs[r].sensors, s);
       if (!m || !(s.log_rate_hz > 0.0) || !(m->log_rate_hz > 0.0)) continue;
       if (std::abs(m->log_rate_hz / s.log_rate_hz - 1.0) <= 0.05) continue;
-      notes.push_back(s.type + " " + std::to_string(s.instance) +
-                      (s.device_id ? " (id " + std::to_string(*s.device_id) + ")" : std::string()) + ": logged at " +
-                      FormatNumber(s.log_rate_hz, 4) + " Hz in " + first.path + ", " + FormatNumber(m->log_rate_hz, 4) +
-                      " Hz in " + runs[r].path + ": pooled all the same (the still detector reads each log at " +
-                      "its own noise level, the fit sees means over the same seconds)");
+      std::string& list = sensors_at[{FormatNumber(s.log_rate_hz, 4), FormatNumber(m->log_rate_hz, 4)}];
+      list += (list.empty() ? "" : ", ") + s.type + " " + std::to_string(s.instance) +
+              (s.device_id ? " (id " + std::to_string(*s.device_id) + ")" : std::string());
     }
+    for (const auto& [rates, list] : sensors_at)
+      notes.push_back(list + ": logged at " + rates.first + " Hz in " + first.path + ", " + rates.second + " Hz in " +
+                      runs[r].path + ": pooled all the same (the still detector reads each log at its own noise " +
+                      "level, the fit sees means over the same seconds)");
   }
   return notes;
 }

@@ -78,7 +78,7 @@ nlohmann::json LogsJson(const CalibrateResult& r) {
     for (const StillSegment& s : d.segments)
       segments.push_back({{"start_s", s.start_s}, {"length_s", s.length_s}, {"temp_min_c", s.temp_min_c}, {"temp_max_c", s.temp_max_c}});
     for (const RejectedPart& p : d.rejected) rejected.push_back({{"start_s", p.start_s}, {"length_s", p.length_s}, {"reason", p.reason}});
-    out.push_back({{"path", l.path}, {"still_s", d.still_s}, {"total_s", d.total_s}, {"gyro_noise_rad_s", d.gyro_noise_rad_s},
+    out.push_back({{"path", l.path}, {"state", l.state}, {"still_s", d.still_s}, {"total_s", d.total_s}, {"gyro_noise_rad_s", d.gyro_noise_rad_s},
                    {"accel_noise_m_s2", d.accel_noise_m_s2}, {"still_segments", segments}, {"rejected", rejected}});
   }
   return out;
@@ -199,10 +199,11 @@ Command MakeCalibrate(CLI::App& app) {
       "  device_id, all four slots of each kind written (unused: ID 0), TC_x_ENABLE. QGroundControl format.\n"
       "ardupilot (DataFlash): every IMU, rotated back by AHRS_ORIENTATION and with any INS_TCAL correction the\n"
       "  log ran undone -> INS_TCAL1..3 ENABLE, TMIN, TMAX, ACC1..3, GYR1..3 (an IMU not calibrated: ENABLE 0).\n"
-      "Every log goes through a still detector (gyro and accel variance against the sensor's own noise); only\n"
-      "  still rows feed the fit. One log still throughout (a chamber run): the drift model projected onto the\n"
-      "  cubic. Several logs or flights: one least-squares cubic over all still rows, a constant per log (gyro,\n"
-      "  baro) or per still segment (accel: the attitude's share of gravity).\n"
+      "Every log goes through a still detector (gyro and accel variance against the sensor's own noise; rows the\n"
+      "  log marks armed or not landed are not used); only still rows feed the fit. One log still throughout (a\n"
+      "  chamber run): the drift model projected onto the cubic. Several logs or flights: one least-squares\n"
+      "  cubic over all still rows, a constant per log (gyro, baro) or per still segment (accel: the attitude's\n"
+      "  share of gravity). A board rotation or a log rate that differs between the logs is noted, not refused.\n"
       "A sensor that cannot be calibrated (span < --min-span, still time < --min-still, too few rows) is listed\n"
       "  with the reason and which log would help.\n"
       "Expected error: per axis, the cubic's expected next-run RMS at steady temperature and on the run's warm-up\n"

@@ -60,7 +60,21 @@ Sensor MakeSensor(std::string type, int instance, std::optional<std::uint32_t> i
 }
 
 }  // namespace
-Result<std::vector<Sensor>> SensorsOfULog(const std::string& path, double fit_rate_hz) {
+namespace {
+// Rows per second of a series as logged: `rows` records over the span of its (averaged) times.
+double LogRate(std::size_t rows, const std::vector<double>& time_s) {
+  return rows > 1 && time_s.size() > 1 && time_s.back() > time_s.front()
+             ? static_cast<double>(rows - 1) / (time_s.back() - time_s.front()) : 0.0;
+}
+// The 'D' rows of a ULog topic instance (every subscription of it).
+std::size_t TopicRows(const ULogContents& log, const std::string& name, int multi_id) {
+  std::size_t n = 0;
+  for (const ULogTopic& t : log.topics)
+    if (t.name == name && t.multi_id == multi_id) n += t.rows;
+  return n;
+}
+}  // namespace
+Result<std::vector<Sensor>> SensorsOfULog(const std::string& path, double fit_rate_hz, LogInfo* info) {
   // Means over 1 / fit_rate windows while reading: the full-rate rows are never held.
   ULogReadOptions read;
   read.average_window_us = static_cast<std::uint64_t>(std::llround(1e6 / fit_rate_hz));
@@ -73,6 +87,9 @@ Result<std::vector<Sensor>> SensorsOfULog(const std::string& path, double fit_ra
     out.push_back(MakeSensor("accel", a.multi_id, a.device_id, a.timestamp_us, a.temperature_c, {a.x_m_s2, a.y_m_s2, a.z_m_s2}));
   for (const auto& b : log->baros)
     out.push_back(MakeSensor("baro", b.multi_id, b.device_id, b.timestamp_us, b.temperature_c, {b.pressure_pa}));
+  for (Sensor& s : out)
+    s.log_rate_hz = LogRate(TopicRows(*log, "sensor_" + s.type, s.instance), s.time_s);
+  if (info) info->state = VehicleStateOfULog(*log), info->parameters = log->parameters;
   if (out.empty()) return InvalidInput(path + ": no sensor_gyro, sensor_accel or sensor_baro data (" + log->BriefReport() + ")");
   // PX4 slots: the order of the instances of each kind (at most 4).
   for (const char* type : {"gyro", "accel", "baro"}) {
@@ -82,7 +99,8 @@ Result<std::vector<Sensor>> SensorsOfULog(const std::string& path, double fit_ra
   }
   return out;
 }
-Result<std::vector<Sensor>> SensorsOfDataFlash(const std::string& path, double fit_rate_hz, std::vector<std::string>* notes_out) {
+Result<std::vector<Sensor>> SensorsOfDataFlash(const std::string& path, double fit_rate_hz, std::vector<std::string>* notes_out,
+                                               LogInfo* info) {
   // Means over 1 / fit_rate windows while reading (the rotation undone later is linear; the
   // thermal-correction undo is evaluated at the window's mean temperature).
   DataFlashReadOptions read;
@@ -101,7 +119,10 @@ Result<std::vector<Sensor>> SensorsOfDataFlash(const std::string& path, double f
     if (!s->acc_x_m_s2.empty())
       out.push_back(MakeSensor("accel", s->instance, std::nullopt, s->time_us, s->temp_c,
                                {s->acc_x_m_s2, s->acc_y_m_s2, s->acc_z_m_s2}));
+    for (std::size_t k = out.size() - (s->acc_x_m_s2.empty() ? 1 : 2); k < out.size(); ++k)
+      out[k].log_rate_hz = LogRate(raw.records, Seconds(raw.time_us));  // the rows as read, before any cut
   }
+  if (info) info->state = VehicleStateOfDataFlash(*log), info->parameters = log->parameters;
   if (out.empty()) return InvalidInput(path + ": no IMU rows (" + log->BriefReport() + ")");
   for (Sensor& s : out) s.slot = s.instance + 1;  // INS_TCAL<n>
   return out;
@@ -435,9 +456,10 @@ Result<CalibrateResult> CalibrateLogs(const std::vector<std::string>& logs, cons
     if (!run.ok()) return run.error();
     if (!runs.empty())
       if (Status st = SameBoard(runs.front().sensors, a.input, run->sensors, path); !st.ok()) return st.error();
-    result.logs.push_back({path, run->detection});
+    result.logs.push_back({path, run->detection, run->info.state.BriefReport()});
     runs.push_back(std::move(*run));
   }
+  for (std::string& n : DifferencesBetweenLogs(runs)) result.notes.push_back(std::move(n));
   // One log still throughout: the drift model and projection; otherwise the pooled fit.
   const bool single = runs.size() == 1 && runs.front().detection.rejected.empty() && runs.front().detection.segments.size() == 1;
   std::vector<Sensor>* sensors = &runs.front().sensors;

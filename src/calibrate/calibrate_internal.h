@@ -1,6 +1,7 @@
 // Shared by the calibrate stage's files (not installed).
 #pragma once
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -9,6 +10,7 @@
 #include "gyrocomp/core/status.h"
 #include "gyrocomp/export/thermal_cubic.h"
 #include "gyrocomp/io/flight_log.h"
+#include "gyrocomp/io/vehicle_state.h"
 
 namespace gyrocomp::calibrate_internal {
 
@@ -22,10 +24,16 @@ struct Args : CalibrateOptions {
 };
 
 // ---- calibrate.cc -----------------------------------------------------------------------------
-// A log's sensors (gyro, accel, baro per instance) as rows at fit_rate_hz, firmware units.
-Result<std::vector<Sensor>> SensorsOfULog(const std::string& path, double fit_rate_hz);
+// What a log says besides its sensors: its armed / landed state and its parameters.
+struct LogInfo {
+  VehicleStateLog state;
+  std::map<std::string, double> parameters;  // ULog 'P' / DataFlash PARM (last value)
+};
+// A log's sensors (gyro, accel, baro per instance) as rows at fit_rate_hz, firmware units;
+// `info` (when given) gets the log's state and parameters.
+Result<std::vector<Sensor>> SensorsOfULog(const std::string& path, double fit_rate_hz, LogInfo* info = nullptr);
 Result<std::vector<Sensor>> SensorsOfDataFlash(const std::string& path, double fit_rate_hz,
-                                               std::vector<std::string>* notes_out);
+                                               std::vector<std::string>* notes_out, LogInfo* info = nullptr);
 // The sensor of `run` that is `s` (by device id, else kind and instance); nullptr when none.
 const Sensor* Match(const std::vector<Sensor>& run, const Sensor& s);
 // Why the firmware has no place for `s` ("" when it has one): slots, ArduPilot's barometer.
@@ -43,7 +51,13 @@ struct Run {
   std::vector<std::vector<int>> segment;  // [sensor][row]
   std::vector<double> row_s;  // [sensor] seconds of log per fit row (1 / fit_rate_hz unless the log is slower)
   std::vector<std::size_t> whole_rows;  // [sensor] fit rows of the whole log, still or not
+  LogInfo info;  // the log's state and parameters
 };
+// Differences between the logs that do not change the fit but that a user should know of: a
+// board rotation parameter, or a sensor's log rate (more than 5 %) that differs from the first
+// log's, one note per parameter / pair of rates, naming both files and both values
+// (CalibrateResult::notes).
+std::vector<std::string> DifferencesBetweenLogs(const std::vector<Run>& runs);
 
 // Reads one log: its sensors at still_rate_hz, the still detector on them, then the fit's rows.
 // `keep_whole`: a log still throughout is read again at fit_rate_hz.

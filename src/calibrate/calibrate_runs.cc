@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <map>
+#include <utility>
 #include <numeric>
 #include <optional>
 #include <set>
@@ -23,11 +24,24 @@
 namespace gyrocomp::calibrate_internal {
 namespace {
 
+// The log's state on the detector's rows (vehicle_state.h): armed where the log says so (not
+// known before its first message: not armed), in the air where its landed state says not landed
+// (not known: landed); an empty vector where the log has no such state.
+StillLogState StateOnRows(const VehicleStateLog& state, const std::vector<double>& t) {
+  StillLogState out;
+  if (!state.armed.empty()) out.armed = StateAtTimes(state.armed, t, /*before_first=*/false);
+  if (!state.landed.empty()) {
+    out.in_air = StateAtTimes(state.landed, t, /*before_first=*/true);
+    out.in_air.flip();
+  }
+  return out;
+}
+
 // The still detector on a log's first IMU (the first gyro and the first accelerometer, rows
 // paired by their averaging window, k = time / window; or the gyro alone), on the sensors read
-// as means over 1 / still_rate_hz: the vehicle is still or not as a whole. A log the detector
-// cannot take is one rejected part with the reason.
-StillDetection DetectStillOf(const std::vector<Sensor>& sensors, const Args& a) {
+// as means over 1 / still_rate_hz, with the log's armed / landed state: the vehicle is still or
+// not as a whole. A log the detector cannot take is one rejected part with the reason.
+StillDetection DetectStillOf(const std::vector<Sensor>& sensors, const VehicleStateLog& state, const Args& a) {
   const Sensor* gy = nullptr;
   const Sensor* ac = nullptr;
   for (const Sensor& s : sensors) {
@@ -54,7 +68,7 @@ StillDetection DetectStillOf(const std::vector<Sensor>& sensors, const Args& a) 
     }
   }
   if (why.empty()) {
-    Result<StillDetection> d = DetectStill(t, g, acc, temp, {}, a.still);
+    Result<StillDetection> d = DetectStill(t, g, acc, temp, StateOnRows(state, t), a.still);
     if (d.ok()) return *d;
     why = d.error().message;
   }
@@ -265,19 +279,21 @@ void KeepPooledRows(Sensor* s, const Pool& p) {
 // chamber run has always been calibrated on; otherwise the fit's rows are the still rows' block
 // means (one read of a long flight log).
 Result<Run> ReadRun(const std::string& path, LogFormat format, const Args& a, bool keep_whole) {
-  auto read = [&](double rate) {
-    return format == LogFormat::kULog ? SensorsOfULog(path, rate) : SensorsOfDataFlash(path, rate, a.notes);
+  auto read = [&](double rate, LogInfo* info) {
+    return format == LogFormat::kULog ? SensorsOfULog(path, rate, info) : SensorsOfDataFlash(path, rate, a.notes, info);
   };
-  auto sensors = read(a.still_rate_hz);
+  LogInfo info;
+  auto sensors = read(a.still_rate_hz, &info);
   if (!sensors.ok()) return sensors.error();
-  Run run{path, std::move(*sensors), {}, {}, {}, {}};
-  run.detection = DetectStillOf(run.sensors, a);
+  Run run{path, std::move(*sensors), {}, {}, {}, {}, std::move(info)};
+  run.detection = DetectStillOf(run.sensors, run.info.state, a);
   run.detection.still.clear();
   run.detection.still.shrink_to_fit();
   const bool throughout = run.detection.rejected.empty() && run.detection.segments.size() == 1;
   if (keep_whole && throughout) {
-    auto whole = read(a.fit_rate_hz);
+    auto whole = read(a.fit_rate_hz, nullptr);
     if (!whole.ok()) return whole.error();
+    for (std::size_t k = 0; k < whole->size() && k < run.sensors.size(); ++k) (*whole)[k].log_rate_hz = run.sensors[k].log_rate_hz;
     run.sensors = std::move(*whole);
     for (const Sensor& s : run.sensors) {
       run.segment.emplace_back(s.time_s.size(), 0);
@@ -292,6 +308,58 @@ Result<Run> ReadRun(const std::string& path, LogFormat format, const Args& a, bo
     run.row_s.push_back(StillBlockMeans(&s, run.detection, a, &run.segment.back(), &run.whole_rows.back()));
   }
   return run;
+}
+
+namespace {
+// The board rotation parameters of a log: PX4 SENS_BOARD_ROT and the per-sensor CAL_GYRO<n>_ROT /
+// CAL_ACC<n>_ROT; ArduPilot AHRS_ORIENTATION.
+std::map<std::string, double> RotationParameters(const std::map<std::string, double>& p) {
+  std::map<std::string, double> out;
+  for (const auto& [name, value] : p) {
+    const bool per_sensor = (name.rfind("CAL_GYRO", 0) == 0 || name.rfind("CAL_ACC", 0) == 0) && name.size() > 4 &&
+                            name.compare(name.size() - 4, 4, "_ROT") == 0;
+    if (name == "SENS_BOARD_ROT" || name == "AHRS_ORIENTATION" || per_sensor) out[name] = value;
+  }
+  return out;
+}
+// Why a rotation change between logs does not change the fit (flight-controller-export.md).
+std::string RotationReason(const std::string& name) {
+  if (name == "AHRS_ORIENTATION")
+    return "each log's IMU rows are rotated back to the sensor frame with its own value (DataFlashImuToSensorFrame), "
+           "the frame of INS_TCAL";
+  return "PX4 logs sensor_gyro / sensor_accel before any rotation (calibration::Gyroscope / Accelerometer::Correct "
+         "rotates after subtracting the thermal offset), the frame of TC_*";
+}
+}  // namespace
+
+std::vector<std::string> DifferencesBetweenLogs(const std::vector<Run>& runs) {
+  std::vector<std::string> notes;
+  if (runs.empty()) return notes;
+  const Run& first = runs.front();
+  const std::map<std::string, double> rot0 = RotationParameters(first.info.parameters);
+  for (std::size_t r = 1; r < runs.size(); ++r) {
+    for (const auto& [name, value] : RotationParameters(runs[r].info.parameters)) {
+      const auto it = rot0.find(name);
+      if (it == rot0.end() || it->second == value) continue;
+      notes.push_back(name + " = " + FormatNumber(it->second) + " in " + first.path + ", " + FormatNumber(value) + " in " +
+                      runs[r].path + ": pooled all the same: " + RotationReason(name));
+    }
+    // One note per pair of rates (as printed), listing the sensors logged at them.
+    std::map<std::pair<std::string, std::string>, std::string> sensors_at;
+    for (const Sensor& s : first.sensors) {
+      const Sensor* m = Match(runs[r].sensors, s);
+      if (!m || !(s.log_rate_hz > 0.0) || !(m->log_rate_hz > 0.0)) continue;
+      if (std::abs(m->log_rate_hz / s.log_rate_hz - 1.0) <= 0.05) continue;
+      std::string& list = sensors_at[{FormatNumber(s.log_rate_hz, 4), FormatNumber(m->log_rate_hz, 4)}];
+      list += (list.empty() ? "" : ", ") + s.type + " " + std::to_string(s.instance) +
+              (s.device_id ? " (id " + std::to_string(*s.device_id) + ")" : std::string());
+    }
+    for (const auto& [rates, list] : sensors_at)
+      notes.push_back(list + ": logged at " + rates.first + " Hz in " + first.path + ", " + rates.second + " Hz in " +
+                      runs[r].path + ": pooled all the same (the still detector reads each log at its own noise " +
+                      "level, the fit sees means over the same seconds)");
+  }
+  return notes;
 }
 
 Sensor::Identification IdentifyRuns(const Sensor& s, const std::vector<Run>& runs, const Args& a) {

@@ -186,7 +186,8 @@ std::string CalibrateResult::BriefReport() const {
     }
     if (!s.identification.would_help.empty()) t << "                  would help: " << s.identification.would_help << "\n";
   }
-  for (const LogStill& l : logs) t << "still in " << l.path << ": " << l.detection.BriefReport() << "\n";
+  for (const LogStill& l : logs)
+    t << "still in " << l.path << " (" << l.state << "): " << l.detection.BriefReport() << "\n";
   return t.str();
 }
 

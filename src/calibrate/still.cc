@@ -11,17 +11,18 @@
 namespace gyrocomp {
 namespace {
 
-enum Why : unsigned { kArmed = 1, kMotion = 2, kTurning = 4, kMargin = 8, kShort = 16 };
+enum Why : unsigned { kArmed = 1, kMotion = 2, kTurning = 4, kMargin = 8, kShort = 16, kInAir = 32 };
 
 struct Window {
   std::size_t begin = 0, end = 0;
   double gyro_ms = 0.0, accel_ms = 0.0;  // mean squared deviation per axis
   double mean_rate_rad_s = 0.0;
-  bool armed = false;
+  bool armed = false;  // the log says armed at a sample of the window
+  bool in_air = false;  // the log's landed state says not landed at a sample of the window
 };
 
 std::vector<Window> Windows(const std::array<std::vector<double>, 3>& g, const std::array<std::vector<double>, 3>& a,
-                            const std::vector<bool>& armed, std::size_t w) {
+                            const StillLogState& state, std::size_t w) {
   std::vector<Window> out;
   const std::size_t n = g[0].size();
   for (std::size_t b = 0; b < n; b += w) {
@@ -39,8 +40,10 @@ std::vector<Window> Windows(const std::array<std::vector<double>, 3>& g, const s
     }
     win.gyro_ms /= 3.0 * m, win.accel_ms /= 3.0 * m;
     win.mean_rate_rad_s = std::sqrt(rate2);
-    if (!armed.empty())
-      for (std::size_t i = win.begin; i < win.end; ++i) win.armed |= armed[i];
+    for (std::size_t i = win.begin; i < win.end; ++i) {
+      if (!state.armed.empty()) win.armed = win.armed || state.armed[i];
+      if (!state.in_air.empty()) win.in_air = win.in_air || state.in_air[i];
+    }
     out.push_back(win);
   }
   return out;
@@ -82,7 +85,7 @@ bool StillDetectorOptions::IsValid(std::string* error) const {
 
 Result<StillDetection> DetectStill(const std::vector<double>& time_s, const std::array<std::vector<double>, 3>& gyro_rad_s,
                                    const std::array<std::vector<double>, 3>& accel_m_s2, const std::vector<double>& temp_c,
-                                   const std::vector<bool>& armed, const StillDetectorOptions& o) {
+                                   const StillLogState& state, const StillDetectorOptions& o) {
   std::string why;
   if (!o.IsValid(&why)) return InvalidArgument(why);
   const std::size_t n = time_s.size();
@@ -90,17 +93,18 @@ Result<StillDetection> DetectStill(const std::vector<double>& time_s, const std:
   for (int ax = 0; ax < 3; ++ax)
     if (gyro_rad_s[ax].size() != n || accel_m_s2[ax].size() != n)
       return InvalidInput("DetectStill: gyro and accel columns must be as long as time_s");
-  if ((!temp_c.empty() && temp_c.size() != n) || (!armed.empty() && armed.size() != n))
-    return InvalidInput("DetectStill: temp_c and armed must be empty or as long as time_s");
+  if ((!temp_c.empty() && temp_c.size() != n) || (!state.armed.empty() && state.armed.size() != n) ||
+      (!state.in_air.empty() && state.in_air.size() != n))
+    return InvalidInput("DetectStill: temp_c, state.armed and state.in_air must be empty or as long as time_s");
   const double fs = static_cast<double>(n - 1) / (time_s.back() - time_s.front());
   if (!(fs > 0.0)) return InvalidInput("DetectStill: time_s must increase");
   const auto w = static_cast<std::size_t>(std::max(2.0, std::round(o.window_s * fs)));
-  const std::vector<Window> wins = Windows(gyro_rad_s, accel_m_s2, armed, w);
+  const std::vector<Window> wins = Windows(gyro_rad_s, accel_m_s2, state, w);
   StillDetection d;
-  // The sensor's own noise: the quietest windows of the log (disarmed ones when the log says).
+  // The sensor's own noise: the quietest windows of the log (disarmed, landed ones when the log says).
   std::vector<double> gq, aq;
   for (const Window& win : wins)
-    if (!win.armed && win.end - win.begin == w) gq.push_back(win.gyro_ms), aq.push_back(win.accel_ms);
+    if (!win.armed && !win.in_air && win.end - win.begin == w) gq.push_back(win.gyro_ms), aq.push_back(win.accel_ms);
   if (gq.empty())
     for (const Window& win : wins) gq.push_back(win.gyro_ms), aq.push_back(win.accel_ms);
   // Per window and sensor, 3 axes of w - 1 degrees of freedom each (the window's mean removed).
@@ -115,6 +119,7 @@ Result<StillDetection> DetectStill(const std::vector<double>& time_s, const std:
     const double t = 0.5 * (win.gyro_ms / sg2 + win.accel_ms / sa2);  // Skog et al. (2010): T ~ 1 still
     unsigned r = 0;
     if (win.armed) r |= kArmed;
+    if (win.in_air) r |= kInAir;
     if (t > o.threshold) r |= kMotion;
     if (win.mean_rate_rad_s > max_rate) r |= kTurning;
     for (std::size_t i = win.begin; i < win.end; ++i) reason[i] = r, stat[i] = t;
@@ -165,6 +170,7 @@ Result<StillDetection> DetectStill(const std::vector<double>& time_s, const std:
     while (j < n && !d.still[j]) all |= widened[j], t_max = std::max(t_max, stat[j]), ++j;
     std::vector<std::string> parts;
     if (all & kArmed) parts.push_back("armed");
+    if (all & kInAir) parts.push_back("in the air (log's landed state)");
     if (all & kMotion) parts.push_back("motion (T up to " + FormatNumber(t_max, 3) + ", threshold " + FormatNumber(o.threshold, 3) + ")");
     if (all & kTurning) parts.push_back("turning (mean rate > " + FormatNumber(o.max_mean_rate_dps, 3) + " deg/s)");
     if (all & kMargin) parts.push_back("margin " + FormatNumber(o.margin_s, 3) + " s around motion");

@@ -147,6 +147,8 @@ class Parser {
   std::string TopicOf(const Layout& l, const std::uint8_t* payload) const;
   void TakeImu(const Layout& l, const std::uint8_t* p);
   void TakeParameter(const Layout& l, const std::uint8_t* p, std::size_t at);
+  // ARM (field ArmState) and EV (field Id) records with TimeUS: DataFlashContents::arm_states / events.
+  void TakeState(const Layout& l, const std::uint8_t* p);
   // ImuRow fields: time, gyro x y z, accel x y z, T.
   static constexpr int kRowFields = 8;
   using ImuRow = std::array<double, kRowFields>;
@@ -328,6 +330,8 @@ Result<DataFlashContents> Parser::Run() {
       TakeParameter(l, p, pos);
     } else if (l.decodable && (l.fmt.name == "IMU" || l.fmt.name == "IMU2" || l.fmt.name == "IMU3")) {
       TakeImu(l, p);
+    } else if (l.decodable && (l.fmt.name == "ARM" || l.fmt.name == "EV")) {
+      TakeState(l, p);
     }
     pos += len;
     if (release_ && pos - released_ >= (std::size_t{64} << 20)) release_(released_ = pos);
@@ -389,6 +393,21 @@ void Parser::TakeParameter(const Layout& l, const std::uint8_t* p, std::size_t a
   out_.parameters[key] = *v;
 }
 
+void Parser::TakeState(const Layout& l, const std::uint8_t* p) {
+  const bool arm = l.fmt.name == "ARM";
+  auto get = [&](const char* label) -> std::optional<double> {
+    const auto i = FieldIndex(l, label);
+    return i ? Numeric(l.fmt.format[*i], p + l.offsets[*i]) : std::nullopt;
+  };
+  std::optional<double> time_us = get("TimeUS");
+  if (!time_us) {
+    if (const auto ms = get("TimeMS")) time_us = *ms * 1000.0;  // logs before TimeUS, as TakeImu
+  }
+  const auto value = get(arm ? "ArmState" : "Id");
+  if (!time_us || !value) return;
+  (arm ? out_.arm_states : out_.events).push_back({static_cast<std::uint64_t>(*time_us), static_cast<int>(*value)});
+}
+
 void Parser::TakeImu(const Layout& l, const std::uint8_t* p) {
   auto get = [&](const char* label) -> std::optional<double> {
     const auto i = FieldIndex(l, label);
@@ -410,6 +429,7 @@ void Parser::TakeImu(const Layout& l, const std::uint8_t* p) {
     out_.imus.back().message = l.fmt.name;
   }
   DataFlashImuSeries& s = out_.imus[it->second];
+  ++s.records;
   const bool has_acc = ax && ay && az;
   const ImuRow row = {*time_us, *gx, *gy, *gz, has_acc ? *ax : 0.0, has_acc ? *ay : 0.0, has_acc ? *az : 0.0, t ? *t : 0.0};
   const std::uint64_t w = options_.average_window_us;

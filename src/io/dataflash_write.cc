@@ -11,6 +11,8 @@ namespace {
 
 constexpr std::uint8_t kParmType = 64;
 constexpr std::uint8_t kImuType = 65;
+constexpr std::uint8_t kArmType = 66;
+constexpr std::uint8_t kEvType = 67;
 
 template <typename T>
 void Put(std::string* s, T v) {
@@ -89,6 +91,10 @@ Result<std::string> EncodeDataFlash(const DataFlashWriteInput& in) {
   PutFmt(&s, kParmType, 3 + 8 + 16 + 4 + 4, "PARM", "QNff", "TimeUS,Name,Value,Default");
   PutFmt(&s, kImuType, 3 + 8 + 1 + 6 * 4 + 2 * 4 + 4 + 2 + 2 * 2, "IMU", "QBffffffIIfBBHH",
          "TimeUS,I,GyrX,GyrY,GyrZ,AccX,AccY,AccZ,EG,EA,T,GH,AH,GHz,AHz");
+  if (!in.arm_states.empty() || !in.events.empty()) {  // LogStructure.h's layouts
+    PutFmt(&s, kArmType, 3 + 8 + 1 + 4 + 1 + 1, "ARM", "QBIBB", "TimeUS,ArmState,ArmChecks,Forced,Method");
+    PutFmt(&s, kEvType, 3 + 8 + 1, "EV", "QB", "TimeUS,Id");
+  }
   const std::uint64_t t0 = rows > 0 ? in.imus.front().time_us.front() : 0;
   for (const auto& [name, value] : in.parameters) {
     PutHeader(&s, kParmType);
@@ -97,8 +103,28 @@ Result<std::string> EncodeDataFlash(const DataFlashWriteInput& in) {
     Put<float>(&s, value);
     Put<float>(&s, value);
   }
-  for (std::size_t i = 0; i < rows; ++i)
+  std::size_t next_arm = 0, next_ev = 0;
+  // The state records up to time_us (all of them at the end).
+  auto put_states = [&](std::uint64_t time_us, bool all) {
+    for (; next_arm < in.arm_states.size() && (all || in.arm_states[next_arm].time_us <= time_us); ++next_arm) {
+      PutHeader(&s, kArmType);
+      Put<std::uint64_t>(&s, in.arm_states[next_arm].time_us);
+      Put<std::uint8_t>(&s, static_cast<std::uint8_t>(in.arm_states[next_arm].value));
+      Put<std::uint32_t>(&s, 0);  // ArmChecks
+      Put<std::uint8_t>(&s, 0);   // Forced
+      Put<std::uint8_t>(&s, 0);   // Method
+    }
+    for (; next_ev < in.events.size() && (all || in.events[next_ev].time_us <= time_us); ++next_ev) {
+      PutHeader(&s, kEvType);
+      Put<std::uint64_t>(&s, in.events[next_ev].time_us);
+      Put<std::uint8_t>(&s, static_cast<std::uint8_t>(in.events[next_ev].value));
+    }
+  };
+  for (std::size_t i = 0; i < rows; ++i) {
+    put_states(in.imus.front().time_us[i], false);
     for (const auto& m : in.imus) PutImuRow(&s, m, i);
+  }
+  put_states(0, true);
   return s;
 }
 

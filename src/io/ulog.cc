@@ -313,6 +313,20 @@ std::optional<Error> Parser::ParseSubscription(std::size_t at, const std::uint8_
       Warn(at, topic.name + " has no uint64 timestamp and float value fields this reader knows; not read");
     }
   }
+  if (const char* field = StateField(topic.name)) {
+    // One byte: bool or uint8_t (msg/ActuatorArmed.msg bool armed, msg/VehicleStatus.msg uint8
+    // arming_state, msg/VehicleLandDetected.msg bool landed).
+    auto v = find(field, "bool");
+    if (!v) v = find(field, "uint8_t");
+    if (ts && v && *ts + 8 <= s.min_size && *v + 1 <= s.min_size) {
+      s.kind = 5;
+      s.g.timestamp = *ts, s.g.x = *v;
+      s.series = static_cast<int>(out_.states.size());
+      out_.states.push_back(ULogStateSeries{topic.name, field, topic.multi_id, {}, {}});
+    } else {
+      Warn(at, topic.name + " has no uint64 timestamp and one-byte '" + field + "' field; its state is not read");
+    }
+  }
   s.topic = out_.topics.size();
   out_.topics.push_back(topic);
   subs_[topic.msg_id] = std::move(s);
@@ -333,7 +347,11 @@ std::optional<Error> Parser::ParseData(std::size_t at, const std::uint8_t* p, st
                        (s.min_size == s.max_size ? "" : " to " + std::to_string(s.max_size)));
   }
   ++out_.topics[s.topic].rows;
-  if (s.kind != 0) DecodeRow(s, p + 2);
+  if (s.kind == 5) {
+    DecodeState(s, p + 2);
+  } else if (s.kind != 0) {
+    DecodeRow(s, p + 2);
+  }
   return std::nullopt;
 }
 
@@ -382,8 +400,23 @@ void Parser::DecodeRow(Subscription& s, const std::uint8_t* row) {
   s.sum_x += v.x, s.sum_y += v.y, s.sum_z += v.z, s.sum_temp += v.temp;
 }
 
+const char* Parser::StateField(const std::string& topic) {
+  if (topic == "actuator_armed") return "armed";
+  if (topic == "vehicle_status") return "arming_state";
+  if (topic == "vehicle_land_detected") return "landed";
+  return nullptr;
+}
+
+void Parser::DecodeState(const Subscription& s, const std::uint8_t* row) {
+  ULogStateSeries& st = out_.states[static_cast<std::size_t>(s.series)];
+  const int v = row[s.g.x];
+  if (!st.value.empty() && st.value.back() == v) return;
+  st.timestamp_us.push_back(U64(row + s.g.timestamp));
+  st.value.push_back(v);
+}
+
 void Parser::FlushWindow(Subscription& s) {
-  if (s.count == 0 || s.kind == 0) return;
+  if (s.count == 0 || s.kind == 0 || s.kind == 5) return;
   const double n = static_cast<double>(s.count);
   RowValues v;
   v.t = static_cast<std::uint64_t>(std::llround(s.sum_t / n));
@@ -446,6 +479,7 @@ Result<ULogContents> ParseULogWith(const std::uint8_t* data, std::size_t size, c
   }
   std::erase_if(r->accels, [](const ULogAccelSeries& a) { return a.timestamp_us.empty(); });
   std::erase_if(r->baros, [](const ULogBaroSeries& b) { return b.timestamp_us.empty(); });
+  std::erase_if(r->states, [](const ULogStateSeries& v) { return v.timestamp_us.empty(); });
   return r;
 }
 

@@ -84,7 +84,7 @@ struct Subscription {
   std::size_t min_size = 0;        // data bytes without trailing _padding fields
   std::size_t max_size = 0;        // with them
   int series = -1;                 // index into gyros (kind 1) or combined (kind 2)
-  int kind = 0;                    // 0 other, 1 sensor_gyro, 2 sensor_combined, 3 accel, 4 baro
+  int kind = 0;                    // 0 other, 1 sensor_gyro, 2 sensor_combined, 3 accel, 4 baro, 5 state
   GyroFields g;
   bool device_id_change_reported = false;
   // ULogReadOptions::average_window_us: the open window's sums.
@@ -154,6 +154,10 @@ class Parser {
   std::optional<Error> Flatten(std::size_t at, const std::string& type, const std::string& prefix, int depth,
                                std::vector<FlatField>* fields, std::size_t* size, std::size_t* padding_tail);
   void DecodeRow(Subscription& s, const std::uint8_t* row);
+  // A vehicle-state row (kind 5): kept when it is the first or its value changes.
+  void DecodeState(const Subscription& s, const std::uint8_t* row);
+  // The vehicle-state field a subscription of `topic` is read for (kind 5), or nullptr.
+  static const char* StateField(const std::string& topic);
   void PushRow(const Subscription& s, const RowValues& v);
   void FlushWindow(Subscription& s);
   void NoteDeviceId(Subscription& s, const std::uint8_t* row, const std::string& what, std::size_t rows,

@@ -26,6 +26,20 @@ constexpr const char* kSensorBaroFormat =
     "sensor_baro:uint64_t timestamp;uint64_t timestamp_sample;uint32_t device_id;float pressure;"
     "float temperature;uint32_t error_count;";
 
+// The vehicle-state topics (msg/ActuatorArmed.msg, msg/VehicleStatus.msg: its first fields,
+// msg/VehicleLandDetected.msg), the fields in the order of the .msg files, as the logger writes
+// a format; the value of ULogStateWriteSeries goes into `armed`, `arming_state` or `landed`.
+constexpr const char* kActuatorArmedFormat =
+    "actuator_armed:uint64_t timestamp;bool armed;bool prearmed;bool ready_to_arm;bool lockdown;bool kill;"
+    "bool termination;bool in_esc_calibration_mode;uint8_t[1] _padding0;";
+constexpr const char* kVehicleStatusFormat =
+    "vehicle_status:uint64_t timestamp;uint64_t armed_time;uint64_t takeoff_time;uint8_t arming_state;"
+    "uint8_t latest_arming_reason;uint8_t latest_disarming_reason;uint8_t[5] _padding0;";
+constexpr const char* kVehicleLandDetectedFormat =
+    "vehicle_land_detected:uint64_t timestamp;bool freefall;bool ground_contact;bool maybe_landed;bool landed;"
+    "bool in_ground_effect;bool in_descend;bool has_low_throttle;bool vertical_movement;bool horizontal_movement;"
+    "bool rotational_movement;bool close_to_ground_or_skipped_check;bool at_rest;uint8_t[4] _padding0;";
+
 void PutU8(std::string* s, std::uint8_t v) { s->push_back(static_cast<char>(v)); }
 void PutU16(std::string* s, std::uint16_t v) {
   PutU8(s, static_cast<std::uint8_t>(v & 0xFF));
@@ -95,11 +109,43 @@ std::string DataRow(const ULogSensorWriteSeries& s, std::uint16_t msg_id, std::s
   return row;
 }
 
+Status CheckState(const ULogStateWriteSeries& s) {
+  const std::string what = "ULogStateWriteSeries " + s.topic;
+  if (s.topic != "actuator_armed" && s.topic != "vehicle_status" && s.topic != "vehicle_land_detected")
+    return InvalidArgument(what + ": topic must be actuator_armed, vehicle_status or vehicle_land_detected");
+  if (s.value.size() != s.timestamp_us.size()) return InvalidArgument(what + ": one value per timestamp");
+  for (std::size_t i = 1; i < s.timestamp_us.size(); ++i)
+    if (s.timestamp_us[i] <= s.timestamp_us[i - 1]) return InvalidArgument(what + ": timestamp_us not increasing at row " + std::to_string(i));
+  return Status::Ok();
+}
+
+// One row of a state topic in the layout of its format above.
+std::string StateRow(const ULogStateWriteSeries& s, std::uint16_t msg_id, std::size_t i) {
+  std::string row;
+  PutU16(&row, msg_id);
+  PutU64(&row, s.timestamp_us[i]);
+  if (s.topic == "actuator_armed") {
+    PutU8(&row, s.value[i]);
+    row.append(7, '\0');  // prearmed .. _padding0
+  } else if (s.topic == "vehicle_status") {
+    PutU64(&row, 0), PutU64(&row, 0);  // armed_time, takeoff_time
+    PutU8(&row, s.value[i]);
+    row.append(7, '\0');  // reasons, _padding0
+  } else {
+    row.append(3, '\0');  // freefall, ground_contact, maybe_landed
+    PutU8(&row, s.value[i]);
+    row.append(12, '\0');  // in_ground_effect .. at_rest, _padding0
+  }
+  return row;
+}
+
 }  // namespace
 
 Result<std::string> EncodeULog(const ULogWriteInput& in) {
   for (const auto& s : in.series)
     if (Status st = CheckSeries(s); !st.ok()) return st.error();
+  for (const auto& s : in.states)
+    if (Status st = CheckState(s); !st.ok()) return st.error();
   if (in.sys_name.size() > 200) return InvalidArgument("ULogWriteInput: sys_name longer than 200 characters");
   std::uint64_t start = 0;
   bool any = false;
@@ -108,6 +154,8 @@ Result<std::string> EncodeULog(const ULogWriteInput& in) {
   std::string out;
   PutHeaderAndInfo(&out, start, in.sys_name);
   for (const char* f : {kSensorGyroFormat, kSensorAccelFormat, kSensorBaroFormat}) PutMessage(&out, 'F', f);
+  if (!in.states.empty())
+    for (const char* f : {kActuatorArmedFormat, kVehicleStatusFormat, kVehicleLandDetectedFormat}) PutMessage(&out, 'F', f);
   for (const auto& [name, value] : in.int_parameters) {
     const std::string key = "int32_t " + name;
     if (key.size() > 255) return InvalidArgument("ULogWriteInput: parameter name too long: " + name);
@@ -134,16 +182,29 @@ Result<std::string> EncodeULog(const ULogWriteInput& in) {
     p += in.series[k].topic;
     PutMessage(&out, 'A', p);
   }
-  // 'D' rows of every series merged by timestamp (ties: series order).
+  // State topics: msg_id = number of series + index.
+  const std::size_t first_state = in.series.size();
+  for (std::size_t k = 0; k < in.states.size(); ++k) {
+    std::string p;
+    PutU8(&p, 0);
+    PutU16(&p, static_cast<std::uint16_t>(first_state + k));
+    p += in.states[k].topic;
+    PutMessage(&out, 'A', p);
+  }
+  // 'D' rows of every series merged by timestamp (ties: series order, then the state topics).
+  auto times = [&](std::size_t k) -> const std::vector<std::uint64_t>& {
+    return k < first_state ? in.series[k].timestamp_us : in.states[k - first_state].timestamp_us;
+  };
   using Next = std::tuple<std::uint64_t, std::size_t, std::size_t>;  // time, series, row
   std::priority_queue<Next, std::vector<Next>, std::greater<Next>> heap;
-  for (std::size_t k = 0; k < in.series.size(); ++k)
-    if (!in.series[k].timestamp_us.empty()) heap.emplace(in.series[k].timestamp_us[0], k, 0);
+  for (std::size_t k = 0; k < first_state + in.states.size(); ++k)
+    if (!times(k).empty()) heap.emplace(times(k)[0], k, 0);
   while (!heap.empty()) {
     const auto [t, k, i] = heap.top();
     heap.pop();
-    PutMessage(&out, 'D', DataRow(in.series[k], static_cast<std::uint16_t>(k), i));
-    if (i + 1 < in.series[k].timestamp_us.size()) heap.emplace(in.series[k].timestamp_us[i + 1], k, i + 1);
+    const auto id = static_cast<std::uint16_t>(k);
+    PutMessage(&out, 'D', k < first_state ? DataRow(in.series[k], id, i) : StateRow(in.states[k - first_state], id, i));
+    if (i + 1 < times(k).size()) heap.emplace(times(k)[i + 1], k, i + 1);
   }
   return out;
 }

@@ -91,6 +91,28 @@ Result<FlightRun> SimulateFlight(const FlightSimOptions& o) {
   return r;
 }
 
+namespace {
+// The run's armed and landed state as PX4 publishes it: actuator_armed.armed and
+// vehicle_status.arming_state (2 armed, 1 disarmed; msg/VehicleStatus.msg) and
+// vehicle_land_detected.landed, a row once a second and at every change.
+std::vector<ULogStateWriteSeries> FlightStateTopics(const FlightRun& r) {
+  std::vector<ULogStateWriteSeries> out(3);
+  out[0].topic = "actuator_armed", out[1].topic = "vehicle_status", out[2].topic = "vehicle_land_detected";
+  double last_report_s = -1e9;
+  for (std::size_t i = 0; i < r.time_s.size(); ++i) {
+    const bool change = i > 0 && (r.armed[i] != r.armed[i - 1] || r.landed[i] != r.landed[i - 1]);
+    if (!change && r.time_s[i] - last_report_s < 1.0) continue;
+    last_report_s = r.time_s[i];
+    const auto t_us = static_cast<std::uint64_t>(std::llround(r.time_s[i] * 1e6)) + 1000000;  // as the IMU rows
+    for (ULogStateWriteSeries& s : out) s.timestamp_us.push_back(t_us);
+    out[0].value.push_back(r.armed[i] ? 1 : 0);
+    out[1].value.push_back(r.armed[i] ? 2 : 1);
+    out[2].value.push_back(r.landed[i] ? 1 : 0);
+  }
+  return out;
+}
+}  // namespace
+
 Result<std::string> EncodeFlightULog(const std::vector<FlightRun>& imus, int decimate) {
   if (imus.empty() || decimate < 1) return InvalidArgument("EncodeFlightULog: no IMU, or decimate < 1");
   for (const FlightRun& r : imus)
@@ -114,6 +136,7 @@ Result<std::string> EncodeFlightULog(const std::vector<FlightRun>& imus, int dec
     in.series.push_back(std::move(g));
     in.series.push_back(std::move(a));
   }
+  in.states = FlightStateTopics(imus.front());
   return EncodeULog(in);
 }
 

@@ -13,8 +13,12 @@
 // A sensor that cannot be calibrated keeps its entry (its reason set) and its slot is disabled
 // in the file.
 //
-// Every log goes through the still detector (still.h) first: only the rows where the vehicle is
-// still feed the fit, and the result lists each log's still segments and the parts rejected.
+// Every log goes through the still detector (still.h) first, told the log's armed / landed state
+// where the log has one (io/vehicle_state.h): only the rows where the vehicle is still feed the
+// fit, and the result lists each log's still segments and the parts rejected, with the reasons.
+// Between logs, a board rotation parameter or a sensor's log rate that differs is noted, not
+// refused: the rows are in the sensor frame (the readers undo AHRS_ORIENTATION per log; PX4 logs
+// before any rotation) and the fit sees means over the same seconds whatever the rate.
 // One log that is still throughout (a chamber or bench run) is calibrated as above. Otherwise
 // (several logs, or a log in which the vehicle moves) each sensor of the first log is matched in
 // the others by its device id (PX4; the instance number where a log has none) and ONE pooled
@@ -55,7 +59,10 @@ struct CalibrateOptions {
   // Fewest rows after the block means; fewer: the sensor is skipped.
   std::size_t min_rows = 60;
   // Still detection on every log (still.h; its defaults: 1 s windows, threshold 3, 2 s margin,
-  // segments of 30 s at least). The log's armed state is not read: the IMU alone decides.
+  // segments of 30 s at least), told the log's own state where it has one (io/vehicle_state.h:
+  // PX4 actuator_armed, vehicle_status, vehicle_land_detected; ArduPilot ARM and EV): a row is
+  // not used when the log says armed, or not landed; before the log's first state message the
+  // state is not known and the IMU alone decides.
   StillDetectorOptions still;
   // Rows per second the still detector sees: means of the log's rows over 1 / still_rate_hz, Hz
   // (the statistic compares each window with the quietest ones, so the averaging cancels; a log
@@ -90,6 +97,7 @@ struct CalibratedSensor {
   std::string type;  // gyro | accel | baro
   int instance = 0;  // PX4 multi_id / DataFlash IMU instance
   std::optional<std::uint32_t> device_id;  // PX4 device id (DataFlash logs have none)
+  double log_rate_hz = 0.0;  // rows per second as the log has them (before any averaging), Hz; 0: not known
   std::vector<double> time_s;  // s, after the block means
   std::vector<double> temp_c;  // deg C, after the block means
   std::vector<std::vector<double>> values;  // per axis, firmware unit (rad/s, m/s^2, Pa)
@@ -196,6 +204,9 @@ struct CalibrateResult {
   struct LogStill {
     std::string path;  // the log
     StillDetection detection;  // segments, rejected parts with reasons, noise levels
+    // The log's armed / landed state the detector was given (VehicleStateLog::BriefReport, e.g.
+    // "armed: actuator_armed.armed, vehicle_status.arming_state from 1.00 s; landed: ...").
+    std::string state;
   };
   // Per log (in the order of `inputs`): where the vehicle was still (StillDetection::still, the
   // per-row flags, cleared to save memory; segments and rejected parts kept).

@@ -8,7 +8,9 @@
 // free, because a calibration log's gyro carries its thermal offset and the vehicle stands at
 // any attitude), about 1 when nothing moves; a window is motion when T > threshold, when its mean
 // rate exceeds max_mean_rate_dps (a slow steady turn has no variance), or when the log says the
-// vehicle is armed in it (motors spinning: vibration even on the ground). Motion is widened by
+// vehicle is armed in it (motors spinning: vibration even on the ground) or not landed (the log's
+// landed state; StillLogState). The log's state only adds exclusions: a window the IMU shows
+// moving is motion whatever the state says. Motion is widened by
 // margin_s on both sides; still runs shorter than min_segment_s are not used. sigma_w and sigma_a
 // are the sensor's own noise, estimated from the log's quietest windows unless given.
 #pragma once
@@ -49,7 +51,9 @@ struct StillSegment {
 struct RejectedPart {
   double start_s = 0.0;  // start, s (time_s of the log)
   double length_s = 0.0;  // duration, s
-  std::string reason;  // "armed; motion (T up to 1.2e+04, threshold 3); margin 2 s around motion"
+  // "armed; in the air (log's landed state); motion (T up to 1.2e+04, threshold 3); margin 2 s
+  // around motion"
+  std::string reason;
 };
 
 // What DetectStill found.
@@ -64,10 +68,17 @@ struct StillDetection {
   std::string BriefReport() const;  // "612 s still of 1085 s in 2 segments (...); rejected: ..."
 };
 
-// time_s increasing; gyro (rad/s) and accel (m/s^2) per axis, as long as time_s; temp_c and armed
-// may be empty (unknown).
+// What the log itself says per sample (gyrocomp/io/vehicle_state.h mapped onto the samples);
+// an empty vector: the log does not say.
+struct StillLogState {
+  std::vector<bool> armed;  // true: armed (a rejected part's reason "armed")
+  std::vector<bool> in_air;  // true: the log's landed state says not landed ("in the air (log's landed state)")
+};
+
+// time_s increasing; gyro (rad/s) and accel (m/s^2) per axis, as long as time_s; temp_c and each
+// vector of `state` may be empty (unknown).
 Result<StillDetection> DetectStill(const std::vector<double>& time_s, const std::array<std::vector<double>, 3>& gyro_rad_s,
                                    const std::array<std::vector<double>, 3>& accel_m_s2, const std::vector<double>& temp_c,
-                                   const std::vector<bool>& armed, const StillDetectorOptions& options = {});
+                                   const StillLogState& state, const StillDetectorOptions& options = {});
 
 }  // namespace gyrocomp

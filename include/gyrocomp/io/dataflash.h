@@ -55,6 +55,15 @@ struct DataFlashImuSeries {
   std::vector<double> acc_y_m_s2;  // field AccY
   std::vector<double> acc_z_m_s2;  // field AccZ
   std::vector<double> temp_c;  // field T
+  std::size_t records = 0;  // IMU records read for this instance (before any averaging)
+};
+
+// One record of a vehicle-state message gyrocomp reads (vehicle_state.h): ARM (LogStructure.h
+// "QBIBB" TimeUS,ArmState,ArmChecks,Forced,Method; ArmState 1 armed, 0 disarmed) or EV ("QB"
+// TimeUS,Id; Id a LogEvent of AP_Logger.h: 10 ARMED, 11 DISARMED, 18 LAND_COMPLETE, 28 NOT_LANDED).
+struct DataFlashStateRecord {
+  std::uint64_t time_us = 0;  // field TimeUS, us
+  int value = 0;  // ARM: ArmState; EV: Id
 };
 
 // What ReadDataFlash found.
@@ -74,6 +83,8 @@ struct DataFlashContents {
   // Parameter name -> its first change after the first IMU row.
   std::map<std::string, ParameterChange> parameters_changed_during_imu;
   std::vector<DataFlashImuSeries> imus;              // sorted by instance
+  std::vector<DataFlashStateRecord> arm_states;  // every ARM record (ArmState), in file order
+  std::vector<DataFlashStateRecord> events;      // every EV record (Id), in file order
   std::size_t num_records = 0;  // records read
   std::vector<std::string> warnings;  // truncated last record, damage (one line)
   // Byte ranges skipped in recovery (DataFlashReadOptions::strict false), in file order.
@@ -128,10 +139,14 @@ struct DataFlashImuWriteInput {
   std::vector<float> temp_c;  // field T, deg C
   std::uint16_t sample_rate_hz = 1000;  // GHz / AHz
 };
-// Input of EncodeDataFlash: the parameters and the IMU instances.
+// Input of EncodeDataFlash: the parameters, the IMU instances and the vehicle's state records.
 struct DataFlashWriteInput {
   std::map<std::string, float> parameters;  // written in name order, at TimeUS of the first row
   std::vector<DataFlashImuWriteInput> imus;  // same row count each
+  // ARM ("QBIBB": TimeUS, ArmState, ArmChecks 0, Forced 0, Method 0) and EV ("QB": TimeUS, Id)
+  // records, each written before the first IMU row later than its TimeUS; time order each.
+  std::vector<DataFlashStateRecord> arm_states;
+  std::vector<DataFlashStateRecord> events;  // EV records (Id: AP_Logger.h LogEvent)
 };
 // Errors (kInvalidArgument): lengths differ, time not increasing, a parameter name over 16 chars.
 Result<std::string> EncodeDataFlash(const DataFlashWriteInput& input);

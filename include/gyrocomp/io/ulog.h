@@ -77,6 +77,19 @@ struct ULogBaroSeries {
   std::optional<std::uint32_t> device_id;  // first row's
 };
 
+// The rows of a low-rate vehicle-state topic that gyrocomp reads (vehicle_state.h): one field of
+// actuator_armed ('armed', msg/ActuatorArmed.msg), vehicle_status ('arming_state',
+// msg/VehicleStatus.msg) or vehicle_land_detected ('landed', msg/VehicleLandDetected.msg), as
+// logged (bool / uint8 widened to int). Only the first row and the rows where the value changes
+// are kept: the state holds from a row until the next. Never averaged (ULogReadOptions).
+struct ULogStateSeries {
+  std::string topic;  // "actuator_armed" | "vehicle_status" | "vehicle_land_detected"
+  std::string field;  // "armed" | "arming_state" | "landed"
+  int multi_id = 0;  // instance of the topic
+  std::vector<std::uint64_t> timestamp_us;  // field 'timestamp' of the kept rows
+  std::vector<int> value;  // the field's value at those rows
+};
+
 // One dropout ('O') message: the logger lost data for duration_ms.
 struct ULogDropout {
   std::size_t offset = 0;       // byte offset of the 'O' message
@@ -99,6 +112,7 @@ struct ULogContents {
   std::vector<ULogGyroSeries> combined;  // every sensor_combined subscription with rows
   std::vector<ULogAccelSeries> accels;   // every sensor_accel subscription with rows
   std::vector<ULogBaroSeries> baros;     // every sensor_baro subscription with rows
+  std::vector<ULogStateSeries> states;   // actuator_armed / vehicle_status / vehicle_land_detected with rows
   std::size_t num_messages = 0;  // messages read, of every type
   std::vector<std::string> warnings;  // truncated last record(s), device-id changes, damage (one line)
   // Byte ranges skipped in recovery (ULogReadOptions::strict false), in file order.
@@ -176,12 +190,21 @@ struct ULogSensorWriteSeries {
   std::vector<float> z;  // baro: empty
   std::vector<float> temperature_c;  // deg C, same length as timestamp_us
 };
+// A vehicle-state topic to write (simulated flights): one subscription of actuator_armed,
+// vehicle_status or vehicle_land_detected with PX4's field layout (the fields of the .msg files
+// in their order; the one ULogStateSeries names is set, the others 0).
+struct ULogStateWriteSeries {
+  std::string topic;  // "actuator_armed" | "vehicle_status" | "vehicle_land_detected"
+  std::vector<std::uint64_t> timestamp_us;  // strictly increasing
+  std::vector<std::uint8_t> value;  // armed (0/1) | arming_state (1 disarmed, 2 armed) | landed (0/1)
+};
 // Input of EncodeULog: the series and the 'I' / 'P' entries of the file.
 struct ULogWriteInput {
   std::string sys_name = "gyrocomp";  // 'I' char[] sys_name
   std::map<std::string, std::int32_t> int_parameters;  // written as 'P' int32 entries
   std::map<std::string, float> float_parameters;  // written as 'P' float entries
   std::vector<ULogSensorWriteSeries> series;  // in any order; one subscription each
+  std::vector<ULogStateWriteSeries> states;  // vehicle-state topics; one subscription each
 };
 // The bytes of a version-1 ULog holding `input`. Errors (kInvalidArgument): a series' lengths
 // differ or its time is not increasing, a name is too long.

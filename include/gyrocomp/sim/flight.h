@@ -70,7 +70,9 @@ double FlightAccelDriftM_S2(const FlightSimOptions& options, int axis, double te
 
 // The IMUs of one board in one flight (imus[k]: the k-th IMU, same time base) as a PX4 ULog:
 // sensor_gyro / sensor_accel multi_id k with the board simulator's device ids
-// (BoardGyroDeviceId(k), BoardAccelDeviceId(k), simulator.h), float32, every `decimate`-th row.
+// (BoardGyroDeviceId(k), BoardAccelDeviceId(k), simulator.h), float32, every `decimate`-th row;
+// the first IMU's armed and landed state as actuator_armed.armed, vehicle_status.arming_state and
+// vehicle_land_detected.landed (a row once a second and at every change, every row's time).
 // Errors: no IMU, IMUs of different lengths, decimate < 1 (kInvalidArgument).
 Result<std::string> EncodeFlightULog(const std::vector<FlightRun>& imus, int decimate = 1);
 

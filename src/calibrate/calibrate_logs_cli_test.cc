@@ -1,0 +1,66 @@
+// `gyrocomp calibrate` on several logs of one board (docs/guides/calibrate-from-flights.md): what
+// differs between the logs and is not refused is said once on the console, naming both files and
+// both values, and the file is written (exit 0): a board rotation (AHRS_ORIENTATION; each log is
+// rotated back with its own value) and a log rate (the fit sees 1 s means of each log). What is
+// refused, a log of another board, is one line (exit 2) and no file.
+#include <filesystem>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "fixtures.h"
+#include "gyrocomp/io/ulog.h"
+#include "test_support.h"
+
+namespace gyrocomp {
+namespace {
+
+namespace fs = std::filesystem;
+
+class CalibrateLogsCli : public testing::CliTest {
+ protected:
+  CalibrateLogsCli() : CliTest("calibrate_logs_cli_test") {}
+  std::string Simulate(const std::string& name, const std::string& extra) {
+    std::string out;
+    const std::string path = dir_ + "/" + name;
+    EXPECT_EQ(Run("simulate --profile ramp --ramp-end 60 --room-hold 600 --hold 600 --fs 10 --imus 1 " + extra + " -o " + path, &out), 0)
+        << out;
+    return path;
+  }
+};
+
+TEST_F(CalibrateLogsCli, ARotationChangeIsNotedAndTheFileWritten) {
+  const std::string a = Simulate("a.bin", "--seed 3"), b = Simulate("b.bin", "--seed 4 --ahrs-orientation 8");
+  std::string out;
+  ASSERT_EQ(Run("calibrate -i " + a + " -i " + b + " --format ardupilot -o " + dir_ + "/tc.param", &out), 0) << out;
+  EXPECT_NE(out.find("AHRS_ORIENTATION = 0 in " + a + ", 8 in " + b + ": pooled all the same"), std::string::npos) << out;
+  EXPECT_TRUE(fs::exists(dir_ + "/tc.param"));
+}
+
+TEST_F(CalibrateLogsCli, ALogRateChangeIsNotedAndTheFileWritten) {
+  const std::string a = Simulate("a.ulg", "--seed 3"), b = Simulate("b.ulg", "--seed 4 --log-rate 5");
+  std::string out;
+  ASSERT_EQ(Run("calibrate -i " + a + " -i " + b + " --format px4 -o " + dir_ + "/tc.params", &out), 0) << out;
+  EXPECT_NE(out.find("logged at 10 Hz in " + a + ", 5 Hz in " + b + ": pooled all the same"), std::string::npos) << out;
+  EXPECT_TRUE(fs::exists(dir_ + "/tc.params"));
+}
+
+TEST_F(CalibrateLogsCli, ALogOfAnotherBoardIsRefusedOnOneLineAndNoFile) {
+  const std::string a = Simulate("a.ulg", "--seed 3");
+  // A gyro of device id 12345 (none of the simulated board's), ten minutes at 1 Hz.
+  ULogWriteInput in;
+  ULogSensorWriteSeries g;
+  g.topic = "sensor_gyro", g.device_id = 12345;
+  for (int i = 0; i < 600; ++i) {
+    g.timestamp_us.push_back(1000000ull * static_cast<std::uint64_t>(i + 1));
+    g.x.push_back(0.f), g.y.push_back(0.f), g.z.push_back(0.f), g.temperature_c.push_back(20.f + 0.02f * static_cast<float>(i));
+  }
+  in.series.push_back(g);
+  const std::string b = Put("other.ulg", *EncodeULog(in));
+  ExpectRefused("calibrate -i " + a + " -i " + b + " --format px4 -o " + dir_ + "/tc.params",
+                {b + ": a log of another board", "12345"});
+  EXPECT_FALSE(fs::exists(dir_ + "/tc.params"));
+}
+
+}  // namespace
+}  // namespace gyrocomp

@@ -145,9 +145,10 @@ std::vector<double> ReportTime(const ReportRequest& q, const PipelineInput& inpu
   return {t.begin(), t.end()};
 }
 
-// Builds the report of run `r` (BuildPipelineReport) and writes it (atomic).
+// Builds the report of run `r` (BuildPipelineReport; with the comparison's tables when given) and
+// writes it (atomic).
 void WriteReport(const ReportRequest& q, std::span<const double> time_s, const PipelineResult& r,
-                 const PipelineInput& input, const PipelineOptions& o) {
+                 const PipelineInput& input, const PipelineOptions& o, const ComparisonResult* comparison = nullptr) {
   PipelineReportContext ctx;
   ctx.title = q.title ? *q.title : "gyrocomp: " + q.source;
   ctx.source = q.source;
@@ -156,6 +157,7 @@ void WriteReport(const ReportRequest& q, std::span<const double> time_s, const P
   ctx.rate_dps = input.rate_dps;
   ctx.temp_c = input.temp_c;
   ctx.parameters = PipelineOptionsJson(o);
+  ctx.comparison = comparison;
   Check(WithoutGil([&] { return WriteTextAtomic(q.path, RenderReportHtml(BuildPipelineReport(r, ctx))); }));
 }
 
@@ -170,9 +172,11 @@ py::dict CompareMethodsCall(const DoubleArray& rate_dps, const DoubleArray& temp
   kw.Get("grid_search", &co.grid_search);
   kw.Get("schemes", &co.schemes);
   kw.Get("serial_reuses_parallel_parameters", &co.serial_reuses_parallel_parameters);
+  const std::optional<ReportRequest> report = ReadReportRequest(kw);
   kw.Done();
   if (std::string why; !co.IsValid(&why)) throw py::value_error(why);
   const PipelineInput input = Input(rate_dps, temp_c, fs_hz);
+  const std::vector<double> time_s = report ? ReportTime(*report, input) : std::vector<double>{};
   ComparisonTruth truth;
   if (true_rate_dps) truth.true_rate_dps = AsSpan(*true_rate_dps, "true_rate_dps");
   if (true_drift_dps) truth.true_drift_dps = AsSpan(*true_drift_dps, "true_drift_dps");
@@ -180,6 +184,7 @@ py::dict CompareMethodsCall(const DoubleArray& rate_dps, const DoubleArray& temp
   // As `gyrocomp compare`: the parallel model first, then the comparisons that reuse it.
   PipelineResult parallel = call.Run(input, co.pipeline);
   const ComparisonResult r = Unwrap(call.call().Run([&] { return CompareMethods(input, parallel, truth, co); }));
+  if (report) WriteReport(*report, time_s, parallel, input, co.pipeline, &r);
   py::dict d;
   py::list rows;
   for (const MethodRow& row : r.rows) rows.append(MethodRowDict(row));
@@ -215,7 +220,8 @@ void BindPipeline(py::module_& m) {
         "models and schemes (ComparisonOptions: denoising, drift_models, grid_search, schemes, "
         "serial_reuses_parallel_parameters; PipelineOptions as run_parallel_model's). rows: one MethodRow dict "
         "per method (the rows of compare --json); errors against the truth when true_rate_dps / "
-        "true_drift_dps are given; parallel: the run_parallel_model result.");
+        "true_drift_dps are given; parallel: the run_parallel_model result. report: as run_parallel_model's, with "
+        "the comparison tables (gyrocomp process --compare --report).");
   m.def("run_parallel_model", &RunParallelModelCall, py::arg("rate_dps"), py::arg("temp_c"), py::arg("fs_hz"),
         py::kw_only(), py::arg("known_rate_dps") = py::none(), py::arg("progress") = py::none(),
         py::arg("cancel") = nullptr,

@@ -423,6 +423,30 @@ def test_run_parallel_model_report_equals_process_report(cli, chamber):
     assert not (chamber / "x.html").exists()
 
 
+def _without_comparison_times(data):
+    """The comparison tables without their wall-time column ("time (s)")."""
+    for table in data["tables"]:
+        if table["title"].startswith("Comparison:"):
+            k = table["columns"].index("time (s)")
+            for row in table["rows"]:
+                row[k] = None
+    return data
+
+
+# compare_methods(report=...) writes the report of `gyrocomp process --compare --report`: the
+# run's report with the comparison tables, the same but for the wall times.
+def test_compare_methods_report_equals_process_compare_report(cli, chamber):
+    path = str(chamber / "run.csv")
+    _run(cli, "process", "-i", path, "--quiet", "--compare", "--report", str(chamber / "cli.html"))
+    run = _table(chamber / "run.csv")
+    gyrocomp.compare_methods(run["rate_dps"], run["temp_c"], 2.0, measure_bandwidth=True,
+                             report=dict(path=str(chamber / "py.html"), source=path, time_s=run["time_s"]))
+    want = _without_comparison_times(_without_timings(_report_data(chamber / "cli.html")))
+    got = _without_comparison_times(_without_timings(_report_data(chamber / "py.html")))
+    assert any(t["title"].startswith("Comparison:") for t in want["tables"])
+    _same_json(got, want)
+
+
 def _demo_lines():
     """The Python lines of docs/guides/python.md that do what `gyrocomp demo` does."""
     from conftest import SOURCE_DIR

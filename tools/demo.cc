@@ -223,7 +223,7 @@ nlohmann::json SummaryJson(const DemoArgs& a, const PipelineResult& ours, const 
 std::string ReportHtml(const DemoArgs& a, const SimulatedRun& run, const PipelineResult& ours,
                        const PipelineResult& paper, const HeldOut& h, const SideBySideTable& table,
                        const ComparisonResult* comparison, const nlohmann::json& params) {
-  ReportContext ctx;
+  PipelineReportContext ctx;
   ctx.title = "gyrocomp demo: the paper's chamber run, simulated";
   ctx.source = "simulated paper profile (seed " + std::to_string(a.seed) + ")";
   ctx.axis = "rate_dps";

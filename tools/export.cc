@@ -16,10 +16,10 @@
 #include "commands.h"
 #include "gyrocomp/core/units.h"
 #include "gyrocomp/drift/drift_model.h"
+#include "gyrocomp/export/axis_cubics.h"
 #include "gyrocomp/export/c_export.h"
 #include "gyrocomp/export/cubic_score.h"
 #include "gyrocomp/export/param_export.h"
-#include "gyrocomp/export/static_cubic.h"
 #include "gyrocomp/export/static_weight.h"
 #include "gyrocomp/export/thermal_cubic.h"
 #include "result_json.h"
@@ -73,21 +73,7 @@ Result<std::vector<AxisDriftModel>> LoadAxes(const std::vector<std::string>& pat
   return axes;
 }
 
-struct AxisCost {
-  TemperatureCubic cubic_dps;
-  std::optional<CubicProjectionCost> calibration, validation;
-  // The cubic's expected next-run error (model band + projection): steady always, warm-up on the
-  // heating of the -i run; nullopt with the reason for a model without a band.
-  std::optional<CubicExpectedError> expected;
-  std::string expected_reason;
-  // The static curve's estimator (time | temperature) and, for auto, both expected errors or why
-  // auto fell back to time.
-  std::string weight = "time";
-  std::optional<StaticWeightChoice> weight_choice;
-  std::string weight_reason;
-};
-
-nlohmann::json WeightJson(const AxisCost& c) {
+nlohmann::json WeightJson(const AxisCubic& c) {
   nlohmann::json j = {{"static_weight", c.weight}};
   if (!c.weight_reason.empty()) j["reason"] = c.weight_reason;
   if (c.weight_choice) {
@@ -107,7 +93,7 @@ nlohmann::json ConditionJson(const CubicConditionError& e) {
           {"projection_rms_dps", e.projection_rms}, {"band_sd_rms_dps", e.band_sd_rms}, {"samples", e.num_samples}};
 }
 
-nlohmann::json ExpectedJson(const AxisCost& c) {
+nlohmann::json ExpectedJson(const AxisCubic& c) {
   if (!c.expected) return {{"reason", c.expected_reason}};
   nlohmann::json j = {{"band_level", c.expected->level}, {"steady", ConditionJson(c.expected->steady)}};
   j["warm_up"] = c.expected->warm_up ? ConditionJson(*c.expected->warm_up) : nlohmann::json(nullptr);
@@ -132,62 +118,9 @@ Result<GyroLog> ReadRun(const LogOptions& options) {
   return std::move(loaded->log);
 }
 
-// The -i run's values of the axis `k` of `n` models: its column named as the model's rate
-// column, else the k-th rate column when the run has one per model; nullptr: none.
-const std::vector<double>* RunValues(const GyroLog& run, const AxisDriftModel& x, std::size_t k, std::size_t n) {
-  for (std::size_t i = 0; i < run.axis_names.size(); ++i)
-    if (run.axis_names[i] == x.model.rate_col) return &run.rate_dps[i];
-  return run.rate_dps.size() == n ? &run.rate_dps[k] : nullptr;
-}
-
-// --static-weight: the model's own curve (time, `c->cubic_dps` as projected), the -i run's
-// static curve with each temperature alike (temperature), or per axis the one with the lower
-// expected next-run error (auto; time without -i).
-Status ChooseWeight(const ExportArgs& a, const AxisDriftModel& x, std::size_t k, std::size_t n,
-                    const std::optional<GyroLog>& cal, const CubicProjectionOptions& po, AxisCost* c) {
-  if (a.static_weight == "time") return Status::Ok();
-  if (!cal) {
-    if (a.static_weight == "temperature")
-      return InvalidArgument("--static-weight temperature needs the calibration run (-i CAL, the model's columns)");
-    c->weight_reason = "auto without a calibration run (-i): the model's own curve";
-    return Status::Ok();
-  }
-  const std::vector<double>* y = RunValues(*cal, x, k, n);
-  if (!y) {
-    const std::string why = "-i has no column " + x.model.rate_col + " (and not one rate column per model)";
-    if (a.static_weight == "temperature") return InvalidInput(why);
-    c->weight_reason = "auto: " + why + "; the model's own curve";
-    return Status::Ok();
-  }
-  const DriftInputs in{cal->temp_c, cal->fs_hz};
-  StaticCubicOptions so;
-  so.temp_min_c = c->cubic_dps.temp_min_c, so.temp_max_c = c->cubic_dps.temp_max_c, so.ref_temp_c = c->cubic_dps.ref_temp_c;
-  Result<TemperatureCubic> by_temp = FitStaticCubicByTemperature(x.model, in, *y, so);
-  if (!by_temp.ok()) return by_temp.error();
-  if (a.static_weight == "temperature") {
-    c->cubic_dps = *by_temp, c->weight = "temperature";
-    return Status::Ok();
-  }
-  Result<StaticWeightChoice> ch = ChooseStaticWeight(x.model, in, *po.temp_min_c, *po.temp_max_c, CubicCondition::kSteady);
-  if (!ch.ok()) {
-    c->weight_reason = "auto fell back to the model's own curve: " + ch.error().message;
-    return Status::Ok();
-  }
-  c->weight_choice = *ch;
-  c->weight = StaticWeightName(ch->chosen);
-  if (ch->chosen == StaticWeight::kTemperature) c->cubic_dps = *by_temp;
-  return Status::Ok();
-}
-
-// Projects every axis onto one shared range and measures the cost on the runs given.
-Result<std::vector<AxisCost>> ProjectAxes(const ExportArgs& a, const std::vector<AxisDriftModel>& axes) {
-  CubicProjectionOptions po;
-  po.temp_min_c = axes[0].model.summary.temp_min_c;
-  po.temp_max_c = axes[0].model.summary.temp_max_c;
-  for (const auto& x : axes) {
-    po.temp_min_c = std::max(*po.temp_min_c, x.model.summary.temp_min_c);
-    po.temp_max_c = std::min(*po.temp_max_c, x.model.summary.temp_max_c);
-  }
+// Reads the calibration (-i) and validation runs given, then projects every axis onto one shared
+// range with its static curve and measures the cost on those runs (ExportAxisCubics).
+Result<std::vector<AxisCubic>> ProjectAxes(const ExportArgs& a, const std::vector<AxisDriftModel>& axes) {
   std::optional<GyroLog> cal, val;
   if (!a.log.input.empty()) {
     auto r = ReadRun(a.log);
@@ -201,31 +134,13 @@ Result<std::vector<AxisCost>> ProjectAxes(const ExportArgs& a, const std::vector
     if (!r.ok()) return r.error();
     val = std::move(*r);
   }
-  std::vector<AxisCost> out;
-  for (const auto& x : axes) {
-    AxisCost c;
-    auto cubic = ProjectOntoCubic(x.model, po);
-    if (!cubic.ok()) return cubic.error();
-    c.cubic_dps = *cubic;
-    if (Status st = ChooseWeight(a, x, out.size(), axes.size(), cal, po, &c); !st.ok()) return st.error();
-    std::optional<DriftInputs> run;
-    if (cal) run = DriftInputs{cal->temp_c, cal->fs_hz};
-    auto expected = ExpectedCubicError(x.model, c.cubic_dps, run);
-    if (expected.ok()) c.expected = *expected;
-    else c.expected_reason = expected.error().message;
-    for (auto [run, cost] : {std::pair{&cal, &c.calibration}, std::pair{&val, &c.validation}}) {
-      if (!*run) continue;
-      auto m = MeasureCubicProjectionCost(x.model, c.cubic_dps, DriftInputs{(*run)->temp_c, (*run)->fs_hz});
-      if (!m.ok()) return m.error();
-      *cost = *m;
-    }
-    out.push_back(c);
-  }
-  return out;
+  AxisCubicsOptions o;
+  o.static_weight = *ParseStaticWeight(a.static_weight);
+  return ExportAxisCubics(axes, cal ? &*cal : nullptr, val ? &*val : nullptr, o);
 }
 
 std::vector<std::string> ParamComments(const ExportArgs& a, const std::vector<AxisDriftModel>& axes,
-                                       const std::vector<std::string>& src, const std::vector<AxisCost>& costs) {
+                                       const std::vector<std::string>& src, const std::vector<AxisCubic>& costs) {
   std::vector<std::string> c = {
       "Gyro thermal compensation generated by gyrocomp export --format " + a.format + " (docs/explanation/flight-controller-export.md)",
       "Rates: the models predict deg/s (the log's unit was converted to deg/s when it was read);",

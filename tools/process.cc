@@ -180,7 +180,7 @@ int Run(const ProcessCli& c) {
     axes[axis] = AxisJson(*r, comparison);
     if (!c.quiet) PrintAxisSummary(log, axis, *r, c.verbose);
     if (!c.report.empty() && a == 0) {
-      ReportContext ctx;
+      PipelineReportContext ctx;
       ctx.title = "gyrocomp: " + log.source;
       ctx.source = log.source;
       ctx.axis = axis;

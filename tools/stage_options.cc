@@ -123,43 +123,4 @@ Result<LoadedLog> LoadPipelineLog(const std::string& command, const LogOptions& 
   return LoadLog(command, log, *spec);
 }
 
-nlohmann::json PipelineOptionsJson(const PipelineOptions& o) {
-  nlohmann::json j;
-  j["vmd"] = {{"K", o.vmd.num_modes}, {"alpha", o.vmd.alpha}, {"tau", o.vmd.tau}, {"tol", o.vmd.tol},
-              {"dc", o.vmd.dc}, {"init", static_cast<int>(o.vmd.init)}, {"seed", o.vmd.seed},
-              {"max_iterations", o.vmd.max_iterations},
-              {"stopping_rule", o.vmd.stopping_rule == VmdStoppingRule::kAbsolute ? "absolute" : "relative"},
-              {"mirror_extension", o.vmd.mirror_extension},
-              {"omega_extrapolation_period", o.vmd.omega_extrapolation_period ? nlohmann::json(*o.vmd.omega_extrapolation_period) : nlohmann::json()},
-              {"omega_extrapolation_min_samples", o.vmd.omega_extrapolation_min_samples}};
-  j["sample_entropy"] = {{"m", o.entropy.m}, {"r_factor", o.entropy.r_factor},
-                         {"max_samples", o.entropy_max_samples ? nlohmann::json(*o.entropy_max_samples) : nlohmann::json()}};
-  j["classification"] = {{"rule", o.classifier.rule_name}, {"description", o.classifier.Describe()},
-                         {"drift_max_se", o.classifier.drift_max_se}, {"noise_min_se", o.classifier.noise_min_se},
-                         {"force_drift_mode", o.force_drift_mode}};
-  j["wflp"] = {{"wavelet", o.wflp.wavelet}, {"level", o.wflp.level ? nlohmann::json(*o.wflp.level) : nlohmann::json()},
-               {"extension", ExtensionModeName(o.wflp.extension)}, {"details", DetailHandlingName(o.wflp.details)},
-               {"threshold_mode", o.wflp.threshold_mode == ThresholdMode::kSoft ? "soft" : "hard"},
-               {"flp_order", o.wflp.flp.order}, {"flp_beta", o.wflp.flp.beta}, {"flp_alpha", o.wflp.flp.alpha},
-               {"flp_power_forgetting", o.wflp.flp.power_forgetting}};
-  const auto& cs = o.drift.search.cuckoo;
-  j["drift_model"] = {{"model", DriftModelKindName(o.drift.model)}, {"inputs", DriftInputSetName(o.drift.inputs)},
-                      {"svr_C", o.drift.svr.C}, {"svr_gamma", Num(o.drift.svr.gamma)}, {"svr_sigma", Num(o.drift.svr.sigma)},
-                      {"svr_epsilon", o.drift.svr.epsilon}, {"svr_tol", o.drift.svr.tolerance},
-                      {"scale", o.drift.svr.scaling == SvrScaling::kStandard ? "standard" : "none"},
-                      {"polynomial_degree", o.drift.polynomial.degree},
-                      {"search_C", {o.drift.search.C.lower, o.drift.search.C.upper}},
-                      {"search_sigma", {o.drift.search.sigma.lower, o.drift.search.sigma.upper}},
-                      {"nests", cs.num_nests}, {"generations", cs.max_generations},
-                      {"pa", cs.discovery_probability}, {"levy_beta", cs.levy_beta}, {"step_scale", cs.step_scale},
-                      {"seed", cs.seed}, {"cv_folds", o.drift.cv_folds},
-                      {"train_period_s", Num(o.drift.train_period_s)},
-                      {"dtemp_window_s", o.drift.rate.window_s}};
-  j["allan"] = {{"confidence", o.allan.confidence}, {"points_per_decade", o.allan.points_per_decade},
-                {"grid", static_cast<int>(o.allan.grid)}};
-  j["bandwidth"] = {{"measured", o.measure_bandwidth}, {"segment_samples", o.bandwidth_segment_samples},
-                    {"frequencies", o.bandwidth_frequencies}};
-  return j;
-}
-
 }  // namespace gyrocomp::cli

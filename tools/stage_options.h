@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "gyrocomp/pipeline/pipeline.h"
+#include "gyrocomp/report/pipeline_report.h"
 #include "cli_common.h"
 #include "gyrocomp/core/status.h"
 
@@ -48,7 +49,7 @@ Status ResolvePipelineOptions(PipelineCliOptions* o);
 Result<LoadedLog> LoadPipelineLog(const std::string& command, const LogOptions& log, PipelineCliOptions* pipe,
                                   std::optional<std::vector<std::string>> keep_cols = std::nullopt);
 
-// Every parameter, for the JSON output and the report (so a run can be repeated).
-nlohmann::json PipelineOptionsJson(const PipelineOptions& o);
+// Every parameter, for the JSON output and the report: PipelineOptionsJson
+// (gyrocomp/report/pipeline_report.h).
 
 }  // namespace gyrocomp::cli

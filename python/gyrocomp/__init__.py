@@ -101,28 +101,40 @@ plan = _returns("PlanResult")(_core.plan)
 inspect = _returns("LogInventory")(_core.inspect)
 
 
-def export_params(models, format, **options):
+def export_cubics(models, **options):
+    """The cubic each axis model exports (``gyrocomp export --format px4|ardupilot``), one result per axis.
+
+    As the CLI: every axis projected onto the temperature range the models share, or, per
+    ``static_weight`` ("auto", "temperature", "time"), the calibration run's static curve with each
+    temperature alike; ``calibration`` (``-i``) and ``validation`` (``--validation``) are one path
+    each, read with read_log's keywords (rate_cols, temp_col, ...).
+    """
+    return [Result("AxisCubic", d) for d in _core.export_cubics(models, **options)]
+
+
+def export_params(models, format, calibration=None, validation=None, static_weight="auto", log=None, **options):
     """Parameter file text for an autopilot from three axis drift models (x, y, z).
 
-    As `gyrocomp export --format px4|ardupilot`: every axis projected onto a cubic over the
-    temperature range the three models share (the autopilots have one range per sensor), then
-    written by the library (deg/s converted to rad/s there). options: device_id, index (px4);
-    imu (ardupilot); comments.
+    As `gyrocomp export --format px4|ardupilot` (the values; the header comments are ``comments``):
+    the cubics of export_cubics (calibration, validation, static_weight; ``log``: read_log's
+    keywords for the runs), written by the library (deg/s converted to rad/s there). options:
+    device_id, index (px4); imu (ardupilot); comments.
     """
     if len(models) != 3:
         raise ValueError(f"export_params: three axis models are needed, got {len(models)}")
-    lo = max(m.summary.temp_min_c for m in models)
-    hi = min(m.summary.temp_max_c for m in models)
-    cubics = [project_onto_cubic(m, temp_min_c=lo, temp_max_c=hi) for m in models]
+    if format not in ("px4", "ardupilot"):
+        raise ValueError(f"export_params: format={format}: must be px4 or ardupilot")
+    axes = export_cubics(models, calibration=calibration, validation=validation, static_weight=static_weight,
+                         **(log or {}))
+    cubics = [a.cubic_dps for a in axes]
     if format == "px4":
         return px4_thermal_params(cubics, **options)
-    if format == "ardupilot":
-        return ardupilot_thermal_params(cubics, **options)
-    raise ValueError(f"export_params: format={format}: must be px4 or ardupilot")
+    return ardupilot_thermal_params(cubics, **options)
+
 
 __all__ = [
     "CancellationToken", "Cancelled", "DriftModel", "Result", "ardupilot_thermal_params", "compare_methods",
-    "compute_allan", "compute_deviation", "decompose", "drift_model_from_json", "export_params", "fit_drift_model",
+    "compute_allan", "compute_deviation", "decompose", "drift_model_from_json", "export_cubics", "export_params", "fit_drift_model",
     "flp_denoise", "generate_c", "imu_noise_files", "inspect", "kalibr_imu_yaml", "load_drift_model",
     "measure_bandwidth", "plan", "project_onto_cubic", "px4_thermal_params", "read_log", "read_log_rows",
     "run_parallel_model", "sample_entropy", "simulate", "simulate_board", "validate_drift_model", "vmd", "wavelet_denoise",

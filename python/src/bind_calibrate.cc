@@ -28,6 +28,27 @@ py::dict CubicDict(const TemperatureCubic& c) {
                   py::arg("temp_max_c") = c.temp_max_c, py::arg("coeff") = std::vector<double>(c.coeff.begin(), c.coeff.end()));
 }
 
+py::array_t<std::int64_t> Indices(const std::vector<int>& v) {
+  return ToNumpy(std::vector<std::int64_t>(v.begin(), v.end()));
+}
+
+// The rows the fit saw (what the calibrate report draws under the cubics): temp_c (rows), values
+// (axes x rows, firmware unit), log (index into inputs) and group (the constant each row shares).
+py::dict FitRowsDict(const CalibratedSensor::FitRows& r) {
+  return py::dict(py::arg("temp_c") = ToNumpy(std::vector<double>(r.temp_c)), py::arg("values") = ToNumpy2d(r.values),
+                  py::arg("log") = Indices(r.log), py::arg("group") = Indices(r.group));
+}
+
+// Per axis, the exported cubic's band against temperature: level, z, temp_c, sd (firmware unit;
+// empty: no band, band_reason says why).
+py::list CurveBandsList(const std::vector<CalibratedSensor::CurveBand>& bands) {
+  py::list l;
+  for (const CalibratedSensor::CurveBand& b : bands)
+    l.append(py::dict(py::arg("level") = b.level, py::arg("z") = b.z, py::arg("temp_c") = ToNumpy(std::vector<double>(b.temp_c)),
+                      py::arg("sd") = ToNumpy(std::vector<double>(b.sd))));
+  return l;
+}
+
 py::dict SensorDict(const CalibratedSensor& s) {
   py::dict d;
   d["type"] = s.type;
@@ -56,6 +77,11 @@ py::dict SensorDict(const CalibratedSensor& s) {
   d["cubics"] = cubics;  // firmware unit, as in the parameter file
   d["static_weight"] = s.weights;
   d["projection_cost_rms"] = s.cost_rms;
+  d["to_model"] = s.to_model;  // firmware unit -> model_unit
+  d["model_unit"] = s.model_unit;
+  d["fit_rows"] = FitRowsDict(s.fit_rows);
+  d["curve_bands"] = CurveBandsList(s.curve_bands);
+  d["band_reason"] = s.band_reason;
   d["expected_error"] = ExpectedErrorText(s, false) + "; " + ExpectedErrorText(s, true);
   if (s.validation) {
     const auto& v = *s.validation;
@@ -71,9 +97,7 @@ void BindCalibrate(py::module_& m) {
   m.def(
       "calibrate",
       [](const std::vector<std::string>& logs, const py::kwargs& kwargs) {
-        Kwargs kw(kwargs, "calibrate");
-        const CalibrateOptions o = ReadCalibrateOptions(kw);
-        kw.Done();
+        const CalibrateOptions o = ReadAll(kwargs, "calibrate", ReadCalibrateOptions);
         CalibrateResult r = Unwrap(WithoutGil([&] { return CalibrateLogs(logs, o); }));
         py::dict d;
         d["inputs"] = r.inputs;

@@ -77,20 +77,8 @@ py::object BandDict(const DriftModel& model) {
 
 DriftFitOptions ReadFitOptions(Kwargs& kw) {
   DriftFitOptions o;
-  py::object model = kw.Take("model");
-  if (!model.is_none()) {
-    const std::string name = py::str(model);
-    const auto k = ParseDriftModelKind(name);
-    if (!k) throw py::value_error("fit_drift_model(): model=" + name + ": not a drift model kind (docs/explanation/drift-models.md)");
-    o.model = *k;
-  }
-  py::object inputs = kw.Take("inputs");
-  if (!inputs.is_none()) {
-    const std::string name = py::str(inputs);
-    const auto k = ParseDriftInputSet(name);
-    if (!k) throw py::value_error("fit_drift_model(): inputs=" + name + ": not an input set (docs/explanation/drift-models.md)");
-    o.inputs = *k;
-  }
+  kw.GetParsed("model", &o.model, ParseDriftModelKind, "not a drift model kind (docs/explanation/drift-models.md)");
+  kw.GetParsed("inputs", &o.inputs, ParseDriftInputSet, "not an input set (docs/explanation/drift-models.md)");
   kw.Get("train_period_s", &o.train_period_s);
   kw.Get("max_train_samples", &o.max_train_samples);
   kw.Get("cv_folds", &o.cv_folds);
@@ -101,6 +89,7 @@ DriftFitOptions ReadFitOptions(Kwargs& kw) {
   kw.Get("gain_temp_degree", &o.polynomial.gain_temp_degree);
   kw.Get("num_nests", &o.search.cuckoo.num_nests);
   kw.Get("max_generations", &o.search.cuckoo.max_generations);
+  kw.Get("search_generations", &o.auto_select.search_generations);  // auto's searched candidates (DriftAutoOptions)
   kw.Get("seed", &o.search.cuckoo.seed);
   return o;
 }
@@ -140,12 +129,13 @@ void BindDrift(py::module_& m) {
       "validate_drift_model",
       [](const DriftModel& model, const DoubleArray& rate, const DoubleArray& temp_c, double fs_hz,
          std::optional<DoubleArray> true_drift, const py::kwargs& kwargs) {
-        Kwargs kw(kwargs, "validate_drift_model");
-        DriftValidationOptions o;
-        kw.Get("block_s", &o.block_s);
-        kw.Get("min_tau_s", &o.min_tau_s);
-        kw.Get("causal", &o.causal);
-        kw.Done();
+        const DriftValidationOptions o = ReadAll(kwargs, "validate_drift_model", [](Kwargs& kw) {
+          DriftValidationOptions v;
+          kw.Get("block_s", &v.block_s);
+          kw.Get("min_tau_s", &v.min_tau_s);
+          kw.Get("causal", &v.causal);
+          return v;
+        });
         const std::span<const double> truth =
             true_drift ? AsSpan(*true_drift, "true_drift") : std::span<const double>{};
         const std::span<const double> r = AsSpan(rate, "rate"), t = AsSpan(temp_c, "temp_c");
@@ -206,9 +196,7 @@ void BindDrift(py::module_& m) {
       "fit_drift_model",
       [](const DoubleArray& temp_c, const DoubleArray& target_dps, double fs_hz, py::object progress,
          const CancellationToken* cancel, const py::kwargs& kwargs) {
-        Kwargs kw(kwargs, "fit_drift_model");
-        DriftFitOptions o = ReadFitOptions(kw);
-        kw.Done();
+        DriftFitOptions o = ReadAll(kwargs, "fit_drift_model", ReadFitOptions);
         LongCall call(cancel);
         o.cancel = o.search.cuckoo.cancel = o.svr.cancel = call.token();
         const Hooks hooks(std::move(progress), call.token());

@@ -12,7 +12,6 @@
 #include "gyrocomp/io/log_damage.h"
 
 namespace gyrocomp::python {
-namespace {
 
 LogSpec ReadLogSpec(Kwargs& kw) {
   LogSpec s;
@@ -22,13 +21,7 @@ LogSpec ReadLogSpec(Kwargs& kw) {
     s.rate_cols = py::isinstance<py::str>(rate_cols) ? std::vector<std::string>{rate_cols.cast<std::string>()}
                                                      : rate_cols.cast<std::vector<std::string>>();
   }
-  py::object unit = kw.Take("rate_unit");
-  if (!unit.is_none()) {
-    const std::string name = py::str(unit);
-    const auto u = ParseRateUnit(name);
-    if (!u) throw py::value_error("read_log(): rate_unit=" + name + ": must be dps, rads or dph");
-    s.rate_unit = *u;
-  }
+  kw.GetParsed("rate_unit", &s.rate_unit, ParseRateUnit, "must be dps, rads or dph");
   kw.Get("temp_col", &s.temp_col);
   kw.Get("temp_required", &s.temp_required);
   kw.Get("rates_required", &s.rates_required);
@@ -41,6 +34,8 @@ LogSpec ReadLogSpec(Kwargs& kw) {
   kw.Get("instance", &s.instance);
   return s;
 }
+
+namespace {
 
 py::dict SamplingDict(const SamplingReport& r) {
   return py::dict(py::arg("fs_hz") = r.fs_hz, py::arg("median_dt_s") = r.median_dt_s, py::arg("min_dt_s") = r.min_dt_s,
@@ -101,9 +96,7 @@ void BindIo(py::module_& m) {
   m.def(
       "read_log",
       [](const std::string& path, const py::kwargs& kwargs) {
-        Kwargs kw(kwargs, "read_log");
-        const LogSpec spec = ReadLogSpec(kw);
-        kw.Done();
+        const LogSpec spec = ReadAll(kwargs, "read_log", ReadLogSpec);
         GyroLog log = Unwrap(WithoutGil([&] { return ReadGyroLog(path, spec); }));
         py::dict d;
         d["source"] = log.source;

@@ -5,6 +5,7 @@
 #include "gyrocomp/allan/allan.h"
 #include "gyrocomp/decompose/vmd.h"
 #include "gyrocomp/drift/drift_model.h"
+#include "gyrocomp/io/gyro_log.h"
 #include "gyrocomp/sim/simulator.h"
 
 namespace gyrocomp::python {
@@ -24,6 +25,7 @@ void BindInspect(py::module_& m);     // what a flight log or bag holds (gyrocom
 AllanOptions ReadAllanOptions(Kwargs& kw);
 VmdOptions ReadVmdOptions(Kwargs& kw);
 DriftFitOptions ReadFitOptions(Kwargs& kw);
+LogSpec ReadLogSpec(Kwargs& kw);  // read_log's keywords (time_col, rate_cols, rate_unit, temp_col, ...)
 py::dict FitSummaryDict(const DriftFitSummary& s);
 // The simulator's nested options (simulate(profile=..., bias=..., noise=...)); `function` names the
 // caller in errors.

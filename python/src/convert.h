@@ -66,6 +66,17 @@ class Kwargs {
                            std::string(py::str(py::type::of(kw_[name]))) + ")");
     }
   }
+  // A named choice (an enum, a tau grid) parsed from its text by parse(text) -> std::optional;
+  // ValueError "function(): name=text: <what>" when parse refuses it.
+  template <class T, class Parse>
+  void GetParsed(const char* name, T* field, Parse parse, const std::string& what) {
+    py::object v = Take(name);
+    if (v.is_none()) return;
+    const std::string text = py::str(v);
+    const std::optional<T> parsed = parse(text);
+    if (!parsed) throw py::value_error(fn_ + "(): " + name + "=" + text + ": " + what);
+    *field = *parsed;
+  }
   // The raw value (None when absent), marked as read.
   py::object Take(const char* name);
   // A nested options dict (e.g. noise={...}); empty when absent.
@@ -78,6 +89,16 @@ class Kwargs {
   std::string fn_;
   std::set<std::string> used_;
 };
+
+// Reads a whole keyword dict with read(Kwargs&) and raises TypeError for any keyword it left:
+// ReadAll(kw.Nested("vmd"), "run_parallel_model(vmd=...)", ReadVmdOptions).
+template <class Read>
+auto ReadAll(py::dict kwargs, std::string function, Read&& read) {
+  Kwargs kw(std::move(kwargs), std::move(function));
+  auto out = read(kw);
+  kw.Done();
+  return out;
+}
 
 // progress(stage: str, fraction: float) and the token of a LongCall, polled from the library's
 // hooks on the LongCall's worker thread. Poll(): raises Cancelled when the token is set, then

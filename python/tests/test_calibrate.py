@@ -2,6 +2,7 @@
 import json
 import subprocess
 
+import numpy as np
 import pytest
 
 import gyrocomp
@@ -64,3 +65,55 @@ def test_still_segments_identification_and_the_pooled_fit(cli, tmp_path):
     r = gyrocomp.calibrate([log, str(other)], min_still_s=1e9)
     assert r.parameter_text == ""
     assert all("still time" in s.reason and "still" in s.identification.would_help for s in r.sensors)
+
+
+def _report_data(path):
+    """The data block of an HTML report (report.h schema), parsed back."""
+    html = path.read_text()
+    start = html.index('<script type="application/json" id="report-data">')
+    start = html.index(">", start) + 1
+    return json.loads(html[start:html.index("</script>", start)])  # "<\/" is JSON's escaped "/"
+
+
+@pytest.mark.parametrize("pooled", [False, True])
+def test_fit_rows_and_curve_bands_are_what_the_report_draws(cli, tmp_path, pooled):
+    # The rows the fit saw and each axis's band, as `gyrocomp calibrate --report` draws them: the
+    # band's temperatures, its half-width z sd (model unit), the rows per log.
+    logs = [simulate_board(cli, tmp_path / "a.ulg")]
+    if pooled:
+        other = tmp_path / "b.ulg"
+        subprocess.run([cli, "simulate", "--profile", "paper", "--hot", "60", "--cold", "0", "--step", "20",
+                        "--room-hold", "600", "--hold", "600", "--fs", "10", "--imus", "3", "--seed", "2", "-o",
+                        str(other)], check=True, capture_output=True)
+        logs.append(str(other))
+    args = [cli, "calibrate", "--format", "px4", "-o", str(tmp_path / "tc.params"), "--report", str(tmp_path / "r.html")]
+    for log in logs:
+        args += ["-i", log]
+    subprocess.run(args, check=True, capture_output=True)
+    sections = _report_data(tmp_path / "r.html")["sections"]
+    r = gyrocomp.calibrate(logs, format="px4")
+    assert len(sections) == len(r.sensors)
+    checked = 0
+    for s, section in zip(r.sensors, sections):
+        if s.status != "calibrated":
+            continue
+        rows = s.fit_rows
+        n = len(rows.temp_c)
+        assert rows.values.shape == (len(s.cols), n) and len(rows.log) == n and len(rows.group) == n
+        assert set(rows.log.tolist()) <= set(range(len(logs)))
+        assert len(s.curve_bands) == len(s.cols)
+        for k, band in enumerate(s.curve_bands):
+            residual = section["charts"][2 * k + 1]
+            assert residual["title"] == s.cols[k] + ": residual after the cubic"
+            assert sum(p["rows"] for p in residual["points"]) == n
+            first = residual["points"][0]
+            assert first["x"][0] == rows.temp_c[rows.log == rows.log.min()][0]
+            assert band.level == pytest.approx(0.9) and band.z == pytest.approx(1.6448536, rel=1e-6)
+            drawn = residual["bands"][0]
+            np.testing.assert_array_equal(band.temp_c, drawn["x"])
+            np.testing.assert_allclose(band.z * band.sd * s.to_model, drawn["hi"], rtol=1e-15, atol=0)
+            assert band.temp_c[0] == pytest.approx(s.temp_min_c) and band.temp_c[-1] == pytest.approx(s.temp_max_c)
+            if pooled:  # the pooled fit's band: curve_sd at every temperature
+                np.testing.assert_allclose(band.sd, s.curve_sd[k], rtol=1e-12)
+            checked += 1
+    assert checked >= 6

@@ -1,6 +1,7 @@
 """Each subcommand's work called from Python equals what the CLI writes (same inputs, same files)."""
 import json
 import math
+import re
 import subprocess
 
 import numpy as np
@@ -359,3 +360,170 @@ def test_simulate_board_equals_simulate_log(cli, tmp_path, suffix, log_format, e
     assert len(got.imus) == 2 and len(got.imus[0].gyro_rad_s) == 3
     listing = gyrocomp.inspect(str(out))  # and the log reads back with two gyro instances
     assert sum(1 for s in listing.sensors if s.type == "gyro") == 2
+
+
+def _report_data(path):
+    """The data block of an HTML report (report.h schema), parsed back."""
+    html = path.read_text()
+    start = html.index('<script type="application/json" id="report-data">')
+    start = html.index(">", start) + 1
+    return json.loads(html[start:html.index("</script>", start)])  # "<\/" is JSON's escaped "/"
+
+
+def _without_timings(data):
+    """The report's data without wall times: the Timings table's seconds, the drift model's fit time,
+    the seconds a warning quotes (VMD's "did not converge in 499 iterations ... in 0.8 s")."""
+    for table in data["tables"]:
+        if table["title"] == "Warnings":
+            table["rows"] = [[re.sub(r"in [0-9.e+-]+ s\b", "in _ s", row[0])] for row in table["rows"]]
+        if table["title"] == "Timings":
+            table["rows"] = [row[0] for row in table["rows"]]
+        if table["title"] == "Drift model":
+            k = table["columns"].index("fit time (s)")
+            for row in table["rows"]:
+                row[k] = None
+    return data
+
+
+def _same_json(a, b, where=""):
+    if isinstance(a, dict):
+        assert isinstance(b, dict) and sorted(a) == sorted(b), (where, sorted(a), sorted(b))
+        for key in a:
+            _same_json(a[key], b[key], f"{where}/{key}")
+    elif isinstance(a, list):
+        assert isinstance(b, list) and len(a) == len(b), (where, len(a), len(b))
+        for k, (x, y) in enumerate(zip(a, b)):
+            _same_json(x, y, f"{where}[{k}]")
+    elif isinstance(a, float) or isinstance(b, float):
+        assert _same(a, b), (where, a, b)
+    else:
+        assert a == b, (where, a, b)
+
+
+# run_parallel_model(report=...) writes the report `gyrocomp process --report` writes: the same
+# data (every figure, chart, table, the parameters) but the wall times.
+def test_run_parallel_model_report_equals_process_report(cli, chamber):
+    path = str(chamber / "run.csv")
+    _run(cli, "process", "-i", path, "--quiet", "--report", str(chamber / "cli.html"))
+    run = _table(chamber / "run.csv")
+    result = gyrocomp.run_parallel_model(
+        run["rate_dps"], run["temp_c"], 2.0, measure_bandwidth=True,
+        report=dict(path=str(chamber / "py.html"), source=path, axis="rate_dps", time_s=run["time_s"]))
+    want = _without_timings(_report_data(chamber / "cli.html"))
+    got = _without_timings(_report_data(chamber / "py.html"))
+    _same_json(got, want)
+    assert result.drift_model is not None
+    gyrocomp.run_parallel_model(run["rate_dps"], run["temp_c"], 2.0, report=chamber / "short.html",
+                                drift=dict(max_generations=1))
+    short = _report_data(chamber / "short.html")
+    assert short["title"] == "gyrocomp: Python arrays" and short["subtitle"].startswith("Python arrays, axis rate_dps:")
+    with pytest.raises(ValueError, match="time_s"):
+        gyrocomp.run_parallel_model(run["rate_dps"], run["temp_c"], 2.0, report=dict(path=str(chamber / "x.html"),
+                                                                                  time_s=run["time_s"][:10]))
+    assert not (chamber / "x.html").exists()
+
+
+def _without_comparison_times(data):
+    """The comparison tables without their wall-time column ("time (s)")."""
+    for table in data["tables"]:
+        if table["title"].startswith("Comparison:"):
+            k = table["columns"].index("time (s)")
+            for row in table["rows"]:
+                row[k] = None
+    return data
+
+
+# compare_methods(report=...) writes the report of `gyrocomp process --compare --report`: the
+# run's report with the comparison tables, the same but for the wall times.
+def test_compare_methods_report_equals_process_compare_report(cli, chamber):
+    path = str(chamber / "run.csv")
+    _run(cli, "process", "-i", path, "--quiet", "--compare", "--report", str(chamber / "cli.html"))
+    run = _table(chamber / "run.csv")
+    gyrocomp.compare_methods(run["rate_dps"], run["temp_c"], 2.0, measure_bandwidth=True,
+                             report=dict(path=str(chamber / "py.html"), source=path, time_s=run["time_s"]))
+    want = _without_comparison_times(_without_timings(_report_data(chamber / "cli.html")))
+    got = _without_comparison_times(_without_timings(_report_data(chamber / "py.html")))
+    assert any(t["title"].startswith("Comparison:") for t in want["tables"])
+    _same_json(got, want)
+
+
+def _demo_lines():
+    """The Python lines of docs/guides/python.md that do what `gyrocomp demo` does."""
+    from conftest import SOURCE_DIR
+    page = (SOURCE_DIR / "docs" / "guides" / "python.md").read_text()
+    start = page.index("```python\n", page.index("## The demo in Python")) + len("```python\n")
+    return page[start:page.index("```", start)]
+
+
+# The demo's lines of the Python guide give the figures of `gyrocomp demo`'s summary.json (at 1 Hz
+# and without the comparisons, to keep the test short: the lines' first assignment sets the rate).
+def test_demo_lines_equal_demo_summary(cli, tmp_path):
+    _run(cli, "demo", "--out", str(tmp_path / "demo"), "--fs", "1", "--no-compare", "--quiet")
+    want = json.loads((tmp_path / "demo" / "summary.json").read_text())
+    lines = _demo_lines()
+    assert lines.startswith("fs_hz, seed = 5.0, 1\n")
+    scope = {}
+    exec(lines.replace("fs_hz, seed = 5.0, 1\n", "fs_hz, seed = 1.0, 1\n", 1), scope)
+    ours, paper, paper_after, held_out = scope["ours"], scope["paper"], scope["paper_after"], scope["held_out"]
+    for key in ("adev_min_deg_per_h", "bias_instability_deg_per_h", "tau_at_min_s"):
+        assert _same(ours.allan_before.terms[key], want["before"][key]), key
+        assert _same(ours.allan_after.terms[key], want["after"][key]), key
+        assert _same(paper_after.terms[key], want["paper_pipeline"]["after"][key]), key
+    for got, summary in ((ours.drift_model.summary, want["drift_model"]),
+                         (paper.summary, want["paper_pipeline"]["drift_model"])):
+        assert got.model == summary["model"] and got.inputs == summary["inputs"]
+        assert _same(got.cv_rmse, summary["cv_rmse_dps"]) and _same(got.C, summary["C"])
+    for name in ("default", "paper_pipeline"):
+        got = held_out[name].to_dict()
+        for key, value in want["held_out"][name].items():
+            assert _same(got[key], value), (name, key, got[key], value)
+    rows = {row["key"]: row["values"] for row in want["side_by_side"]["rows"]}
+    for column, drift in (("default", ours.predicted_drift_dps), ("paper_pipeline", scope["paper_drift"])):
+        rms = scope["rms"](drift, scope["run"].true_drift_dps)
+        assert math.isclose(rms, rows["drift_rmse_dps"][column], rel_tol=1e-9)  # summation order differs
+
+
+def _values(text):
+    """A parameter file's lines without its comments."""
+    return [line for line in text.splitlines() if line and not line.startswith("#")]
+
+
+# export_cubics / export_params with a calibration run equal `gyrocomp export -i CAL --validation RUN
+# --static-weight W`: each axis's cubic, static curve, costs and expected error, and the file's values.
+@pytest.mark.parametrize("weight", ["auto", "temperature", "time"])
+def test_export_with_a_calibration_run_equals_export(cli, chamber, weight):
+    m = str(chamber / "m.json")
+    out, js = chamber / f"tc_{weight}.params", chamber / f"e_{weight}.json"
+    _run(cli, "export", "-m", m, "-m", m, "-m", m, "--format", "px4", "--device-id", "1", "-i", str(chamber / "run.csv"),
+         "--validation", str(chamber / "run2.csv"), "--static-weight", weight, "-o", str(out), "--json", str(js))
+    want = json.loads(js.read_text())["axes"]
+    models = [gyrocomp.load_drift_model(m)] * 3
+    got = gyrocomp.export_cubics(models, calibration=str(chamber / "run.csv"), validation=chamber / "run2.csv",
+                                 static_weight=weight)
+    assert len(got) == len(want) == 3
+    for g, w in zip(got, want):
+        assert g.static_weight == w["static_weight"]["static_weight"]
+        assert _same(list(g.cubic_dps.coeff_dps), w["cubic_dps"]["coeff"])
+        assert _same(g.cubic_dps.ref_temp_c, w["cubic_dps"]["ref_temp_c"])
+        for cost in ("cost_calibration", "cost_validation"):
+            assert _same(g[cost].rms_dps, w[cost]["rms_dps"]) and g[cost].n_samples == w[cost]["n_samples"]
+        if weight == "auto":
+            assert g.weight_choice.reason == w["static_weight"]["reason"]
+            assert _same(g.weight_choice.time.total_rms_dps, w["static_weight"]["time"]["total_rms_dps"])
+        assert _same(g.expected_error.steady.total_rms_dps, w["expected_error"]["steady"]["total_rms_dps"])
+    text = gyrocomp.export_params(models, "px4", calibration=str(chamber / "run.csv"), static_weight=weight, device_id=1)
+    assert _values(text) == _values(out.read_text())
+
+
+# `gyrocomp export` takes one calibration run (-i), and so does Python: several are refused.
+def test_export_takes_one_calibration_run(cli, chamber):
+    m = str(chamber / "m.json")
+    p = subprocess.run([cli, "export", "-m", m, "-m", m, "-m", m, "--format", "px4", "--device-id", "1",
+                        "-i", str(chamber / "run.csv"), "-i", str(chamber / "run2.csv")],
+                       stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    assert p.returncode != 0 and "--input" in p.stdout
+    models = [gyrocomp.load_drift_model(m)] * 3
+    with pytest.raises(ValueError, match="one run"):
+        gyrocomp.export_cubics(models, calibration=[str(chamber / "run.csv"), str(chamber / "run2.csv")])
+    with pytest.raises(ValueError, match="static_weight=mean"):
+        gyrocomp.export_cubics(models, static_weight="mean")

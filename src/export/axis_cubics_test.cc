@@ -62,7 +62,9 @@ TEST(ExportAxisCubics, SharedRangeWeightsAndCosts) {
     const AxisCubic& a = (*chosen)[k];
     ASSERT_TRUE(a.weight_choice.has_value()) << a.weight_reason;
     EXPECT_EQ(a.weight, StaticWeightName(a.weight_choice->chosen));
-    if (a.weight == "temperature") EXPECT_EQ(a.cubic_dps.coeff, t.cubic_dps.coeff);
+    if (a.weight == "temperature") {
+      EXPECT_EQ(a.cubic_dps.coeff, t.cubic_dps.coeff);
+    }
   }
   // A run without the models' column (and not one rate column per model): refused for temperature.
   const GyroLog other = AsLog(run, "gx");

@@ -255,7 +255,7 @@ Command MakeCalibrate(CLI::App& app) {
           }};
 }
 
-const CommandRegistrar kCalibrateRegistrar(kCalibrateName, 67, &MakeCalibrate);
+const CommandRegistrar kCalibrateRegistrar(kCalibrateName, 69, &MakeCalibrate);
 
 }  // namespace
 }  // namespace gyrocomp::cli

@@ -309,7 +309,7 @@ Command MakeExport(CLI::App& app) {
   return {sub, [a] { return Run(*a); }};
 }
 
-const CommandRegistrar kExportRegistrar(kExportName, 66, &MakeExport);
+const CommandRegistrar kExportRegistrar(kExportName, 67, &MakeExport);
 
 }  // namespace
 }  // namespace gyrocomp::cli

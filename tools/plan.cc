@@ -262,7 +262,7 @@ Command MakePlan(CLI::App& app) {
           }};
 }
 
-const CommandRegistrar kPlanRegistrar(kPlanName, 67, &MakePlan);
+const CommandRegistrar kPlanRegistrar(kPlanName, 68, &MakePlan);
 
 }  // namespace
 }  // namespace gyrocomp::cli

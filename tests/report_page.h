@@ -27,7 +27,7 @@ inline nlohmann::json ReportDataOf(const std::string& html) {
 // /usr/bin/chromium (scripts/install-deps.sh --browser installs it); else Chromium's exit status is 0.
 // The skip message of a test whose rendering part needs Chromium (its other checks have run).
 inline constexpr char kNoChromium[] =
-    "rendering not checked: no /usr/bin/chromium (scripts/install-deps.sh --browser); the data checks above passed";
+    "rendering not checked: no /usr/bin/chromium (scripts/install-deps.sh --browser); the checks before it ran";
 
 inline bool DumpDomInChromium(const std::string& path, const std::string& dir, std::string* output, int* status) {
   const char* chromium = "/usr/bin/chromium";

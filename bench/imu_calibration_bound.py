@@ -21,8 +21,13 @@ target "within 5 % of the true cubic" needs excess <= sqrt(1.05^2 - 1) RMS_true 
 Printed per sensor and held-out run: RMS_true, excess (OLS, GLS-exact), the ratios
 sqrt(RMS_true^2 + excess^2) / RMS_true, and how many independent calibration runs of the same
 profile (excess / sqrt(k)) each estimator needs to reach 1.05.
+With --second-profile P (a profile of the bench's --second-profile), also the pooled fit of
+`calibrate -i RUN1 -i RUN2` (the cubic shared by both runs, a constant per run, least squares on
+every row, no dT/dt term) on the calibration run and a second run of profile P, and P alone:
+excess from the slope block of Cov over the stacked design [run indicators, cubic columns] with
+the two runs' noise independent (OLS: (D'D)^-1 D' S D (D'D)^-1; GLS-exact: (D' S^-1 D)^-1).
 Only numpy and `gyrocomp simulate` (for the temperature profiles: the bench's arguments).
-Usage: /usr/bin/python3 bench/imu_calibration_bound.py [--build build]
+Usage: /usr/bin/python3 bench/imu_calibration_bound.py [--build build] [--second-profile P]
 """
 import argparse
 import math
@@ -32,6 +37,9 @@ import sys
 import tempfile
 
 import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import imu_calibration_side_by_side as bench  # noqa: E402  (its profiles; numpy only)
 
 # bench/imu_calibration_side_by_side.py: simulate arguments of the calibration and held-out runs.
 BASE = ["--profile", "ramp", "--thermal-lag", "120", "--room-hold", "600", "--hold", "1200", "--ramp-rate", "1",
@@ -72,15 +80,47 @@ def toeplitz(a):
     return a[np.abs(i[:, None] - i[None, :])]
 
 
-def temperature(gc, args, tmp):
+def temperature(gc, args, tmp, full=None):
     path = os.path.join(tmp, "run.csv")
-    r = subprocess.run([gc, "simulate"] + BASE + args + ["--seed", "1", "-o", path], capture_output=True, text=True)
+    r = subprocess.run([gc, "simulate"] + (full if full else BASE + args) + ["--seed", "1", "-o", path],
+                       capture_output=True, text=True)
     if r.returncode != 0:
         sys.exit("simulate failed: " + r.stdout + r.stderr)
     d = np.genfromtxt(path, delimiter=",", names=True)
     t = d["temp_c"]
     n = len(t) // BLOCK_S
     return t[: n * BLOCK_S].reshape(n, BLOCK_S).mean(axis=1)
+
+
+def second_args(profile):
+    """simulate arguments of the bench's second calibration run of `profile` (bench.simulate's merge)."""
+    base = {"--room-hold": "600", "--hold": "1200", "--ramp-rate": "1"}
+    prof = bench.SECOND_PROFILES[profile]
+    for k in list(base):
+        if k in prof:
+            del base[k]
+    return ["--profile", "ramp", "--thermal-lag", "120", "--fs", "1", "--dtemp-coeff", "0", "--hysteresis-coeff", "0"] + \
+        [x for kv in base.items() for x in kv] + prof
+
+
+def pooled_excess(cal, xh, p, nh):
+    """Excess of the pooled fit (a constant per run, the cubic's slopes shared) on held-out design
+    xh, for OLS and GLS-exact: {"ols": e, "gls": e}. cal: list of calibration-run designs (cubic
+    columns with the constant first, as design() gives)."""
+    n = [len(x) for x in cal]
+    rows = sum(n)
+    d = np.zeros((rows, len(cal) + 3))
+    s = np.zeros((rows, rows))
+    at = 0
+    for r, x in enumerate(cal):
+        d[at:at + n[r], r] = 1.0
+        d[at:at + n[r], len(cal):] = x[:, 1:]
+        s[at:at + n[r], at:at + n[r]] = toeplitz(block_cov(n[r], BLOCK_S, **p))
+        at += n[r]
+    pinv = np.linalg.pinv(d)
+    cov = {"ols": pinv @ s @ pinv.T, "gls": np.linalg.inv(d.T @ np.linalg.solve(s, d))}
+    xc = xh[:, 1:] - xh[:, 1:].mean(axis=0)
+    return {k: math.sqrt(np.trace(xc @ v[len(cal):, len(cal):] @ xc.T) / nh) for k, v in cov.items()}
 
 
 def design(t, ref):
@@ -91,10 +131,13 @@ def design(t, ref):
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--build", default="build")
+    ap.add_argument("--second-profile", choices=sorted(bench.SECOND_PROFILES))
     a = ap.parse_args()
     gc = os.path.join(a.build, "gyrocomp")
     with tempfile.TemporaryDirectory() as tmp:
         temps = {k: temperature(gc, v, tmp) for k, v in RUNS.items()}
+        if a.second_profile:
+            temps["second"] = temperature(gc, [], tmp, second_args(a.second_profile))
     ref = 35.0
     x = design(temps["calibration"], ref)
     n = len(x)
@@ -120,6 +163,26 @@ def main():
             print("| %s | %s | %.4g | %.4g | %.4g | %.3f | %.3f | %d | %d |" % (
                 sensor, run, true, ex["ols"], ex["gls"], math.hypot(true, ex["ols"]) / true,
                 math.hypot(true, ex["gls"]) / true, runs["ols"], runs["gls"]))
+    if not a.second_profile:
+        return
+    x2 = design(temps["second"], ref)
+    print()
+    print("Second calibration run: %s, %d blocks; pooled: -i calibration -i %s (a constant per run)" % (
+        a.second_profile, len(x2), a.second_profile))
+    print("| sensor | held-out run | RMS_true | ratio OLS run 1 | ratio OLS run 2 | ratio OLS pooled "
+          "| ratio GLS-exact pooled |")
+    print("|---|---|---|---|---|---|---|")
+    for sensor, p in NOISE.items():
+        for run in ("heating", "cooling"):
+            xh = design(temps[run], ref)
+            nh = len(xh)
+            sh = toeplitz(block_cov(nh, BLOCK_S, **p))
+            c = np.eye(nh) - 1.0 / nh
+            true = math.sqrt(np.trace(c @ sh @ c) / nh)
+            e1, e2, e12 = (pooled_excess(cal, xh, p, nh) for cal in ([x], [x2], [x, x2]))
+            print("| %s | %s | %.4g | %.3f | %.3f | %.3f | %.3f |" % (
+                sensor, run, true, math.hypot(true, e1["ols"]) / true, math.hypot(true, e2["ols"]) / true,
+                math.hypot(true, e12["ols"]) / true, math.hypot(true, e12["gls"]) / true))
 
 
 if __name__ == "__main__":

@@ -6,6 +6,7 @@ tempcal_IMU.py on simulated boards, scored on held-out runs with each firmware's
     bench/imu_calibration_side_by_side.py [--build build] [--seeds 5] [--fs 10]
         [--px4-script PX4/Tools/process_sensor_caldata.py] [--pyulog DIR]
         [--tempcal ARDUPILOT/Tools/scripts/tempcal_IMU.py] [--pymavlink DIR] [--runs K]
+        [--second-profile fast-heating|slow-heating|cooling] [--no-variants]
 
 The scripts are optional and are not dependencies of gyrocomp: give the path of each (from a
 checkout you fetched; never committed here) and the folder holding the `pyulog` / `pymavlink`
@@ -26,11 +27,21 @@ INS_GYRn_CALTEMP / INS_ACCn_CALTEMP = the run's boot temperature, float32, clamp
 means with their mean removed (the constant is the boot offset calibration's), RMS in deg/s and
 m/s^2. Rows: no correction, each script, gyrocomp (its default, --static-weight auto; the PX4
 file also with --optimise-for warm-up / both, with --static-weight time: the model's own
-time-weighted curve, and temperature: each temperature alike; and with --runs K on 2..K
-calibration runs of the board, `calibrate -i` repeated, auto / temperature / time), and the true static curve (the simulator's bias cubic, the best a static cubic can do
-against its own static part). Printed: mean over seeds and axes, the seed spread (SD of the
-per-seed means), per-axis win counts of gyrocomp against each script and the RMS ratios.
-Figures and the scripts' commits: docs/explanation/flight-controller-export.md, "Side by side with the autopilots' scripts".
+time-weighted curve, and temperature: each temperature alike; --no-variants leaves these out;
+and with --runs K on 2..K calibration runs of the board of the same profile, other seeds,
+`calibrate -i` repeated: the pooled fit, which has no weighting to choose), and the true static
+curve (the simulator's bias cubic, the best a static cubic can do against its own static part).
+Printed: mean over seeds and axes, the seed spread (SD of the per-seed means), per-axis win counts
+of gyrocomp against each script and the RMS ratios.
+--second-profile P adds a second calibration run of the board with another profile (seed 100 s +
+5000; fast-heating: 10 -> 60 C at 3 C/min; slow-heating: at 0.5 C/min with a 40 min hold;
+cooling: 60 -> 10 C at 1 C/min): gyrocomp on it alone and pooled with the first
+(`calibrate -i RUN1 -i RUN2`, PX4 and ArduPilot files), each script on each run, and a last
+table per structure and sensor on the held-out heating and cooling runs: each single run, the
+pooled file, each script on each run, the scripts' best per column, the true curve; then the
+pooled file against the better single run, the true curve and each script (and the true curve
+against each script: where it is above a target ratio, no static cubic reaches it).
+Figures and the scripts' commits: docs/explanation/accuracy-calibration.md, "Side by side with the autopilots' scripts".
 """
 import argparse
 import math
@@ -46,7 +57,6 @@ DEFAULT_POLY = [0.02, 1.5e-3, 1.2e-5, -2.0e-7]  # simulator.h BiasModelOptions::
 ACCEL_POLY = [0.02, 1.5e-3, 1.0e-5, -1.0e-7]    # simulator.h AccelAxisOptions::bias_poly_m_s2
 AXIS_SCALE = [1.0, -0.7, 0.5]                     # BoardAxisDriftScale(imu 0, axis)
 RAD = math.pi / 180.0
-WEIGHT_SUFFIXES = ("", ", temperature", ", time")  # --runs rows: auto (the default), then the two fixed ones
 # Held-out runs (name -> simulate arguments). warm-up: power-on self-heating from room temperature,
 # 20 -> 50 C at 3 C/min behind the same 120 s lag, then steady (the condition a vehicle meets each boot).
 PROFILES = {
@@ -54,6 +64,15 @@ PROFILES = {
     "cooling": ["--room-temp", "60", "--ramp-end", "10"],
     "warm-up": ["--room-temp", "20", "--ramp-end", "50", "--ramp-rate", "3", "--room-hold", "60"],
 }
+# Profiles of the second calibration run of the board (--second-profile; the first is `heating`).
+# fast-heating: the same chamber run at 3 C/min; slow-heating: a slow soak at 0.5 C/min with a 40 min
+# hold; cooling: 60 -> 10 C at 1 C/min (the held-out cooling run's profile, another seed).
+SECOND_PROFILES = {
+    "fast-heating": ["--room-temp", "10", "--ramp-end", "60", "--ramp-rate", "3"],
+    "slow-heating": ["--room-temp", "10", "--ramp-end", "60", "--ramp-rate", "0.5", "--hold", "2400"],
+    "cooling": PROFILES["cooling"],
+}
+SECOND_SEED = 5000  # the second calibration run's seed: 100 s + 5000 (the --runs runs: 100 s + 1000 k)
 
 
 def run(cmd, env=None, cwd=None):
@@ -63,7 +82,7 @@ def run(cmd, env=None, cwd=None):
 
 def simulate(gc, path, seed, fs, structure, profile="heating"):
     base = {"--room-hold": "600", "--hold": "1200", "--ramp-rate": "1"}
-    prof = PROFILES[profile]
+    prof = PROFILES[profile] if profile in PROFILES else SECOND_PROFILES[profile]
     for k in list(base):
         if k in prof:
             del base[k]
@@ -178,6 +197,98 @@ def try_tempcal(args, binlog, tmp):
     return read_params(outfile), ""
 
 
+def calibrate(gc, logs, fmt, out, extra=()):
+    """gyrocomp calibrate -i LOG [-i LOG ...] --format FMT: its parameters (several logs: the pooled fit)."""
+    cmd = [gc, "calibrate", "--format", fmt, "-o", out] + list(extra)
+    for f in logs:
+        cmd += ["-i", f]
+    rc, msg = run(cmd)
+    if rc != 0:
+        sys.exit("calibrate failed: " + msg)
+    return read_params(out)
+
+
+def mean_of(rows, key):
+    """Mean over seeds and axes of one row's cell (None when missing)."""
+    v = rows.get(key)
+    return None if not v else float(np.mean([x.mean() for x in v]))
+
+
+def print_second_profile(rows, structures, profile):
+    """The two-profile comparison (--second-profile): each single run, the pooled file, each script on
+    each run and the scripts' best, the true curve; then the ratios the acceptance reads."""
+    held = ("heating", "cooling")
+    single = [("gyrocomp, run 1 (heating 1 C/min)", "gyrocomp -> px4"),
+              ("gyrocomp, run 2 (%s)" % profile, "gyrocomp -> px4, run 2")]
+    pooled = ("gyrocomp, pooled (-i run 1 -i run 2)", "gyrocomp -> px4, pooled")
+    scripts = [("PX4 script, run 1", "PX4 script"), ("PX4 script, run 2", "PX4 script, run 2"),
+               ("tempcal_IMU, run 1", "tempcal_IMU"), ("tempcal_IMU, run 2", "tempcal_IMU, run 2")]
+    truth = ("true static curve (its own LS cubic)", "true static curve")
+    print()
+    print("Two calibration runs of different profiles: run 1 heating 10 -> 60 C at 1 C/min, run 2 %s"
+          " (seed 100 s + %d); held out: heating, cooling; mean = mean(heating, cooling)" % (profile, SECOND_SEED))
+    for sensor in ("gyro", "accel"):
+        print()
+        print("| structure | %s parameter set | heating | cooling | mean |" % sensor)
+        print("|---|---|---|---|---|")
+        for structure in structures:
+            def cell(name, r):
+                return mean_of(rows, (structure, sensor, r, name))
+
+            def sd(name, r):
+                v = rows.get((structure, sensor, r, name))
+                return float(np.std([x.mean() for x in v])) if v else float("nan")
+
+            def line(label, name):
+                c = [cell(name, r) for r in held]
+                if any(x is None for x in c):
+                    return
+                print("| %s | %s | %s | %.3g |" % (structure, label, " | ".join(
+                    "%.3g +- %.2g" % (x, sd(name, r)) for x, r in zip(c, held)), np.mean(c)))
+
+            for label, name in single + [pooled]:
+                line(label, name)
+            present = [(label, name) for label, name in scripts if cell(name, "heating") is not None]
+            for label, name in present:
+                line(label, name)
+            best = {}
+            if present:
+                for r in held:
+                    best[r] = min((cell(name, r), label) for label, name in present)
+                print("| %s | scripts' best (per column) | %s | %.3g |" % (structure, " | ".join(
+                    "%.3g (%s)" % best[r] for r in held), np.mean([best[r][0] for r in held])))
+            line(*truth)
+            # Ratios (means over seeds and axes; mean: of the two directions' means).
+            def ratios(num, den):
+                a = [cell(num, r) for r in held]
+                b = [den[r] if isinstance(den, dict) else cell(den, r) for r in held]
+                if any(x is None for x in a + b):
+                    return None
+                return [a[0] / b[0], a[1] / b[1], np.mean(a) / np.mean(b)]
+
+            def fmt(v):
+                return "heating %.3f, cooling %.3f, mean %.3f" % tuple(v)
+
+            better = {r: min(cell(n, r) for _, n in single) for r in held}
+            rp = ratios(pooled[1], better)
+            worse = [r for r, x in zip(held, rp) if x > 1.0]
+            print("  %s %s: pooled / better single run: %s -> %s" % (
+                structure, sensor, fmt(rp), "never worse" if not worse else "WORSE on " + ", ".join(worse)))
+            rt = ratios(pooled[1], truth[1])
+            print("  %s %s: pooled / true curve's cubic: %s" % (structure, sensor, fmt(rt)))
+            for k, (label, name) in enumerate(single):
+                print("  %s %s: %s / true curve's cubic: %s" % (structure, sensor, label, fmt(ratios(name, truth[1]))))
+            for label, name in present:
+                run_name = single[0][1] if name in ("PX4 script", "tempcal_IMU") else single[1][1]
+                print("  %s %s: vs %s: pooled %s; gyrocomp on that run %s; true curve %s" % (
+                    structure, sensor, label, fmt(ratios(pooled[1], name)), fmt(ratios(run_name, name)),
+                    fmt(ratios(truth[1], name))))
+            if best:
+                bd = {r: best[r][0] for r in held}
+                print("  %s %s: vs scripts' best: pooled %s; true curve %s" % (
+                    structure, sensor, fmt(ratios(pooled[1], bd)), fmt(ratios(truth[1], bd))))
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--build", default="build")
@@ -189,7 +300,13 @@ def main():
     ap.add_argument("--pymavlink")
     ap.add_argument("--structures", default="dtemp,static")
     ap.add_argument("--runs", type=int, default=1,
-                    help="also calibrate gyrocomp on 2..RUNS calibration runs of the board (other seeds, -i repeated)")
+                    help="also calibrate gyrocomp on 2..RUNS calibration runs of the board (other seeds, same "
+                         "profile, -i repeated: the pooled fit)")
+    ap.add_argument("--second-profile", choices=sorted(SECOND_PROFILES),
+                    help="a second calibration run of the board with this profile: gyrocomp on it alone and "
+                         "pooled with the first (-i run1 -i run2), each script on each run")
+    ap.add_argument("--no-variants", action="store_true",
+                    help="leave out the single-run --optimise-for / --static-weight rows (faster)")
     args = ap.parse_args()
     if args.pyulog:
         sys.path.insert(0, args.pyulog)
@@ -198,6 +315,8 @@ def main():
     skipped = {}
     structures = args.structures.split(",")
     runs = list(PROFILES)
+    variants = [[]] if args.no_variants else [[], ["--optimise-for", "warm-up"], ["--optimise-for", "both"],
+                                              ["--static-weight", "time"], ["--static-weight", "temperature"]]
     with tempfile.TemporaryDirectory() as tmp:
         for structure in structures:
             for seed in range(1, args.seeds + 1):
@@ -210,41 +329,39 @@ def main():
                     simulate(gc, held[name], 100 * seed + 50 + 10 * k, args.fs, structure, name)
                 sets = {}
                 for fmt, log in (("px4", cal_ulg), ("ardupilot", cal_bin)):
-                    for extra in ([], ["--optimise-for", "warm-up"], ["--optimise-for", "both"],
-                                  ["--static-weight", "time"], ["--static-weight", "temperature"]):
+                    for extra in variants:
                         if fmt == "ardupilot" and extra:
                             continue
-                        out = os.path.join(tmp, "gc_" + fmt)
-                        rc, msg = run([gc, "calibrate", "-i", log, "--format", fmt, "-o", out] + extra)
-                        if rc != 0:
-                            sys.exit("calibrate failed: " + msg)
                         sets["gyrocomp -> " + fmt + (" (%s)" % " ".join(extra) if extra else "")] = \
-                            (fmt, read_params(out))
-                # More calibration runs of the same board (other seeds): calibrate -i ... -i ...
+                            (fmt, calibrate(gc, [log], fmt, os.path.join(tmp, "gc_" + fmt), extra))
+                # More calibration runs of the same board and profile (other seeds): calibrate -i ... -i ...,
+                # one pooled fit (no --static-weight: the pooled fit has no weighting to choose).
                 extra_cal = []
                 for k in range(1, args.runs):
                     extra_cal.append(os.path.join(tmp, "cal%d.ulg" % k))
                     simulate(gc, extra_cal[-1], 100 * seed + 1000 * k, args.fs, structure)
-                    for weight in ("auto", "temperature", "time"):
-                        cmd = [gc, "calibrate", "--format", "px4", "-o", os.path.join(tmp, "gc_runs"),
-                               "--static-weight", weight]
-                        for f in [cal_ulg] + extra_cal:
-                            cmd += ["-i", f]
-                        rc, msg = run(cmd)
-                        if rc != 0:
-                            sys.exit("calibrate failed: " + msg)
-                        name = "gyrocomp -> px4 (%d runs%s)" % (k + 1, "" if weight == "auto" else ", " + weight)
-                        sets[name] = ("px4", read_params(os.path.join(tmp, "gc_runs")))
-                p, why = try_px4_script(args, cal_ulg, tmp)
-                if p is None:
-                    skipped["PX4 script"] = why
-                else:
-                    sets["PX4 script"] = ("px4", p)
-                p, why = try_tempcal(args, cal_bin, tmp)
-                if p is None:
-                    skipped["tempcal_IMU"] = why
-                else:
-                    sets["tempcal_IMU"] = ("ardupilot", p)
+                    sets["gyrocomp -> px4 (%d runs, pooled)" % (k + 1)] = (
+                        "px4", calibrate(gc, [cal_ulg] + extra_cal, "px4", os.path.join(tmp, "gc_runs")))
+                cal2 = None
+                if args.second_profile:
+                    cal2 = (os.path.join(tmp, "cal2.ulg"), os.path.join(tmp, "cal2.bin"))
+                    for f in cal2:
+                        simulate(gc, f, 100 * seed + SECOND_SEED, args.fs, structure, args.second_profile)
+                    for fmt, k in (("px4", 0), ("ardupilot", 1)):
+                        logs = ([cal_ulg, cal_bin][k], cal2[k])
+                        sets["gyrocomp -> %s, run 2" % fmt] = (fmt, calibrate(gc, [logs[1]], fmt, os.path.join(tmp, "gc2")))
+                        sets["gyrocomp -> %s, pooled" % fmt] = (fmt, calibrate(gc, list(logs), fmt, os.path.join(tmp, "gc12")))
+                for suffix, ulg, binlog in [("", cal_ulg, cal_bin)] + ([(", run 2",) + cal2] if cal2 else []):
+                    p, why = try_px4_script(args, ulg, tmp)
+                    if p is None:
+                        skipped["PX4 script" + suffix] = why
+                    else:
+                        sets["PX4 script" + suffix] = ("px4", p)
+                    p, why = try_tempcal(args, binlog, tmp)
+                    if p is None:
+                        skipped["tempcal_IMU" + suffix] = why
+                    else:
+                        sets["tempcal_IMU" + suffix] = ("ardupilot", p)
                 for name, path in held.items():
                     gyro, accel = read_imu(path)
                     for sensor, (temp, v), unit in (("gyro", gyro, 1.0 / RAD), ("accel", accel, 1.0)):
@@ -266,8 +383,9 @@ def main():
     order = ["no correction", "PX4 script", "tempcal_IMU", "gyrocomp -> px4", "gyrocomp -> ardupilot",
              "gyrocomp -> px4 (--optimise-for warm-up)", "gyrocomp -> px4 (--optimise-for both)",
              "gyrocomp -> px4 (--static-weight time)", "gyrocomp -> px4 (--static-weight temperature)"] + \
-        ["gyrocomp -> px4 (%d runs%s)" % (k, w) for k in range(2, args.runs + 1) for w in WEIGHT_SUFFIXES] + \
-        ["true static curve"]
+        ["gyrocomp -> px4 (%d runs, pooled)" % k for k in range(2, args.runs + 1)] + \
+        ["PX4 script, run 2", "tempcal_IMU, run 2", "gyrocomp -> px4, run 2", "gyrocomp -> ardupilot, run 2",
+         "gyrocomp -> px4, pooled", "gyrocomp -> ardupilot, pooled", "true static curve"]
     names = [n for n in order if any(k[3] == n for k in rows)]
     for sensor in ("gyro", "accel"):
         print()
@@ -281,8 +399,8 @@ def main():
                     per_seed = [x.mean() for x in v]
                     cells.append("%.3g +- %.2g" % (np.mean(per_seed), np.std(per_seed)))
                 print("| %s | %s | %s |" % (structure, n, " | ".join(cells)))
-        multi = [(sc, "gyrocomp -> px4 (%d runs%s)" % (k, w)) for sc in ("PX4 script", "tempcal_IMU")
-                 for k in range(2, args.runs + 1) for w in WEIGHT_SUFFIXES]
+        multi = [(sc, "gyrocomp -> px4 (%d runs, pooled)" % k) for sc in ("PX4 script", "tempcal_IMU")
+                 for k in range(2, args.runs + 1)]
         for structure in structures:
             for script, mine in [("PX4 script", "gyrocomp -> px4"), ("tempcal_IMU", "gyrocomp -> ardupilot")] + multi:
                 cells = []
@@ -297,14 +415,15 @@ def main():
                 if cells:
                     print("  %s %s, %s vs %s: %s" % (structure, sensor, mine, script, "; ".join(cells)))
         # The mean over the held-out heating and cooling runs, against the true curve's
-        # and each script's; and the worst ratio in the scripts' own (heating) direction.
+        # and each script's; and the ratio in the scripts' own (heating) direction.
         for structure in structures:
             def hc(n, run_names=("heating", "cooling")):
                 v = [rows.get((structure, sensor, r, n)) for r in run_names]
                 return None if any(x is None for x in v) else np.mean([np.mean([x.mean() for x in a]) for a in v])
             true_hc = hc("true static curve")
             for n in names:
-                if not n.startswith("gyrocomp -> px4") or "optimise" in n or hc(n) is None:
+                if not n.startswith("gyrocomp -> px4") or "optimise" in n or ", run 2" in n or n.endswith(", pooled") \
+                        or hc(n) is None:
                     continue
                 parts = ["mean(heating, cooling) / true curve's %.3f" % (hc(n) / true_hc)]
                 for script in ("PX4 script", "tempcal_IMU"):
@@ -313,6 +432,8 @@ def main():
                             script, hc(n) / hc(script), true_hc / hc(script),
                             hc(n, ("heating",)) / hc(script, ("heating",))))
                 print("  %s %s, %s: %s" % (structure, sensor, n, ", ".join(parts)))
+    if args.second_profile:
+        print_second_profile(rows, structures, args.second_profile)
 
 
 if __name__ == "__main__":

@@ -18,7 +18,8 @@ profile (bench/imu_calibration_side_by_side.py --second-profile, seed 100 s + 50
    RMS over 101 temperatures, over the seeds, against the JSON's `curve_sd` (the fit's 1 sigma of
    the same quantity, from the rows as if independent).
 3. Held-out heating and cooling (RMS of 10 s means, mean removed, deg/s, as the side-by-side bench
-   scores): run 1's cubic, run 2's, the pooled one, the true curve; on the bias(T)-only structure
+   scores): run 1's cubic, run 2's, the pooled file's, the two LS cubics of 1., the true curve; on
+   the bias(T)-only structure
    the excess over the true curve, sqrt(RMS^2 - RMS_true^2), is estimation noise and falls by about
    1/sqrt(2) with two runs of one profile.
 """
@@ -123,7 +124,8 @@ def main():
                 b.simulate(gc, f, 100 * seed + 50 + 10 * k, fs, args.structure, name)
                 t, v = b.read_imu(f)[0]
                 sets = {"run 1": singles[0], "run 2": singles[1], "gyrocomp pooled":
-                        [gyro["axes"][a]["cubic"]["coeff"][1:] for a in range(3)]}
+                        [gyro["axes"][a]["cubic"]["coeff"][1:] for a in range(3)],
+                        "pooled LS without dT/dt": mine[False], "pooled LS with dT/dt": mine[True]}
                 for sname, sl in sets.items():
                     corr = np.array([sl[a][0] * (t - ref) + sl[a][1] * (t - ref) ** 2 + sl[a][2] * (t - ref) ** 3
                                      for a in range(3)])
@@ -145,7 +147,7 @@ def main():
     for name in ("heating", "cooling"):
         true = np.mean(held_rms[(name, "true curve")])
         parts = []
-        for sname in ("run 1", "run 2", "gyrocomp pooled"):
+        for sname in ("run 1", "run 2", "gyrocomp pooled", "pooled LS without dT/dt", "pooled LS with dT/dt"):
             m = np.mean(held_rms[(name, sname)])
             parts.append("%s %.4f (x%.3f, excess %.4f)" % (sname, m, m / true, np.sqrt(max(m * m - true * true, 0.0))))
         print("held-out %s, deg/s: %s; true curve %.4f" % (name, "; ".join(parts), true))

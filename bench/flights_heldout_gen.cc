@@ -237,8 +237,9 @@ double Ou(double x, double tau, double sigma, double dt, Rng& r) {
 
 // The flight's timeline: power-on still (a touch in it, sometimes), carried to the take-off spot,
 // still again, armed on the ground, flight, landed armed, still, sometimes picked up at the end.
-// `quick`: a short hop (at most a minute still at each end, five minutes in the air).
-Motion Gen2Timeline(double fs, Rng& r, bool quick) {
+// `quick`: a short hop (at most a minute still at each end, five minutes in the air). `warm`: a
+// restart of a warm board (4..6 min still, two minutes in the air, 2..3 min still).
+Motion Gen2Timeline(double fs, Rng& r, bool quick, bool warm = false) {
   Motion m;
   const double dt = 1.0 / fs;
   struct Phase { const char* kind; double s; };
@@ -246,6 +247,7 @@ Motion Gen2Timeline(double fs, Rng& r, bool quick) {
                            {"still", quick ? r.U(10.0, 25.0) : r.U(20.0, 120.0)}, {"armed", r.U(3.0, 10.0)},
                            {"fly", quick ? 300.0 : r.U(300.0, 1200.0)}, {"landed", r.U(2.0, 6.0)},
                            {"still", quick ? r.U(20.0, 40.0) : r.U(120.0, 600.0)}};
+  if (warm) ph[0].s = r.U(240.0, 360.0), ph[4].s = 120.0, ph[6].s = r.U(120.0, 180.0);
   if (r.U(0.0, 1.0) < 0.5) ph.push_back({"carry", r.U(10.0, 30.0)});
   const bool touch = r.U(0.0, 1.0) < 0.6 && ph[0].s > 150.0;
   const double touch_at = touch ? r.U(50.0, ph[0].s - 60.0) : -1.0, touch_s = r.U(1.0, 3.0);
@@ -323,8 +325,10 @@ M3 Rot(double roll, double pitch, double yaw) {
 }
 
 // One generator-2 power-on of the board (flight or chamber): ambient(t), the motion, the state.
+// `warm_start`: the board and dies start at their self-heated equilibrium (a restart), else at
+// the ambient.
 std::vector<FlightRun> Gen2Run(const Gen2Board& b, const Truth& truth, const Motion& m, const std::function<double(double)>& ambient,
-                               double fs, Rng& r) {
+                               double fs, Rng& r, bool warm_start = false) {
   const std::size_t n = m.roll.size();
   const double dt = 1.0 / fs;
   // Body rates from the attitude: omega = vee(R_i^T R_{i+1} - R_{i+1}^T R_i) / (2 dt).
@@ -360,7 +364,7 @@ std::vector<FlightRun> Gen2Run(const Gen2Board& b, const Truth& truth, const Mot
   }
   // Board node (shared) and, per IMU, the die node, the MEMS structure's two lags.
   std::vector<double> board(n);
-  double tb = ambient(0.0);
+  double tb = ambient(0.0) + (warm_start ? b.board_heat_c : 0.0);
   for (std::size_t i = 0; i < n; ++i) {
     const double eq = ambient(static_cast<double>(i) * dt) + b.board_heat_c / (1.0 + b.airflow * m.speed[i]);
     const double tau = b.board_tau_s / (1.0 + 2.0 * m.speed[i]);
@@ -373,7 +377,7 @@ std::vector<FlightRun> Gen2Run(const Gen2Board& b, const Truth& truth, const Mot
     FlightRun run = EmptyRun(n, fs);
     std::array<double, 3> g_off, a_off, g_wander{}, a_wander{};
     for (int a = 0; a < 3; ++a) g_off[a] = r.N() * 0.05 * kRadPerDeg, a_off[a] = r.N() * 0.020 * kG;
-    double td = board[0], l1 = td, l2 = td;
+    double td = board[0] + (warm_start ? g.heat_share * b.die_heat_c : 0.0), l1 = td, l2 = td;
     const double k1 = 1.0 - std::exp(-dt / g.lag1_s), k2 = 1.0 - std::exp(-dt / g.lag2_s);  // exact first-order steps
     const double a_w = std::exp(-dt / g.wander_tau_s), s_w = std::sqrt(1.0 - a_w * a_w);
     for (std::size_t i = 0; i < n; ++i) {
@@ -606,12 +610,48 @@ int main(int argc, char** argv) {
       held_json += std::string(held_json.empty() ? "" : ",\n  ") + "{\"name\": \"" + prof.name + "\", \"path\": \"" + name +
                    "\", \"sensors\": " + ScoreHeldOut(dir + "/" + name, truth, range) + "}";
   }
+  // Three restarts that barely warm (for the three-log check: still time enough, too little
+  // change inside a log), from their own random stream so the logs above do not change.
+  // Generator 1: a board that self-heats 2 C and cools 1.5 C in flight; generator 2: the same
+  // board restarted at its self-heated temperature.
+  Rng w(seed * 7777ULL + static_cast<std::uint64_t>(gen) * 13ULL + static_cast<std::uint64_t>(board));
+  std::string warm_json;
+  for (int k = 0; k < 3; ++k) {
+    const double amb = 20.0 + w.U(-1.0, 1.0);
+    std::vector<FlightRun> imus;
+    if (gen == 1) {
+      const double still_before = w.U(240.0, 360.0), after = w.U(120.0, 180.0);
+      const std::uint64_t s = w.e();
+      for (int i = 0; i < kImus; ++i) {
+        gyrocomp::FlightSimOptions o = b1.imu[static_cast<std::size_t>(i)];
+        o.fs_hz = fs, o.ambient_c = amb, o.still_before_s = still_before, o.flight_s = 120.0, o.still_after_s = after;
+        o.self_heating_c = 2.0, o.airflow_cooling_c = 1.5;
+        o.seed = s + static_cast<std::uint64_t>(i);
+        gyrocomp::Result<FlightRun> run = gyrocomp::SimulateFlight(o);
+        if (!run.ok()) {
+          std::fprintf(stderr, "%s\n", run.error().message.c_str());
+          return 1;
+        }
+        imus.push_back(std::move(*run));
+      }
+    } else {
+      const Motion m = Gen2Timeline(fs, w, false, true);
+      imus = Gen2Run(b2, truth, m, [=](double) { return amb; }, fs, w, /*warm_start=*/true);
+    }
+    const std::vector<int> order = Order(w, gen == 2);
+    const std::string name = "warm" + std::to_string(k) + ".ulg";
+    Write(dir + "/" + name, imus, order);
+    char head[256];
+    std::snprintf(head, sizeof head, "{\"path\": \"%s\", \"ambient_c\": %.3f, \"rows\": %zu, \"order\": [%d, %d, %d], \"still\": ",
+                  name.c_str(), amb, imus[0].time_s.size(), order[0], order[1], order[2]);
+    warm_json += std::string(warm_json.empty() ? "" : ",\n  ") + head + StillIntervals(imus, fs) + "}";
+  }
   std::string ranges;
   for (int i = 0; i < kImus; ++i)
     ranges += (i ? ", " : "") + std::string("[") + std::to_string(range[i].lo) + ", " + std::to_string(range[i].hi) + "]";
   std::ofstream(dir + "/truth.json") << "{\"generator\": " << gen << ", \"board\": " << board << ", \"seed\": " << seed
                                      << ", \"rate_hz\": " << fs << ",\n \"flight_still_range_c\": [" << ranges
-                                     << "],\n \"flights\": [" << flights_json << "],\n \"quick\": [" << quick_json
+                                     << "],\n \"flights\": [" << flights_json << "],\n \"quick\": [" << quick_json << "],\n \"warm\": [" << warm_json
                                      << "],\n \"heldout\": [" << held_json << "]}\n";
   return 0;
 }

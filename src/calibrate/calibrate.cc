@@ -419,6 +419,8 @@ bool CalibrateOptions::IsValid(std::string* error) const {
   if (!(fit_rate_hz > 0.0)) return fail("fit_rate_hz = " + FormatNumber(fit_rate_hz, 4) + ": must be > 0 Hz");
   if (!(min_span_c >= 0.0)) return fail("min_span_c = " + FormatNumber(min_span_c, 4) + ": must be >= 0 C");
   if (!(block_s > 0.0)) return fail("block_s = " + FormatNumber(block_s, 4) + ": must be > 0 s");
+  for (double lag : pooled_lags_s)
+    if (!(lag > 0.0)) return fail("pooled_lags_s: a lag of " + FormatNumber(lag, 4) + " s: each must be > 0 s");
   if (!ParseCubicCondition(optimise_for)) return fail("optimise_for = '" + optimise_for + "': must be steady, warm-up or both");
   if (static_weight != "auto" && static_weight != "time" && static_weight != "temperature")
     return fail("static_weight = '" + static_weight + "': must be auto, temperature or time");

@@ -22,7 +22,9 @@
 
 #include "gyrocomp/calibrate/calibrate.h"
 #include "gyrocomp/calibrate/pooled_fit.h"
+#include "gyrocomp/core/units.h"
 #include "gyrocomp/io/dataflash.h"
+#include "gyrocomp/io/ulog.h"
 #include "gyrocomp/sim/flight.h"
 #include "gyrocomp/sim/simulator.h"
 #include "test_support.h"
@@ -406,6 +408,83 @@ TEST(CalibrateFlights, ALogRateChangeBetweenLogsIsPooledAndNoted) {
     // TenFlights puts on the error against the truth.
     EXPECT_LT(diff, 0.05 * drift) << f.type;
   }
+}
+
+// Four warm-ups at ambients 5, 15, 25, 35 C (still throughout, 10 Hz, 20 min; the board rises
+// 15 C with a 150 s time constant) whose gyro drift is a cubic of the temperature low-passed
+// 60 s behind the logged one: the pooled fit finds a lag near it (the grid's 40..90 s) and its
+// cubic is closer to the true curve than the fit on the logged temperature; with no lag in the
+// data, none is kept.
+TEST(CalibrateFlights, APooledLagIsFittedOnlyWhereTheCurveLagsTheLoggedTemperature) {
+  const auto curve = [](double t) { const double d = t - 25.0; return (4e-3 * d + 1e-4 * d * d - 2e-6 * d * d * d) / units::kDegPerRad; };
+  for (const double true_lag_s : {60.0, 0.0}) {
+    testing::TempDir dir("calibrate_flights_test");
+    std::vector<std::string> logs;
+    NormalGenerator rng(21);
+    for (int n = 0; n < 4; ++n) {
+      FlightRun r;
+      const double fs = 10.0, ambient = 5.0 + 10.0 * n;
+      double lagged = ambient;
+      for (int i = 0; i < 12000; ++i) {
+        const double t = i / fs, temp = ambient + 15.0 * (1.0 - std::exp(-t / 150.0));
+        lagged = true_lag_s > 0.0 ? lagged + (temp - lagged) * (1.0 - std::exp(-1.0 / (fs * true_lag_s))) : temp;
+        r.time_s.push_back(t), r.temp_c.push_back(temp);
+        const double offset = 0.05 / units::kDegPerRad * (n - 1.5);
+        for (int a = 0; a < 3; ++a) r.gyro_rad_s[a].push_back(curve(lagged) * (1.0 + 0.2 * a) + offset + 5e-4 * rng.Next());
+        for (int a = 0; a < 3; ++a) r.accel_m_s2[a].push_back((a == 2 ? -9.80665 : 0.0) + 0.02 * rng.Next());
+        r.armed.push_back(false), r.landed.push_back(true), r.truly_still.push_back(true);
+      }
+      logs.push_back(testing::WriteFile(dir / ("warm" + std::to_string(n) + ".ulg"), *EncodeFlightULog({r})));
+    }
+    CalibrateOptions with_lag, without;
+    without.pooled_lags_s.clear();
+    Result<CalibrateResult> a = CalibrateLogs(logs, with_lag), b = CalibrateLogs(logs, without);
+    ASSERT_TRUE(a.ok() && b.ok());
+    const CalibratedSensor& ga = a->sensors.front();
+    const CalibratedSensor& gb = b->sensors.front();
+    ASSERT_EQ(ga.type, "gyro");
+    ASSERT_TRUE(ga.calibrated() && gb.calibrated()) << ga.reason << gb.reason;
+    std::vector<double> temps;
+    for (double t = ga.temp_min_c; t <= ga.temp_max_c; t += 0.25) temps.push_back(t);
+    const auto error = [&](const CalibratedSensor& s) {
+      return RmsAfterOffset(temps, [&](double t) { return s.cubics[0].Evaluate(t); }, curve);
+    };
+    std::printf("true lag %g s: lag %g s (%s), error %.3g with, %.3g without (rad/s)\n", true_lag_s, ga.temp_lag_s,
+                ga.lag_term.BriefReport().c_str(), error(ga), error(gb));
+    if (true_lag_s > 0.0) {
+      EXPECT_GE(ga.temp_lag_s, 40.0);
+      EXPECT_LE(ga.temp_lag_s, 90.0);
+      EXPECT_LT(error(ga), 0.5 * error(gb));  // the lag's share of the error removed, at least half of it
+    } else {
+      EXPECT_EQ(ga.temp_lag_s, 0.0) << ga.lag_term.BriefReport();
+    }
+    EXPECT_EQ(gb.temp_lag_s, 0.0);
+  }
+}
+
+// EncodeFlightULog's enumeration order: multi_id k holds imus[order[k]] with that IMU's device
+// ids; a list that is not a permutation is refused.
+TEST(CalibrateFlights, EncodeFlightULogLogsEachIMUWithItsOwnDeviceIdInAnyOrder) {
+  std::vector<FlightRun> imus(2);
+  for (int k = 0; k < 2; ++k)
+    for (int i = 0; i < 20; ++i) {
+      imus[k].time_s.push_back(0.1 * i), imus[k].temp_c.push_back(20.0 + k);
+      for (int a = 0; a < 3; ++a) imus[k].gyro_rad_s[a].push_back(0.01 * (k + 1)), imus[k].accel_m_s2[a].push_back(k);
+      imus[k].armed.push_back(false), imus[k].landed.push_back(true), imus[k].truly_still.push_back(true);
+    }
+  Result<std::string> bytes = EncodeFlightULog(imus, 1, {1, 0});
+  ASSERT_TRUE(bytes.ok()) << bytes.error().message;
+  Result<ULogContents> log = ParseULog(reinterpret_cast<const std::uint8_t*>(bytes->data()), bytes->size(), "order");
+  ASSERT_TRUE(log.ok()) << log.error().message;
+  ASSERT_EQ(log->gyros.size(), 2u);
+  for (const ULogGyroSeries& g : log->gyros) {
+    const int imu = g.multi_id == 0 ? 1 : 0;
+    EXPECT_EQ(g.device_id, BoardGyroDeviceId(imu)) << g.multi_id;
+    EXPECT_FLOAT_EQ(static_cast<float>(g.x_rad_s.front()), 0.01f * static_cast<float>(imu + 1)) << g.multi_id;
+  }
+  for (const ULogAccelSeries& acc : log->accels) EXPECT_EQ(acc.device_id, BoardAccelDeviceId(acc.multi_id == 0 ? 1 : 0));
+  EXPECT_FALSE(EncodeFlightULog(imus, 1, {0, 0}).ok());
+  EXPECT_FALSE(EncodeFlightULog(imus, 1, {0}).ok());
 }
 
 TEST(PooledCubic, ConstantsPerGroupAndOneSharedCurve) {

@@ -49,6 +49,9 @@ struct Run {
   std::vector<Sensor> sensors;
   StillDetection detection;
   std::vector<std::vector<int>> segment;  // [sensor][row]
+  // [sensor][lag][row]: the temperature low-passed with CalibrateOptions::pooled_lags_s[lag]
+  // over the whole log, at the fit's rows (empty for a log read whole, still throughout)
+  std::vector<std::vector<std::vector<double>>> lagged_c;
   std::vector<double> row_s;  // [sensor] seconds of log per fit row (1 / fit_rate_hz unless the log is slower)
   std::vector<std::size_t> whole_rows;  // [sensor] fit rows of the whole log, still or not
   LogInfo info;  // the log's state and parameters

@@ -191,6 +191,25 @@ TermGain RateTermGain(const std::vector<double>& temp_c, const std::vector<doubl
 
 }  // namespace
 
+std::vector<double> PooledGroupHeldOutRms(const std::vector<double>& temp_c, const std::vector<double>& y,
+                                          const std::vector<std::size_t>& group, std::size_t num_groups, double ref_temp_c) {
+  std::vector<double> out(num_groups, NAN);
+  if (y.size() != temp_c.size() || group.size() != temp_c.size()) return out;
+  std::vector<std::vector<std::size_t>> rows(num_groups);
+  for (std::size_t i = 0; i < group.size(); ++i)
+    if (group[i] < num_groups) rows[group[i]].push_back(i);
+  for (std::size_t g = 0; g < num_groups; ++g) {
+    if (rows[g].size() < 2) continue;
+    std::vector<double> t, v;
+    std::vector<std::size_t> gr;
+    for (std::size_t i = 0; i < temp_c.size(); ++i)
+      if (group[i] != g) t.push_back(temp_c[i]), v.push_back(y[i]), gr.push_back(group[i]);
+    Result<PooledCubic> f = FitWeighted(t, v, gr, num_groups, ref_temp_c, {}, {});
+    if (f.ok()) out[g] = HeldOutRms(*f, temp_c, y, {}, rows[g]);
+  }
+  return out;
+}
+
 Result<PooledCubic> FitPooledCubic(const std::vector<double>& temp_c, const std::vector<double>& y,
                                    const std::vector<std::size_t>& group, std::size_t num_groups, double ref_temp_c,
                                    const std::vector<double>& rate_c_per_s) {

@@ -3,6 +3,7 @@
 
 #include "gyrocomp/core/units.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -113,18 +114,27 @@ std::vector<ULogStateWriteSeries> FlightStateTopics(const FlightRun& r) {
 }
 }  // namespace
 
-Result<std::string> EncodeFlightULog(const std::vector<FlightRun>& imus, int decimate) {
+Result<std::string> EncodeFlightULog(const std::vector<FlightRun>& imus, int decimate, const std::vector<int>& order) {
   if (imus.empty() || decimate < 1) return InvalidArgument("EncodeFlightULog: no IMU, or decimate < 1");
   for (const FlightRun& r : imus)
     if (r.time_s.size() != imus.front().time_s.size()) return InvalidArgument("EncodeFlightULog: IMUs of different lengths");
+  std::vector<int> enumerated = order;
+  if (enumerated.empty())
+    for (std::size_t k = 0; k < imus.size(); ++k) enumerated.push_back(static_cast<int>(k));
+  std::vector<int> sorted = enumerated;
+  std::sort(sorted.begin(), sorted.end());
+  for (std::size_t k = 0; k < sorted.size(); ++k)
+    if (sorted.size() != imus.size() || sorted[k] != static_cast<int>(k))
+      return InvalidArgument("EncodeFlightULog: order must be a permutation of the " + std::to_string(imus.size()) + " IMUs");
   ULogWriteInput in;
   in.int_parameters = {{"TC_G_ENABLE", 0}, {"TC_A_ENABLE", 0}};
   for (std::size_t k = 0; k < imus.size(); ++k) {
-    const FlightRun& r = imus[k];
+    const int imu = enumerated[k];  // the IMU the drivers enumerated k-th at this boot
+    const FlightRun& r = imus[static_cast<std::size_t>(imu)];
     ULogSensorWriteSeries g, a;
     g.topic = "sensor_gyro", a.topic = "sensor_accel";
     g.multi_id = a.multi_id = static_cast<int>(k);
-    g.device_id = BoardGyroDeviceId(static_cast<int>(k)), a.device_id = BoardAccelDeviceId(static_cast<int>(k));
+    g.device_id = BoardGyroDeviceId(imu), a.device_id = BoardAccelDeviceId(imu);
     for (std::size_t i = 0; i < r.time_s.size(); i += static_cast<std::size_t>(decimate)) {
       const auto t_us = static_cast<std::uint64_t>(std::llround(r.time_s[i] * 1e6)) + 1000000;  // logging starts at 1 s
       for (ULogSensorWriteSeries* s : {&g, &a}) s->timestamp_us.push_back(t_us), s->temperature_c.push_back(static_cast<float>(r.temp_c[i]));

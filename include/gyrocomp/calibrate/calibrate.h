@@ -38,6 +38,7 @@
 #include "gyrocomp/calibrate/still.h"
 #include "gyrocomp/core/status.h"
 #include "gyrocomp/drift/drift_model.h"
+#include "gyrocomp/drift/term_admission.h"
 #include "gyrocomp/export/cubic_score.h"
 #include "gyrocomp/export/static_weight.h"
 #include "gyrocomp/export/thermal_cubic.h"
@@ -74,6 +75,13 @@ struct CalibrateOptions {
   // Pooled fit: a shared dT/dt gain fitted with the cubic where the still rows' heating rates
   // spread over 1e-3 C/s (SD), the cubic kept at dT/dt = 0 (pooled_fit.h). False: the cubic alone.
   bool pooled_dtemp = true;
+  // Pooled fit: the temperature the curve is a function of may lag the logged one (the MEMS
+  // structure behind the die thermometer, a board's stress relaxing behind its heating). Each
+  // log's temperature is low-passed (first order, the whole log, flight included) with each lag
+  // of pooled_lags_s; the lag whose pooled cubic predicts each held-out group best is kept when
+  // its paired held-out gain over no lag beats its standard error (term_admission.h, Eq. A-4),
+  // one lag per sensor (every axis); then no dT/dt term. Empty: no lag searched.
+  std::vector<double> pooled_lags_s = {10.0, 20.0, 40.0, 60.0, 90.0, 120.0, 180.0, 240.0};
   // What the exported cubic is optimised for (CubicCondition): "steady" (dT/dt = 0, the static
   // curve), "warm-up" (the state the run had while heating) or "both" (their mean).
   std::string optimise_for = "steady";
@@ -147,6 +155,12 @@ struct CalibratedSensor {
   // Pooled: per axis, 1 sigma of the fitted curve over the range from the fit's covariance
   // (FitPooledCubic's curve_sd), firmware unit; empty for a single run (it has `expected`).
   std::vector<double> curve_sd;
+  // Pooled: the lag of the temperature the cubic was fitted on behind the logged one, s (0: the
+  // logged temperature; CalibrateOptions::pooled_lags_s), and the paired held-out gain of the
+  // lag chosen over none (relative: each axis's per-group held-out RMS divided by its mean
+  // without the lag, averaged over the axes; pairs 0 when no lag was searched).
+  double temp_lag_s = 0.0;
+  TermGain lag_term;
   // The rows the fit saw, for drawing them under the exported cubics (the calibrate report): a
   // single run's block means, or every log's still rows of a pooled fit, constant included.
   struct FitRows {

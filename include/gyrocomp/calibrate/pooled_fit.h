@@ -55,4 +55,11 @@ Result<PooledCubic> FitPooledCubic(const std::vector<double>& temp_c, const std:
                                    const std::vector<std::size_t>& group, std::size_t num_groups, double ref_temp_c,
                                    const std::vector<double>& rate_c_per_s = {});
 
+// Each group held out in turn: the pooled cubic (no dT/dt term) fitted on the other groups, the
+// RMS of the held-out group's residuals once its own constant is removed (only the shape inside
+// the group is predicted), target unit; NaN for a group with fewer than 2 rows or whose fit
+// failed. Arguments as FitPooledCubic's.
+std::vector<double> PooledGroupHeldOutRms(const std::vector<double>& temp_c, const std::vector<double>& y,
+                                          const std::vector<std::size_t>& group, std::size_t num_groups, double ref_temp_c);
+
 }  // namespace gyrocomp

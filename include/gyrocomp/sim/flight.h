@@ -73,7 +73,12 @@ double FlightAccelDriftM_S2(const FlightSimOptions& options, int axis, double te
 // (BoardGyroDeviceId(k), BoardAccelDeviceId(k), simulator.h), float32, every `decimate`-th row;
 // the first IMU's armed and landed state as actuator_armed.armed, vehicle_status.arming_state and
 // vehicle_land_detected.landed (a row once a second and at every change, every row's time).
-// Errors: no IMU, IMUs of different lengths, decimate < 1 (kInvalidArgument).
-Result<std::string> EncodeFlightULog(const std::vector<FlightRun>& imus, int decimate = 1);
+// `order` (empty: the identity) is the order in which the drivers enumerated the IMUs at this
+// boot: multi_id k logs imus[order[k]] with that IMU's device ids (board_boot.h: the instance
+// numbers change between power-ons, the device ids stay with the chip); the state topics are the
+// first IMU's (imus[0]) whatever the order.
+// Errors: no IMU, IMUs of different lengths, decimate < 1, `order` not a permutation of the IMUs
+// (kInvalidArgument).
+Result<std::string> EncodeFlightULog(const std::vector<FlightRun>& imus, int decimate = 1, const std::vector<int>& order = {});
 
 }  // namespace gyrocomp

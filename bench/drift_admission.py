@@ -149,7 +149,10 @@ def one(job):
             apply(c + ".poly.json", f"{p}.{held}.csv", f"{c}.poly.{held}")
             apply(ref, f"{p}.{held}.csv", f"{c}.ref.{held}")
         return []
-    run(f"{G} fit -i {c}.csv -o {c}.auto.json --json {c}.auto.fit.json")
+    fit_json = c + ".auto.fit.json"  # kept when newer than the binary G (a rerun reuses it)
+    g_path = G if os.path.exists(G) else None
+    if not (os.path.exists(fit_json) and g_path and os.path.getmtime(fit_json) > os.path.getmtime(g_path)):
+        run(f"{G} fit -i {c}.csv -o {c}.auto.json --json {c}.auto.fit.json")
     fit = json.load(open(c + ".auto.fit.json"))
     admitted = [t["term"] for t in fit.get("term_admissions", []) if t["admitted"]]
     rows = []

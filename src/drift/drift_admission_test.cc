@@ -43,6 +43,10 @@ void ExpectRuleApplied(const DriftModel& m) {
   for (const TermAdmission& t : s.term_admissions) {
     if (t.term == "dT/dt") {
       EXPECT_EQ(t.admitted, t.note.empty()) << t.BriefReport();  // Eq. I-1 decides; A-4 is shown
+    } else if (t.term == "kernel") {  // a pure kernel: Eq. H-1, gain > block-to-block SD
+      EXPECT_EQ(t.admitted, t.gain.pairs >= 2 && t.gain.gain > t.gain.Sd()) << t.BriefReport();
+      if (!t.admitted) EXPECT_NE(m.kind, t.candidate.rfind("cs-svr", 0) == 0 ? DriftModelKind::kCsSvr : DriftModelKind::kSvr);
+      continue;
     } else if (t.gain.pairs >= 2) {
       EXPECT_EQ(t.admitted, t.gain.gain > t.gain.se) << t.BriefReport();
       EXPECT_NE(s.selection_reason.find(t.BriefReport()), std::string::npos) << s.selection_reason;

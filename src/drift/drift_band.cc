@@ -306,6 +306,11 @@ Status AttachBand(const DriftInputs& inputs, std::span<const double> target, con
     band.unidentified_rate_gain_rms = std::min(cap, std::abs(*fs.unidentified_rate_gain));
   }
   band.calibration_rate_vs_temp = fs.calibration_rate_vs_temp;
+  if (m->structured && (m->inputs == DriftInputSet::kTempAndRate || m->inputs == DriftInputSet::kTempRateAndMemory)) {
+    DriftFitOptions r = o;  // Eq. B-5: the direction the run did not cover
+    r.rate = m->rate;
+    band.unseen_direction = UncoveredDirection(inputs, r);
+  }
   m->band = std::move(band);
   return Status::Ok();
 }
@@ -351,21 +356,34 @@ Result<DriftBand> DriftModel::PredictBand(const DriftInputs& in, bool causal) co
   }
   const double mf2 = band->model_form_rms * band->model_form_rms;
   std::vector<double> dtemp;
-  if (band->unidentified_rate_gain_rms > 0.0) {
+  const bool unseen = band->unseen_direction != 0 && features && features->size() > 1;
+  if (band->unidentified_rate_gain_rms > 0.0 || unseen) {
     auto r = TemperatureRate(in.temp_c, in.fs_hz, rate);
     if (!r.ok()) return r.error();
     dtemp = std::move(*r);
   }
   for (std::size_t i = 0; i < b.center.size(); ++i) {
     double var = mf2;
-    if (!dtemp.empty()) {  // Eq. B-4
+    if (!dtemp.empty() && band->unidentified_rate_gain_rms > 0.0) {  // Eq. B-4
       const double d = dtemp[i] - band->calibration_rate_vs_temp.At(in.temp_c[i]);
       var += std::pow(band->unidentified_rate_gain_rms * d, 2);
     }
     if (features) {
-      const Eigen::VectorXd a = drift_internal::TermRow(*structured, EffectiveTemp((*features)[0][i]),
-                                                        drift_internal::Col(*features, 1, i), drift_internal::Col(*features, 2, i));
+      const double t = EffectiveTemp((*features)[0][i]), mem = drift_internal::Col(*features, 2, i);
+      const Eigen::VectorXd a = drift_internal::TermRow(*structured, t, drift_internal::Col(*features, 1, i), mem);
       var += a.dot(cov * a);
+      // Eq. B-5: moving in the direction the calibration run did not cover, the model's dT/dt
+      // contribution s_i (its prediction here minus that at dT/dt = 0) is what the run measured of
+      // a ramp against a hold in its own direction; the other direction's may differ from the
+      // mirror image by as much (a memory, a gain that differs by direction), which the run cannot
+      // show. Added as one SD.
+      if (unseen && dtemp[i] * band->unseen_direction > drift_internal::kSegmentRateThreshold) {
+        const Eigen::VectorXd a0 = drift_internal::TermRow(*structured, t, 0.0, mem);
+        double s_i = 0.0;
+        for (std::size_t k = 0; k < structured->terms.size(); ++k)
+          s_i += structured->terms[k].coefficient * (a(static_cast<Eigen::Index>(k)) - a0(static_cast<Eigen::Index>(k)));
+        var += s_i * s_i;
+      }
     }
     const double half = z * std::sqrt(std::max(0.0, var));
     b.lo[i] = b.center[i] - half;

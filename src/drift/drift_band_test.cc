@@ -271,6 +271,52 @@ TEST(DriftBand, WidensWhereALeftOutRateTermActs) {
   EXPECT_GT(rms_half(*on_cool), 1.3 * rms_half(*on_heat));
 }
 
+// Eq. B-5: a heating-only calibration that identifies a dT/dt gain cannot show whether cooling
+// differs from heating by more than the gain's mirror image; on a cooling run's ramps the band adds
+// the model's dT/dt contribution there in quadrature (the heating run's band is unchanged), and the
+// model file keeps the direction.
+TEST(DriftBand, WidensOnTheDirectionTheCalibrationDidNotCover) {
+  const double fs = 0.2;
+  // A heating staircase -40 -> 60 C (Staircase reversed: ramps between holds identify the gain).
+  std::vector<double> heat = Staircase(fs);
+  for (double& t : heat) t = 20.0 - t;
+  auto rate = TemperatureRate(heat, fs);
+  ASSERT_TRUE(rate.ok());
+  std::vector<double> y = Measured(heat, fs, 5);
+  for (std::size_t i = 0; i < y.size(); ++i) y[i] += 6.0 * (*rate)[i];  // 100 mdps at 1 C/min: Eq. I-1 keeps it
+  auto m = FitDriftModel({heat, fs}, y, DriftFitOptions{});
+  ASSERT_TRUE(m.ok()) << m.error().message;
+  ASSERT_EQ(m->inputs, DriftInputSet::kTempAndRate) << m->summary.selection_reason;
+  ASSERT_TRUE(m->band.has_value());
+  EXPECT_EQ(m->band->unseen_direction, -1);
+  DriftModel without = *m;
+  without.band->unseen_direction = 0;
+  const std::vector<double> cool = Staircase(fs);
+  auto cool_with = m->PredictBand({cool, fs});
+  auto cool_without = without.PredictBand({cool, fs});
+  auto heat_with = m->PredictBand({heat, fs});
+  auto heat_without = without.PredictBand({heat, fs});
+  ASSERT_TRUE(cool_with.ok() && cool_without.ok() && heat_with.ok() && heat_without.ok());
+  auto cool_rate = TemperatureRate(cool, fs);
+  ASSERT_TRUE(cool_rate.ok());
+  std::size_t wider = 0, ramps = 0;
+  for (std::size_t i = 0; i < cool.size(); ++i) {
+    const double w = cool_with->hi[i] - cool_with->lo[i], w0 = cool_without->hi[i] - cool_without->lo[i];
+    EXPECT_GE(w, w0 - 1e-15) << i;  // a variance term: never narrower
+    if ((*cool_rate)[i] < -2e-3) {  // on a cooling ramp (well past the 1e-3 C/s threshold)
+      ++ramps;
+      wider += w > w0 * (1.0 + 1e-6) ? 1 : 0;
+    }
+  }
+  ASSERT_GT(ramps, 0u);
+  EXPECT_EQ(wider, ramps);
+  for (std::size_t i = 0; i < heat.size(); ++i)  // the covered direction: unchanged
+    EXPECT_EQ(heat_with->hi[i] - heat_with->lo[i], heat_without->hi[i] - heat_without->lo[i]) << i;
+  auto back = DriftModelFromJson(DriftModelToJson(*m), "b5");
+  ASSERT_TRUE(back.ok()) << back.error().message;
+  EXPECT_EQ(back->band->unseen_direction, -1);
+}
+
 // Eq. B-4 with a truly zero gain: a heating-only run of a plain cubic leaves the gain out, and the
 // gain it estimates is noise. The band's squared gain term is g^2, whose expectation is already
 // g_true^2 + Var(g); g^2 + SE^2 added the noise a second time. Measured over these 12 seeds: mean

@@ -131,6 +131,9 @@ Result<DriftModel> FitSelected(const DriftInputs& inputs, std::span<const double
 std::string DescribeIdentifiability(const DriftInputs& inputs, const DriftFitOptions& o);
 // Whether both directions cover enough of the temperature range for the memory state.
 bool MemoryIdentifiable(const DriftInputs& inputs, const DriftFitOptions& o);
+// The direction the run does not cover over enough of its range (Eq. I-3): +1 heating, -1 cooling
+// (the shorter one when both fall short), 0 when both cover >= 50% of it.
+int UncoveredDirection(const DriftInputs& inputs, const DriftFitOptions& o);
 
 // ---- what a run identifies (drift_identify.cc, Eqs. I-0..I-3) ----
 // Eq. I-0: training points per coefficient a candidate needs, and the points a kernel needs.

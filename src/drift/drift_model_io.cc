@@ -190,10 +190,13 @@ json AxisJson(const DriftModel& m) {
                  {"calibration_rate_vs_temp", {{"offset_c", b->calibration_rate_vs_temp.offset_c},
                                                {"scale_c", b->calibration_rate_vs_temp.scale_c},
                                                {"coefficients", b->calibration_rate_vs_temp.coefficients}}},
+                 {"unseen_direction", b->unseen_direction},
                  {"coverage_check", b->coverage_check},
                  {"equation", "var_i = a_i' parameter_cov a_i + model_form_rms^2, a_i = the structured terms at sample i "
                               "(standardised inputs), + (unidentified_rate_gain_rms d_i)^2 with d_i = the sample's dT/dt - "
-                              "sum coefficients[k] ((T - offset_c) / scale_c)^k of calibration_rate_vs_temp; band = prediction +- z(level) sqrt(var_i); noise: one-sided PSD "
+                              "sum coefficients[k] ((T - offset_c) / scale_c)^k of calibration_rate_vs_temp, + s_i^2 on a sample whose dT/dt "
+                              "has the sign unseen_direction (+1 heating, -1 cooling), s_i = the structured prediction at its "
+                              "dT/dt minus that at dT/dt = 0; band = prediction +- z(level) sqrt(var_i); noise: one-sided PSD "
                               "white + flicker / f + random_walk / f^2"}};
   }
   return j;
@@ -266,6 +269,11 @@ void ReadBand(Reader& r, const json& band, DriftModel* m) {
   if (band.contains("expected_rms")) b.expected_rms = r.Number(band, "expected_rms", "band.expected_rms");
   if (band.contains("unidentified_rate_gain_rms"))
     b.unidentified_rate_gain_rms = r.Number(band, "unidentified_rate_gain_rms", "band.unidentified_rate_gain_rms");
+  if (band.contains("unseen_direction")) {
+    const double u = r.Number(band, "unseen_direction", "band.unseen_direction");
+    if (r.ok() && u != -1.0 && u != 0.0 && u != 1.0) return r.Fail("field 'band.unseen_direction' must be -1, 0 or 1");
+    b.unseen_direction = static_cast<int>(u);
+  }
   if (band.contains("calibration_rate_vs_temp")) {
     const json& c = band["calibration_rate_vs_temp"];
     b.calibration_rate_vs_temp.offset_c = r.Number(c, "offset_c", "band.calibration_rate_vs_temp.offset_c");

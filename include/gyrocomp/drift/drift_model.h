@@ -380,6 +380,11 @@ struct DriftBandModel {
   // per C/s, and the calibration run's dT/dt against T (what the T polynomial absorbed of it).
   double unidentified_rate_gain_rms = 0.0;
   RateCurve calibration_rate_vs_temp;  // the calibration run's dT/dt against T (Eq. B-4)
+  // Eq. B-5: the direction the calibration run did not cover over enough of its range (Eq. I-3),
+  // +1 heating, -1 cooling, 0 none or no dT/dt term; on a sample moving that way the band adds
+  // the model's own dT/dt contribution there in quadrature (the heating/cooling difference the
+  // run cannot tell from a rate effect).
+  int unseen_direction = 0;
   // Where the coverage was measured.
   std::string coverage_check;
   // RMS of the band's standard deviation over the calibration run: the expected RMS drift error

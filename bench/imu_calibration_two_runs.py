@@ -16,7 +16,7 @@ profile (bench/imu_calibration_side_by_side.py --second-profile, seed 100 s + 50
    pooled fit returned (the JSON does not say whether the dT/dt term was admitted).
 2. The pooled curve's error against the true static curve (the simulator's bias cubic), centred,
    RMS over 101 temperatures, over the seeds, against the JSON's `curve_sd` (the fit's 1 sigma of
-   the same quantity, from the rows as if independent).
+   the same quantity: pooled_fit.h Eqs. P-1..P-3, HAC and the delete-one-log jackknife).
 3. Held-out heating and cooling (RMS of 10 s means, mean removed, deg/s, as the side-by-side bench
    scores): run 1's cubic, run 2's, the pooled file's, the two LS cubics of 1., the true curve; on
    the bias(T)-only structure

@@ -163,6 +163,15 @@ int Run(const CalibrateArgs& a) {
   Result<CalibrateResult> r = CalibrateLogs(a.inputs, a);
   if (!r.ok()) return ReportError(kCalibrateName, r.error());
   for (const std::string& n : r->notes) Note(kCalibrateName, n);
+  const bool pooled = std::any_of(r->sensors.begin(), r->sensors.end(), [](const Sensor& s) { return s.fit == "pooled"; });
+  if (pooled && (a.optimise_for_given || a.static_weight_given)) {
+    const std::string given = a.optimise_for_given && a.static_weight_given ? "--optimise-for and --static-weight"
+                              : a.optimise_for_given                       ? "--optimise-for"
+                                                                           : "--static-weight";
+    Note(kCalibrateName, given + " ignored: " + (a.optimise_for_given && a.static_weight_given ? "they do" : "it does") +
+                             " not apply to a pooled fit (several logs, or a log not still throughout: one cubic over "
+                             "the still rows, no drift model to project)");
+  }
   if (a.verbose) std::cerr << r->BriefReport();
   else PrintSummary(a, *r);
   if (!r->AnyCalibrated()) return ReportError(kCalibrateName, InvalidInput(a.input + ": no sensor could be calibrated (reasons above)"));
@@ -203,7 +212,8 @@ Command MakeCalibrate(CLI::App& app) {
       "  log marks armed or not landed are not used); only still rows feed the fit. One log still throughout (a\n"
       "  chamber run): the drift model projected onto the cubic. Several logs or flights: one least-squares\n"
       "  cubic over all still rows, a constant per log (gyro, baro) or per still segment (accel: the attitude's\n"
-      "  share of gravity). A board rotation or a log rate that differs between the logs is noted, not refused.\n"
+      "  share of gravity); --optimise-for and --static-weight do not apply to it (a note says so when given).\n"
+      "  A board rotation or a log rate that differs between the logs is noted, not refused.\n"
       "A sensor that cannot be calibrated (span < --min-span, still time < --min-still, too few rows) is listed\n"
       "  with the reason and which log would help.\n"
       "Expected error: per axis, the cubic's expected next-run RMS at steady temperature and on the run's warm-up\n"
@@ -227,16 +237,18 @@ Command MakeCalibrate(CLI::App& app) {
                 "The full table per sensor and axis (projection cost, expected error steady and warm-up, static weighting)");
   sub->add_option("--block", a->block_s, "--validation: residual block means, s")->capture_default_str();
   sub->add_option("--fit-rate", a->fit_rate_hz, "Rows per second the fit sees (block means), Hz")->capture_default_str();
-  sub->add_option("--optimise-for", a->optimise_for,
+  CLI::Option* optimise_for = sub->add_option("--optimise-for", a->optimise_for,
                   "What the exported cubic is optimised for: steady (dT/dt = 0, the static curve) | warm-up (the state the "
-                  "run had while heating, at each temperature) | both (their mean)")
+                  "run had while heating, at each temperature) | both (their mean). One log still throughout only: "
+                  "a pooled fit (several logs) has no drift model to project and ignores it, with a note")
       ->check(CLI::IsMember({"steady", "warm-up", "both"}))
       ->capture_default_str();
-  sub->add_option("--static-weight", a->static_weight,
+  CLI::Option* static_weight = sub->add_option("--static-weight", a->static_weight,
                   "How the static curve is estimated: auto (per axis, the one of the two below with the lower "
                   "expected next-run error: a left-out dT/dt gain against the holds' information) | temperature (each "
                   "temperature alike: the run's data with the model's dynamic part removed, in 2000 equal temperature "
-                  "bins, as PX4's script bins) | time (the fitted model's curve, every sample alike)")
+                  "bins, as PX4's script bins) | time (the fitted model's curve, every sample alike). One log still "
+                  "throughout only: a pooled fit (several logs) ignores it, with a note")
       ->check(CLI::IsMember({"auto", "temperature", "time"}))
       ->capture_default_str();
   sub->add_option("--min-span", a->min_span_c, "Smallest temperature span calibrated, deg C (ArduPilot's TEMP_RANGE_MIN)")
@@ -249,8 +261,10 @@ Command MakeCalibrate(CLI::App& app) {
       ->capture_default_str();
   sub->add_option("--still-rate", a->still_rate_hz, "Rows per second the still detector sees (means of the log's rows), Hz")
       ->capture_default_str();
-  return {sub, [a] {
+  return {sub, [a, optimise_for, static_weight] {
             a->input = a->inputs.front();
+            a->optimise_for_given = optimise_for->count() > 0;
+            a->static_weight_given = static_weight->count() > 0;
             return Run(*a);
           }};
 }

@@ -100,6 +100,15 @@ nlohmann::json SensorJson(const CalibrateArgs& a, const Sensor& s) {
     return j;
   }
   if (!s.curve_sd.empty()) j["curve_sd"] = s.curve_sd;
+  if (s.fit == "pooled") {
+    // The lag search (CalibratedSensor::temp_lag_s, lag_term; Eq. A-4) and each axis's dT/dt gain.
+    auto finite = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); };
+    j["temp_lag_s"] = s.temp_lag_s;
+    j["lag_term"] = {{"gain", s.lag_term.pairs ? finite(s.lag_term.gain) : nlohmann::json()},
+                     {"gain_se", s.lag_term.pairs ? finite(s.lag_term.se) : nlohmann::json()},
+                     {"groups", s.lag_term.pairs}, {"admitted", s.lag_term.Admitted()}};
+    j["rate_gain"] = s.rate_gain;
+  }
   j["temp_min_c"] = s.temp_min_c;
   j["temp_max_c"] = s.temp_max_c;
   j["runs_combined"] = s.runs_combined;

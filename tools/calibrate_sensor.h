@@ -34,6 +34,10 @@ struct CalibrateArgs : CalibrateOptions {
   std::string json_path;
   std::string report_path;  // HTML report
   bool verbose = false;     // the full per-axis table instead of one line per sensor
+  // --optimise-for / --static-weight given on the command line (not their defaults): a pooled
+  // fit, which has neither, says once on stderr that they do not apply.
+  bool optimise_for_given = false;
+  bool static_weight_given = false;
 };
 
 using Sensor = CalibratedSensor;

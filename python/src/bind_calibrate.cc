@@ -2,6 +2,8 @@
 // board's flight logs, per-sensor results and the parameter file's text (docs/guides/python.md).
 #include "bindings.h"
 
+#include <cmath>
+
 #include "gyrocomp/calibrate/calibrate.h"
 
 namespace gyrocomp::python {
@@ -68,6 +70,14 @@ py::dict SensorDict(const CalibratedSensor& s) {
                                  py::arg("still_s") = id.still_s);
   if (!s.calibrated()) return d;
   d["curve_sd"] = s.curve_sd;
+  if (s.fit == "pooled") {  // as calibrate --json: the lag search and each axis's dT/dt gain
+    auto finite = [](double v) { return std::isfinite(v) ? py::object(py::float_(v)) : py::object(py::none()); };
+    d["temp_lag_s"] = s.temp_lag_s;
+    d["lag_term"] = py::dict(py::arg("gain") = s.lag_term.pairs ? finite(s.lag_term.gain) : py::object(py::none()),
+                             py::arg("gain_se") = s.lag_term.pairs ? finite(s.lag_term.se) : py::object(py::none()),
+                             py::arg("groups") = s.lag_term.pairs, py::arg("admitted") = s.lag_term.Admitted());
+    d["rate_gain"] = s.rate_gain;
+  }
   d["temp_min_c"] = s.temp_min_c;
   d["temp_max_c"] = s.temp_max_c;
   d["runs_combined"] = s.runs_combined;

@@ -55,6 +55,18 @@ def test_still_segments_identification_and_the_pooled_fit(cli, tmp_path):
                    capture_output=True)
     r = gyrocomp.calibrate([log, str(other)])
     assert len(r.logs) == 2 and r.parameter_text
+    # The lag search and the dT/dt gains as calibrate --json has them.
+    subprocess.run([cli, "calibrate", "-i", log, "-i", str(other), "--format", "px4", "-o", str(tmp_path / "tc.params"),
+                    "--json", str(tmp_path / "cal.json")], check=True, capture_output=True)
+    cal = json.loads((tmp_path / "cal.json").read_text())
+    for s, j in zip(r.sensors, cal["sensors"]):
+        if s.status != "calibrated":
+            continue
+        assert s.temp_lag_s == j["temp_lag_s"] and s.rate_gain == pytest.approx(j["rate_gain"], rel=1e-12, abs=0)
+        lag = s.lag_term.to_dict()
+        assert sorted(lag) == sorted(j["lag_term"]) == ["admitted", "gain", "gain_se", "groups"]
+        for k, v in j["lag_term"].items():
+            assert (lag[k] is None and v is None) or lag[k] == pytest.approx(v, rel=1e-12, abs=0), k
     for s in r.sensors:
         if s.type == "baro":
             continue

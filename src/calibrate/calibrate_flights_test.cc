@@ -14,6 +14,7 @@
 //   board rotation (ArduPilot AHRS_ORIENTATION; the reader rotates each log back with its own
 //   value, so the pooled parameters are those of the unrotated logs) and a log rate (a flight
 //   logged at half the rate: the pooled curve as with every log at the full rate).
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -182,8 +183,8 @@ TEST(CalibrateFlights, TenFlightsWithPowerOnOffsetsRecoverTheTrueCurve) {
       };
       const double error = RmsAfterOffset(temps, [&](double t) { return s.cubics[k].Evaluate(t); }, true_curve);
       const double drift = RmsAfterOffset(temps, [](double) { return 0.0; }, true_curve);
-      std::printf("%s axis %d over %.1f..%.1f C: curve error %.3g, drift %.3g (%s)\n", s.type.c_str(), k, s.temp_min_c,
-                  s.temp_max_c, error, drift, s.unit.c_str());
+      std::printf("%s axis %d over %.1f..%.1f C: curve error %.3g, curve_sd %.3g, drift %.3g (%s)\n", s.type.c_str(), k,
+                  s.temp_min_c, s.temp_max_c, error, s.curve_sd[static_cast<std::size_t>(k)], drift, s.unit.c_str());
       // The per-power-on offsets (0.05 deg/s, 20 mg 1 sigma) are of the drift's size; the pooled
       // fit leaves a twentieth of the drift.
       EXPECT_LT(error, 0.05 * drift) << s.type << " axis " << k;
@@ -508,6 +509,50 @@ TEST(PooledCubic, ConstantsPerGroupAndOneSharedCurve) {
   EXPECT_GT(f->curve_sd, 0.0);
   // No change inside any group: nothing identified.
   EXPECT_FALSE(FitPooledCubic({10, 10, 10, 10, 20, 20, 20, 20}, {1, 1, 1, 1, 2, 2, 2, 2}, {0, 0, 0, 0, 1, 1, 1, 1}, 2, 15.0).ok());
+}
+
+// curve_sd against the actual error of the curve when the rows' noise is slow: AR(1) (phi 0.99 per
+// row, a 100-row correlation) and a random walk under white noise, three groups of 600 rows each
+// warming 10 -> 60 C with no true curve. Over 100 draws the stated 1 sigma (RMS) is within 1.5x
+// of the fitted curve's actual RMS error over the range; the rows taken as independent would
+// state under a tenth of the actual error (white noise of the same row variance).
+TEST(PooledCubic, CurveSdMatchesTheActualErrorUnderSlowNoise) {
+  for (const bool random_walk : {false, true}) {
+    NormalGenerator rng(random_walk ? 23 : 17);
+    double stated = 0.0, actual = 0.0;
+    constexpr int kDraws = 100;
+    for (int draw = 0; draw < kDraws; ++draw) {
+      std::vector<double> t, y;
+      std::vector<std::size_t> g;
+      for (std::size_t grp = 0; grp < 3; ++grp) {
+        double e = 0.0;
+        for (int i = 0; i < 600; ++i) {
+          e = random_walk ? e + 0.05 * rng.Next() : 0.99 * e + rng.Next();
+          t.push_back(10.0 + 50.0 * i / 599.0 + static_cast<double>(grp)), g.push_back(grp);
+          y.push_back(e + (random_walk ? rng.Next() : 0.0));
+        }
+      }
+      Result<PooledCubic> f = FitPooledCubic(t, y, g, 3, 35.0);
+      ASSERT_TRUE(f.ok()) << f.error().message;
+      // The fitted curve's error: the curve itself (the truth is 0), centred, RMS over 101 temperatures.
+      const auto [lo, hi] = std::minmax_element(t.begin(), t.end());
+      std::vector<double> c;
+      double mean = 0.0, ss = 0.0;
+      for (int i = 0; i <= 100; ++i) {
+        const double d = *lo + (*hi - *lo) * i / 100.0 - 35.0;
+        c.push_back(f->slope[0] * d + f->slope[1] * d * d + f->slope[2] * d * d * d);
+        mean += c.back() / 101.0;
+      }
+      for (double v : c) ss += (v - mean) * (v - mean) / 101.0;
+      actual += ss / kDraws;
+      stated += f->curve_sd * f->curve_sd / kDraws;
+    }
+    const double ratio = std::sqrt(stated / actual);
+    std::printf("%s: curve_sd %.3g, actual %.3g, ratio %.2f\n", random_walk ? "random walk" : "AR(1)", std::sqrt(stated),
+                std::sqrt(actual), ratio);
+    EXPECT_GT(ratio, 1.0 / 1.5) << random_walk;
+    EXPECT_LT(ratio, 1.5) << random_walk;
+  }
 }
 
 // The dT/dt term enters the pooled fit as a term enters the default drift model: only when its

@@ -45,6 +45,31 @@ TEST_F(CalibrateLogsCli, ALogRateChangeIsNotedAndTheFileWritten) {
   EXPECT_TRUE(fs::exists(dir_ + "/tc.params"));
 }
 
+// A pooled fit has no drift model to project: --static-weight and --optimise-for given with
+// several logs are said on one line not to apply (not an error), and the file's header says
+// what the pooled fit did instead of echoing them.
+TEST_F(CalibrateLogsCli, StaticWeightAndOptimiseForAreSaidNotToApplyToAPooledFit) {
+  const std::string a = Simulate("a.ulg", "--seed 3"), b = Simulate("b.ulg", "--seed 4");
+  std::string out;
+  ASSERT_EQ(Run("calibrate -i " + a + " -i " + b + " --format px4 --static-weight time --optimise-for warm-up -o " + dir_ +
+                    "/tc.params",
+                &out),
+            0)
+      << out;
+  const std::string note = "--optimise-for and --static-weight ignored: they do not apply to a pooled fit";
+  ASSERT_NE(out.find(note), std::string::npos) << out;
+  EXPECT_EQ(out.find(note, out.find(note) + 1), std::string::npos) << out;  // once
+  const std::string text = testing::ReadFile(dir_ + "/tc.params");
+  EXPECT_EQ(text.find("static curve weighted by"), std::string::npos) << text;
+  EXPECT_EQ(text.find("optimised for"), std::string::npos) << text;
+  EXPECT_NE(text.find("one least-squares cubic in temperature over the"), std::string::npos) << text;
+  EXPECT_NE(text.find("fitted on the "), std::string::npos) << text;
+  // Without the options: no note.
+  ASSERT_EQ(Run("calibrate -i " + a + " -i " + b + " --format px4 -o " + dir_ + "/tc2.params", &out), 0) << out;
+  EXPECT_EQ(out.find("do not apply"), std::string::npos) << out;
+  EXPECT_EQ(out.find("does not apply"), std::string::npos) << out;
+}
+
 TEST_F(CalibrateLogsCli, ALogOfAnotherBoardIsRefusedOnOneLineAndNoFile) {
   const std::string a = Simulate("a.ulg", "--seed 3");
   // A gyro of device id 12345 (none of the simulated board's), ten minutes at 1 Hz.

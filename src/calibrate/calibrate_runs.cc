@@ -499,6 +499,7 @@ void CalibratePooled(Sensor* s, const std::vector<Run>& runs, const Args& a) {
     s->cost_rms.push_back(0.0), s->steady_rms.push_back(0.0), s->warm_up_rms.push_back(0.0);
     s->expected.emplace_back(std::nullopt);
     s->curve_sd.push_back(fit->curve_sd / s->to_model);
+    s->rate_gain.push_back(fit->rate_gain / s->to_model);
   }
   s->band_reason = "pooled fit: no prediction band; the curve's 1 sigma from the fit is in curve_sd";
   KeepPooledRows(s, p);

@@ -12,6 +12,10 @@ namespace {
 using Vec = std::vector<double>;
 using Mat = std::vector<Vec>;
 
+// Eq. P-1's window: a quarter of a group's rows (the cubic's three shape terms change over a
+// group's temperature change; the window must span the noise's correlation at that scale).
+constexpr double kHacWindowFraction = 0.25;
+
 // Solves the symmetric system A x = b (Eigen's rank-revealing QR); false when A is singular (a
 // pivot below 1e-12 of the largest).
 bool Solve(const Mat& A, const Vec& b, Vec* x) {
@@ -106,22 +110,44 @@ Result<PooledCubic> FitWeighted(const std::vector<double>& temp_c, const std::ve
     out.group_constant[g] = my[g];
     for (std::size_t k = 0; k < m; ++k) out.group_constant[g] -= c[k] * mx[g][k];
   }
-  double ss = 0.0, ss_weighted = 0.0;
+  double ss = 0.0;
   out.group_residual_ms.assign(num_groups, 0.0);
   for (std::size_t i = 0; i < n; ++i) {
     const Vec x = column(i);
     double e = y[i] - out.group_constant[group[i]];
     for (std::size_t k = 0; k < m; ++k) e -= c[k] * x[k];
     ss += e * e;
-    ss_weighted += (group_weight.empty() ? 1.0 : group_weight[group[i]]) * e * e;
     out.group_residual_ms[group[i]] += e * e / static_cast<double>(out.group_rows[group[i]]);
   }
-  const auto groups_used = static_cast<double>(std::count_if(out.group_rows.begin(), out.group_rows.end(), [](std::size_t r) { return r > 0; }));
-  const double dof = std::max(1.0, static_cast<double>(n) - static_cast<double>(m) - groups_used);
   out.residual_rms = std::sqrt(ss / static_cast<double>(n));
-  // The curve's 1 sigma at dT/dt = 0: Var(x(T)'c) = sigma^2 x(T)' A^-1 x(T), x(T) centred on the
-  // range's mean column (the constant is the boot calibration's), RMS over 101 temperatures.
-  const double sigma2 = ss_weighted / dof;
+  // The curve's 1 sigma at dT/dt = 0 from the coefficients' HAC covariance (Eq. P-1): the rows'
+  // noise is mostly slow (flicker, random walk), so the scores d_i e_i are summed over windows of
+  // a quarter of each group's rows before their outer products are taken, not row by row.
+  Mat S(m, Vec(m, 0.0));
+  {
+    std::vector<std::vector<std::size_t>> rows_of(num_groups);
+    for (std::size_t i = 0; i < n; ++i) rows_of[group[i]].push_back(i);
+    for (std::size_t g = 0; g < num_groups; ++g) {
+      const std::size_t rows = rows_of[g].size();
+      if (rows < 2) continue;
+      const std::size_t window = std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(kHacWindowFraction * static_cast<double>(rows))));
+      std::vector<Vec> prefix(rows + 1, Vec(m, 0.0));  // prefix sums of the scores
+      for (std::size_t r = 0; r < rows; ++r) {
+        const std::size_t i = rows_of[g][r];
+        const Vec x = column(i);
+        double e = y[i] - out.group_constant[g];
+        for (std::size_t k = 0; k < m; ++k) e -= c[k] * x[k];
+        const double w = group_weight.empty() ? 1.0 : group_weight[g];
+        for (std::size_t k = 0; k < m; ++k) prefix[r + 1][k] = prefix[r][k] + w * (x[k] - mx[g][k]) * e;
+      }
+      // Eq. P-1: S_g = n_g / (n_g - B + 1) (1 / B) sum_t W_t W_t', W_t the scores' sum over rows t..t+B-1.
+      const double scale = static_cast<double>(rows) / static_cast<double>(rows - window + 1) / static_cast<double>(window);
+      for (std::size_t t = 0; t + window <= rows; ++t)
+        for (std::size_t j = 0; j < m; ++j)
+          for (std::size_t k = 0; k < m; ++k)
+            S[j][k] += scale * (prefix[t + window][j] - prefix[t][j]) * (prefix[t + window][k] - prefix[t][k]);
+    }
+  }
   constexpr int kPoints = 101;
   Mat grid;
   Vec xbar(m, 0.0);
@@ -131,12 +157,15 @@ Result<PooledCubic> FitWeighted(const std::vector<double>& temp_c, const std::ve
     if (m == 4) grid.back().push_back(0.0);
     for (std::size_t k = 0; k < m; ++k) xbar[k] += grid.back()[k] / kPoints;
   }
+  // Var(x(T)'c) = x(T)' A^-1 S A^-1 x(T) (Eq. P-1's sandwich), x(T) centred on the range's mean
+  // column (the constant is the boot calibration's), RMS over 101 temperatures.
   double var_sum = 0.0;
   for (const Vec& x : grid) {
     Vec d(m), w;
     for (std::size_t k = 0; k < m; ++k) d[k] = x[k] - xbar[k];
     if (!Solve(A, d, &w)) break;
-    for (std::size_t k = 0; k < m; ++k) var_sum += sigma2 * d[k] * w[k];
+    for (std::size_t j = 0; j < m; ++j)
+      for (std::size_t k = 0; k < m; ++k) var_sum += w[j] * S[j][k] * w[k];
   }
   out.curve_sd = std::sqrt(std::max(0.0, var_sum / kPoints));
   for (int k = 0; k < 3; ++k) out.slope[static_cast<std::size_t>(k)] = c[static_cast<std::size_t>(k)] / std::pow(s, k + 1);
@@ -210,17 +239,78 @@ std::vector<double> PooledGroupHeldOutRms(const std::vector<double>& temp_c, con
   return out;
 }
 
+// Sets fit->curve_sd to the larger of its HAC value (Eq. P-1) and the delete-one-group jackknife
+// of the curve (Eq. P-2); unchanged when fewer than two groups can be left out.
+static void JackknifeCurveSd(PooledCubic* fit, const std::vector<double>& temp_c, const std::vector<double>& y,
+                      const std::vector<std::size_t>& group, std::size_t num_groups, const std::vector<double>& rate_c_per_s);
+
 Result<PooledCubic> FitPooledCubic(const std::vector<double>& temp_c, const std::vector<double>& y,
                                    const std::vector<std::size_t>& group, std::size_t num_groups, double ref_temp_c,
                                    const std::vector<double>& rate_c_per_s) {
   Result<PooledCubic> fit = FitWeighted(temp_c, y, group, num_groups, ref_temp_c, rate_c_per_s, {});
+  if (fit.ok() && !fit->rate_used) JackknifeCurveSd(&*fit, temp_c, y, group, num_groups, rate_c_per_s);
   if (!fit.ok() || !fit->rate_used) return fit;
   // The dT/dt term is identified; it stays only when it earns its place (Eq. A-4: its paired
   // held-out gain beats its standard error), as the default drift model admits a term.
   const TermGain gain = RateTermGain(temp_c, y, group, num_groups, ref_temp_c, rate_c_per_s);
   if (!gain.Admitted()) fit = FitWeighted(temp_c, y, group, num_groups, ref_temp_c, {}, {});
-  if (fit.ok()) fit->rate_term = gain;
+  if (fit.ok()) {
+    fit->rate_term = gain;
+    JackknifeCurveSd(&*fit, temp_c, y, group, num_groups, rate_c_per_s);
+  }
   return fit;
+}
+
+namespace {
+
+// The centred curve c1 dT + c2 dT^2 + c3 dT^3 at 101 temperatures over [lo, hi], mean removed.
+std::vector<double> CentredCurve(const PooledCubic& f, double lo, double hi) {
+  constexpr int kPoints = 101;
+  std::vector<double> v(kPoints);
+  double mean = 0.0;
+  for (int i = 0; i < kPoints; ++i) {
+    const double u = lo + (hi - lo) * i / (kPoints - 1) - f.ref_temp_c;
+    v[static_cast<std::size_t>(i)] = f.slope[0] * u + f.slope[1] * u * u + f.slope[2] * u * u * u;
+    mean += v[static_cast<std::size_t>(i)] / kPoints;
+  }
+  for (double& x : v) x -= mean;
+  return v;
+}
+
+}  // namespace
+
+static void JackknifeCurveSd(PooledCubic* fit, const std::vector<double>& temp_c, const std::vector<double>& y,
+                      const std::vector<std::size_t>& group, std::size_t num_groups, const std::vector<double>& rate_c_per_s) {
+  if (temp_c.empty()) return;
+  const auto [lo, hi] = std::minmax_element(temp_c.begin(), temp_c.end());
+  std::vector<std::vector<double>> curves;
+  for (std::size_t g = 0; g < num_groups; ++g) {
+    if (g >= fit->group_rows.size() || fit->group_rows[g] == 0) continue;
+    std::vector<double> t, v, r;
+    std::vector<std::size_t> gr;
+    for (std::size_t i = 0; i < temp_c.size(); ++i) {
+      if (group[i] == g) continue;
+      t.push_back(temp_c[i]), v.push_back(y[i]), gr.push_back(group[i]);
+      if (fit->rate_used) r.push_back(rate_c_per_s[i]);
+    }
+    if (t.size() < 8) return;  // a group the others cannot do without: no jackknife
+    Result<PooledCubic> f = FitWeighted(t, v, gr, num_groups, fit->ref_temp_c, r, {});
+    if (!f.ok()) return;
+    curves.push_back(CentredCurve(*f, *lo, *hi));
+  }
+  const std::size_t G = curves.size();
+  if (G < 2) return;
+  // Eq. P-2: V(T) = (G - 1) / G sum_g (f_(g)(T) - mean_g f_(g)(T))^2, RMS over the temperatures.
+  double var_sum = 0.0;
+  for (std::size_t i = 0; i < curves[0].size(); ++i) {
+    double mean = 0.0, ss = 0.0;
+    for (const auto& c : curves) mean += c[i] / static_cast<double>(G);
+    for (const auto& c : curves) ss += (c[i] - mean) * (c[i] - mean);
+    var_sum += static_cast<double>(G - 1) / static_cast<double>(G) * ss / static_cast<double>(curves[0].size());
+  }
+  // Eq. P-3: the larger of the two (the jackknife of two or three groups has one or two degrees
+  // of freedom and may fall far below the spread inside the groups by chance).
+  fit->curve_sd = std::max(fit->curve_sd, std::sqrt(var_sum));
 }
 
 }  // namespace gyrocomp

@@ -161,6 +161,9 @@ struct CalibratedSensor {
   // without the lag, averaged over the axes; pairs 0 when no lag was searched).
   double temp_lag_s = 0.0;
   TermGain lag_term;
+  // Pooled: per axis, the shared dT/dt gain fitted with the cubic (PooledCubic::rate_gain),
+  // firmware unit per (C/s); 0: no dT/dt term (a lag kept, not identified, or not admitted).
+  std::vector<double> rate_gain;
   // The rows the fit saw, for drawing them under the exported cubics (the calibrate report): a
   // single run's block means, or every log's still rows of a pooled fit, constant included.
   struct FitRows {

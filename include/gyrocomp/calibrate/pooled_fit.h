@@ -32,9 +32,22 @@ struct PooledCubic {
   std::vector<std::size_t> group_rows;  // rows per group
   double residual_rms = 0.0;  // RMS of y - fit, target unit
   std::vector<double> group_residual_ms;  // mean squared residual per group, target unit^2
-  // 1 sigma of the fitted curve's change over [temp_min_c, temp_max_c] from the coefficients'
-  // covariance (residual variance times (X'X)^-1 of the within-group columns; the rows are block
-  // means, treated as independent), RMS over 101 temperatures, target unit.
+  // 1 sigma of the fitted curve's change over the rows' temperature range (centred, at dT/dt = 0),
+  // RMS over 101 temperatures, target unit. The rows' noise is mostly slow (flicker, random walk),
+  // so neighbouring rows are far from independent (taken as independent, the 1 sigma was 9-16x
+  // below the actual error of two chamber runs). FitPooledCubic gives the larger of
+  //   Eq. P-1 (HAC, overlapping batch means; Newey & West 1987 with a Bartlett kernel):
+  //     Cov(c) = A^-1 S A^-1, A = sum_i d_i d_i', S = sum_g n_g / (n_g - B_g + 1) / B_g sum_t W_t W_t',
+  //     W_t = sum_{i = t}^{t + B_g - 1} d_i e_i over group g's rows in order, B_g = n_g / 4,
+  //     d_i the row's within-group columns, e_i its residual; Var(curve(T)) = x(T)' Cov(c) x(T);
+  //   Eq. P-2 (delete-one-group jackknife, Quenouille / Tukey; each group refitted out):
+  //     Var(curve(T)) = (G - 1) / G sum_g (f_(g)(T) - mean_g f_(g)(T))^2, f_(g) the centred curve
+  //     without group g, over the G >= 2 groups that can be left out;
+  //   Eq. P-3: curve_sd = max(P-1, P-2); P-1 alone with fewer than two groups to leave out.
+  // P-2 takes every correlation inside a log into account (a log's noise is independent of
+  // another's) but with two logs has one degree of freedom; P-1 falls short by up to 2x under a
+  // random walk (the residuals are fitted) but is steady. Functions of the rows (the lag search,
+  // the dT/dt admission, PooledGroupHeldOutRms) fit without P-2.
   double curve_sd = 0.0;
   double within_group_span_c = 0.0;  // largest temperature change inside one group, deg C
   // g, target unit per (C/s); 0 when not fitted: no rate_c_per_s, dT/dt not identified (less

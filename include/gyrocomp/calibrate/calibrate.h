@@ -156,10 +156,11 @@ struct CalibratedSensor {
   // (FitPooledCubic's curve_sd), firmware unit; empty for a single run (it has `expected`).
   std::vector<double> curve_sd;
   // Pooled: the lag of the temperature the cubic was fitted on behind the logged one, s (0: the
-  // logged temperature; CalibrateOptions::pooled_lags_s), and the paired held-out gain of the
-  // lag chosen over none (relative: each axis's per-group held-out RMS divided by its mean
-  // without the lag, averaged over the axes; pairs 0 when no lag was searched).
+  // logged temperature; CalibrateOptions::pooled_lags_s).
   double temp_lag_s = 0.0;
+  // Pooled: the paired held-out gain of the lag chosen over none (relative: each axis's
+  // per-group held-out RMS divided by its mean without the lag, averaged over the axes; pairs 0
+  // when no lag was searched).
   TermGain lag_term;
   // Pooled: per axis, the shared dT/dt gain fitted with the cubic (PooledCubic::rate_gain),
   // firmware unit per (C/s); 0: no dT/dt term (a lag kept, not identified, or not admitted).

@@ -35,6 +35,41 @@ bool Solve(const Mat& A, const Vec& b, Vec* x) {
 
 namespace {
 
+// Eq. P-1: the score covariance S of the coefficients, summed per group over windows of a quarter
+// of its rows (kHacWindowFraction): the rows' noise is mostly slow (flicker, random walk), so the
+// scores d_i e_i are summed over a window before their outer products are taken, not row by row.
+// column(i): row i's columns; mx: each group's mean columns; c: the fitted coefficients.
+template <class Column>
+Mat HacScoreCovariance(const Column& column, std::size_t m, const std::vector<double>& y,
+                       const std::vector<std::size_t>& group, std::size_t num_groups, const Mat& mx,
+                       const Vec& group_constant, const Vec& c, const std::vector<double>& group_weight) {
+  const std::size_t n = y.size();
+  Mat S(m, Vec(m, 0.0));
+  std::vector<std::vector<std::size_t>> rows_of(num_groups);
+  for (std::size_t i = 0; i < n; ++i) rows_of[group[i]].push_back(i);
+  for (std::size_t g = 0; g < num_groups; ++g) {
+    const std::size_t rows = rows_of[g].size();
+    if (rows < 2) continue;
+    const std::size_t window = std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(kHacWindowFraction * static_cast<double>(rows))));
+    std::vector<Vec> prefix(rows + 1, Vec(m, 0.0));  // prefix sums of the scores
+    for (std::size_t r = 0; r < rows; ++r) {
+      const std::size_t i = rows_of[g][r];
+      const Vec x = column(i);
+      double e = y[i] - group_constant[g];
+      for (std::size_t k = 0; k < m; ++k) e -= c[k] * x[k];
+      const double w = group_weight.empty() ? 1.0 : group_weight[g];
+      for (std::size_t k = 0; k < m; ++k) prefix[r + 1][k] = prefix[r][k] + w * (x[k] - mx[g][k]) * e;
+    }
+    // Eq. P-1: S_g = n_g / (n_g - B + 1) (1 / B) sum_t W_t W_t', W_t the scores' sum over rows t..t+B-1.
+    const double scale = static_cast<double>(rows) / static_cast<double>(rows - window + 1) / static_cast<double>(window);
+    for (std::size_t t = 0; t + window <= rows; ++t)
+      for (std::size_t j = 0; j < m; ++j)
+        for (std::size_t k = 0; k < m; ++k)
+          S[j][k] += scale * (prefix[t + window][j] - prefix[t][j]) * (prefix[t + window][k] - prefix[t][k]);
+  }
+  return S;
+}
+
 // The least-squares solve; group_weight[g] multiplies group g's rows (empty: all 1; a feasible
 // generalised least squares by the groups' residual variance was tried and changed nothing on
 // the two-chamber-run comparison, so the public fit is ordinary least squares).
@@ -120,34 +155,8 @@ Result<PooledCubic> FitWeighted(const std::vector<double>& temp_c, const std::ve
     out.group_residual_ms[group[i]] += e * e / static_cast<double>(out.group_rows[group[i]]);
   }
   out.residual_rms = std::sqrt(ss / static_cast<double>(n));
-  // The curve's 1 sigma at dT/dt = 0 from the coefficients' HAC covariance (Eq. P-1): the rows'
-  // noise is mostly slow (flicker, random walk), so the scores d_i e_i are summed over windows of
-  // a quarter of each group's rows before their outer products are taken, not row by row.
-  Mat S(m, Vec(m, 0.0));
-  {
-    std::vector<std::vector<std::size_t>> rows_of(num_groups);
-    for (std::size_t i = 0; i < n; ++i) rows_of[group[i]].push_back(i);
-    for (std::size_t g = 0; g < num_groups; ++g) {
-      const std::size_t rows = rows_of[g].size();
-      if (rows < 2) continue;
-      const std::size_t window = std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(kHacWindowFraction * static_cast<double>(rows))));
-      std::vector<Vec> prefix(rows + 1, Vec(m, 0.0));  // prefix sums of the scores
-      for (std::size_t r = 0; r < rows; ++r) {
-        const std::size_t i = rows_of[g][r];
-        const Vec x = column(i);
-        double e = y[i] - out.group_constant[g];
-        for (std::size_t k = 0; k < m; ++k) e -= c[k] * x[k];
-        const double w = group_weight.empty() ? 1.0 : group_weight[g];
-        for (std::size_t k = 0; k < m; ++k) prefix[r + 1][k] = prefix[r][k] + w * (x[k] - mx[g][k]) * e;
-      }
-      // Eq. P-1: S_g = n_g / (n_g - B + 1) (1 / B) sum_t W_t W_t', W_t the scores' sum over rows t..t+B-1.
-      const double scale = static_cast<double>(rows) / static_cast<double>(rows - window + 1) / static_cast<double>(window);
-      for (std::size_t t = 0; t + window <= rows; ++t)
-        for (std::size_t j = 0; j < m; ++j)
-          for (std::size_t k = 0; k < m; ++k)
-            S[j][k] += scale * (prefix[t + window][j] - prefix[t][j]) * (prefix[t + window][k] - prefix[t][k]);
-    }
-  }
+  // The curve's 1 sigma at dT/dt = 0 from the coefficients' HAC covariance (Eq. P-1).
+  const Mat S = HacScoreCovariance(column, m, y, group, num_groups, mx, out.group_constant, c, group_weight);
   constexpr int kPoints = 101;
   Mat grid;
   Vec xbar(m, 0.0);

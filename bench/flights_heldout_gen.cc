@@ -518,6 +518,28 @@ std::vector<int> Order(Rng& r, bool shuffle) {
   return o;
 }
 
+// Generator 1's IMUs of one flight (SimulateFlight per IMU, seeds seed + i), each from the
+// board's options with the flight's timing; `tweak` may change the options further. False with
+// the message on stderr when the simulator refuses them.
+bool Gen1Flight(const Gen1Board& b, double fs, double ambient_c, double still_before_s, double flight_s,
+                double still_after_s, std::uint64_t seed, const std::function<void(gyrocomp::FlightSimOptions&)>& tweak,
+                std::vector<FlightRun>* imus) {
+  for (int i = 0; i < kImus; ++i) {
+    gyrocomp::FlightSimOptions o = b.imu[static_cast<std::size_t>(i)];
+    o.fs_hz = fs, o.ambient_c = ambient_c, o.still_before_s = still_before_s, o.flight_s = flight_s,
+    o.still_after_s = still_after_s;
+    if (tweak) tweak(o);
+    o.seed = seed + static_cast<std::uint64_t>(i);
+    gyrocomp::Result<FlightRun> run = gyrocomp::SimulateFlight(o);
+    if (!run.ok()) {
+      std::fprintf(stderr, "%s\n", run.error().message.c_str());
+      return false;
+    }
+    imus->push_back(std::move(*run));
+  }
+  return true;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -555,18 +577,7 @@ int main(int argc, char** argv) {
     if (gen == 1) {
       const double still_before = quick ? r.U(30.0, 60.0) : r.U(60.0, 600.0), flight = quick ? 300.0 : r.U(300.0, 1200.0),
                    after = quick ? r.U(20.0, 40.0) : r.U(120.0, 600.0);
-      const std::uint64_t s = r.e();
-      for (int i = 0; i < kImus; ++i) {
-        gyrocomp::FlightSimOptions o = b1.imu[static_cast<std::size_t>(i)];
-        o.fs_hz = fs, o.ambient_c = amb, o.still_before_s = still_before, o.flight_s = flight, o.still_after_s = after;
-        o.seed = s + static_cast<std::uint64_t>(i);
-        gyrocomp::Result<FlightRun> run = gyrocomp::SimulateFlight(o);
-        if (!run.ok()) {
-          std::fprintf(stderr, "%s\n", run.error().message.c_str());
-          return 1;
-        }
-        imus.push_back(std::move(*run));
-      }
+      if (!Gen1Flight(b1, fs, amb, still_before, flight, after, r.e(), {}, &imus)) return 1;
       pre_still_s = still_before;
     } else {
       const Motion m = Gen2Timeline(fs, r, quick);
@@ -621,19 +632,8 @@ int main(int argc, char** argv) {
     std::vector<FlightRun> imus;
     if (gen == 1) {
       const double still_before = w.U(240.0, 360.0), after = w.U(120.0, 180.0);
-      const std::uint64_t s = w.e();
-      for (int i = 0; i < kImus; ++i) {
-        gyrocomp::FlightSimOptions o = b1.imu[static_cast<std::size_t>(i)];
-        o.fs_hz = fs, o.ambient_c = amb, o.still_before_s = still_before, o.flight_s = 120.0, o.still_after_s = after;
-        o.self_heating_c = 2.0, o.airflow_cooling_c = 1.5;
-        o.seed = s + static_cast<std::uint64_t>(i);
-        gyrocomp::Result<FlightRun> run = gyrocomp::SimulateFlight(o);
-        if (!run.ok()) {
-          std::fprintf(stderr, "%s\n", run.error().message.c_str());
-          return 1;
-        }
-        imus.push_back(std::move(*run));
-      }
+      const auto barely_warms = [](gyrocomp::FlightSimOptions& o) { o.self_heating_c = 2.0, o.airflow_cooling_c = 1.5; };
+      if (!Gen1Flight(b1, fs, amb, still_before, 120.0, after, w.e(), barely_warms, &imus)) return 1;
     } else {
       const Motion m = Gen2Timeline(fs, w, false, true);
       imus = Gen2Run(b2, truth, m, [=](double) { return amb; }, fs, w, /*warm_start=*/true);

@@ -261,9 +261,10 @@ def main():
     args.gyrocomp = os.path.join(build, "gyrocomp")
     os.makedirs(args.work, exist_ok=True)
     args.gen = os.path.join(args.work, "flights_heldout_gen")
-    src = os.path.join(here, "flights_heldout_gen.cc")
-    if not os.path.exists(args.gen) or os.path.getmtime(args.gen) < max(os.path.getmtime(src), os.path.getmtime(os.path.join(build, "libgyrocomp.a"))):
-        run(["c++", "-std=c++20", "-O2", "-I" + os.path.join(here, "..", "include"), src, os.path.join(build, "libgyrocomp.a"),
+    srcs = [os.path.join(here, f) for f in ("flights_heldout_gen.cc", "flights_heldout_gen2.cc", "flights_heldout_gen.h")]
+    newest = max(os.path.getmtime(p) for p in srcs + [os.path.join(build, "libgyrocomp.a")])
+    if not os.path.exists(args.gen) or os.path.getmtime(args.gen) < newest:
+        run(["c++", "-std=c++20", "-O2", "-I" + os.path.join(here, "..", "include"), *srcs[:2], os.path.join(build, "libgyrocomp.a"),
              "-lfftw3", "-lz", "-lsvm", "-lzstd", "-llz4", "-lsqlite3", "-lbz2", "-o", args.gen])
     cases = [(g, b, s) for g in map(int, args.generators.split(",")) for b in range(args.boards) for s in range(1, args.seeds + 1)]
     with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, min(2, args.jobs))) as pool:

@@ -6,7 +6,7 @@
 //   1  gyrocomp's own flight simulator (SimulateFlight, gyrocomp/sim/flight.h: the board
 //      temperature drives a cubic drift); the chamber runs are built here (first-order chamber
 //      lag and self-heating, the same cubic through FlightGyroDriftRadS / FlightAccelDriftM_S2).
-//   2  written here, apart from src/sim/flight.cc: a two-node board (board and die, airflow
+//   2  flights_heldout_gen2.cc, written apart from src/sim/flight.cc: a two-node board (board and die, airflow
 //      cooling in flight) whose logged temperature is the die thermometer, the MEMS structure
 //      lagging it by a second-order lag (two cascaded first-order lags); per-axis curves that are
 //      not cubics (tanh, exponential, a smoothed kink, with a sinusoidal ripple); a Gauss-Markov
@@ -16,7 +16,8 @@
 //      instance order (ULog multi_id) shuffled at every power-on, the device ids staying with
 //      the chips (EncodeFlightULog's order).
 // Every power-on has its own offset: 0.05 deg/s per gyro axis, 20 mg per accelerometer axis
-// (1 sigma). Not part of the CMake build; the script compiles it against build/libgyrocomp.a.
+// (1 sigma). Not part of the CMake build; the script compiles both files against
+// build/libgyrocomp.a.
 //
 // truth.json: per flight, the truly still intervals (log time, s); per sensor (type, IMU, device
 // id) the temperature range of the flights' still rows and, on each held-out run, the score of no
@@ -45,65 +46,12 @@
 #include "gyrocomp/sim/flight.h"
 #include "gyrocomp/sim/simulator.h"
 
+#include "flights_heldout_gen.h"
+
 namespace {
 
+using namespace flights_heldout;
 using gyrocomp::FlightRun;
-constexpr double kG = 9.80665;
-constexpr double kRadPerDeg = std::numbers::pi / 180.0;
-constexpr int kImus = 3;
-constexpr int kFlights = 10;
-
-using Curve = std::function<double(double)>;  // static drift at temperature T, firmware unit
-
-// A board's truth: per IMU and axis the static curve (gyro rad/s, accel m/s^2).
-struct Truth {
-  std::array<std::array<Curve, 3>, kImus> gyro, accel;
-};
-
-struct Rng {
-  std::mt19937_64 e;
-  explicit Rng(std::uint64_t seed) : e(seed) {}
-  double N() { return std::normal_distribution<double>(0.0, 1.0)(e); }
-  double U(double a, double b) { return std::uniform_real_distribution<double>(a, b)(e); }
-  double Sign() { return U(0.0, 1.0) < 0.5 ? -1.0 : 1.0; }
-};
-
-// ---- chamber profiles (both generators) -----------------------------------------------------
-// Chamber air temperature over time and the run's length.
-struct ChamberProfile {
-  std::string name;
-  double start_c, hold_s, ramp_c_per_min, end_c, end_hold_s;
-  double Duration() const { return hold_s + std::abs(end_c - start_c) / ramp_c_per_min * 60.0 + end_hold_s; }
-  double At(double t) const {
-    if (t < hold_s) return start_c;
-    const double ramp_s = std::abs(end_c - start_c) / ramp_c_per_min * 60.0;
-    if (t < hold_s + ramp_s) return start_c + (end_c - start_c) * (t - hold_s) / ramp_s;
-    return end_c;
-  }
-};
-// PX4's procedure: cold soak, power on, let the board warm with the chamber heating slowly.
-const ChamberProfile kCalibration{"calibration", -5.0, 600.0, 1.0, 55.0, 600.0};
-// Held out: heating, cooling and a warm-up over the flights' ambients (0..35 C), and a heating
-// to 55 C that goes beyond the temperatures the flights reach.
-const std::vector<ChamberProfile> kHeldOut = {{"heating", 0.0, 1200.0, 0.5, 35.0, 300.0},
-                                              {"cooling", 35.0, 1200.0, 0.5, 0.0, 300.0},
-                                              {"warm-up", 15.0, 2400.0, 1.0, 15.0, 0.0},
-                                              {"wide-heating", 5.0, 1200.0, 0.8, 55.0, 300.0}};
-
-FlightRun EmptyRun(std::size_t n, double fs) {
-  FlightRun r;
-  r.time_s.resize(n), r.temp_c.resize(n);
-  for (auto& v : r.gyro_rad_s) v.resize(n);
-  for (auto& v : r.accel_m_s2) v.resize(n);
-  r.armed.assign(n, false), r.landed.assign(n, true), r.truly_still.assign(n, true);
-  for (std::size_t i = 0; i < n; ++i) r.time_s[i] = static_cast<double>(i) / fs;
-  return r;
-}
-
-// Gravity's specific force in the sensor frame (FRD) at roll / pitch (rad): R^T (0, 0, -g).
-std::array<double, 3> GravityFrd(double roll, double pitch) {
-  return {kG * std::sin(pitch), -kG * std::sin(roll) * std::cos(pitch), -kG * std::cos(roll) * std::cos(pitch)};
-}
 
 // ---- generator 1 ------------------------------------------------------------------------------
 struct Gen1Board {
@@ -162,250 +110,6 @@ std::vector<FlightRun> Gen1Chamber(const Gen1Board& b, const Truth& truth, const
     out.push_back(std::move(run));
   }
   return out;
-}
-
-// ---- generator 2 ------------------------------------------------------------------------------
-// One IMU of a generator-2 board.
-struct Gen2Imu {
-  double heat_share = 1.0;  // its die's share of the board's self-heating
-  double die_tau_s = 40.0;  // die node time constant, s
-  double lag1_s = 15.0, lag2_s = 45.0;  // MEMS structure behind the die thermometer, s
-  double gyro_noise_dps = 0.04, accel_noise_m_s2 = 0.03;  // white, per sample
-  double gyro_wander_dps = 0.002, accel_wander_m_s2 = 0.002, wander_tau_s = 300.0;  // Gauss-Markov
-};
-struct Gen2Board {
-  std::array<Gen2Imu, kImus> imu;
-  double board_heat_c = 12.0, board_tau_s = 600.0;  // board node: rise over ambient, time constant
-  double die_heat_c = 4.0;  // die node's own rise over the board
-  double airflow = 0.8;  // in flight the heating's equilibrium divided by (1 + airflow * speed)
-};
-
-// A static curve that is not a cubic: tanh, exponential or a smoothed kink, with a ripple.
-Curve MakeCurve(Rng& r, double scale) {
-  const int family = static_cast<int>(r.U(0.0, 3.0));
-  const double ripple = r.U(0.002, 0.008) * scale, period = r.U(25.0, 50.0), phase = r.U(0.0, 6.283);
-  Curve base;
-  if (family == 0) {
-    const double A = r.Sign() * r.U(0.1, 0.3) * scale, T0 = r.U(10.0, 40.0), W = r.U(10.0, 25.0);
-    base = [=](double T) { return A * std::tanh((T - T0) / W); };
-  } else if (family == 1) {
-    const double A = r.Sign() * r.U(0.02, 0.06) * scale, W = r.U(18.0, 30.0);
-    base = [=](double T) { return A * (std::exp((T - 25.0) / W) - 1.0); };
-  } else {
-    const double s1 = r.Sign() * r.U(2e-3, 8e-3) * scale, s2 = r.Sign() * r.U(2e-3, 8e-3) * scale, Tk = r.U(15.0, 35.0), W = 2.0;
-    base = [=](double T) {
-      const double x = (T - Tk) / W;
-      const double softplus = x > 30.0 ? x : std::log1p(std::exp(x));
-      return s1 * (T - Tk) + (s2 - s1) * W * softplus;
-    };
-  }
-  return [=](double T) { return base(T) + ripple * std::sin(2.0 * std::numbers::pi * T / period + phase); };
-}
-
-Gen2Board MakeGen2Board(int board, Truth* truth, double lag_scale) {
-  Rng r(104729ULL * static_cast<std::uint64_t>(board) + 17);
-  Gen2Board b;
-  b.board_heat_c = r.U(8.0, 14.0), b.board_tau_s = r.U(400.0, 900.0), b.die_heat_c = r.U(2.0, 5.0);
-  b.airflow = r.U(0.6, 1.2);
-  for (int k = 0; k < kImus; ++k) {
-    Gen2Imu& m = b.imu[static_cast<std::size_t>(k)];
-    m.heat_share = r.U(0.8, 1.2), m.die_tau_s = r.U(20.0, 60.0);
-    m.lag1_s = r.U(8.0, 25.0) * lag_scale + 1e-6, m.lag2_s = r.U(25.0, 70.0) * lag_scale + 1e-6;
-    m.gyro_noise_dps = r.U(0.03, 0.06), m.accel_noise_m_s2 = r.U(0.02, 0.04);
-    for (int a = 0; a < 3; ++a) {
-      truth->gyro[k][a] = [c = MakeCurve(r, kRadPerDeg)](double T) { return c(T); };  // deg/s-sized, rad/s
-      truth->accel[k][a] = [c = MakeCurve(r, 1.5)](double T) { return c(T); };     // m/s^2
-    }
-  }
-  return b;
-}
-
-// What happens to the vehicle at each row: the phases' effect on motion, state and airflow.
-struct Motion {
-  std::vector<double> roll, pitch, yaw;  // rad
-  std::vector<std::array<double, 3>> lin_acc_ned;  // m/s^2, besides gravity
-  std::vector<double> vibration;  // 0 off, else motor on (scale of the per-flight amplitude)
-  std::vector<double> speed;  // airflow, 0..1
-  std::vector<bool> armed, landed, still;
-};
-
-// An Ornstein-Uhlenbeck step: x relaxes to 0 with tau, driven to stationary sd sigma.
-double Ou(double x, double tau, double sigma, double dt, Rng& r) {
-  const double a = std::exp(-dt / tau);
-  return a * x + sigma * std::sqrt(1.0 - a * a) * r.N();
-}
-
-// The flight's timeline: power-on still (a touch in it, sometimes), carried to the take-off spot,
-// still again, armed on the ground, flight, landed armed, still, sometimes picked up at the end.
-// `quick`: a short hop (at most a minute still at each end, five minutes in the air). `warm`: a
-// restart of a warm board (4..6 min still, two minutes in the air, 2..3 min still).
-Motion Gen2Timeline(double fs, Rng& r, bool quick, bool warm = false) {
-  Motion m;
-  const double dt = 1.0 / fs;
-  struct Phase { const char* kind; double s; };
-  std::vector<Phase> ph = {{"still", quick ? r.U(30.0, 60.0) : r.U(60.0, 600.0)}, {"carry", r.U(15.0, 60.0)},
-                           {"still", quick ? r.U(10.0, 25.0) : r.U(20.0, 120.0)}, {"armed", r.U(3.0, 10.0)},
-                           {"fly", quick ? 300.0 : r.U(300.0, 1200.0)}, {"landed", r.U(2.0, 6.0)},
-                           {"still", quick ? r.U(20.0, 40.0) : r.U(120.0, 600.0)}};
-  if (warm) ph[0].s = r.U(240.0, 360.0), ph[4].s = 120.0, ph[6].s = r.U(120.0, 180.0);
-  if (r.U(0.0, 1.0) < 0.5) ph.push_back({"carry", r.U(10.0, 30.0)});
-  const bool touch = r.U(0.0, 1.0) < 0.6 && ph[0].s > 150.0;
-  const double touch_at = touch ? r.U(50.0, ph[0].s - 60.0) : -1.0, touch_s = r.U(1.0, 3.0);
-  double roll = r.N() * 2.0 * kRadPerDeg, pitch = r.N() * 2.0 * kRadPerDeg, yaw = r.U(-3.0, 3.0);
-  double o_r = 0, o_p = 0, o_y = 0;  // OU states of the attitude in motion, rad
-  std::array<double, 3> acc{};
-  const double man_sd = r.U(10.0, 30.0) * kRadPerDeg, man_tau = r.U(0.7, 2.5);
-  bool touched = false;
-  for (std::size_t p = 0; p < ph.size(); ++p) {
-    const auto n = static_cast<std::size_t>(ph[p].s * fs);
-    const std::string kind = ph[p].kind;
-    // Set-down attitude after a carry: a new tilt reached over the carry's last 2 s.
-    const double new_roll = r.N() * 3.0 * kRadPerDeg, new_pitch = r.N() * 3.0 * kRadPerDeg;
-    const double roll0 = roll, pitch0 = pitch;
-    for (std::size_t i = 0; i < n; ++i) {
-      const double t = static_cast<double>(i) * dt;
-      bool still = kind == "still";
-      double vib = 0.0, speed = 0.0;
-      if (kind == "still" && p == 0 && touch && t >= touch_at && t < touch_at + touch_s) {
-        still = false;  // a hand on the frame: a jolt
-        const double x = (t - touch_at) / touch_s;
-        o_r = 4.0 * kRadPerDeg * std::sin(std::numbers::pi * x) * std::sin(9.0 * t);
-        o_p = 3.0 * kRadPerDeg * std::sin(std::numbers::pi * x) * std::cos(7.0 * t);
-        acc = {0.8 * std::sin(20.0 * t), 0.6 * std::cos(17.0 * t), 0.0};
-        touched = true;
-      } else if (kind == "carry") {
-        const double blend = std::clamp((t - (ph[p].s - 2.0)) / 2.0, 0.0, 1.0);
-        if (blend <= 0.0) {  // walking: the frame swings, the steps bounce it
-          o_r = Ou(o_r, 0.8, 8.0 * kRadPerDeg, dt, r), o_p = Ou(o_p, 0.8, 8.0 * kRadPerDeg, dt, r);
-          o_y = Ou(o_y, 3.0, 30.0 * kRadPerDeg, dt, r);
-          const double step = std::sin(2.0 * std::numbers::pi * 1.8 * t);
-          acc = {Ou(acc[0], 0.5, 0.8, dt, r), Ou(acc[1], 0.5, 0.8, dt, r), 1.5 * step};
-        } else {  // set down over the last 2 s at a new tilt
-          o_r *= 0.95, o_p *= 0.95, o_y *= 0.95;
-          for (double& v : acc) v *= 0.9;
-        }
-        roll = roll0 + (new_roll - roll0) * blend, pitch = pitch0 + (new_pitch - pitch0) * blend;
-      } else if (kind == "fly") {
-        o_r = Ou(o_r, man_tau, man_sd, dt, r), o_p = Ou(o_p, man_tau, man_sd, dt, r);
-        o_y = Ou(o_y, 4.0 * man_tau, 90.0 * kRadPerDeg, dt, r);
-        for (double& v : acc) v = Ou(v, 2.0, 1.5, dt, r);
-        vib = 1.0, speed = std::clamp(0.5 + 0.5 * std::hypot(o_r, o_p) / man_sd, 0.0, 1.0);
-      } else if (kind == "armed" || kind == "landed") {
-        o_r *= 0.98, o_p *= 0.98, acc = {0.0, 0.0, 0.0};
-        vib = 0.5;
-      } else {
-        if (touched) roll += 0.3 * kRadPerDeg * r.N(), touched = false;  // the touch left it 0.3 deg off
-        o_r *= 0.8, o_p *= 0.8, o_y *= 0.8, acc = {0.0, 0.0, 0.0};
-      }
-      m.roll.push_back(roll + o_r), m.pitch.push_back(pitch + o_p), m.yaw.push_back(yaw + o_y);
-      m.lin_acc_ned.push_back(acc);
-      m.vibration.push_back(vib), m.speed.push_back(speed);
-      m.armed.push_back(kind == "armed" || kind == "fly" || kind == "landed");
-      m.landed.push_back(kind != "fly");
-      m.still.push_back(still && std::abs(o_r) < 1e-6 && std::abs(o_p) < 1e-6);
-    }
-  }
-  // The attitude states decay geometrically into a still phase: a row whose attitude still
-  // changes is not still.
-  for (std::size_t i = 1; i < m.still.size(); ++i)
-    if (m.still[i] && (std::abs(m.roll[i] - m.roll[i - 1]) > 1e-7 || std::abs(m.pitch[i] - m.pitch[i - 1]) > 1e-7 ||
-                       std::abs(m.yaw[i] - m.yaw[i - 1]) > 1e-7))
-      m.still[i] = false;
-  return m;
-}
-
-// 3x3 rotation NED <- body for ZYX Euler angles.
-using M3 = std::array<std::array<double, 3>, 3>;
-M3 Rot(double roll, double pitch, double yaw) {
-  const double cr = std::cos(roll), sr = std::sin(roll), cp = std::cos(pitch), sp = std::sin(pitch), cy = std::cos(yaw),
-               sy = std::sin(yaw);
-  return {{{cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr},
-           {sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr},
-           {-sp, cp * sr, cp * cr}}};
-}
-
-// One generator-2 power-on of the board (flight or chamber): ambient(t), the motion, the state.
-// `warm_start`: the board and dies start at their self-heated equilibrium (a restart), else at
-// the ambient.
-std::vector<FlightRun> Gen2Run(const Gen2Board& b, const Truth& truth, const Motion& m, const std::function<double(double)>& ambient,
-                               double fs, Rng& r, bool warm_start = false) {
-  const std::size_t n = m.roll.size();
-  const double dt = 1.0 / fs;
-  // Body rates from the attitude: omega = vee(R_i^T R_{i+1} - R_{i+1}^T R_i) / (2 dt).
-  std::vector<std::array<double, 3>> w(n), f(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const M3 R = Rot(m.roll[i], m.pitch[i], m.yaw[i]);
-    const std::size_t j = std::min(i + 1, n - 1), h = i > 0 ? i - 1 : 0;
-    const M3 A = Rot(m.roll[h], m.pitch[h], m.yaw[h]), B = Rot(m.roll[j], m.pitch[j], m.yaw[j]);
-    M3 D{};
-    for (int x = 0; x < 3; ++x)
-      for (int y = 0; y < 3; ++y)
-        for (int z = 0; z < 3; ++z) D[x][y] += A[z][x] * B[z][y];  // A^T B
-    const double span = static_cast<double>(j - h) * dt;
-    w[i] = span > 0 ? std::array<double, 3>{(D[2][1] - D[1][2]) / (2 * span), (D[0][2] - D[2][0]) / (2 * span), (D[1][0] - D[0][1]) / (2 * span)}
-                    : std::array<double, 3>{0, 0, 0};
-    const std::array<double, 3> sf_ned = {m.lin_acc_ned[i][0], m.lin_acc_ned[i][1], m.lin_acc_ned[i][2] - kG};
-    for (int x = 0; x < 3; ++x) f[i][x] = R[0][x] * sf_ned[0] + R[1][x] * sf_ned[1] + R[2][x] * sf_ned[2];
-  }
-  // Vibration of this flight: three aliased motor tones and AR(1) noise, shared by the IMUs.
-  const double vib_g = r.U(0.3, 4.0) * kRadPerDeg, vib_a = r.U(0.3, 3.0), pole = r.U(0.6, 0.95);
-  std::array<double, 3> tone_hz{}, tone_ph{};
-  for (int q = 0; q < 3; ++q) tone_hz[q] = r.U(3.0, 0.48 * fs), tone_ph[q] = r.U(0.0, 6.283);
-  std::vector<std::array<double, 6>> vib(n);
-  std::array<double, 6> ar{};
-  for (std::size_t i = 0; i < n; ++i) {
-    const double t = static_cast<double>(i) * dt;
-    for (int c = 0; c < 6; ++c) {
-      ar[c] = pole * ar[c] + std::sqrt(1.0 - pole * pole) * r.N();
-      double tones = 0.0;
-      for (int q = 0; q < 3; ++q) tones += std::sin(2.0 * std::numbers::pi * tone_hz[q] * (1.0 + 0.05 * m.speed[i]) * t + tone_ph[q] + c);
-      vib[i][c] = m.vibration[i] * (0.6 * ar[c] + 0.5 * tones) * (c < 3 ? vib_g : vib_a);
-    }
-  }
-  // Board node (shared) and, per IMU, the die node, the MEMS structure's two lags.
-  std::vector<double> board(n);
-  double tb = ambient(0.0) + (warm_start ? b.board_heat_c : 0.0);
-  for (std::size_t i = 0; i < n; ++i) {
-    const double eq = ambient(static_cast<double>(i) * dt) + b.board_heat_c / (1.0 + b.airflow * m.speed[i]);
-    const double tau = b.board_tau_s / (1.0 + 2.0 * m.speed[i]);
-    tb += (eq - tb) * dt / tau;
-    board[i] = tb;
-  }
-  std::vector<FlightRun> out;
-  for (int k = 0; k < kImus; ++k) {
-    const Gen2Imu& g = b.imu[static_cast<std::size_t>(k)];
-    FlightRun run = EmptyRun(n, fs);
-    std::array<double, 3> g_off, a_off, g_wander{}, a_wander{};
-    for (int a = 0; a < 3; ++a) g_off[a] = r.N() * 0.05 * kRadPerDeg, a_off[a] = r.N() * 0.020 * kG;
-    double td = board[0] + (warm_start ? g.heat_share * b.die_heat_c : 0.0), l1 = td, l2 = td;
-    const double k1 = 1.0 - std::exp(-dt / g.lag1_s), k2 = 1.0 - std::exp(-dt / g.lag2_s);  // exact first-order steps
-    const double a_w = std::exp(-dt / g.wander_tau_s), s_w = std::sqrt(1.0 - a_w * a_w);
-    for (std::size_t i = 0; i < n; ++i) {
-      td += (board[i] + g.heat_share * b.die_heat_c / (1.0 + b.airflow * m.speed[i]) - td) * dt / g.die_tau_s;
-      l1 += (td - l1) * k1;
-      l2 += (l1 - l2) * k2;  // the MEMS structure: second order behind the thermometer
-      run.temp_c[i] = td + 0.02 * r.N();
-      for (int a = 0; a < 3; ++a) {
-        g_wander[a] = a_w * g_wander[a] + s_w * g.gyro_wander_dps * kRadPerDeg * r.N();
-        a_wander[a] = a_w * a_wander[a] + s_w * g.accel_wander_m_s2 * r.N();
-        run.gyro_rad_s[a][i] = w[i][a] + vib[i][a] + truth.gyro[k][a](l2) + g_off[a] + g_wander[a] + r.N() * g.gyro_noise_dps * kRadPerDeg;
-        run.accel_m_s2[a][i] = f[i][a] + vib[i][3 + a] + truth.accel[k][a](l2) + a_off[a] + a_wander[a] + r.N() * g.accel_noise_m_s2;
-      }
-    }
-    run.armed = m.armed, run.landed = m.landed, run.truly_still = m.still;
-    out.push_back(std::move(run));
-  }
-  return out;
-}
-
-Motion StillMotion(std::size_t n, Rng& r) {
-  Motion m;
-  const double roll = r.N() * 2.0 * kRadPerDeg, pitch = r.N() * 2.0 * kRadPerDeg;
-  m.roll.assign(n, roll), m.pitch.assign(n, pitch), m.yaw.assign(n, 0.3);
-  m.lin_acc_ned.assign(n, {0.0, 0.0, 0.0});
-  m.vibration.assign(n, 0.0), m.speed.assign(n, 0.0);
-  m.armed.assign(n, false), m.landed.assign(n, true), m.still.assign(n, true);
-  return m;
 }
 
 // ---- scoring the true curve's least-squares cubic like `calibrate --validation` -------------

@@ -352,7 +352,6 @@ const std::vector<double>& LagOfCurve(Sensor* s, const Pool& p, double ref, cons
   return p.lagged_c[best];
 }
 
-
 // The pooled curve with the thermal term the fit kept, as a DriftModel (model unit) that
 // ProjectOntoCubic projects at a CubicCondition, as the single run's model is projected:
 //   a dT/dt term: y = f(T) + g s, s = dT/dt (kTempAndRate);
@@ -413,6 +412,8 @@ TemperatureCubic ForCondition(const Sensor& s, const Args& a, const TemperatureC
   po.condition = condition;
   po.warm_up = s.heating_state;
   po.temp_min_c = c.temp_min_c, po.temp_max_c = c.temp_max_c, po.ref_temp_c = c.ref_temp_c;
+  // The range spans min_span_c or more and the coefficients are finite: the projection does not
+  // fail; if it did, the steady cubic is the one that is known to be valid.
   Result<TemperatureCubic> projected = ProjectOntoCubic(*model, po);
   return projected.ok() ? *projected : c;
 }

@@ -86,6 +86,24 @@ TEST_F(CalibrateLogsCli, StaticWeightIsSaidNotToApplyToAPooledFitAndOptimiseForI
   EXPECT_EQ(out.find("--optimise-for both changes nothing here") != std::string::npos, !any_term) << out << text3;
 }
 
+// --verbose on a pooled fit: each sensor's rows say what the pooled fit has (lag, dT/dt gain,
+// curve 1 sigma, what the cubic leaves steady and at the heating state), not a single run's
+// projection cost, expected next-run error or static weighting, which it does not have.
+TEST_F(CalibrateLogsCli, VerbosePooledTableShowsThePooledFitNotTheSingleRunColumns) {
+  const std::string a = Simulate("a.ulg", "--seed 3"), b = Simulate("b.ulg", "--seed 4");
+  std::string out;
+  ASSERT_EQ(Run("calibrate -i " + a + " -i " + b + " --format px4 --optimise-for both -v -o " + dir_ + "/tc.params", &out), 0) << out;
+  for (const char* want : {"pooled over 2 log(s), lag ", " s, dT/dt gain ", "curve 1 sigma (pooled fit)",
+                           "optimised for both: cubic - curve steady", ", at the heating state"})
+    EXPECT_NE(out.find(want), std::string::npos) << want << "\n" << out;
+  for (const char* not_there : {"expected next-run error of the cubic", "static weight"})
+    EXPECT_EQ(out.find(not_there), std::string::npos) << not_there << "\n" << out;
+  // A single run keeps its columns.
+  ASSERT_EQ(Run("calibrate -i " + a + " --format px4 -v -o " + dir_ + "/one.params", &out), 0) << out;
+  EXPECT_NE(out.find("expected next-run error of the cubic"), std::string::npos) << out;
+  EXPECT_EQ(out.find("dT/dt gain"), std::string::npos) << out;
+}
+
 TEST_F(CalibrateLogsCli, ALogOfAnotherBoardIsRefusedOnOneLineAndNoFile) {
   const std::string a = Simulate("a.ulg", "--seed 3");
   // A gyro of device id 12345 (none of the simulated board's), ten minutes at 1 Hz.

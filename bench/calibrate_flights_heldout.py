@@ -24,7 +24,7 @@ order shuffled per power-on, other vibration, disarmed handling).
 
 How to run (after building the CLI and the library: cmake --build build --target gyrocomp_cli):
   nice bench/calibrate_flights_heldout.py [--build build] [--work /tmp/gyrocomp_flights_heldout]
-      [--boards 3] [--seeds 2] [--rate 50] [--jobs 2]
+      [--boards 3] [--seeds 2] [--rate 50] [--jobs 2] [--optimise-for steady|warm-up|both]
 Prints markdown tables (the defaults: 2 generators x 3 boards x 2 seeds, about 11 min on 2 shared
 cores); --json FILE keeps every number, --tables-from FILE prints them again. The logs (about
 0.45 GB per board and seed) are deleted after each is scored unless --keep.
@@ -54,9 +54,9 @@ def run(cmd, check=True):
     return p
 
 
-def calibrate(gyrocomp, logs, out_dir, tag, validation):
+def calibrate(gyrocomp, logs, out_dir, tag, validation, extra=()):
     js = os.path.join(out_dir, f"{tag}.json")
-    cmd = [gyrocomp, "calibrate"]
+    cmd = [gyrocomp, "calibrate"] + list(extra)
     for log in logs:
         cmd += ["-i", log]
     cmd += ["--format", "px4", "-o", os.path.join(out_dir, f"{tag}.params"), "--json", js]
@@ -194,7 +194,7 @@ def one_case(args, gen, board, seed):
     out = {"generator": gen, "board": board, "seed": seed, "heldout": {}}
     for h in truth["heldout"]:
         path = os.path.join(d, h["path"])
-        fl = calibrate(args.gyrocomp, flights, d, "flights_" + h["name"], path)
+        fl = calibrate(args.gyrocomp, flights, d, "flights_" + h["name"], path, ["--optimise-for", args.optimise_for])
         ch = calibrate(args.gyrocomp, [os.path.join(d, "chamber_cal.ulg")], d, "chamber_" + h["name"], path)
         if h["name"] == HELDOUT[0]:
             out["still"] = still_scores(truth, fl, truth["rate_hz"])
@@ -246,6 +246,8 @@ def main():
     ap.add_argument("--rate", type=float, default=50.0)
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--keep", action="store_true")
+    ap.add_argument("--optimise-for", default="steady", choices=["steady", "warm-up", "both"],
+                    help="calibrate --optimise-for of the ten flights' pooled file (the chamber run's: the default)")
     ap.add_argument("--json")
     ap.add_argument("--tables-from", help="print the tables of a --json FILE of an earlier run (nothing is run)")
     args = ap.parse_args()

@@ -41,6 +41,9 @@ table per structure and sensor on the held-out heating and cooling runs: each si
 pooled file, each script on each run, the scripts' best per column, the true curve; then the
 pooled file against the better single run, the true curve and each script (and the true curve
 against each script: where it is above a target ratio, no static cubic reaches it).
+--pooled-conditions steady,warm-up,both (with --second-profile) adds the pooled PX4 file with
+`--optimise-for C` for each condition C other than steady (the default): its rows in the last
+table and its ratio against the better single run.
 Figures and the scripts' commits: docs/explanation/accuracy-calibration.md, "Side by side with the autopilots' scripts".
 """
 import argparse
@@ -214,13 +217,15 @@ def mean_of(rows, key):
     return None if not v else float(np.mean([x.mean() for x in v]))
 
 
-def print_second_profile(rows, structures, profile):
+def print_second_profile(rows, structures, profile, conditions=("steady",)):
     """The two-profile comparison (--second-profile): each single run, the pooled file, each script on
     each run and the scripts' best, the true curve; then the ratios the acceptance reads."""
     held = ("heating", "cooling")
     single = [("gyrocomp, run 1 (heating 1 C/min)", "gyrocomp -> px4"),
               ("gyrocomp, run 2 (%s)" % profile, "gyrocomp -> px4, run 2")]
     pooled = ("gyrocomp, pooled (-i run 1 -i run 2)", "gyrocomp -> px4, pooled")
+    pooled_by = [pooled] + [("gyrocomp, pooled --optimise-for %s" % c, "gyrocomp -> px4, pooled (--optimise-for %s)" % c)
+                            for c in conditions if c != "steady"]
     scripts = [("PX4 script, run 1", "PX4 script"), ("PX4 script, run 2", "PX4 script, run 2"),
                ("tempcal_IMU, run 1", "tempcal_IMU"), ("tempcal_IMU, run 2", "tempcal_IMU, run 2")]
     truth = ("true static curve (its own LS cubic)", "true static curve")
@@ -246,7 +251,7 @@ def print_second_profile(rows, structures, profile):
                 print("| %s | %s | %s | %.3g |" % (structure, label, " | ".join(
                     "%.3g +- %.2g" % (x, sd(name, r)) for x, r in zip(c, held)), np.mean(c)))
 
-            for label, name in single + [pooled]:
+            for label, name in single + pooled_by:
                 line(label, name)
             present = [(label, name) for label, name in scripts if cell(name, "heating") is not None]
             for label, name in present:
@@ -270,10 +275,13 @@ def print_second_profile(rows, structures, profile):
                 return "heating %.3f, cooling %.3f, mean %.3f" % tuple(v)
 
             better = {r: min(cell(n, r) for _, n in single) for r in held}
-            rp = ratios(pooled[1], better)
-            worse = [r for r, x in zip(held, rp) if x > 1.0]
-            print("  %s %s: pooled / better single run: %s -> %s" % (
-                structure, sensor, fmt(rp), "never worse" if not worse else "WORSE on " + ", ".join(worse)))
+            for label, name in pooled_by:
+                rp = ratios(name, better)
+                if rp is None:
+                    continue
+                worse = [r for r, x in zip(held, rp) if x > 1.0]
+                print("  %s %s: %s / better single run: %s -> %s" % (
+                    structure, sensor, label, fmt(rp), "never worse" if not worse else "WORSE on " + ", ".join(worse)))
             rt = ratios(pooled[1], truth[1])
             print("  %s %s: pooled / true curve's cubic: %s" % (structure, sensor, fmt(rt)))
             for k, (label, name) in enumerate(single):
@@ -307,6 +315,9 @@ def main():
                          "pooled with the first (-i run1 -i run2), each script on each run")
     ap.add_argument("--no-variants", action="store_true",
                     help="leave out the single-run --optimise-for / --static-weight rows (faster)")
+    ap.add_argument("--pooled-conditions", default="steady",
+                    help="with --second-profile: the pooled PX4 file also with --optimise-for C for each C of this "
+                         "comma-separated list other than steady (steady, warm-up, both)")
     args = ap.parse_args()
     if args.pyulog:
         sys.path.insert(0, args.pyulog)
@@ -351,6 +362,11 @@ def main():
                         logs = ([cal_ulg, cal_bin][k], cal2[k])
                         sets["gyrocomp -> %s, run 2" % fmt] = (fmt, calibrate(gc, [logs[1]], fmt, os.path.join(tmp, "gc2")))
                         sets["gyrocomp -> %s, pooled" % fmt] = (fmt, calibrate(gc, list(logs), fmt, os.path.join(tmp, "gc12")))
+                    for c in args.pooled_conditions.split(","):
+                        if c != "steady":
+                            sets["gyrocomp -> px4, pooled (--optimise-for %s)" % c] = (
+                                "px4", calibrate(gc, [cal_ulg, cal2[0]], "px4", os.path.join(tmp, "gc12c"),
+                                                 ["--optimise-for", c]))
                 for suffix, ulg, binlog in [("", cal_ulg, cal_bin)] + ([(", run 2",) + cal2] if cal2 else []):
                     p, why = try_px4_script(args, ulg, tmp)
                     if p is None:
@@ -385,7 +401,9 @@ def main():
              "gyrocomp -> px4 (--static-weight time)", "gyrocomp -> px4 (--static-weight temperature)"] + \
         ["gyrocomp -> px4 (%d runs, pooled)" % k for k in range(2, args.runs + 1)] + \
         ["PX4 script, run 2", "tempcal_IMU, run 2", "gyrocomp -> px4, run 2", "gyrocomp -> ardupilot, run 2",
-         "gyrocomp -> px4, pooled", "gyrocomp -> ardupilot, pooled", "true static curve"]
+         "gyrocomp -> px4, pooled", "gyrocomp -> ardupilot, pooled"] + \
+        ["gyrocomp -> px4, pooled (--optimise-for %s)" % c for c in args.pooled_conditions.split(",") if c != "steady"] + \
+        ["true static curve"]
     names = [n for n in order if any(k[3] == n for k in rows)]
     for sensor in ("gyro", "accel"):
         print()
@@ -433,7 +451,7 @@ def main():
                             hc(n, ("heating",)) / hc(script, ("heating",))))
                 print("  %s %s, %s: %s" % (structure, sensor, n, ", ".join(parts)))
     if args.second_profile:
-        print_second_profile(rows, structures, args.second_profile)
+        print_second_profile(rows, structures, args.second_profile, args.pooled_conditions.split(","))
 
 
 if __name__ == "__main__":

@@ -4,6 +4,7 @@
 
     /usr/bin/python3 bench/imu_calibration_two_runs.py --pyulog DIR [--build build] [--seeds 5]
         [--second-profile heating|fast-heating|slow-heating|cooling] [--structure static|dtemp]
+        [--optimise-for steady|warm-up|both]
 
 Per seed: run 1 is the bench's calibration run (heating 10 -> 60 C at 1 C/min, seed 100 s), run 2
 another seed (100 s + 1000) of the same profile (`heating`, the default) or of the bench's second
@@ -22,6 +23,13 @@ profile (bench/imu_calibration_side_by_side.py --second-profile, seed 100 s + 50
    the bias(T)-only structure
    the excess over the true curve, sqrt(RMS^2 - RMS_true^2), is estimation noise and falls by about
    1/sqrt(2) with two runs of one profile.
+4. With --optimise-for warm-up|both: the file `calibrate ... --optimise-for C` writes against its
+   definition computed here: the heating state s(T) (per 1 C bin from the lowest temperature, the
+   median dT/dt of the two runs' rows heating at >= 1/300 C/s, 0 in bins without any; the binning
+   of the single run's StateWhileHeating) and the least-squares cubic over 401 temperatures of the
+   steady file's curve + w g s(T), g the JSON's rate_gain, w = 1 (warm-up) or 1/2 (both): the
+   largest difference of the centred curves, in % of the term's own change (w g s over the range),
+   on the axes that kept the term; the others must equal the steady file.
 """
 import argparse
 import json
@@ -65,6 +73,30 @@ def pooled_fit(runs, ref, with_rate):
     return out
 
 
+def heating_state(runs, min_rate=1.0 / 300.0):
+    """(t0, per 1 C bin the median dT/dt of the runs' rows heating at >= min_rate, 0 without any)."""
+    t = np.concatenate([r[0] for r in runs])
+    rate = np.concatenate([r[2] for r in runs])
+    t0 = t.min()
+    bins = [[] for _ in range(int((t.max() - t0) // 1.0) + 1)]
+    for ti, ri in zip(t, rate):
+        if ri >= min_rate:
+            bins[int((ti - t0) // 1.0)].append(ri)
+    return t0, np.array([sorted(v)[len(v) // 2] if v else 0.0 for v in bins])
+
+
+def condition_cubic(cubic, gain, w, t0, state, tmin, tmax, ref):
+    """The LS cubic over 401 temperatures of cubic(T) + w gain s(T): (c0, c1, c2, c3)."""
+    grid = np.linspace(tmin, tmax, 401)
+    d = grid - ref
+    s = state[np.clip(np.floor((grid - t0) / 1.0).astype(int), 0, len(state) - 1)]
+    y = cubic[0] + cubic[1] * d + cubic[2] * d ** 2 + cubic[3] * d ** 3 + w * gain * s
+    h = 0.5 * (tmax - tmin)
+    u = d / h
+    c = np.linalg.lstsq(np.vstack([np.ones_like(u), u, u * u, u ** 3]).T, y, rcond=None)[0]
+    return c / h ** np.arange(4), w * gain * s
+
+
 def centred(slopes, ref, grid):
     d = grid - ref
     c = slopes[0] * d + slopes[1] * d * d + slopes[2] * d ** 3
@@ -78,6 +110,8 @@ def main():
     ap.add_argument("--pyulog", required=True)
     ap.add_argument("--second-profile", default="heating", choices=["heating"] + sorted(b.SECOND_PROFILES))
     ap.add_argument("--structure", default="static", choices=["static", "dtemp"])
+    ap.add_argument("--optimise-for", default="steady", choices=["steady", "warm-up", "both"],
+                    help="also check the pooled file calibrate --optimise-for writes against its definition (4.)")
     args = ap.parse_args()
     sys.path.insert(0, args.pyulog)
     gc = os.path.join(args.build, "gyrocomp")
@@ -85,6 +119,7 @@ def main():
     diffs = {False: [], True: []}
     err, sd = [], []
     held_rms = {}
+    cond_diffs, cond_same, cond_terms, cond_lagged = [], [], 0, 0
     with tempfile.TemporaryDirectory() as tmp:
         for seed in range(1, args.seeds + 1):
             cal, raw = [], []
@@ -118,6 +153,26 @@ def main():
                 e = g - (truth[a] - truth[a].mean())
                 err.append(np.sqrt(np.mean(e ** 2)))
                 sd.append(gyro["curve_sd"][a])
+            if args.optimise_for != "steady":
+                jc = os.path.join(tmp, "cond.json")
+                rc, out = b.run([gc, "calibrate", "-i", cal[0], "-i", cal[1], "--format", "px4", "--optimise-for",
+                                 args.optimise_for, "-o", os.path.join(tmp, "c.params"), "--json", jc])
+                if rc != 0:
+                    sys.exit("calibrate failed: " + out)
+                cg = [s for s in json.load(open(jc))["sensors"] if s["type"] == "gyro"][0]
+                t0, state = heating_state(raw)
+                w = 1.0 if args.optimise_for == "warm-up" else 0.5
+                cond_lagged += gyro["temp_lag_s"] > 0
+                for a in range(3 if gyro["temp_lag_s"] == 0 else 0):  # a lag kept: not this definition
+                    gain = gyro["rate_gain"][a]
+                    got = cg["axes"][a]["cubic"]["coeff"]
+                    if gain == 0.0:
+                        cond_same.append(got == gyro["axes"][a]["cubic"]["coeff"])
+                        continue
+                    cond_terms += 1
+                    want, term = condition_cubic(gyro["axes"][a]["cubic"]["coeff"], gain, w, t0, state, tmin, tmax, ref)
+                    cond_diffs.append(np.max(np.abs(centred(got[1:], ref, grid) - centred(want[1:], ref, grid))) /
+                                      max(np.ptp(term), 1e-300))
             # held-out scoring of the cubics (unclamped polynomial over the held-out run, as the bound)
             for k, name in enumerate(("heating", "cooling")):
                 f = os.path.join(tmp, "held.ulg")
@@ -144,6 +199,12 @@ def main():
     print("pooled curve - true curve (centred, RMS over the range): %.3g rad/s RMS over axes and seeds; the JSON's "
           "curve_sd %.3g rad/s: actual / reported %.1f" % (np.sqrt(np.mean(np.square(err))), np.sqrt(np.mean(np.square(sd))),
                                                           np.sqrt(np.mean(np.square(err))) / np.sqrt(np.mean(np.square(sd)))))
+    if args.optimise_for != "steady":
+        print("--optimise-for %s file vs the steady curve + w g s(T) (numpy): %d axes with the dT/dt term, largest "
+              "difference %s of the term's change; %d of %d axes without it equal to the steady file; %d seeds with a lag "
+              "kept (not checked here)" % (args.optimise_for, cond_terms,
+                                           "%.2g %%" % (100 * max(cond_diffs)) if cond_diffs else "-",
+                                           sum(cond_same), len(cond_same), cond_lagged))
     for name in ("heating", "cooling"):
         true = np.mean(held_rms[(name, "true curve")])
         parts = []

@@ -164,14 +164,13 @@ int Run(const CalibrateArgs& a) {
   if (!r.ok()) return ReportError(kCalibrateName, r.error());
   for (const std::string& n : r->notes) Note(kCalibrateName, n);
   const bool pooled = std::any_of(r->sensors.begin(), r->sensors.end(), [](const Sensor& s) { return s.fit == "pooled"; });
-  if (pooled && (a.optimise_for_given || a.static_weight_given)) {
-    const std::string given = a.optimise_for_given && a.static_weight_given ? "--optimise-for and --static-weight"
-                              : a.optimise_for_given                       ? "--optimise-for"
-                                                                           : "--static-weight";
-    Note(kCalibrateName, given + " ignored: " + (a.optimise_for_given && a.static_weight_given ? "they do" : "it does") +
-                             " not apply to a pooled fit (several logs, or a log not still throughout: one cubic over "
-                             "the still rows, no drift model to project)");
-  }
+  if (pooled && a.static_weight_given)
+    Note(kCalibrateName, "--static-weight ignored: it does not apply to a pooled fit (several logs, or a log not still "
+                         "throughout: one cubic over the still rows, no drift model whose static curve to weight)");
+  const bool any_term = std::any_of(r->sensors.begin(), r->sensors.end(), [](const Sensor& s) { return !s.heating_state_kind.empty(); });
+  if (pooled && a.optimise_for != "steady" && !any_term)
+    Note(kCalibrateName, "--optimise-for " + a.optimise_for + " changes nothing here: no sensor kept a dT/dt term or a lag, "
+                         "so every cubic is the steady curve");
   if (a.verbose) std::cerr << r->BriefReport();
   else PrintSummary(a, *r);
   if (!r->AnyCalibrated()) return ReportError(kCalibrateName, InvalidInput(a.input + ": no sensor could be calibrated (reasons above)"));
@@ -212,7 +211,8 @@ Command MakeCalibrate(CLI::App& app) {
       "  log marks armed or not landed are not used); only still rows feed the fit. One log still throughout (a\n"
       "  chamber run): the drift model projected onto the cubic. Several logs or flights: one least-squares\n"
       "  cubic over all still rows, a constant per log (gyro, baro) or per still segment (accel: the attitude's\n"
-      "  share of gravity); --optimise-for and --static-weight do not apply to it (a note says so when given).\n"
+      "  share of gravity); --optimise-for adds the kept dT/dt gain or lag at the logs' heating state (steady:\n"
+      "  none), --static-weight does not apply to it (a note says so when given).\n"
       "  A board rotation or a log rate that differs between the logs is noted, not refused.\n"
       "A sensor that cannot be calibrated (span < --min-span, still time < --min-still, too few rows) is listed\n"
       "  with the reason and which log would help.\n"
@@ -234,13 +234,15 @@ Command MakeCalibrate(CLI::App& app) {
                  "the full model scored on it, per axis");
   AddOutputOption(sub, "--report", &a->report_path, "Write an HTML report to FILE (self-contained, opens offline)");
   sub->add_flag("-v,--verbose", a->verbose,
-                "The full table per sensor and axis (projection cost, expected error steady and warm-up, static weighting)");
+                "The full table per sensor and axis (one run: projection cost, expected error steady and warm-up, static "
+                "weighting; pooled: lag, dT/dt gain, curve 1 sigma, what the cubic leaves steady and at the heating state)");
   sub->add_option("--block", a->block_s, "--validation: residual block means, s")->capture_default_str();
   sub->add_option("--fit-rate", a->fit_rate_hz, "Rows per second the fit sees (block means), Hz")->capture_default_str();
-  CLI::Option* optimise_for = sub->add_option("--optimise-for", a->optimise_for,
+  sub->add_option("--optimise-for", a->optimise_for,
                   "What the exported cubic is optimised for: steady (dT/dt = 0, the static curve) | warm-up (the state the "
-                  "run had while heating, at each temperature) | both (their mean). One log still throughout only: "
-                  "a pooled fit (several logs) has no drift model to project and ignores it, with a note")
+                  "run had while heating, at each temperature) | both (their mean). Pooled (several logs): the shared "
+                  "curve with the kept dT/dt gain or lag at the state the logs' still rows had while heating; a sensor "
+                  "with neither gets the steady curve")
       ->check(CLI::IsMember({"steady", "warm-up", "both"}))
       ->capture_default_str();
   CLI::Option* static_weight = sub->add_option("--static-weight", a->static_weight,
@@ -261,9 +263,8 @@ Command MakeCalibrate(CLI::App& app) {
       ->capture_default_str();
   sub->add_option("--still-rate", a->still_rate_hz, "Rows per second the still detector sees (means of the log's rows), Hz")
       ->capture_default_str();
-  return {sub, [a, optimise_for, static_weight] {
+  return {sub, [a, static_weight] {
             a->input = a->inputs.front();
-            a->optimise_for_given = optimise_for->count() > 0;
             a->static_weight_given = static_weight->count() > 0;
             return Run(*a);
           }};

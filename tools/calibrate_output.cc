@@ -108,6 +108,11 @@ nlohmann::json SensorJson(const CalibrateArgs& a, const Sensor& s) {
                      {"gain_se", s.lag_term.pairs ? finite(s.lag_term.se) : nlohmann::json()},
                      {"groups", s.lag_term.pairs}, {"admitted", s.lag_term.Admitted()}};
     j["rate_gain"] = s.rate_gain;
+    // The state --optimise-for warm-up / both take the kept term at (CalibratedSensor::heating_state).
+    j["heating_state"] = s.heating_state_kind.empty()
+                             ? nlohmann::json(nullptr)
+                             : nlohmann::json{{"kind", s.heating_state_kind}, {"t0_c", s.heating_state.t0_c},
+                                              {"bin_c", s.heating_state.bin_c}, {"state", s.heating_state.state}};
   }
   j["temp_min_c"] = s.temp_min_c;
   j["temp_max_c"] = s.temp_max_c;

@@ -34,9 +34,8 @@ struct CalibrateArgs : CalibrateOptions {
   std::string json_path;
   std::string report_path;  // HTML report
   bool verbose = false;     // the full per-axis table instead of one line per sensor
-  // --optimise-for / --static-weight given on the command line (not their defaults): a pooled
-  // fit, which has neither, says once on stderr that they do not apply.
-  bool optimise_for_given = false;
+  // --static-weight given on the command line (not its default): a pooled fit, which has no
+  // static weighting, says once on stderr that it does not apply.
   bool static_weight_given = false;
 };
 

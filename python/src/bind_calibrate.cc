@@ -37,7 +37,8 @@ py::array_t<std::int64_t> Indices(const std::vector<int>& v) {
 // The rows the fit saw (what the calibrate report draws under the cubics): temp_c (rows), values
 // (axes x rows, firmware unit), log (index into inputs) and group (the constant each row shares).
 py::dict FitRowsDict(const CalibratedSensor::FitRows& r) {
-  return py::dict(py::arg("temp_c") = ToNumpy(std::vector<double>(r.temp_c)), py::arg("values") = ToNumpy2d(r.values),
+  return py::dict(py::arg("time_s") = ToNumpy(std::vector<double>(r.time_s)),
+                  py::arg("temp_c") = ToNumpy(std::vector<double>(r.temp_c)), py::arg("values") = ToNumpy2d(r.values),
                   py::arg("log") = Indices(r.log), py::arg("group") = Indices(r.group));
 }
 
@@ -77,6 +78,12 @@ py::dict SensorDict(const CalibratedSensor& s) {
                              py::arg("gain_se") = s.lag_term.pairs ? finite(s.lag_term.se) : py::object(py::none()),
                              py::arg("groups") = s.lag_term.pairs, py::arg("admitted") = s.lag_term.Admitted());
     d["rate_gain"] = s.rate_gain;
+    // The state --optimise-for warm-up / both take the kept term at (None: no term kept).
+    d["heating_state"] = s.heating_state_kind.empty()
+                             ? py::object(py::none())
+                             : py::object(py::dict(py::arg("kind") = s.heating_state_kind, py::arg("t0_c") = s.heating_state.t0_c,
+                                                   py::arg("bin_c") = s.heating_state.bin_c,
+                                                   py::arg("state") = s.heating_state.state));
   }
   d["temp_min_c"] = s.temp_min_c;
   d["temp_max_c"] = s.temp_max_c;

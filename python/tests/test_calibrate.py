@@ -67,6 +67,13 @@ def test_still_segments_identification_and_the_pooled_fit(cli, tmp_path):
         assert sorted(lag) == sorted(j["lag_term"]) == ["admitted", "gain", "gain_se", "groups"]
         for k, v in j["lag_term"].items():
             assert (lag[k] is None and v is None) or lag[k] == pytest.approx(v, rel=1e-12, abs=0), k
+        # The heating state --optimise-for warm-up / both take the kept term at (None: no term).
+        if j["heating_state"] is None:
+            assert s.heating_state is None
+        else:
+            h = s.heating_state.to_dict()
+            assert h["kind"] == j["heating_state"]["kind"] and h["t0_c"] == pytest.approx(j["heating_state"]["t0_c"], rel=1e-12)
+            assert h["state"] == pytest.approx(j["heating_state"]["state"], rel=1e-12, abs=0)
     for s in r.sensors:
         if s.type == "baro":
             continue
@@ -111,7 +118,7 @@ def test_fit_rows_and_curve_bands_are_what_the_report_draws(cli, tmp_path, poole
             continue
         rows = s.fit_rows
         n = len(rows.temp_c)
-        assert rows.values.shape == (len(s.cols), n) and len(rows.log) == n and len(rows.group) == n
+        assert rows.values.shape == (len(s.cols), n) and len(rows.log) == n and len(rows.group) == n and len(rows.time_s) == n
         assert set(rows.log.tolist()) <= set(range(len(logs)))
         assert len(s.curve_bands) == len(s.cols)
         for k, band in enumerate(s.curve_bands):

@@ -150,20 +150,6 @@ void BlockMeans(Sensor* s, double fit_rate_hz) {
   for (auto& v : s->values) v = mean(v);
 }
 
-// RMS over 201 temperatures of the range of cubic - model at state 0 and at the warm-up state
-// (model unit; the cubic before any constant is removed).
-std::pair<double, double> ConditionErrors(const DriftModel& m, const TemperatureCubic& c, const StateByTemperature& warm) {
-  double ss_steady = 0.0, ss_warm = 0.0;
-  constexpr int kPoints = 201;
-  for (int i = 0; i < kPoints; ++i) {
-    const double t = c.temp_min_c + (c.temp_max_c - c.temp_min_c) * i / (kPoints - 1);
-    const double cubic = c.Evaluate(t);
-    ss_steady += std::pow(cubic - m.PredictAt(t, 0.0), 2);
-    ss_warm += std::pow(cubic - m.PredictAt(t, m.inputs == DriftInputSet::kTemp ? 0.0 : warm.At(t)), 2);
-  }
-  return {std::sqrt(ss_steady / kPoints), std::sqrt(ss_warm / kPoints)};
-}
-
 // --static-weight temperature: the static part of `cubic` (the model's curve at state 0) replaced
 // by the run's static curve with each temperature weighted alike; what --optimise-for adds to the
 // static curve (the model's warm-up state) is kept: the projection is linear in the curve, so
@@ -196,6 +182,7 @@ Sensor::CurveBand SteadyBand(const DriftModel& m, const TemperatureCubic& model_
 
 // A single run's fit rows (CalibratedSensor::FitRows): every block mean, one log, one constant.
 void KeepFitRows(Sensor* s) {
+  s->fit_rows.time_s = s->time_s;
   s->fit_rows.temp_c = s->temp_c;
   s->fit_rows.values = s->values;
   s->fit_rows.log.assign(s->temp_c.size(), 0);
@@ -203,6 +190,20 @@ void KeepFitRows(Sensor* s) {
 }
 
 }  // namespace
+// RMS over 201 temperatures of the range of cubic - model at state 0 and at the warm-up state
+// (model unit; the cubic before any constant is removed).
+std::pair<double, double> ConditionErrors(const DriftModel& m, const TemperatureCubic& c, const StateByTemperature& warm) {
+  double ss_steady = 0.0, ss_warm = 0.0;
+  constexpr int kPoints = 201;
+  for (int i = 0; i < kPoints; ++i) {
+    const double t = c.temp_min_c + (c.temp_max_c - c.temp_min_c) * i / (kPoints - 1);
+    const double cubic = c.Evaluate(t);
+    ss_steady += std::pow(cubic - m.PredictAt(t, 0.0), 2);
+    ss_warm += std::pow(cubic - m.PredictAt(t, m.inputs == DriftInputSet::kTemp ? 0.0 : warm.At(t)), 2);
+  }
+  return {std::sqrt(ss_steady / kPoints), std::sqrt(ss_warm / kPoints)};
+}
+
 // Why the firmware has no place for `s` ("" when it has one): slots, ArduPilot's barometer.
 std::string SlotReason(const Sensor& s, const Args& a) {
   if (s.slot < 0 || s.slot > (a.format == "px4" ? kPx4TcalSlots - 1 : 3) || (a.format == "ardupilot" && s.slot < 1))

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <map>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -41,6 +42,9 @@ std::string SlotReason(const Sensor& s, const Args& a);
 // The exported cubic in the firmware's unit, constant as the file needs it.
 TemperatureCubic Firmware(const Sensor& s, const Args& a, const TemperatureCubic& model_unit);
 
+// RMS over 201 temperatures of the range of cubic - model at state 0 (first) and at the warm-up
+// state `warm` (second), model unit; a temperature-only model: both at state 0.
+std::pair<double, double> ConditionErrors(const DriftModel& m, const TemperatureCubic& c, const StateByTemperature& warm);
 // ---- calibrate_runs.cc ------------------------------------------------------------------------
 // One input log: its sensors (rows at fit_rate_hz), where the vehicle was still, and per sensor
 // and row the still segment the row lies in (-1: not still).

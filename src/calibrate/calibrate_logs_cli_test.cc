@@ -45,10 +45,11 @@ TEST_F(CalibrateLogsCli, ALogRateChangeIsNotedAndTheFileWritten) {
   EXPECT_TRUE(fs::exists(dir_ + "/tc.params"));
 }
 
-// A pooled fit has no drift model to project: --static-weight and --optimise-for given with
-// several logs are said on one line not to apply (not an error), and the file's header says
-// what the pooled fit did instead of echoing them.
-TEST_F(CalibrateLogsCli, StaticWeightAndOptimiseForAreSaidNotToApplyToAPooledFit) {
+// A pooled fit has no static weighting: --static-weight given with several logs is said on one
+// line not to apply (not an error). --optimise-for applies (the kept dT/dt gain or lag at the logs'
+// heating state): the header says the condition, per sensor what it did, and no note calls it
+// ignored; where no sensor kept a term a note says the condition changes nothing.
+TEST_F(CalibrateLogsCli, StaticWeightIsSaidNotToApplyToAPooledFitAndOptimiseForIsHonoured) {
   const std::string a = Simulate("a.ulg", "--seed 3"), b = Simulate("b.ulg", "--seed 4");
   std::string out;
   ASSERT_EQ(Run("calibrate -i " + a + " -i " + b + " --format px4 --static-weight time --optimise-for warm-up -o " + dir_ +
@@ -56,18 +57,51 @@ TEST_F(CalibrateLogsCli, StaticWeightAndOptimiseForAreSaidNotToApplyToAPooledFit
                 &out),
             0)
       << out;
-  const std::string note = "--optimise-for and --static-weight ignored: they do not apply to a pooled fit";
+  const std::string note = "--static-weight ignored: it does not apply to a pooled fit";
   ASSERT_NE(out.find(note), std::string::npos) << out;
   EXPECT_EQ(out.find(note, out.find(note) + 1), std::string::npos) << out;  // once
+  EXPECT_EQ(out.find("--optimise-for and --static-weight ignored"), std::string::npos) << out;
+  EXPECT_EQ(out.find("--optimise-for ignored"), std::string::npos) << out;
   const std::string text = testing::ReadFile(dir_ + "/tc.params");
   EXPECT_EQ(text.find("static curve weighted by"), std::string::npos) << text;
-  EXPECT_EQ(text.find("optimised for"), std::string::npos) << text;
+  EXPECT_EQ(text.find("do not apply"), std::string::npos) << text;
+  EXPECT_NE(text.find("Optimised for: warm-up"), std::string::npos) << text;
+  EXPECT_NE(text.find("optimised for warm-up: "), std::string::npos) << text;  // per sensor, what it did
   EXPECT_NE(text.find("one least-squares cubic in temperature over the"), std::string::npos) << text;
   EXPECT_NE(text.find("fitted on the "), std::string::npos) << text;
-  // Without the options: no note.
+  // Without the options: no note, and the header says steady.
   ASSERT_EQ(Run("calibrate -i " + a + " -i " + b + " --format px4 -o " + dir_ + "/tc2.params", &out), 0) << out;
   EXPECT_EQ(out.find("do not apply"), std::string::npos) << out;
   EXPECT_EQ(out.find("does not apply"), std::string::npos) << out;
+  EXPECT_NE(testing::ReadFile(dir_ + "/tc2.params").find("Optimised for: steady"), std::string::npos);
+  EXPECT_EQ(out.find("changes nothing here"), std::string::npos) << out;  // steady: no such note
+  // A board with no dT/dt drift: the note that the condition changes nothing exactly when every
+  // sensor's header line says it kept no term.
+  const std::string c = Simulate("c.ulg", "--seed 5 --dtemp-coeff 0 --hysteresis-coeff 0"),
+                    d = Simulate("d.ulg", "--seed 6 --dtemp-coeff 0 --hysteresis-coeff 0");
+  ASSERT_EQ(Run("calibrate -i " + c + " -i " + d + " --format px4 --optimise-for both -o " + dir_ + "/tc3.params", &out), 0) << out;
+  const std::string text3 = testing::ReadFile(dir_ + "/tc3.params");
+  const bool any_term = text3.find("the curve + dT/dt gain") != std::string::npos || text3.find("the lagged curve") != std::string::npos;
+  EXPECT_NE(text3.find("optimised for both: "), std::string::npos) << text3;
+  EXPECT_EQ(out.find("--optimise-for both changes nothing here") != std::string::npos, !any_term) << out << text3;
+}
+
+// --verbose on a pooled fit: each sensor's rows say what the pooled fit has (lag, dT/dt gain,
+// curve 1 sigma, what the cubic leaves steady and at the heating state), not a single run's
+// projection cost, expected next-run error or static weighting, which it does not have.
+TEST_F(CalibrateLogsCli, VerbosePooledTableShowsThePooledFitNotTheSingleRunColumns) {
+  const std::string a = Simulate("a.ulg", "--seed 3"), b = Simulate("b.ulg", "--seed 4");
+  std::string out;
+  ASSERT_EQ(Run("calibrate -i " + a + " -i " + b + " --format px4 --optimise-for both -v -o " + dir_ + "/tc.params", &out), 0) << out;
+  for (const char* want : {"pooled over 2 log(s), lag ", " s, dT/dt gain ", "curve 1 sigma (pooled fit)",
+                           "optimised for both: cubic - curve steady", ", at the heating state"})
+    EXPECT_NE(out.find(want), std::string::npos) << want << "\n" << out;
+  for (const char* not_there : {"expected next-run error of the cubic", "static weight"})
+    EXPECT_EQ(out.find(not_there), std::string::npos) << not_there << "\n" << out;
+  // A single run keeps its columns.
+  ASSERT_EQ(Run("calibrate -i " + a + " --format px4 -v -o " + dir_ + "/one.params", &out), 0) << out;
+  EXPECT_NE(out.find("expected next-run error of the cubic"), std::string::npos) << out;
+  EXPECT_EQ(out.find("dT/dt gain"), std::string::npos) << out;
 }
 
 TEST_F(CalibrateLogsCli, ALogOfAnotherBoardIsRefusedOnOneLineAndNoFile) {

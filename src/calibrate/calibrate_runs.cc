@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <map>
+#include <tuple>
 #include <utility>
 #include <numeric>
 #include <optional>
@@ -140,6 +141,7 @@ double StillBlockMeans(Sensor* s, const StillDetection& d, const Args& a, std::v
 // (the power-on offset), the log's still segment for an accelerometer (offset + the attitude's
 // share of gravity, which changes whenever the vehicle has moved).
 struct Pool {
+  std::vector<double> time_s;  // s, in the row's log
   std::vector<double> temp_c;
   std::vector<double> rate_c_per_s;  // dT/dt over +-30 s of the row's still segment, C/s
   std::vector<std::vector<double>> lagged_c;  // [lag][row]: Run::lagged_c (empty when a log has none)
@@ -195,6 +197,7 @@ Pool Gather(const Sensor& s, const std::vector<Run>& runs) {
       const int key = s.type == "accel" ? seg[i] : 0;
       if (!group_of_segment.count(key)) group_of_segment[key] = p.num_groups++;
       p.group.push_back(group_of_segment[key]);
+      p.time_s.push_back(m->time_s[i]);
       p.temp_c.push_back(m->temp_c[i]);
       for (std::size_t k = 0; k < s.values.size(); ++k) p.y[k].push_back(m->values[k][i] * s.to_model);
       p.log_of_row.push_back(r);
@@ -282,6 +285,7 @@ DriftModel ModelOf(const TemperatureCubic& c, const Sensor& s, std::size_t axis,
 // The pooled rows as the fit saw them (CalibratedSensor::FitRows, firmware unit) and each axis's
 // band of the curve: z(0.9) curve_sd at every temperature of the range (CalibratedSensor::CurveBand).
 void KeepPooledRows(Sensor* s, const Pool& p) {
+  s->fit_rows.time_s = p.time_s;
   s->fit_rows.temp_c = p.temp_c;
   s->fit_rows.values = p.y;
   for (auto& v : s->fit_rows.values)
@@ -346,6 +350,92 @@ const std::vector<double>& LagOfCurve(Sensor* s, const Pool& p, double ref, cons
                                  " s (held-out error " + FormatNumber(100.0 * s->lag_term.gain, 2) + " +- " +
                                  FormatNumber(100.0 * s->lag_term.se, 2) + " % lower than without)";
   return p.lagged_c[best];
+}
+
+// The pooled curve with the thermal term the fit kept, as a DriftModel (model unit) that
+// ProjectOntoCubic projects at a CubicCondition, as the single run's model is projected:
+//   a dT/dt term: y = f(T) + g s, s = dT/dt (kTempAndRate);
+//   a lag:        y = f(T_lag) = f(T - s), s = T - T_lag (Eq. TS-2, kTempAndLag), with
+//                 (T - ref - s)^k = sum_j C(k, j) (T - ref)^(k - j) (-s)^j.
+// f is the steady cubic c (T_lag = T at steady state: the same curve).
+DriftModel StateModelOf(const TemperatureCubic& c, double rate_gain, bool lagged) {
+  DriftModel m;
+  m.kind = DriftModelKind::kPolynomial;
+  m.inputs = lagged ? DriftInputSet::kTempAndLag : DriftInputSet::kTempAndRate;
+  PolynomialModel poly;
+  poly.input_scaler.offset = {c.ref_temp_c, 0.0};
+  poly.input_scaler.scale = {1.0, 1.0};
+  for (int k = 0; k < 4; ++k) {
+    const double ck = c.coeff[static_cast<std::size_t>(k)];
+    double binomial = 1.0;  // C(k, j)
+    for (int j = 0; j <= (lagged ? k : 0); ++j) {
+      poly.terms.push_back({k - j, j, ck * binomial * (j % 2 ? -1.0 : 1.0)});
+      binomial = binomial * (k - j) / (j + 1);
+    }
+  }
+  if (!lagged) poly.terms.push_back({0, 1, rate_gain});
+  m.structured = poly;
+  m.summary.temp_min_c = c.temp_min_c, m.summary.temp_max_c = c.temp_max_c;
+  return m;
+}
+
+// CalibratedSensor::heating_state: the state every log's still rows had while heating, binned by
+// the logged temperature (the one the firmware reads): dT/dt where an axis kept the dT/dt term,
+// T - T_lag with a lag (fit_temp: the lagged temperature the cubic was fitted on); nothing
+// without either.
+void SetHeatingState(Sensor* s, const Pool& p, const std::vector<double>& fit_temp) {
+  s->heating_state = StateByTemperature{}, s->heating_state_kind.clear();
+  const bool lagged = s->temp_lag_s > 0.0;
+  const bool gain = std::any_of(s->rate_gain.begin(), s->rate_gain.end(), [](double g) { return g != 0.0; });
+  if (!lagged && !gain) return;
+  std::vector<double> state(p.temp_c.size());
+  for (std::size_t i = 0; i < state.size(); ++i) state[i] = lagged ? p.temp_c[i] - fit_temp[i] : p.rate_c_per_s[i];
+  Result<StateByTemperature> h = HeatingStateByTemperature(p.temp_c, state, p.rate_c_per_s);
+  if (!h.ok()) return;
+  s->heating_state = *h;
+  s->heating_state_kind = ThermalStateColumnName(lagged ? DriftInputSet::kTempAndLag : DriftInputSet::kTempAndRate);
+}
+
+// The exported cubic of one axis (model unit) for CalibrateOptions::optimise_for: the steady
+// cubic c itself, or the projection of the curve with its thermal term at the heating state
+// (StateModelOf, ProjectOntoCubic: warm-up at the state, both the mean with steady); c where the
+// axis has no term. `model` gets the curve with its term (ModelOf's cubic when none), for the
+// condition errors.
+TemperatureCubic ForCondition(const Sensor& s, const Args& a, const TemperatureCubic& c, double rate_gain, DriftModel* model) {
+  const bool lagged = s.temp_lag_s > 0.0;
+  const bool term = !s.heating_state.state.empty() && (lagged || rate_gain != 0.0);
+  if (!term) return c;
+  *model = StateModelOf(c, rate_gain, lagged);
+  const CubicCondition condition = *ParseCubicCondition(a.optimise_for);
+  if (condition == CubicCondition::kSteady) return c;
+  CubicProjectionOptions po;
+  po.condition = condition;
+  po.warm_up = s.heating_state;
+  po.temp_min_c = c.temp_min_c, po.temp_max_c = c.temp_max_c, po.ref_temp_c = c.ref_temp_c;
+  // The range spans min_span_c or more and the coefficients are finite: the projection does not
+  // fail; if it did, the steady cubic is the one that is known to be valid.
+  Result<TemperatureCubic> projected = ProjectOntoCubic(*model, po);
+  return projected.ok() ? *projected : c;
+}
+
+// One axis's entries of a pooled sensor: the cubic for the condition (ForCondition) in the
+// firmware's unit, its model, the fit's 1 sigma and dT/dt gain, what the cubic loses against
+// the curve steady and along the heating state (model unit -> firmware unit).
+void KeepPooledAxis(Sensor* s, const Args& a, std::size_t k, const TemperatureCubic& steady, const PooledCubic& fit) {
+  DriftModel with_term = ModelOf(steady, *s, k, fit);
+  const TemperatureCubic c = ForCondition(*s, a, steady, fit.rate_gain, &with_term);
+  s->models.push_back(ModelOf(c, *s, k, fit));
+  const TemperatureCubic fw = Firmware(*s, a, c);
+  s->cubics.push_back(fw), s->cubics_time.push_back(fw), s->cubics_temperature.push_back(fw);
+  s->weights.push_back("pooled");
+  s->weight_choices.emplace_back(std::nullopt);
+  // Without a term both are 0; steady, the cubic is the curve (0 up to rounding, said as 0).
+  auto [steady_rms, warm_up_rms] = std::pair<double, double>{0.0, 0.0};
+  if (with_term.inputs != DriftInputSet::kTemp) std::tie(steady_rms, warm_up_rms) = ConditionErrors(with_term, c, s->heating_state);
+  if (a.optimise_for == "steady") steady_rms = 0.0;
+  s->cost_rms.push_back(0.0), s->steady_rms.push_back(steady_rms / s->to_model), s->warm_up_rms.push_back(warm_up_rms / s->to_model);
+  s->expected.emplace_back(std::nullopt);
+  s->curve_sd.push_back(fit.curve_sd / s->to_model);
 }
 
 }  // namespace
@@ -475,6 +565,8 @@ void CalibratePooled(Sensor* s, const std::vector<Run>& runs, const Args& a) {
   for (double r : p.rate_c_per_s) ss_rate += (r - mean_rate) * (r - mean_rate);
   const std::vector<double>& temp = LagOfCurve(s, p, ref, a);
   const bool with_rate = s->temp_lag_s == 0.0 && a.pooled_dtemp && std::sqrt(ss_rate / static_cast<double>(p.rate_c_per_s.size())) > 1e-3;
+  std::vector<PooledCubic> fits;
+  std::vector<TemperatureCubic> steady;
   for (std::size_t k = 0; k < s->values.size(); ++k) {
     Result<PooledCubic> fit = FitPooledCubic(temp, p.y[k], p.group, p.num_groups, ref, with_rate ? p.rate_c_per_s : std::vector<double>{});
     if (!fit.ok()) {
@@ -491,16 +583,12 @@ void CalibratePooled(Sensor* s, const std::vector<Run>& runs, const Args& a) {
     TemperatureCubic c;
     c.ref_temp_c = ref, c.temp_min_c = id.temp_min_c, c.temp_max_c = id.temp_max_c;
     c.coeff = {constant / std::max(groups, 1.0), fit->slope[0], fit->slope[1], fit->slope[2]};
-    s->models.push_back(ModelOf(c, *s, k, *fit));
-    const TemperatureCubic fw = Firmware(*s, a, c);
-    s->cubics.push_back(fw), s->cubics_time.push_back(fw), s->cubics_temperature.push_back(fw);
-    s->weights.push_back("pooled");
-    s->weight_choices.emplace_back(std::nullopt);
-    s->cost_rms.push_back(0.0), s->steady_rms.push_back(0.0), s->warm_up_rms.push_back(0.0);
-    s->expected.emplace_back(std::nullopt);
-    s->curve_sd.push_back(fit->curve_sd / s->to_model);
     s->rate_gain.push_back(fit->rate_gain / s->to_model);
+    fits.push_back(std::move(*fit));
+    steady.push_back(c);
   }
+  SetHeatingState(s, p, temp);
+  for (std::size_t k = 0; k < fits.size(); ++k) KeepPooledAxis(s, a, k, steady[k], fits[k]);
   s->band_reason = "pooled fit: no prediction band; the curve's 1 sigma from the fit is in curve_sd";
   KeepPooledRows(s, p);
   // The sensor's rows: the first log's still rows (what the summary's uncompensated drift reads).

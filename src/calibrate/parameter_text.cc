@@ -65,7 +65,7 @@ std::string Joined(const std::vector<std::string>& v) {
 }
 
 // A pooled sensor's fit in words: the temperature it was fitted on (a lag kept or not) and, per
-// axis, whether the shared dT/dt term was kept (pooled_fit.h; the cubic is the curve at dT/dt = 0).
+// axis, whether the shared dT/dt term was kept (pooled_fit.h; the fit's curve is at dT/dt = 0).
 std::string PooledTermsTextOf(const Sensor& s) {
   std::string t = s.temp_lag_s > 0.0 ? "temperature lagged " + FormatNumber(s.temp_lag_s, 4) + " s (no dT/dt term)"
                                      : "logged temperature (no lag kept); dT/dt term";
@@ -76,8 +76,45 @@ std::string PooledTermsTextOf(const Sensor& s) {
   return t + (kept.empty() ? " not kept" : " kept on " + kept);
 }
 
+// A pooled sensor's rows of the --verbose table (CalibrateResult::BriefReport), after its span:
+// what the pooled fit has in place of a single run's projection cost, expected error and static
+// weighting: the lag kept, each axis's dT/dt gain, the curve's 1 sigma, and what the exported cubic
+// leaves against the fit's curve steady and at the heating state (the --optimise-for trade).
+std::string PooledRowText(const Sensor& s, const std::string& optimise_for) {
+  std::ostringstream t;
+  auto per_axis = [&](const std::vector<double>& v) {
+    for (double x : v) t << " " << FormatNumber(x, 3);
+  };
+  t << "pooled over " << s.runs_combined << " log(s), lag " << FormatNumber(s.temp_lag_s, 4) << " s, dT/dt gain";
+  per_axis(s.rate_gain);
+  t << " " << s.unit << " per C/s\n                  curve 1 sigma (pooled fit)";
+  per_axis(s.curve_sd);
+  t << " " << s.unit << "\n                  optimised for " << optimise_for << ": cubic - curve steady";
+  per_axis(s.steady_rms);
+  t << ", at the heating state";
+  per_axis(s.warm_up_rms);
+  t << " " << s.unit << (s.heating_state_kind.empty() ? " (no dT/dt term or lag kept: the steady curve)" : "") << "\n";
+  return t.str();
+}
+
+// What --optimise-for did to a pooled sensor's cubic (CalibratedSensor::heating_state): "" for
+// steady; otherwise the state the term was taken at, or that no term was kept (the steady curve).
+std::string PooledConditionTextOf(const Sensor& s, const Args& a) {
+  if (a.optimise_for == "steady") return "";
+  const std::string head = "optimised for " + a.optimise_for + ": ";
+  if (s.heating_state_kind.empty()) return head + "no dT/dt term or lag kept, the steady curve (the condition changes nothing)";
+  double sum = 0.0, bins = 0.0;
+  for (double v : s.heating_state.state)
+    if (v != 0.0) sum += v, bins += 1.0;
+  const bool lag = s.heating_state_kind == "lag_excess_c";
+  return head + (lag ? "the lagged curve at T - (T - T_lag)" : "the curve + dT/dt gain x dT/dt") + ", the state the still rows had while heating (" +
+         FormatNumber(bins > 0.0 ? sum / bins : 0.0, 3) + (lag ? " C" : " C/s") + " on average over " + FormatNumber(bins, 3) +
+         " of " + std::to_string(s.heating_state.state.size()) + " 1 C bins, 0 in the others)" +
+         (a.optimise_for == "both" ? ", averaged with the steady curve" : "");
+}
+
 // The header of a pooled fit (several logs, or one log not still throughout): what FitPooledCubic
-// did; --optimise-for and --static-weight have no part in it.
+// did and the condition the cubic was exported for; --static-weight has no part in it.
 // The start of a sensor's header line, "  gyro 0 (device_id N)", into `l`; a skipped sensor's
 // whole line (with its reason) goes into `c` instead and the answer is false.
 bool SensorLineStart(const Sensor& s, std::ostringstream* l, std::vector<std::string>* c) {
@@ -95,8 +132,10 @@ std::vector<std::string> PooledComments(const Args& a) {
       "still rows (block means at " + FormatNumber(a.fit_rate_hz, 4) + " Hz) of every log, with a constant per log (gyro, baro) or",
       "per still segment (accel), fitted on the logged temperature or on a lagged copy of it when the lag predicts",
       "held-out logs better; without a lag, a shared dT/dt term where the heating rates identify it and it earns",
-      "its place, the cubic then being the curve at dT/dt = 0 (pooled_fit.h). No drift model and no projection;",
-      "--optimise-for and --static-weight do not apply. Units: gyro rad/s, accel m/s^2, baro Pa; sensor frame.",
+      "its place, the fit's curve being the one at dT/dt = 0 (pooled_fit.h). Optimised for: " + a.optimise_for + " (steady:",
+      "that curve; warm-up: the curve with the kept dT/dt gain or lag at the state the logs' still rows had while",
+      "heating, by temperature, projected onto the cubic; both: their mean; no term kept: the steady curve).",
+      "--static-weight does not apply (no drift model). Units: gyro rad/s, accel m/s^2, baro Pa; sensor frame.",
       "Per sensor and axis: the curve's 1 sigma from the fit (curve_sd, firmware unit), constant excluded."};
 }
 
@@ -123,6 +162,7 @@ std::vector<std::string> Comments(const Args& a, const std::vector<Sensor>& all)
       for (double v : s.curve_sd) l << " " << FormatNumber(v, 4);
       c.push_back(l.str());
       c.push_back("    fitted on the " + PooledTermsTextOf(s));
+      if (const std::string t = PooledConditionTextOf(s, a); !t.empty()) c.push_back("    " + t);
       if (s.validation) c.push_back("    " + ValidationText(*s.validation));
     }
     return c;
@@ -194,6 +234,10 @@ std::string CalibrateResult::BriefReport() const {
       continue;
     }
     std::string span = FormatNumber(s.temp_min_c, 4) + ".." + FormatNumber(s.temp_max_c, 4);
+    if (s.fit == "pooled") {
+      t << span << std::string(span.size() < 15 ? 15 - span.size() : 1, ' ') << PooledRowText(s, options.optimise_for);
+      continue;
+    }
     t << span << std::string(span.size() < 15 ? 15 - span.size() : 1, ' ') << DriftModelKindName(s.models[0].kind)
       << std::string(15 - std::min<std::size_t>(14, std::string(DriftModelKindName(s.models[0].kind)).size()), ' ');
     for (double v : s.cost_rms) t << FormatNumber(v, 4) << " ";
@@ -224,11 +268,6 @@ std::string CalibrateResult::BriefReport() const {
   for (const Sensor& s : all) {
     t << s.type << std::string(8 - std::min<std::size_t>(7, s.type.size()), ' ') << s.instance << "     " << s.fit << ": "
       << s.identification.statement << "\n";
-    if (!s.curve_sd.empty()) {
-      t << "                  curve 1 sigma (pooled fit)";
-      for (double v : s.curve_sd) t << " " << FormatNumber(v, 3);
-      t << " " << s.unit << "\n";
-    }
     if (!s.identification.would_help.empty()) t << "                  would help: " << s.identification.would_help << "\n";
   }
   for (const LogStill& l : logs)

@@ -61,23 +61,24 @@ double StateByTemperature::At(double temp_c) const {
   return state[static_cast<std::size_t>(i)];
 }
 
-Result<StateByTemperature> StateWhileHeating(const DriftModel& model, const DriftInputs& record,
-                                             double min_heating_c_per_s, double bin_c) {
+Result<StateByTemperature> HeatingStateByTemperature(std::span<const double> temp_c, std::span<const double> state,
+                                                     std::span<const double> rate_c_per_s, double min_heating_c_per_s,
+                                                     double bin_c) {
   if (!(bin_c > 0.0) || !std::isfinite(min_heating_c_per_s))
-    return InvalidArgument("StateWhileHeating: bin_c must be > 0 and min_heating_c_per_s finite");
+    return InvalidArgument("HeatingStateByTemperature: bin_c must be > 0 and min_heating_c_per_s finite");
+  if (state.size() != temp_c.size() || rate_c_per_s.size() != temp_c.size())
+    return InvalidArgument("HeatingStateByTemperature: temp_c, state and rate_c_per_s must be as long");
   StateByTemperature out;
   out.bin_c = bin_c;
-  if (model.inputs == DriftInputSet::kTemp || record.temp_c.empty()) return out;
-  auto rate = ComputeThermalState(record.temp_c, record.fs_hz, DriftInputSet::kTempAndRate, model.rate, model.state, false);
-  if (!rate.ok()) return rate.error();
-  auto state = ComputeThermalState(record.temp_c, record.fs_hz, model.inputs, model.rate, model.state, false);
-  if (!state.ok()) return state.error();
-  const auto [lo, hi] = std::minmax_element(record.temp_c.begin(), record.temp_c.end());
-  out.t0_c = *lo;
-  std::vector<std::vector<double>> bins(static_cast<std::size_t>((*hi - *lo) / bin_c) + 1);
-  for (std::size_t i = 0; i < record.temp_c.size(); ++i)
-    if ((*rate)[i] >= min_heating_c_per_s)
-      bins[static_cast<std::size_t>((record.temp_c[i] - *lo) / bin_c)].push_back((*state)[i]);
+  double lo = INFINITY, hi = -INFINITY;
+  for (double t : temp_c)
+    if (std::isfinite(t)) lo = std::min(lo, t), hi = std::max(hi, t);
+  if (!(lo <= hi)) return out;
+  out.t0_c = lo;
+  std::vector<std::vector<double>> bins(static_cast<std::size_t>((hi - lo) / bin_c) + 1);
+  for (std::size_t i = 0; i < temp_c.size(); ++i)
+    if (std::isfinite(temp_c[i]) && std::isfinite(state[i]) && rate_c_per_s[i] >= min_heating_c_per_s)
+      bins[static_cast<std::size_t>((temp_c[i] - lo) / bin_c)].push_back(state[i]);
   for (auto& b : bins) {
     if (b.empty()) {
       out.state.push_back(0.0);
@@ -87,6 +88,22 @@ Result<StateByTemperature> StateWhileHeating(const DriftModel& model, const Drif
     out.state.push_back(b[b.size() / 2]);
   }
   return out;
+}
+
+Result<StateByTemperature> StateWhileHeating(const DriftModel& model, const DriftInputs& record,
+                                             double min_heating_c_per_s, double bin_c) {
+  if (!(bin_c > 0.0) || !std::isfinite(min_heating_c_per_s))
+    return InvalidArgument("StateWhileHeating: bin_c must be > 0 and min_heating_c_per_s finite");
+  if (model.inputs == DriftInputSet::kTemp || record.temp_c.empty()) {
+    StateByTemperature out;
+    out.bin_c = bin_c;
+    return out;
+  }
+  auto rate = ComputeThermalState(record.temp_c, record.fs_hz, DriftInputSet::kTempAndRate, model.rate, model.state, false);
+  if (!rate.ok()) return rate.error();
+  auto state = ComputeThermalState(record.temp_c, record.fs_hz, model.inputs, model.rate, model.state, false);
+  if (!state.ok()) return state.error();
+  return HeatingStateByTemperature(record.temp_c, *state, *rate, min_heating_c_per_s, bin_c);
 }
 
 bool CubicProjectionOptions::IsValid(std::string* error) const {

@@ -83,7 +83,12 @@ struct CalibrateOptions {
   // one lag per sensor (every axis); then no dT/dt term. Empty: no lag searched.
   std::vector<double> pooled_lags_s = {10.0, 20.0, 40.0, 60.0, 90.0, 120.0, 180.0, 240.0};
   // What the exported cubic is optimised for (CubicCondition): "steady" (dT/dt = 0, the static
-  // curve), "warm-up" (the state the run had while heating) or "both" (their mean).
+  // curve), "warm-up" (the state the run had while heating) or "both" (their mean). A single
+  // run: the drift model projected at that state. Pooled: the shared curve plus what the thermal
+  // term the fit kept adds at the state every log's still rows had while heating
+  // (CalibratedSensor::heating_state: the dT/dt gain times the heating rate, or the curve at the
+  // lagged temperature T - (T - T_lag)), projected onto the cubic; a sensor with neither term
+  // gets the steady curve whatever the condition.
   std::string optimise_for = "steady";
   // How the static curve is estimated: "temperature" (each temperature alike, static_cubic.h),
   // "time" (the fitted model's own curve at state 0) or "auto" (per axis, the one with the lower
@@ -165,10 +170,22 @@ struct CalibratedSensor {
   // Pooled: per axis, the shared dT/dt gain fitted with the cubic (PooledCubic::rate_gain),
   // firmware unit per (C/s); 0: no dT/dt term (a lag kept, not identified, or not admitted).
   std::vector<double> rate_gain;
+  // Pooled: the thermal state the still rows of every log had while heating, by temperature
+  // (HeatingStateByTemperature, the binning of the single run's StateWhileHeating: the median
+  // over the rows heating at 1/300 C/s or more, 1 C bins from temp_min_c, 0 where no row heated):
+  // dT/dt in C/s where an axis kept the dT/dt term, T - T_lag in C with a lag (temp_lag_s > 0,
+  // Eq. TS-2). CalibrateOptions::optimise_for "warm-up" / "both" fit the exported cubic to the
+  // curve at this state (gain x state added; the lagged curve at T - state) / to the mean of
+  // that and the steady curve. Empty `state` (heating_state_kind ""): no such term, and every
+  // condition gives the steady curve.
+  StateByTemperature heating_state;
+  // The state's name (ThermalStateColumnName): "dtemp_c_per_s", "lag_excess_c", or "" (no term).
+  std::string heating_state_kind;
   // The rows the fit saw, for drawing them under the exported cubics (the calibrate report): a
   // single run's block means, or every log's still rows of a pooled fit, constant included.
   struct FitRows {
-    std::vector<double> temp_c;  // deg C
+    std::vector<double> time_s;  // s, the row's time in its log
+    std::vector<double> temp_c;  // deg C (the logged temperature, also with a lag kept)
     std::vector<std::vector<double>> values;  // per axis, firmware unit
     std::vector<int> log;  // index into CalibrateResult::inputs
     // The constant the row shares (a single run: 0; pooled: its log for a gyro or barometer, its

@@ -68,6 +68,14 @@ struct StateByTemperature {
 // Errors: the record's state cannot be computed (too short, fs <= 0), non-finite values.
 Result<StateByTemperature> StateWhileHeating(const DriftModel& model, const DriftInputs& record,
                                              double min_heating_c_per_s = 1.0 / 300.0, double bin_c = 1.0);
+// The binning StateWhileHeating does, on rows given directly (e.g. the still rows of several
+// logs): per bin_c bin from the lowest temperature, the median state of the rows heating at
+// rate_c_per_s >= min_heating_c_per_s (C/s), 0 in bins without any; a row with a non-finite
+// value is left out. temp_c, state and rate_c_per_s are as long as each other (state in the
+// model's state unit: C/s for dT/dt, C for a lag's T - T_lag). Errors: lengths differ, bin_c <= 0.
+Result<StateByTemperature> HeatingStateByTemperature(std::span<const double> temp_c, std::span<const double> state,
+                                                     std::span<const double> rate_c_per_s,
+                                                     double min_heating_c_per_s = 1.0 / 300.0, double bin_c = 1.0);
 
 // How ProjectOntoCubic fits the firmware's cubic to a model.
 struct CubicProjectionOptions {

@@ -139,8 +139,9 @@ struct DriftAutoOptions {
   // drift as a function of a temperature seen through a first-order lag (a structure behind the
   // die thermometer), f(T_lag) ~ f(T) - f'(T) (T - T_lag), so the lag state's gain is a polynomial
   // of this degree in T. 1..2; 0: not tried. Admitted only by Eq. A-4 (lagged_curve_pieces).
-  // 0 by default: with 2, Eq. A-4 admitted it on 1 of 9 two-direction sim2 runs where it was
-  // 0.45-0.58x poly(T, dT/dt)'s held-out error (docs/explanation/accuracy.md, "A lagged curve").
+  // 0 by default: with 2, Eq. A-4 admitted it on none of 9 two-direction bench/sim2 runs, where,
+  // forced, it was 0.65-0.94x poly(T, dT/dt)'s held-out error (docs/explanation/accuracy.md,
+  // "A lagged curve").
   int lagged_curve_gain_degree = 0;
   // Eq. A-4's pairs for the lagged curve: every thermal segment cut into this many contiguous
   // pieces, one pair each, so that every piece is predicted with the other direction present at

@@ -370,6 +370,11 @@ Command MakeFit(CLI::App& app) {
   sub->add_option("--auto-generations", a->fit.auto_select.search_generations,
                   "auto: cuckoo-search generations of its cs-svr and hybrid candidates")
       ->check(IntegerRange(1, 1'000'000, "DriftAutoOptions::search_generations"))->group(s)->capture_default_str();
+  sub->add_option("--auto-lagged-curve", a->fit.auto_select.lagged_curve_gain_degree,
+                  "auto: also try poly(T) + g(T) (T - T_lag), the lag state with a gain of this degree in T (the "
+                  "curve read at a lagged temperature), admitted only by its paired gain on segment pieces (Eq. A-4); "
+                  "0: not tried")
+      ->check(IntegerRange(0, 2, "DriftAutoOptions::lagged_curve_gain_degree"))->group(s)->capture_default_str();
   sub->add_flag("-v,--verbose", a->verbose,
                 "The fit's full explanation: every candidate's score, what the run identifies, the data support, the band's noise");
   sub->add_flag("--keep-kernel", a->keep_kernel,

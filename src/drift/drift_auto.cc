@@ -5,104 +5,16 @@
 #include <limits>
 #include <sstream>
 
-#include "drift_model_internal.h"
+#include "drift_auto_internal.h"
 #include "gyrocomp/core/format.h"
 
 namespace gyrocomp::drift_internal {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
 // A direction (heating or cooling) identifies a memory state, and a pure kernel model in
 // (T, state), when it covers this share of the fitted temperature range. The paper's profile
 // heats once, 25 -> 60 C of -40..60 C (35%): not enough.
 constexpr double kMemoryCoverage = 0.5;
-
-std::string CandidateName(DriftModelKind kind, DriftInputSet inputs, const DriftFitOptions& o) {
-  std::string name = std::string(DriftModelKindName(kind)) + "(" + DriftInputSetName(inputs);
-  if (inputs != DriftInputSet::kTemp && o.polynomial.gain_temp_degree > 0 && kind != DriftModelKind::kSvr &&
-      kind != DriftModelKind::kCsSvr)
-    name += ",gain(temp)";
-  if (inputs == DriftInputSet::kTempAndLag) name += " tau=" + FormatNumber(o.state.lag_tau_s, 4) + " s";
-  return name + ")";
-}
-
-// Poly CV score of the lag state with time constant tau_s on `plan`.
-double LagScore(const DriftInputs& inputs, std::span<const double> target, DriftFitOptions o, double tau_s,
-                const CvPlan& plan) {
-  ThrowIfCancelled(o.cancel);
-  o.inputs = DriftInputSet::kTempAndLag;
-  o.state.lag_tau_s = tau_s;
-  auto d = PrepareFitData(inputs, target, o);
-  if (!d.ok()) return kInf;
-  auto cv = CrossValidate(d->xd, d->yd, plan, [&](const Columns& tx, std::span<const double> ty, const Columns& vx)
-                                                  -> Result<std::vector<double>> {
-    auto m = FitPolynomial(tx, ty, o.polynomial);
-    if (!m.ok()) return m.error();
-    return m->Predict(vx);
-  });
-  return cv.ok() ? *cv : kInf;
-}
-
-// Golden-section search of log(tau) in [lag_tau_min_s, lag_tau_max_s] on the polynomial's CV
-// score (the structured part decides the physics; the kernel only corrects it).
-double SearchLagTau(const DriftInputs& inputs, std::span<const double> target, const DriftFitOptions& o,
-                    const CvPlan& plan) {
-  const DriftAutoOptions& a = o.auto_select;
-  const double g = (std::sqrt(5.0) - 1.0) / 2.0;
-  double lo = std::log(a.lag_tau_min_s), hi = std::log(a.lag_tau_max_s);
-  double x1 = hi - g * (hi - lo), x2 = lo + g * (hi - lo);
-  double f1 = LagScore(inputs, target, o, std::exp(x1), plan);
-  double f2 = LagScore(inputs, target, o, std::exp(x2), plan);
-  for (int k = 2; k < a.lag_tau_evaluations; ++k) {
-    if (f1 <= f2) {
-      hi = x2, x2 = x1, f2 = f1;
-      x1 = hi - g * (hi - lo);
-      f1 = LagScore(inputs, target, o, std::exp(x1), plan);
-    } else {
-      lo = x1, x1 = x2, f1 = f2;
-      x2 = lo + g * (hi - lo);
-      f2 = LagScore(inputs, target, o, std::exp(x2), plan);
-    }
-  }
-  return std::exp(f1 <= f2 ? x1 : x2);
-}
-
-struct Candidate {
-  DriftModelKind kind;
-  DriftInputSet inputs;
-  std::optional<DriftModel> model;
-  DriftCandidateScore score;
-};
-
-// The options a structured candidate was fitted with: its inputs, state and gain degree.
-DriftFitOptions OptionsOf(const Candidate& c, DriftFitOptions o) {
-  o.inputs = c.inputs;
-  if (c.model) {
-    o.state = c.model->state;
-    o.polynomial.gain_temp_degree = c.model->summary.gain_temp_degree;
-  }
-  return o;
-}
-
-// Fits one candidate with o.inputs / o.state set; records its score or why it failed.
-Candidate FitCandidate(const DriftInputs& inputs, std::span<const double> target, DriftModelKind kind,
-                       const DriftFitOptions& o, const CvPlan& plan) {
-  ThrowIfCancelled(o.cancel);
-  Candidate c{kind, o.inputs, std::nullopt, {CandidateName(kind, o.inputs, o), kind, o.inputs, kInf, ""}};
-  auto d = PrepareFitData(inputs, target, o);
-  if (!d.ok()) {
-    c.score.note = d.error().message;
-    return c;
-  }
-  auto m = FitPrepared(*d, inputs, kind, o, plan);
-  if (!m.ok()) {
-    c.score.note = m.error().message;
-    return c;
-  }
-  c.score.cv_rmse = m->summary.cv_rmse;
-  c.model = std::move(*m);
-  return c;
-}
 
 // Standard error of the mean of the structured candidate's fold RMSEs (0 when unavailable).
 double FoldStandardError(const DriftInputs& inputs, std::span<const double> target, const Candidate& c,
@@ -127,60 +39,6 @@ double FoldStandardError(const DriftInputs& inputs, std::span<const double> targ
   return std::sqrt(ss / static_cast<double>(folds.size() - 1)) / std::sqrt(static_cast<double>(folds.size()));
 }
 
-// The plan Eq. A-4 pairs on: one fold per contiguous run of `plan` (a thermal segment, or a block
-// when the plan fell back to blocks), so that each segment is predicted by a model fitted on all
-// the others and two models' errors are paired segment by segment. `plan` itself when the runs
-// are too many for CrossValidate (fewer than 2 samples each).
-CvPlan SegmentPairPlan(const CvPlan& plan) {
-  CvPlan p = plan;
-  int run = 0;
-  for (std::size_t i = 0; i < p.fold_of.size(); ++i) {
-    if (i > 0 && plan.fold_of[i] != plan.fold_of[i - 1]) ++run;
-    p.fold_of[i] = run;
-  }
-  p.folds = run + 1;
-  p.direction_of.clear();  // per-segment RMSEs: no direction balance within a segment
-  if (p.folds < 2 || p.fold_of.size() < 2 * static_cast<std::size_t>(p.folds)) return plan;
-  return p;
-}
-
-// Per-fold RMSEs of a structured candidate's polynomial (OLS, refitted per fold) on `plan`.
-std::vector<double> FoldRmse(const DriftInputs& inputs, std::span<const double> target, const Candidate& c,
-                             const DriftFitOptions& o, const CvPlan& plan) {
-  std::vector<double> folds;
-  if (!c.model) return folds;
-  const DriftFitOptions f = OptionsOf(c, o);
-  auto d = PrepareFitData(inputs, target, f);
-  if (!d.ok() || d->yd.size() != plan.fold_of.size()) return folds;
-  auto cv = CrossValidate(
-      d->xd, d->yd, plan,
-      [&](const Columns& tx, std::span<const double> ty, const Columns& vx) -> Result<std::vector<double>> {
-        auto m = FitPolynomial(tx, ty, f.polynomial);
-        if (!m.ok()) return m.error();
-        return m->Predict(vx);
-      },
-      &folds);
-  if (!cv.ok()) folds.clear();
-  return folds;
-}
-
-// Eq. A-4 for one term: candidate `richer` against the incumbent's fold RMSEs `simpler_folds`.
-TermAdmission TestTerm(const char* term, const Candidate& simpler, const std::vector<double>& simpler_folds,
-                       const Candidate& richer, const std::vector<double>& richer_folds) {
-  TermAdmission t{term, richer.score.name, simpler.score.name, {}, false, ""};
-  if (!richer.model) {
-    t.note = richer.score.note.empty() ? "not fitted" : richer.score.note;
-    return t;
-  }
-  if (simpler_folds.empty() || richer_folds.size() != simpler_folds.size()) {
-    t.note = "not tested: the segment cross-validation did not score both models";
-    return t;
-  }
-  t.gain = PairedTermGain(simpler_folds, richer_folds);
-  t.admitted = t.gain.Admitted();
-  return t;
-}
-
 // The structured model, term by term, in the nested order poly(T) -> +dT/dt -> +memory / +lag:
 // dT/dt enters when Eq. I-1 identifies its gain; a memory or lag enters only when its paired
 // leave-one-segment-out CV gain over the simpler model exceeds the SE of those paired gains
@@ -189,7 +47,7 @@ TermAdmission TestTerm(const char* term, const Candidate& simpler, const std::ve
 // runs of a simulator written apart from this code (docs/explanation/drift-models.md).
 std::size_t ChooseStructured(const DriftInputs& inputs, std::span<const double> target, const DriftFitOptions& o,
                              const CvPlan& plan, std::vector<Candidate>* all, std::vector<TermAdmission>* tests) {
-  std::vector<Candidate>& c = *all;  // order: temp, temp+dtemp, temp+dtemp+memory, temp+lag, temp+memory
+  std::vector<Candidate>& c = *all;  // order: temp, temp+dtemp, temp+dtemp+memory, temp+lag, temp+memory[, lagged curve]
   if (!c[0].model) return c[1].model ? 1 : 0;  // poly(T) failed: nothing to test against
   const CvPlan pairs = SegmentPairPlan(plan);
   std::size_t best = 0;
@@ -208,56 +66,18 @@ std::size_t ChooseStructured(const DriftInputs& inputs, std::span<const double> 
     tests->push_back(TestTerm(i == 3 ? "lag" : "memory", c[base], incumbent, c[i], folds));
     if (tests->back().admitted && tests->back().gain.gain > best_gain) best = i, best_gain = tests->back().gain.gain;
   }
+  // The lagged curve (c[5]) against the model chosen so far, paired on segment pieces: leaving out
+  // a whole ramp leaves one direction at its temperatures, where a gain in T times a ramp's
+  // near-constant rate is a polynomial in T, the curve's own form; a piece has the other direction
+  // at its temperatures in the training folds (DriftAutoOptions::lagged_curve_pieces).
+  if (c.size() > 5) {
+    const CvPlan pieces = SegmentPairPlan(plan, o.auto_select.lagged_curve_pieces);
+    incumbent = FoldRmse(inputs, target, c[best], o, pieces);
+    folds = FoldRmse(inputs, target, c[5], o, pieces);
+    tests->push_back(TestTerm("lagged curve", c[best], incumbent, c[5], folds));
+    if (tests->back().admitted) best = 5;  // Eq. A-4
+  }
   return best;
-}
-
-// Eq. H-1 for a pure kernel candidate: its searched SVR (C, gamma, epsilon fixed) against the
-// structured model `incumbent`, both refitted on every fold of the contiguous-block plan of
-// Eq. H-1 (GainTestPlan) and paired block by block; admitted iff mean gain > block-to-block SD.
-TermAdmission TestKernel(const DriftInputs& inputs, std::span<const double> target, const Candidate& incumbent,
-                         const Candidate& kernel, const DriftFitOptions& o) {
-  TermAdmission t{"kernel", kernel.score.name, incumbent.score.name, {}, false, ""};
-  if (!incumbent.model || !kernel.model) {
-    t.note = "not tested: a model was not fitted";
-    return t;
-  }
-  const DriftFitOptions fs = OptionsOf(incumbent, o);
-  DriftFitOptions fk = o;
-  fk.inputs = kernel.inputs;
-  auto ds = PrepareFitData(inputs, target, fs);
-  auto dk = PrepareFitData(inputs, target, fk);
-  if (!ds.ok() || !dk.ok() || ds->yd.size() != dk->yd.size()) {
-    t.note = "not tested: the two models' training copies differ";
-    return t;
-  }
-  const CvPlan blocks = GainTestPlan(ds->yd.size(), o);
-  SvrOptions chosen = o.svr;
-  const DriftFitSummary& k = kernel.model->summary;
-  if (!k.C || !k.gamma || !k.epsilon) {
-    t.note = "not tested: the kernel's parameters are not recorded";
-    return t;
-  }
-  chosen.C = *k.C;
-  chosen.gamma = k.gamma;
-  chosen.sigma.reset();
-  chosen.epsilon = *k.epsilon;
-  std::vector<double> structured, kernel_folds;
-  auto a = CrossValidate(
-      ds->xd, ds->yd, blocks,
-      [&](const Columns& tx, std::span<const double> ty, const Columns& vx) -> Result<std::vector<double>> {
-        auto m = FitPolynomial(tx, ty, fs.polynomial);
-        if (!m.ok()) return m.error();
-        return m->Predict(vx);
-      },
-      &structured);
-  auto b = CrossValidate(dk->xd, dk->yd, blocks, SvrFitPredict(chosen), &kernel_folds);
-  if (!a.ok() || !b.ok() || structured.size() != kernel_folds.size()) {
-    t.note = "not tested: the block cross-validation did not score both models";
-    return t;
-  }
-  t.gain = PairedTermGain(structured, kernel_folds);
-  t.admitted = KernelWins(t.gain);
-  return t;
 }
 
 std::string AdmissionReason(const std::vector<TermAdmission>& tests) {
@@ -288,29 +108,11 @@ std::string SelectionReason(const std::vector<Candidate>& all, std::size_t best,
   return s.str();
 }
 
-// A candidate left out before it was fitted: scored +inf with the note.
-Candidate Skipped(DriftModelKind kind, DriftInputSet in, const DriftFitOptions& c, const std::string& note) {
-  (void)c;
-  return {kind, in, std::nullopt,
-          {std::string(DriftModelKindName(kind)) + "(" + DriftInputSetName(in) + ")", kind, in, kInf, note}};
-}
-
-// What the run supports before anything is fitted (Eqs. I-0, I-1, I-3): the degree, whether a
-// state or a kernel may enter, the dT/dt test. Excluded terms go to *excluded.
-struct Support {
-  int degree = 3;
-  bool states = true;         // Eq. I-0: a state coefficient fits the points
-  bool kernels = true;        // Eq. I-0: enough points for a kernel
-  bool memory = false;        // Eq. I-3
-  bool two_states = false;    // Eq. I-0: one more coefficient than a one-state candidate
-  TermTest rate;              // Eq. I-1
-  std::string description;    // data_support
-};
-
 Support AssessSupport(const DriftInputs& inputs, std::span<const double> target, const DriftFitOptions& o,
                       const CvPlan& plan, std::size_t points, double train_period_s, std::vector<ExcludedTerm>* excluded) {
   Support s;
   const std::size_t max_coef = MaxCoefficients(points);
+  s.max_coefficients = max_coef;
   s.degree = std::min<int>(o.polynomial.degree, std::max<int>(1, static_cast<int>(max_coef) - 1));
   s.states = max_coef >= static_cast<std::size_t>(s.degree + 1 + o.polynomial.dtemp_degree);
   s.two_states = max_coef >= static_cast<std::size_t>(s.degree + 2 + o.polynomial.dtemp_degree);
@@ -358,21 +160,6 @@ Support AssessSupport(const DriftInputs& inputs, std::span<const double> target,
   return s;
 }
 
-// The lag candidate: tau by the 1-D search, then Eq. I-2 on the CV profile around it.
-Candidate FitLagCandidate(const DriftInputs& inputs, std::span<const double> target, DriftFitOptions c,
-                          const CvPlan& plan, const Support& s, std::vector<ExcludedTerm>* excluded) {
-  c.inputs = DriftInputSet::kTempAndLag;
-  c.state.lag_tau_s = SearchLagTau(inputs, target, c, plan);
-  const double tau = c.state.lag_tau_s;
-  const TermTest t = TestLagTau(tau, LagScore(inputs, target, c, tau, plan), LagScore(inputs, target, c, tau / 3.0, plan),
-                                LagScore(inputs, target, c, 3.0 * tau, plan), s.rate.identified, s.memory);
-  if (!t.identified) {
-    excluded->push_back(t.why);
-    return Skipped(DriftModelKind::kPolynomial, c.inputs, c, "left out: the run does not identify tau (" + t.evidence + ")");
-  }
-  return FitCandidate(inputs, target, DriftModelKind::kPolynomial, c, plan);
-}
-
 // The CV scores and the span, with any score larger than the span flagged: such a candidate
 // extrapolated a left-out segment far outside what the others cover.
 std::string FlagCvScale(const std::vector<Candidate>& all, double span) {
@@ -409,14 +196,14 @@ void AddKernelCandidates(const DriftInputs& inputs, std::span<const double> targ
               : why_not;
   c.inputs = DriftInputSet::kTempAndRate;
   for (DriftModelKind k : {DriftModelKind::kSvr, DriftModelKind::kCsSvr})
-    all.push_back(pure_kernels ? FitCandidate(inputs, target, k, c, plan) : Skipped(k, c.inputs, c, why_not_pure));
+    all.push_back(pure_kernels ? FitCandidate(inputs, target, k, c, plan) : Skipped(k, c.inputs, why_not_pure));
   // The hybrid on the best structured state (and its tau), on runs that heat and cool only: its
   // kernel in (T, state) is validated on the direction(s) the run covers, and on a cooling
   // calibration it learnt what the cooling blocks share (flicker, a hysteresis branch) and
   // applied it to the next heating run: B6 passed Eq. H-1 and was 1.88x poly's heating error.
   c = OptionsOf(all[best_poly], c);
   all.push_back(kernels ? FitCandidate(inputs, target, DriftModelKind::kHybrid, c, plan)
-                        : Skipped(DriftModelKind::kHybrid, c.inputs, c,
+                        : Skipped(DriftModelKind::kHybrid, c.inputs,
                                   !sup.kernels ? why_not
                                                : "not fitted: the run does not cover both directions, its kernel "
                                                  "cannot be validated on the other"));
@@ -449,16 +236,16 @@ Result<DriftModel> FitAuto(const DriftInputs& inputs, std::span<const double> ta
                         : !sup.rate.identified ? "left out: the run does not identify the dT/dt gain (Eq. I-1)"
                         : !memory ? "skipped: the run does not both heat and cool over enough of its range (Eq. I-3)"
                                   : nullptr;
-      all.push_back(why ? Skipped(DriftModelKind::kPolynomial, in, c, why)
+      all.push_back(why ? Skipped(DriftModelKind::kPolynomial, in, why)
                         : FitCandidate(inputs, target, DriftModelKind::kPolynomial, c, plan));
       continue;
     }
     if (in != DriftInputSet::kTemp && !sup.states) {
-      all.push_back(Skipped(DriftModelKind::kPolynomial, in, c, "left out: too few points (Eq. I-0)"));
+      all.push_back(Skipped(DriftModelKind::kPolynomial, in, "left out: too few points (Eq. I-0)"));
       continue;
     }
     if (in == DriftInputSet::kTempAndRate && !sup.rate.identified) {
-      all.push_back(Skipped(DriftModelKind::kPolynomial, in, c, "left out: the run does not identify the dT/dt gain (Eq. I-1)"));
+      all.push_back(Skipped(DriftModelKind::kPolynomial, in, "left out: the run does not identify the dT/dt gain (Eq. I-1)"));
       continue;
     }
     // The lag and memory states carry history: on a ramp the lag excess is ~ -tau dT/dt and
@@ -467,7 +254,7 @@ Result<DriftModel> FitAuto(const DriftInputs& inputs, std::span<const double> ta
     // 638-5314 s that fitted the cooling blocks and were 1.6-5.1x worse than poly(T, dT/dt) on
     // the next heating run (docs/explanation/drift-models.md "Thermal states").
     if ((in == DriftInputSet::kTempAndMemory || in == DriftInputSet::kTempAndLag) && !memory) {
-      all.push_back(Skipped(DriftModelKind::kPolynomial, in, c,
+      all.push_back(Skipped(DriftModelKind::kPolynomial, in,
                             "skipped: the run does not both heat and cool over enough of its range (Eq. I-3)"));
       continue;
     }
@@ -476,6 +263,19 @@ Result<DriftModel> FitAuto(const DriftInputs& inputs, std::span<const double> ta
       continue;
     }
     all.push_back(FitCandidate(inputs, target, DriftModelKind::kPolynomial, c, plan));
+  }
+  // The lagged curve poly(T) + g(T) (T - T_lag): a state with a history, so on runs that heat
+  // and cool only (Eq. I-3, as the lag); Eq. I-0 for its 2 + gain degree coefficients beyond poly(T).
+  if (const int gd = o.auto_select.lagged_curve_gain_degree; gd > 0) {
+    const std::string name = "poly(temp,lag,gain(temp))";
+    if (!memory)
+      all.push_back(Skipped(DriftModelKind::kPolynomial, DriftInputSet::kTempAndLag,
+                            "skipped: the run does not both heat and cool over enough of its range (Eq. I-3)", name));
+    else if (!sup.states || sup.max_coefficients < static_cast<std::size_t>(sup.degree + 2 + gd))
+      all.push_back(Skipped(DriftModelKind::kPolynomial, DriftInputSet::kTempAndLag,
+                            "left out: too few points for a gain in T (Eq. I-0)", name));
+    else
+      all.push_back(FitLaggedCurveCandidate(inputs, target, c, plan));
   }
   std::vector<TermAdmission> tests;
   const std::size_t best_poly = ChooseStructured(inputs, target, c, plan, &all, &tests);
@@ -625,7 +425,7 @@ std::string TermAdmission::BriefReport(double scale, const std::string& unit) co
   if (term == "kernel")  // Eq. H-1: paired on contiguous blocks, the stricter gain > SD
     return s + gain.BriefReport(scale, unit, "blocks") + ", block SD " + FormatNumber(gain.Sd() * scale, 3) +
            (admitted ? ", admitted (gain > SD, Eq. H-1)" : ", rejected (gain <= SD, Eq. H-1)");
-  const std::string g = gain.BriefReport(scale, unit, "segments");
+  const std::string g = gain.BriefReport(scale, unit, term == "lagged curve" ? "segment pieces" : "segments");
   if (admitted && !gain.Admitted()) return s + g + ", admitted by Eq. I-1 (its gain is identified; this paired gain is shown, not decisive)";
   return s + g + (admitted ? ", admitted" : ", rejected (gain <= SE)");
 }

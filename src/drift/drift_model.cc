@@ -81,6 +81,17 @@ bool DriftAutoOptions::IsValid(std::string* error) const {
       *error = "DriftAutoOptions::lag_tau_evaluations = " + std::to_string(lag_tau_evaluations) + ": must be >= 3";
     return false;
   }
+  if (lagged_curve_gain_degree < 0 || lagged_curve_gain_degree > 2) {
+    if (error)
+      *error = "DriftAutoOptions::lagged_curve_gain_degree = " + std::to_string(lagged_curve_gain_degree) +
+               ": must be in 0..2";
+    return false;
+  }
+  if (lagged_curve_pieces < 1) {
+    if (error)
+      *error = "DriftAutoOptions::lagged_curve_pieces = " + std::to_string(lagged_curve_pieces) + ": must be >= 1";
+    return false;
+  }
   return true;
 }
 

@@ -135,6 +135,18 @@ struct DriftAutoOptions {
   double lag_tau_min_s = 30.0;
   double lag_tau_max_s = 5400.0;  // upper end of the tau search, s
   int lag_tau_evaluations = 12;  // evaluations of the tau search
+  // The lagged-curve candidate poly(T) + g(T) (T - T_lag) on runs that heat and cool (Eq. I-3): the
+  // drift as a function of a temperature seen through a first-order lag (a structure behind the
+  // die thermometer), f(T_lag) ~ f(T) - f'(T) (T - T_lag), so the lag state's gain is a polynomial
+  // of this degree in T. 1..2; 0: not tried. Admitted only by Eq. A-4 (lagged_curve_pieces).
+  // 0 by default: with 2, Eq. A-4 admitted it on none of 9 two-direction bench/sim2 runs, where,
+  // forced, it was 0.65-0.94x poly(T, dT/dt)'s held-out error (docs/explanation/accuracy.md,
+  // "A lagged curve").
+  int lagged_curve_gain_degree = 0;
+  // Eq. A-4's pairs for the lagged curve: every thermal segment cut into this many contiguous
+  // pieces, one pair each, so that every piece is predicted with the other direction present at
+  // its temperatures (leaving out a whole ramp confounds a gain in T with the curve). >= 1.
+  int lagged_curve_pieces = 3;
   // False with the reason in `error` when a setting is out of range.
   bool IsValid(std::string* error) const;
 };

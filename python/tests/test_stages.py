@@ -103,6 +103,9 @@ def test_drift_model_fit_predict_save_load(tmp_path):
     assert summary["drift_span"] > 0.0 and "Eq. I-0" in summary["data_support"]
     # A single ramp identifies no dT/dt gain: left out, with the run that would identify it.
     assert any(t["term"] == "dT/dt gain" and t["would_identify"] for t in summary["excluded_terms"])
+    # fit --auto-lagged-curve's option is read (out of its range 0..2: refused).
+    with pytest.raises((RuntimeError, ValueError), match="lagged_curve_gain_degree"):
+        gyrocomp.fit_drift_model(temp, target, fs, lagged_curve_gain_degree=3)
     with pytest.raises(ValueError):
         gyrocomp.drift_model_from_json("{}")
     with pytest.raises((RuntimeError, ValueError)):

@@ -218,15 +218,20 @@ TEST(CalibrateFlights, APooledFileOptimisedForWarmUpIsTheCurvePlusTheGainTimesTh
         const double expected = x(0) + u * (x(1) + u * (x(2) + u * x(3)));
         EXPECT_NEAR(got.Evaluate(t), expected, 1e-6 * std::max(largest, 1e-12)) << g.cols[k] << " w " << w << " T " << t;
       }
-      if (gain == 0.0) EXPECT_EQ(got.coeff, c.coeff) << g.cols[k];
+      if (gain == 0.0) {
+        EXPECT_EQ(got.coeff, c.coeff) << g.cols[k];
+      }
     }
   }
   EXPECT_GE(with_term, 1) << "the 1 and 3 C/min ramps identify the dT/dt gain on at least one axis";
   // An accelerometer without the term: the same cubic whatever the condition.
   const CalibratedSensor& acc = steady.sensors[1];
   ASSERT_EQ(acc.type, "accel");
-  if (acc.heating_state_kind.empty())
-    for (std::size_t k = 0; k < 3; ++k) EXPECT_EQ(warm.sensors[1].cubics[k].coeff, acc.cubics[k].coeff);
+  if (acc.heating_state_kind.empty()) {
+    for (std::size_t k = 0; k < 3; ++k) {
+      EXPECT_EQ(warm.sensors[1].cubics[k].coeff, acc.cubics[k].coeff);
+    }
+  }
 }
 
 // One IMU of one board in an ordinary flight with the given curve (FlightSimOptions).

@@ -49,7 +49,9 @@ void ExpectRuleApplied(const DriftModel& m) {
       EXPECT_EQ(t.admitted, t.note.empty()) << t.BriefReport();  // Eq. I-1 decides; A-4 is shown
     } else if (t.term == "kernel") {  // a pure kernel: Eq. H-1, gain > block-to-block SD
       EXPECT_EQ(t.admitted, t.gain.pairs >= 2 && t.gain.gain > t.gain.Sd()) << t.BriefReport();
-      if (!t.admitted) EXPECT_NE(m.kind, t.candidate.rfind("cs-svr", 0) == 0 ? DriftModelKind::kCsSvr : DriftModelKind::kSvr);
+      if (!t.admitted) {
+        EXPECT_NE(m.kind, t.candidate.rfind("cs-svr", 0) == 0 ? DriftModelKind::kCsSvr : DriftModelKind::kSvr);
+      }
       continue;
     } else if (t.gain.pairs >= 2) {
       EXPECT_EQ(t.admitted, t.gain.gain > t.gain.se) << t.BriefReport();
@@ -63,7 +65,9 @@ void ExpectRuleApplied(const DriftModel& m) {
     }
   }
   // A lag admitted over poly(T, dT/dt) replaces the dT/dt term (on a ramp T - T_lag ~ tau dT/dt).
-  if (m.inputs != DriftInputSet::kTempAndLag) EXPECT_EQ(Has(m, "dT/dt"), rate_admitted) << s.selection_reason;
+  if (m.inputs != DriftInputSet::kTempAndLag) {
+    EXPECT_EQ(Has(m, "dT/dt"), rate_admitted) << s.selection_reason;
+  }
 }
 
 // A strong dT/dt gain (4 deg/s per C/s) on the paper's cooling staircase: the gain is admitted,

@@ -48,6 +48,26 @@ double RmsAfterOffset(const std::vector<double>& temps, F x, G y) {
   return std::sqrt(ss / static_cast<double>(d.size()));
 }
 
+// Expects `got` to be the least-squares cubic of f over 401 equal steps of `about`'s range, in
+// `about`'s standardised u = (T - ref) / half-range, at 41 of them within `tol`.
+template <class F>
+void ExpectLeastSquaresCubic(const TemperatureCubic& about, F f, const TemperatureCubic& got, double tol, const std::string& what) {
+  const double h = 0.5 * (about.temp_max_c - about.temp_min_c);
+  const auto temp = [&](int i) { return about.temp_min_c + (about.temp_max_c - about.temp_min_c) * i / 400.0; };
+  Eigen::MatrixXd A(401, 4);
+  Eigen::VectorXd y(401);
+  for (int i = 0; i < 401; ++i) {
+    const double u = (temp(i) - about.ref_temp_c) / h;
+    A.row(i) << 1.0, u, u * u, u * u * u;
+    y(i) = f(temp(i));
+  }
+  const Eigen::Vector4d x = A.colPivHouseholderQr().solve(y);
+  for (int i = 0; i <= 400; i += 10) {
+    const double u = (temp(i) - about.ref_temp_c) / h;
+    EXPECT_NEAR(got.Evaluate(temp(i)), x(0) + u * (x(1) + u * (x(2) + u * x(3))), tol) << what << " T " << temp(i);
+  }
+}
+
 BoardRun Chamber(ThermalProfileKind kind, std::uint64_t seed) {
   BoardSimOptions o;
   o.chamber.profile.kind = kind;
@@ -200,24 +220,11 @@ TEST(CalibrateFlights, APooledFileOptimisedForWarmUpIsTheCurvePlusTheGainTimesTh
     with_term += gain != 0.0;
     for (const auto& [result, w] : {std::pair{&warm, 1.0}, std::pair{&both, 0.5}}) {
       const TemperatureCubic& c = g.cubics[k];
-      // Least squares over 401 temperatures: columns 1, u, u^2, u^3, u = (T - ref) / h.
-      const double h = 0.5 * (c.temp_max_c - c.temp_min_c);
-      Eigen::MatrixXd A(401, 4);
-      Eigen::VectorXd y(401);
-      double largest = 0.0;
-      for (int i = 0; i < 401; ++i) {
-        const double t = c.temp_min_c + (c.temp_max_c - c.temp_min_c) * i / 400.0, u = (t - c.ref_temp_c) / h;
-        A.row(i) << 1.0, u, u * u, u * u * u;
-        y(i) = c.Evaluate(t) + w * gain * state_at(t);
-        largest = std::max(largest, std::abs(gain * state_at(t)));
-      }
-      const Eigen::Vector4d x = A.colPivHouseholderQr().solve(y);
+      double largest = 0.0;  // the term's largest effect
+      for (int i = 0; i <= 400; ++i) largest = std::max(largest, std::abs(gain * state_at(c.temp_min_c + (c.temp_max_c - c.temp_min_c) * i / 400.0)));
       const TemperatureCubic& got = result->sensors[0].cubics[k];
-      for (int i = 0; i <= 400; i += 10) {
-        const double t = c.temp_min_c + (c.temp_max_c - c.temp_min_c) * i / 400.0, u = (t - c.ref_temp_c) / h;
-        const double expected = x(0) + u * (x(1) + u * (x(2) + u * x(3)));
-        EXPECT_NEAR(got.Evaluate(t), expected, 1e-6 * std::max(largest, 1e-12)) << g.cols[k] << " w " << w << " T " << t;
-      }
+      ExpectLeastSquaresCubic(c, [&](double t) { return c.Evaluate(t) + w * gain * state_at(t); }, got,
+                              1e-6 * std::max(largest, 1e-12), g.cols[k] + " w " + std::to_string(w));
       if (gain == 0.0) {
         EXPECT_EQ(got.coeff, c.coeff) << g.cols[k];
       }
@@ -531,22 +538,16 @@ void ExpectWarmUpIsTheLaggedCurveAtTheHeatingState(const std::vector<std::string
   ASSERT_EQ(g.temp_lag_s, steady.temp_lag_s);
   ASSERT_EQ(g.heating_state_kind, "lag_excess_c");
   const TemperatureCubic& c = steady.cubics[0];
-  const double h = 0.5 * (c.temp_max_c - c.temp_min_c);
-  Eigen::MatrixXd A(401, 4);
-  Eigen::VectorXd y(401);
-  double largest = 0.0;
-  for (int i = 0; i < 401; ++i) {
-    const double t = c.temp_min_c + (c.temp_max_c - c.temp_min_c) * i / 400.0, u = (t - c.ref_temp_c) / h;
+  const auto lagged = [&](double t) {
     const double d = t - g.heating_state.At(t) - c.ref_temp_c;  // the lagged temperature - ref, unclamped
-    A.row(i) << 1.0, u, u * u, u * u * u;
-    y(i) = c.coeff[0] + d * (c.coeff[1] + d * (c.coeff[2] + d * c.coeff[3]));
-    largest = std::max(largest, std::abs(y(i) - c.Evaluate(t)));
+    return c.coeff[0] + d * (c.coeff[1] + d * (c.coeff[2] + d * c.coeff[3]));
+  };
+  double largest = 0.0;  // the lag's largest effect
+  for (int i = 0; i <= 400; ++i) {
+    const double t = c.temp_min_c + (c.temp_max_c - c.temp_min_c) * i / 400.0;
+    largest = std::max(largest, std::abs(lagged(t) - c.Evaluate(t)));
   }
-  const Eigen::Vector4d x = A.colPivHouseholderQr().solve(y);
-  for (int i = 0; i <= 400; i += 10) {
-    const double t = c.temp_min_c + (c.temp_max_c - c.temp_min_c) * i / 400.0, u = (t - c.ref_temp_c) / h;
-    EXPECT_NEAR(g.cubics[0].Evaluate(t), x(0) + u * (x(1) + u * (x(2) + u * x(3))), 1e-6 * largest) << t;
-  }
+  ExpectLeastSquaresCubic(c, lagged, g.cubics[0], 1e-6 * largest, "lagged");
   std::vector<double> rows(logged_and_lagged.size());
   std::iota(rows.begin(), rows.end(), 0.0);
   const auto on_rows = [&](const TemperatureCubic& cubic) {

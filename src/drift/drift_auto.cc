@@ -19,20 +19,8 @@ constexpr double kMemoryCoverage = 0.5;
 // Standard error of the mean of the structured candidate's fold RMSEs (0 when unavailable).
 double FoldStandardError(const DriftInputs& inputs, std::span<const double> target, const Candidate& c,
                          const CvPlan& plan, const DriftFitOptions& o) {
-  if (!c.model) return 0.0;
-  const DriftFitOptions f = OptionsOf(c, o);
-  auto d = PrepareFitData(inputs, target, f);
-  if (!d.ok()) return 0.0;
-  std::vector<double> folds;
-  auto cv = CrossValidate(
-      d->xd, d->yd, plan,
-      [&](const Columns& tx, std::span<const double> ty, const Columns& vx) -> Result<std::vector<double>> {
-        auto m = FitPolynomial(tx, ty, f.polynomial);
-        if (!m.ok()) return m.error();
-        return m->Predict(vx);
-      },
-      &folds);
-  if (!cv.ok() || folds.size() < 2) return 0.0;
+  const std::vector<double> folds = FoldRmse(inputs, target, c, o, plan);
+  if (folds.size() < 2) return 0.0;
   double mean = 0.0, ss = 0.0;
   for (double v : folds) mean += v / static_cast<double>(folds.size());
   for (double v : folds) ss += (v - mean) * (v - mean);

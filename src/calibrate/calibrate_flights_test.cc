@@ -223,7 +223,8 @@ TEST(CalibrateFlights, APooledFileOptimisedForWarmUpIsTheCurvePlusTheGainTimesTh
       double largest = 0.0;  // the term's largest effect
       for (int i = 0; i <= 400; ++i) largest = std::max(largest, std::abs(gain * state_at(c.temp_min_c + (c.temp_max_c - c.temp_min_c) * i / 400.0)));
       const TemperatureCubic& got = result->sensors[0].cubics[k];
-      ExpectLeastSquaresCubic(c, [&](double t) { return c.Evaluate(t) + w * gain * state_at(t); }, got,
+      const double weight = w;  // Clang 14 refuses to capture a structured binding in a lambda
+      ExpectLeastSquaresCubic(c, [&](double t) { return c.Evaluate(t) + weight * gain * state_at(t); }, got,
                               1e-6 * std::max(largest, 1e-12), g.cols[k] + " w " + std::to_string(w));
       if (gain == 0.0) {
         EXPECT_EQ(got.coeff, c.coeff) << g.cols[k];

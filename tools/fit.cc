@@ -289,6 +289,48 @@ int Run(FitArgs a) {
   return kExitOk;
 }
 
+// fit's "Search (grid-svr, cs-svr)" options: the cuckoo and grid searches, auto's budgets and CV.
+void AddSearchOptions(CLI::App* sub, FitArgs* a) {
+  const std::string s = "Search (grid-svr, cs-svr)";
+  sub->add_option("--nests", a->fit.search.cuckoo.num_nests, "Cuckoo-search nests")->group(s)->capture_default_str();
+  sub->add_option("--generations", a->fit.search.cuckoo.max_generations, "Cuckoo-search generations (2 x nests fits each)")
+      ->group(s)->capture_default_str();
+  sub->add_option("--pa", a->fit.search.cuckoo.discovery_probability, "Discovery probability pa")->group(s)->capture_default_str();
+  sub->add_option("--seed", a->fit.search.cuckoo.seed, "Seed (the result depends on it only, not on threads)")
+      ->group(s)->capture_default_str();
+  sub->add_option("--threads", a->fit.search.cuckoo.num_threads, "Threads evaluating parameter sets (default: all cores)")
+      ->check(IntegerRange(1, 4096, "CuckooSearchOptions::num_threads"))->group(s);
+  sub->add_option("--C-min", a->fit.search.C.lower, "Lower bound of C")->group(s)->capture_default_str();
+  sub->add_option("--C-max", a->fit.search.C.upper, "Upper bound of C")->group(s)->capture_default_str();
+  sub->add_option("--sigma-min", a->fit.search.sigma.lower, "Lower bound of sigma")->group(s)->capture_default_str();
+  sub->add_option("--sigma-max", a->fit.search.sigma.upper, "Upper bound of sigma")->group(s)->capture_default_str();
+  sub->add_flag("--search-epsilon", a->search_epsilon, "cs-svr: also search epsilon in [0.001, 0.5]")->group(s);
+  sub->add_option("--grid-budget", a->fit.search.grid_budget, "grid-svr: parameter sets (default: cs-svr's budget)")
+      ->check(IntegerRange(4, 1'000'000'000, "SvrSearchOptions::grid_budget"))->group(s);
+  sub->add_flag("--cv-all", a->cv_all,
+                "Score every held-out sample in the blocked CV, also those outside the other blocks' temperature range "
+                "(default: in-range only)")->group(s);
+  sub->add_option("--cv-scheme", a->cv_scheme,
+                  "Cross-validation folds: blocks | segments (default: segments for auto and hybrid, blocks otherwise)")
+      ->check(CLI::IsMember({"blocks", "segments"}))->group(s);
+  sub->add_option("--auto-generations", a->fit.auto_select.search_generations,
+                  "auto: cuckoo-search generations of its cs-svr and hybrid candidates")
+      ->check(IntegerRange(1, 1'000'000, "DriftAutoOptions::search_generations"))->group(s)->capture_default_str();
+  sub->add_option("--auto-lagged-curve", a->fit.auto_select.lagged_curve_gain_degree,
+                  "auto: also try poly(T) + g(T) (T - T_lag), the lag state with a gain of this degree in T (the "
+                  "curve read at a lagged temperature), admitted only by its paired gain on segment pieces (Eq. A-4); "
+                  "0: not tried")
+      ->check(IntegerRange(0, 2, "DriftAutoOptions::lagged_curve_gain_degree"))->group(s)->capture_default_str();
+  sub->add_flag("-v,--verbose", a->verbose,
+                "The fit's full explanation: every candidate's score, what the run identifies, the data support, the band's noise");
+  sub->add_flag("--keep-kernel", a->keep_kernel,
+                "hybrid: keep the kernel even when it does not beat the structured part by more than the "
+                "block-to-block spread of its CV gain (default: dropped then, and the model is its structured part)")
+      ->group(s);
+  sub->add_option("--cv-folds", a->fit.cv_folds, "Contiguous blocks of the blocked cross-validation")
+      ->check(IntegerRange(2, 1'000'000, "DriftFitOptions::cv_folds"))->group(s)->capture_default_str();
+}
+
 Command MakeFit(CLI::App& app) {
   auto a = std::make_shared<FitArgs>();
   CLI::App* sub = app.add_subcommand(
@@ -345,44 +387,7 @@ Command MakeFit(CLI::App& app) {
   sub->add_option("--svr-tol", a->fit.svr.tolerance, "LIBSVM stopping tolerance (its -e)")->group(g)->capture_default_str();
   sub->add_option("--scale", a->scale, "standard: standardise inputs and target; none: raw (gamma in 1/degC^2)")
       ->check(CLI::IsMember({"standard", "none"}))->group(g)->capture_default_str();
-  const std::string s = "Search (grid-svr, cs-svr)";
-  sub->add_option("--nests", a->fit.search.cuckoo.num_nests, "Cuckoo-search nests")->group(s)->capture_default_str();
-  sub->add_option("--generations", a->fit.search.cuckoo.max_generations, "Cuckoo-search generations (2 x nests fits each)")
-      ->group(s)->capture_default_str();
-  sub->add_option("--pa", a->fit.search.cuckoo.discovery_probability, "Discovery probability pa")->group(s)->capture_default_str();
-  sub->add_option("--seed", a->fit.search.cuckoo.seed, "Seed (the result depends on it only, not on threads)")
-      ->group(s)->capture_default_str();
-  sub->add_option("--threads", a->fit.search.cuckoo.num_threads, "Threads evaluating parameter sets (default: all cores)")
-      ->check(IntegerRange(1, 4096, "CuckooSearchOptions::num_threads"))->group(s);
-  sub->add_option("--C-min", a->fit.search.C.lower, "Lower bound of C")->group(s)->capture_default_str();
-  sub->add_option("--C-max", a->fit.search.C.upper, "Upper bound of C")->group(s)->capture_default_str();
-  sub->add_option("--sigma-min", a->fit.search.sigma.lower, "Lower bound of sigma")->group(s)->capture_default_str();
-  sub->add_option("--sigma-max", a->fit.search.sigma.upper, "Upper bound of sigma")->group(s)->capture_default_str();
-  sub->add_flag("--search-epsilon", a->search_epsilon, "cs-svr: also search epsilon in [0.001, 0.5]")->group(s);
-  sub->add_option("--grid-budget", a->fit.search.grid_budget, "grid-svr: parameter sets (default: cs-svr's budget)")
-      ->check(IntegerRange(4, 1'000'000'000, "SvrSearchOptions::grid_budget"))->group(s);
-  sub->add_flag("--cv-all", a->cv_all,
-                "Score every held-out sample in the blocked CV, also those outside the other blocks' temperature range "
-                "(default: in-range only)")->group(s);
-  sub->add_option("--cv-scheme", a->cv_scheme,
-                  "Cross-validation folds: blocks | segments (default: segments for auto and hybrid, blocks otherwise)")
-      ->check(CLI::IsMember({"blocks", "segments"}))->group(s);
-  sub->add_option("--auto-generations", a->fit.auto_select.search_generations,
-                  "auto: cuckoo-search generations of its cs-svr and hybrid candidates")
-      ->check(IntegerRange(1, 1'000'000, "DriftAutoOptions::search_generations"))->group(s)->capture_default_str();
-  sub->add_option("--auto-lagged-curve", a->fit.auto_select.lagged_curve_gain_degree,
-                  "auto: also try poly(T) + g(T) (T - T_lag), the lag state with a gain of this degree in T (the "
-                  "curve read at a lagged temperature), admitted only by its paired gain on segment pieces (Eq. A-4); "
-                  "0: not tried")
-      ->check(IntegerRange(0, 2, "DriftAutoOptions::lagged_curve_gain_degree"))->group(s)->capture_default_str();
-  sub->add_flag("-v,--verbose", a->verbose,
-                "The fit's full explanation: every candidate's score, what the run identifies, the data support, the band's noise");
-  sub->add_flag("--keep-kernel", a->keep_kernel,
-                "hybrid: keep the kernel even when it does not beat the structured part by more than the "
-                "block-to-block spread of its CV gain (default: dropped then, and the model is its structured part)")
-      ->group(s);
-  sub->add_option("--cv-folds", a->fit.cv_folds, "Contiguous blocks of the blocked cross-validation")
-      ->check(IntegerRange(2, 1'000'000, "DriftFitOptions::cv_folds"))->group(s)->capture_default_str();
+  AddSearchOptions(sub, a.get());
   const std::string d = "Data";
   sub->add_option("--train-period", a->fit.train_period_s, "Block-mean period of the SVR training copy, s (default automatic)")->group(d);
   sub->add_option("--max-train", a->fit.max_train_samples, "Automatic period: at most this many training samples")

@@ -45,6 +45,10 @@ TemperatureCubic Firmware(const Sensor& s, const Args& a, const TemperatureCubic
 // RMS over 201 temperatures of the range of cubic - model at state 0 (first) and at the warm-up
 // state `warm` (second), model unit; a temperature-only model: both at state 0.
 std::pair<double, double> ConditionErrors(const DriftModel& m, const TemperatureCubic& c, const StateByTemperature& warm);
+// A pooled axis's exported cubic for a.optimise_for: the steady cubic c, or the curve with its
+// thermal term (rate_gain, or s.temp_lag_s's lag) at s.heating_state projected (pooled_export.cc);
+// `model` gets the curve with its term when there is one.
+TemperatureCubic ForCondition(const Sensor& s, const Args& a, const TemperatureCubic& c, double rate_gain, DriftModel* model);
 // ---- calibrate_runs.cc ------------------------------------------------------------------------
 // One input log: its sensors (rows at fit_rate_hz), where the vehicle was still, and per sensor
 // and row the still segment the row lies in (-1: not still).

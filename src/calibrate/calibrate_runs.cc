@@ -352,33 +352,6 @@ const std::vector<double>& LagOfCurve(Sensor* s, const Pool& p, double ref, cons
   return p.lagged_c[best];
 }
 
-// The pooled curve with the thermal term the fit kept, as a DriftModel (model unit) that
-// ProjectOntoCubic projects at a CubicCondition, as the single run's model is projected:
-//   a dT/dt term: y = f(T) + g s, s = dT/dt (kTempAndRate);
-//   a lag:        y = f(T_lag) = f(T - s), s = T - T_lag (Eq. TS-2, kTempAndLag), with
-//                 (T - ref - s)^k = sum_j C(k, j) (T - ref)^(k - j) (-s)^j.
-// f is the steady cubic c (T_lag = T at steady state: the same curve).
-DriftModel StateModelOf(const TemperatureCubic& c, double rate_gain, bool lagged) {
-  DriftModel m;
-  m.kind = DriftModelKind::kPolynomial;
-  m.inputs = lagged ? DriftInputSet::kTempAndLag : DriftInputSet::kTempAndRate;
-  PolynomialModel poly;
-  poly.input_scaler.offset = {c.ref_temp_c, 0.0};
-  poly.input_scaler.scale = {1.0, 1.0};
-  for (int k = 0; k < 4; ++k) {
-    const double ck = c.coeff[static_cast<std::size_t>(k)];
-    double binomial = 1.0;  // C(k, j)
-    for (int j = 0; j <= (lagged ? k : 0); ++j) {
-      poly.terms.push_back({k - j, j, ck * binomial * (j % 2 ? -1.0 : 1.0)});
-      binomial = binomial * (k - j) / (j + 1);
-    }
-  }
-  if (!lagged) poly.terms.push_back({0, 1, rate_gain});
-  m.structured = poly;
-  m.summary.temp_min_c = c.temp_min_c, m.summary.temp_max_c = c.temp_max_c;
-  return m;
-}
-
 // CalibratedSensor::heating_state: the state every log's still rows had while heating, binned by
 // the logged temperature (the one the firmware reads): dT/dt where an axis kept the dT/dt term,
 // T - T_lag with a lag (fit_temp: the lagged temperature the cubic was fitted on); nothing
@@ -394,28 +367,6 @@ void SetHeatingState(Sensor* s, const Pool& p, const std::vector<double>& fit_te
   if (!h.ok()) return;
   s->heating_state = *h;
   s->heating_state_kind = ThermalStateColumnName(lagged ? DriftInputSet::kTempAndLag : DriftInputSet::kTempAndRate);
-}
-
-// The exported cubic of one axis (model unit) for CalibrateOptions::optimise_for: the steady
-// cubic c itself, or the projection of the curve with its thermal term at the heating state
-// (StateModelOf, ProjectOntoCubic: warm-up at the state, both the mean with steady); c where the
-// axis has no term. `model` gets the curve with its term (ModelOf's cubic when none), for the
-// condition errors.
-TemperatureCubic ForCondition(const Sensor& s, const Args& a, const TemperatureCubic& c, double rate_gain, DriftModel* model) {
-  const bool lagged = s.temp_lag_s > 0.0;
-  const bool term = !s.heating_state.state.empty() && (lagged || rate_gain != 0.0);
-  if (!term) return c;
-  *model = StateModelOf(c, rate_gain, lagged);
-  const CubicCondition condition = *ParseCubicCondition(a.optimise_for);
-  if (condition == CubicCondition::kSteady) return c;
-  CubicProjectionOptions po;
-  po.condition = condition;
-  po.warm_up = s.heating_state;
-  po.temp_min_c = c.temp_min_c, po.temp_max_c = c.temp_max_c, po.ref_temp_c = c.ref_temp_c;
-  // The range spans min_span_c or more and the coefficients are finite: the projection does not
-  // fail; if it did, the steady cubic is the one that is known to be valid.
-  Result<TemperatureCubic> projected = ProjectOntoCubic(*model, po);
-  return projected.ok() ? *projected : c;
 }
 
 // One axis's entries of a pooled sensor: the cubic for the condition (ForCondition) in the

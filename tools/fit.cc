@@ -321,6 +321,10 @@ void AddSearchOptions(CLI::App* sub, FitArgs* a) {
                   "curve read at a lagged temperature), admitted only by its paired gain on segment pieces (Eq. A-4); "
                   "0: not tried")
       ->check(IntegerRange(0, 2, "DriftAutoOptions::lagged_curve_gain_degree"))->group(s)->capture_default_str();
+  sub->add_option("--auto-lagged-curve-pieces", a->fit.auto_select.lagged_curve_pieces,
+                  "auto: the lagged curve's paired test (Eq. A-4) cuts every thermal segment into this many contiguous "
+                  "pieces, one pair each")
+      ->check(IntegerRange(1, 1000, "DriftAutoOptions::lagged_curve_pieces"))->group(s)->capture_default_str();
   sub->add_flag("-v,--verbose", a->verbose,
                 "The fit's full explanation: every candidate's score, what the run identifies, the data support, the band's noise");
   sub->add_flag("--keep-kernel", a->keep_kernel,

@@ -91,6 +91,7 @@ DriftFitOptions ReadFitOptions(Kwargs& kw) {
   kw.Get("max_generations", &o.search.cuckoo.max_generations);
   kw.Get("search_generations", &o.auto_select.search_generations);  // auto's searched candidates (DriftAutoOptions)
   kw.Get("lagged_curve_gain_degree", &o.auto_select.lagged_curve_gain_degree);  // fit --auto-lagged-curve
+  kw.Get("lagged_curve_pieces", &o.auto_select.lagged_curve_pieces);  // fit --auto-lagged-curve-pieces
   kw.Get("seed", &o.search.cuckoo.seed);
   return o;
 }

@@ -106,6 +106,8 @@ def test_drift_model_fit_predict_save_load(tmp_path):
     # fit --auto-lagged-curve's option is read (out of its range 0..2: refused).
     with pytest.raises((RuntimeError, ValueError), match="lagged_curve_gain_degree"):
         gyrocomp.fit_drift_model(temp, target, fs, lagged_curve_gain_degree=3)
+    with pytest.raises((RuntimeError, ValueError), match="lagged_curve_pieces"):
+        gyrocomp.fit_drift_model(temp, target, fs, lagged_curve_pieces=0)
     with pytest.raises(ValueError):
         gyrocomp.drift_model_from_json("{}")
     with pytest.raises((RuntimeError, ValueError)):

@@ -171,6 +171,35 @@ TEST_F(FitApplyCli, NoiseModelAllanFitsByGlsAndKeepsTheFileSchema) {
   EXPECT_FALSE(std::filesystem::exists(dir_ + "/x.json"));
 }
 
+// --auto-lagged-curve-pieces: the lagged curve's Eq. A-4 test pairs on every thermal segment cut
+// into that many pieces (fewer only where a piece would hold < 2 samples): with 1 it pairs on the
+// segments, as the memory test does; with 4 on more pairs, at most 4 per segment. 0 is refused
+// (exit 2, no output).
+TEST_F(FitApplyCli, LaggedCurvePiecesSetItsPairs) {
+  std::string out;
+  ASSERT_EQ(Run("simulate --profile heat-cool --fs 0.015 --seed 2 -o " + dir_ + "/run.csv", &out), 0) << out;
+  const auto pairs = [&](int pieces) -> std::pair<long, long> {
+    std::string o;
+    const std::string json = dir_ + "/p" + std::to_string(pieces) + ".fit.json";
+    EXPECT_EQ(Run("fit -i " + dir_ + "/run.csv --auto-generations 1 --auto-lagged-curve 2 --auto-lagged-curve-pieces " +
+                      std::to_string(pieces) + " -o " + dir_ + "/m.json --json " + json, &o), 0) << o;
+    long memory = -1, lagged = -1;
+    const nlohmann::json fit = testing::ReadJsonFile(json);
+    for (const auto& t : fit["term_admissions"]) {
+      if (t["term"] == "lagged curve") lagged = t.value("segments", -1L);
+      if (t["term"] == "memory") memory = t.value("segments", -1L);
+    }
+    return {memory, lagged};
+  };
+  const std::pair<long, long> one = pairs(1), four = pairs(4);
+  ASSERT_GE(one.first, 2) << "the heat-cool run has no segment pairs";
+  EXPECT_EQ(one.second, one.first);
+  EXPECT_GT(four.second, one.second);
+  EXPECT_LE(four.second, 4 * one.first);
+  EXPECT_EQ(Run("fit -i " + dir_ + "/run.csv --auto-lagged-curve 2 --auto-lagged-curve-pieces 0 -o " + dir_ + "/x.json", &out), 2);
+  EXPECT_FALSE(std::filesystem::exists(dir_ + "/x.json"));
+}
+
 TEST_F(FitApplyCli, BadInputsExitTwoWithoutOutput) {
   std::string out;
   // Unknown target column.

@@ -9,11 +9,12 @@ the default's band coverage of the true drift and the model auto chose.
 
 Families:
   own   gyrocomp's simulator (`gyrocomp simulate`): structures A-D of bench/drift_heldout.sh;
-        calibrations paper (one direction: a cooling staircase) and heat-cool (two directions);
-        held out: ramp -40 -> 60 C (heating) and the paper staircase (cooling).
+        calibrations paper (one direction: a cooling staircase), heat-cool (two directions) and
+        rate-cycles (two directions at two rates each, with holds: CALS=cycles); held out: ramp -40 -> 60 C (heating) and the paper staircase (cooling).
   sim2  bench/sim2/sim2.py, written apart from gyrocomp's model code: structures lag2, preisach,
         memory, rate-temp (smooth-nonpoly with STRUCTS); calibrations paper (one direction: a heating
-        staircase) and two-direction (25 -> 60 -> -40 -> 60 C); held out: heating and cooling.
+        staircase), two-direction (25 -> 60 -> -40 -> 60 C at 0.6 C/min) and rate-cycles (60 / -40 C
+        at 2 and 1 C/min, 20 min holds: CALS=cycles); held out: heating and cooling.
 
 The oracle: the true form of the structure (own: a cubic in the true sensor temperature, its true
 rate and the play operator of the true width, bench/drift_design_bound.py; sim2: the structure's own
@@ -24,8 +25,8 @@ on the coefficients).
 
 Usage: G=build/gyrocomp D=admission SEEDS="1 2 3 4 5 6" FAMILIES="own sim2" JOBS=2 \
            /usr/bin/python3 bench/drift_admission.py [-v]
-Options (environment): STRUCTS="A B lag2 memory" keeps those structures; CALS="one two" keeps those
-calibrations. Prints per-run rows (-v) and the summary tables of docs/explanation/drift-models.md
+Options (environment): STRUCTS="A B lag2 memory" keeps those structures; CALS="one two cycles" keeps
+those calibrations (default "one two"). Prints per-run rows (-v) and the summary tables of docs/explanation/drift-models.md
 "Selection that predicts the next run".
 """
 import concurrent.futures
@@ -55,12 +56,13 @@ OWN = {
     "C": "--thermal-lag 1500 --dtemp-coeff 4",
     "D": "--hysteresis-coeff 0 --thermal-lag 300 --dtemp-coeff 2.5 --drift-poly 0.01,-1e-3,3e-5,1e-7",
 }
-OWN_PROFILES = {"one": "--profile paper", "two": "--profile heat-cool",
+OWN_PROFILES = {"one": "--profile paper", "two": "--profile heat-cool", "cycles": "--profile rate-cycles",
                 "heat": "--profile ramp --room-temp -40 --ramp-end 60", "cool": "--profile paper"}
 SIM2_STRUCTS = ["lag2", "preisach", "memory", "rate-temp"]
-SIM2_PROFILES = {"one": "paper", "two": "two-direction", "heat": "heating", "cool": "cooling"}
+SIM2_PROFILES = {"one": "paper", "two": "two-direction", "cycles": "rate-cycles", "heat": "heating", "cool": "cooling"}
 CALS = os.environ.get("CALS", "one two").split()
-SEED_OFFSET = {"one": 0, "two": 0, "heat": 10, "cool": 20}
+SEED_OFFSET = {"one": 0, "two": 0, "cycles": 0, "heat": 10, "cool": 20}
+CAL_LABEL = {"one": "one-direction", "two": "two-direction", "cycles": "rate-cycles"}
 
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "sim2"))
@@ -196,7 +198,7 @@ def summary(rows):
         cov_text = f"{100 * st.mean(cov):.0f}%" if cov else "-"
         hw = [r["half"] / r["auto"] for r in g if r.get("half") is not None and r["auto"] > 0]
         hw_text = f"{st.mean(hw):.2f}" if hw else "-"
-        print(f"| {k[0]} | {k[1]} | {k[2]}-direction | {'heating' if k[3] == 'heat' else 'cooling'} | "
+        print(f"| {k[0]} | {k[1]} | {CAL_LABEL[k[2]]} | {'heating' if k[3] == 'heat' else 'cooling'} | "
               f"{', '.join(f'{m} x{n}' for m, n in sorted(chose.items()))} | {st.mean(a):.2f} +- {sd(a):.2f} | "
               f"{st.mean(p):.2f} +- {sd(p):.2f} | {st.mean(diff):+.2f} +- {sd(diff):.2f} | "
               f"{', '.join(f'{x / y:.2f}' for x, y in zip(a, p))} | {st.mean(rf):.2f} +- {sd(rf):.2f} | "

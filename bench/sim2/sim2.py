@@ -13,7 +13,7 @@ Each run = a hidden pre-history (the unit's life before the log starts: soaks, a
 pre-cool or pre-heat) + the recorded part. Only the recorded part is written.
 
 Usage as a program:
-    sim2.py --structure preisach --profile paper --seed 1 -o run.csv [--truth-col]
+    sim2.py --structure preisach --profile paper --seed 1 -o run.csv [--no-truth] [--noise-free]
 Usage as a module: simulate(structure, profile, seed) -> dict of arrays;
     oracle_basis(structure, run) -> (n, p) matrix of the true form's non-constant columns.
 Only numpy is needed.
@@ -364,8 +364,13 @@ def main():
     ap.add_argument('--fs', type=float, default=FS_HZ)
     ap.add_argument('-o', '--output', required=True)
     ap.add_argument('--no-truth', action='store_true', help='leave out true_drift_dps, chamber_temp_c, die_temp_c')
+    ap.add_argument('--noise-free', action='store_true',
+                    help='rate_dps = the true drift (no gyro noise; the thermometer keeps its noise and LSB): what '
+                         'the run shows of the drift\'s form alone')
     a = ap.parse_args()
     run = simulate(a.structure, a.profile, a.seed, a.fs)
+    if a.noise_free:
+        run['rate_dps'] = run['true_drift_dps']
     write_csv(a.output, run, truth=not a.no_truth)
     d = run['true_drift_dps']
     print(f'{a.output}: {len(d)} samples, {len(d) / a.fs / 3600:.2f} h, true drift {d.min():+.4f} .. {d.max():+.4f} dps',

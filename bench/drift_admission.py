@@ -10,7 +10,8 @@ the default's band coverage of the true drift and the model auto chose.
 Families:
   own   gyrocomp's simulator (`gyrocomp simulate`): structures A-D of bench/drift_heldout.sh;
         calibrations paper (one direction: a cooling staircase), heat-cool (two directions) and
-        rate-cycles (two directions at two rates each, with holds: CALS=cycles); held out: ramp -40 -> 60 C (heating) and the paper staircase (cooling).
+        rate-cycles (two directions at two rates each, with holds: CALS=cycles); held out: ramp
+        -40 -> 60 C (heating) and the paper staircase (cooling).
   sim2  bench/sim2/sim2.py, written apart from gyrocomp's model code: structures lag2, preisach,
         memory, rate-temp (smooth-nonpoly with STRUCTS); calibrations paper (one direction: a heating
         staircase), two-direction (25 -> 60 -> -40 -> 60 C at 0.6 C/min) and rate-cycles (60 / -40 C
@@ -26,8 +27,8 @@ on the coefficients).
 Usage: G=build/gyrocomp D=admission SEEDS="1 2 3 4 5 6" FAMILIES="own sim2" JOBS=2 \
            /usr/bin/python3 bench/drift_admission.py [-v]
 Options (environment): STRUCTS="A B lag2 memory" keeps those structures; CALS="one two cycles" keeps
-those calibrations (default "one two"). Prints per-run rows (-v) and the summary tables of docs/explanation/drift-models.md
-"Selection that predicts the next run".
+those calibrations (default "one two"). Prints per-run rows (-v) and the summary tables of
+docs/explanation/accuracy.md ("The default against poly(T, dT/dt) on two simulator families").
 """
 import concurrent.futures
 import json

@@ -25,8 +25,9 @@ import subprocess
 G = os.environ.get("G", "gyrocomp")
 D = os.environ.get("D", "noise_free_evidence")
 SIM2 = os.path.join(os.path.dirname(os.path.abspath(__file__)), "sim2.py")
-GAIN = re.compile(r"\+lagged curve \(([^;]*?) over ([^;]*?)\): gain ([-+0-9.e]+) \+- ([0-9.e+-]+) mdps "
+GAIN = re.compile(r"\+lagged curve \([^;]*?\): gain ([-+0-9.e]+) \+- ([0-9.e+-]+) mdps "
                   r"\((\d+) segment pieces\), (admitted|rejected)")
+HELD_OUT = (("heat", "heating", 10), ("cool", "cooling", 20))  # name, sim2 profile, seed offset
 
 
 def run(cmd):
@@ -43,20 +44,23 @@ def simulate(struct, profile, seed, path, noise_free=False):
 
 
 def lagged_curve_test(csv, pieces):
-    """The lagged curve's Eq. A-4 line of `fit -v`: (gain, se, pairs, admitted, over) or None."""
+    """The lagged curve's Eq. A-4 line of `fit -v` as a dict (gain, se in mdps; pairs; admitted), or None."""
     out = run(f"{G} fit -i {csv} --auto-lagged-curve 2 --auto-lagged-curve-pieces {pieces} -o /dev/null -v")
     m = GAIN.search(out)
     if not m:
         return None
-    return dict(gain=float(m.group(3)), se=float(m.group(4)), pairs=int(m.group(5)), admitted=m.group(6) == "admitted",
-                over=m.group(2))
+    return dict(gain=float(m.group(1)), se=float(m.group(2)), pairs=int(m.group(3)), admitted=m.group(4) == "admitted")
+
+
+def heldout_csv(struct, profile, seed):
+    return f"{D}/{struct}.{seed}.{profile}.csv"
 
 
 def heldout(model, struct, seed):
+    """RMS error (mdps) of `model` on the seed's held-out runs (simulated by main, before the jobs)."""
     res = {}
-    for held, profile, offset in (("heat", "heating", 10), ("cool", "cooling", 20)):
-        data = f"{D}/{struct}.{seed + offset}.{profile}.csv"
-        simulate(struct, profile, seed + offset, data)
+    for held, profile, offset in HELD_OUT:
+        data = heldout_csv(struct, profile, seed + offset)
         out = f"{model}.{held}"
         run(f"{G} apply -m {model} -i {data} -o {out}.csv --json {out}.json")
         os.remove(out + ".csv")
@@ -88,6 +92,9 @@ def main():
     ap.add_argument("--jobs", type=int, default=2)
     a = ap.parse_args()
     os.makedirs(D, exist_ok=True)
+    for s in a.structures:  # shared by a structure's jobs: written once, before they run
+        for _, profile, offset in HELD_OUT:
+            simulate(s, profile, a.seed + offset, heldout_csv(s, profile, a.seed + offset))
     jobs = [(s, p, a.seed, nf) for s in a.structures for p in a.profiles for nf in (True, False)]
     with concurrent.futures.ThreadPoolExecutor(a.jobs) as ex:
         rows = list(ex.map(one, jobs))

@@ -83,7 +83,7 @@ def run(cmd, env=None, cwd=None):
     return r.returncode, r.stdout + r.stderr
 
 
-def simulate(gc, path, seed, fs, structure, profile="heating"):
+def simulate(gc, path, seed, fs, structure, profile="heating", extra=()):
     base = {"--room-hold": "600", "--hold": "1200", "--ramp-rate": "1"}
     prof = PROFILES[profile] if profile in PROFILES else SECOND_PROFILES[profile]
     for k in list(base):
@@ -91,7 +91,7 @@ def simulate(gc, path, seed, fs, structure, profile="heating"):
             del base[k]
     drift = [] if structure == "dtemp" else ["--dtemp-coeff", "0", "--hysteresis-coeff", "0"]
     rc, out = run([gc, "simulate", "--profile", "ramp", "--thermal-lag", "120", "--fs", str(fs), "--seed", str(seed),
-                   "--imus", "1"] + [x for kv in base.items() for x in kv] + prof + drift + ["-o", path])
+                   "--imus", "1"] + [x for kv in base.items() for x in kv] + prof + drift + list(extra) + ["-o", path])
     if rc != 0:
         sys.exit("simulate failed: " + out)
 

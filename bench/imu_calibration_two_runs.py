@@ -4,7 +4,7 @@
 
     /usr/bin/python3 bench/imu_calibration_two_runs.py --pyulog DIR [--build build] [--seeds 5]
         [--second-profile heating|fast-heating|slow-heating|cooling] [--structure static|dtemp]
-        [--optimise-for steady|warm-up|both]
+        [--optimise-for steady|warm-up|both] [--front [--estimation-excess E]]
 
 Per seed: run 1 is the bench's calibration run (heating 10 -> 60 C at 1 C/min, seed 100 s), run 2
 another seed (100 s + 1000) of the same profile (`heating`, the default) or of the bench's second
@@ -30,6 +30,24 @@ profile (bench/imu_calibration_side_by_side.py --second-profile, seed 100 s + 50
    steady file's curve + w g s(T), g the JSON's rate_gain, w = 1 (warm-up) or 1/2 (both): the
    largest difference of the centred curves, in % of the term's own change (w g s over the range),
    on the axes that kept the term; the others must equal the steady file.
+5. With --front: whether any cubic at all could be never worse than the better single run in both
+   held-out directions. Each held-out run is simulated a second time without the gyro's noise
+   (--arw 0 --bias-instability 0 --rrw 0, same seed: the same drift; the thermometer keeps its own
+   noise), so that every file is scored by its expected residual over the held-out noise,
+   sqrt(R_nf^2 + N^2) (R_nf: on the noise-free run; N: the RMS of the noise's own centred 10 s
+   means, the difference of the two runs). Each single run's own file (`gyrocomp calibrate -i RUN`)
+   scored so: a = the lower heating residual of the two, b = the lower cooling one (means over seeds
+   and axes). Against them the best any cubic can do, knowing the true drift: per seed and axis, the
+   cubic fitted to the noise-free held-out runs, weighted (1 - w) heating / w cooling, traces the
+   reachable (heating, cooling) pairs; their set averaged over seeds and axes is convex and meets
+   {heating <= a, cooling <= b} only if no line (1 - u) h + u c separates them, so the largest over u
+   of [min over the set of (1 - u) h + u c] - [(1 - u) a + u b] > 0 proves that no cubic, however it
+   was fitted, is never worse than the better single run in both directions; <= 0: not proven.
+   --estimation-excess E (deg/s) repeats the test with E added in quadrature to every point: the
+   least estimation error of a cubic estimated from the two runs (any linear unbiased estimator of
+   any target cubic: with the dT/dt and hysteresis terms known it is the static design's GLS-exact
+   excess, sqrt(ratio^2 - 1) RMS_true from `bench/imu_calibration_bound.py --second-profile P`, and
+   not knowing them cannot lower it).
 """
 import argparse
 import json
@@ -97,6 +115,45 @@ def condition_cubic(cubic, gain, w, t0, state, tmin, tmax, ref):
     return c / h ** np.arange(4), w * gain * s
 
 
+def score_blocks(t, v, fs, ref):
+    """The score's 10 s block means (b.score), centred: the cubic's columns (T - ref)^1..3 (n x 3) and
+    the three axes (3 x n, deg/s)."""
+    n = int(round(10 * fs))
+    m = len(t) // n
+    d = t[: m * n] - ref
+    x = np.vstack([d, d * d, d ** 3]).reshape(3, m, n).mean(axis=2).T
+    y = (v[:, : m * n] / b.RAD).reshape(3, m, n).mean(axis=2)
+    return x - x.mean(axis=0), y - y.mean(axis=1, keepdims=True)
+
+
+def front(held, weights):
+    """Per axis, the expected (heating, cooling) residual RMS, sqrt(R_nf^2 + N^2), of the cubic minimising
+    (1 - w) R_h^2 + w R_c^2 on the noise-free held-out runs, for each w: axes x len(weights) x 2 (deg/s)."""
+    (xh, yh, nh), (xc, yc, nc) = held
+    scale = np.abs(np.vstack([xh, xc])).max(axis=0)
+    xh, xc = xh / scale, xc / scale
+    out = np.zeros((3, len(weights), 2))
+    for a in range(3):
+        for i, w in enumerate(weights):
+            rows = np.vstack([np.sqrt((1 - w) / len(yh[a])) * xh, np.sqrt(w / len(yc[a])) * xc])
+            rhs = np.concatenate([np.sqrt((1 - w) / len(yh[a])) * yh[a], np.sqrt(w / len(yc[a])) * yc[a]])
+            c = np.linalg.lstsq(rows, rhs, rcond=None)[0]
+            out[a, i] = [np.sqrt(np.mean((yh[a] - xh @ c) ** 2) + nh[a]), np.sqrt(np.mean((yc[a] - xc @ c) ** 2) + nc[a])]
+    return out
+
+
+def separation(points, a, b_, us):
+    """max over u of mean over (seed, axis) of min over the traced points of (1 - u) h + u c, minus
+    (1 - u) a + u b: > 0 proves the averaged reachable set misses {h <= a, c <= b} (5.); with the u."""
+    best = (-np.inf, None)
+    for u in us:
+        lower = np.mean([np.min((1 - u) * p[:, 0] + u * p[:, 1]) for p in points])
+        gap = lower - ((1 - u) * a + u * b_)
+        if gap > best[0]:
+            best = (gap, u)
+    return best
+
+
 def centred(slopes, ref, grid):
     d = grid - ref
     c = slopes[0] * d + slopes[1] * d * d + slopes[2] * d ** 3
@@ -112,6 +169,10 @@ def main():
     ap.add_argument("--structure", default="static", choices=["static", "dtemp"])
     ap.add_argument("--optimise-for", default="steady", choices=["steady", "warm-up", "both"],
                     help="also check the pooled file calibrate --optimise-for writes against its definition (4.)")
+    ap.add_argument("--front", action="store_true",
+                    help="score each run's own file and test whether any cubic is never worse than both (5.)")
+    ap.add_argument("--estimation-excess", type=float, default=0.0,
+                    help="with --front: also the test with this least estimation excess, deg/s (5.)")
     args = ap.parse_args()
     sys.path.insert(0, args.pyulog)
     gc = os.path.join(args.build, "gyrocomp")
@@ -120,6 +181,8 @@ def main():
     err, sd = [], []
     held_rms = {}
     cond_diffs, cond_same, cond_terms, cond_lagged = [], [], 0, 0
+    weights = np.linspace(0.0, 1.0, 401)
+    front_points = []
     with tempfile.TemporaryDirectory() as tmp:
         for seed in range(1, args.seeds + 1):
             cal, raw = [], []
@@ -173,6 +236,18 @@ def main():
                     want, term = condition_cubic(gyro["axes"][a]["cubic"]["coeff"], gain, w, t0, state, tmin, tmax, ref)
                     cond_diffs.append(np.max(np.abs(centred(got[1:], ref, grid) - centred(want[1:], ref, grid))) /
                                       max(np.ptp(term), 1e-300))
+            own = []
+            if args.front:
+                for k in range(2):
+                    jk = os.path.join(tmp, "own%d.json" % k)
+                    rc, out = b.run([gc, "calibrate", "-i", cal[k], "--format", "px4", "-o",
+                                     os.path.join(tmp, "own.params"), "--json", jk])
+                    if rc != 0:
+                        sys.exit("calibrate failed: " + out)
+                    gk = [s for s in json.load(open(jk))["sensors"] if s["type"] == "gyro"][0]
+                    own.append([(gk["axes"][a]["cubic"]["ref_temp_c"], gk["axes"][a]["cubic"]["coeff"][1:])
+                                for a in range(3)])
+            held = []
             # held-out scoring of the cubics (unclamped polynomial over the held-out run, as the bound)
             for k, name in enumerate(("heating", "cooling")):
                 f = os.path.join(tmp, "held.ulg")
@@ -186,6 +261,29 @@ def main():
                                      for a in range(3)])
                     held_rms.setdefault((name, sname), []).append(b.score(v, corr, fs).mean())
                 held_rms.setdefault((name, "true curve"), []).append(b.score(v, b.truth_offsets(t, "gyro"), fs).mean())
+                if args.front:
+                    fnf = os.path.join(tmp, "held_nf.ulg")
+                    b.simulate(gc, fnf, 100 * seed + 50 + 10 * k, fs, args.structure, name,
+                               ["--arw", "0", "--bias-instability", "0", "--rrw", "0"])
+                    tn, vn = b.read_imu(fnf)[0]
+                    noise2 = b.score(v - vn, np.zeros_like(v), fs) ** 2
+                    held.append(score_blocks(tn, vn, fs, ref) + (noise2,))
+                    for r, sl in enumerate(own):
+                        corr = np.array([sum(sl[a][1][j] * (tn - sl[a][0]) ** (j + 1) for j in range(3))
+                                         for a in range(3)])
+                        held_rms.setdefault((name, "run %d alone, expected" % (r + 1)), []).append(
+                            np.sqrt(b.score(vn, corr, fs) ** 2 + noise2).mean())
+                    corr = np.array([np.polyval(list(gyro["axes"][a]["cubic"]["coeff"][:0:-1]) + [0.0], tn - ref)
+                                     for a in range(3)])
+                    held_rms.setdefault((name, "pooled, expected"), []).append(
+                        np.sqrt(b.score(vn, corr, fs) ** 2 + noise2).mean())
+                    if args.optimise_for != "steady":
+                        corr = np.array([np.polyval(list(cg["axes"][a]["cubic"]["coeff"][:0:-1]) + [0.0], tn - ref)
+                                         for a in range(3)])
+                        held_rms.setdefault((name, "pooled --optimise-for, expected"), []).append(
+                            np.sqrt(b.score(vn, corr, fs) ** 2 + noise2).mean())
+            if args.front:
+                front_points.extend(front(held, weights))
             print("done: seed %d" % seed, file=sys.stderr)
     print("%s structure, run 2 = %s, %d seeds x 3 gyro axes" % (args.structure, args.second_profile, args.seeds))
     for w in (False, True):
@@ -212,6 +310,31 @@ def main():
             m = np.mean(held_rms[(name, sname)])
             parts.append("%s %.4f (x%.3f, excess %.4f)" % (sname, m, m / true, np.sqrt(max(m * m - true * true, 0.0))))
         print("held-out %s, deg/s: %s; true curve %.4f" % (name, "; ".join(parts), true))
+    if args.front:
+        single = {name: [np.mean(held_rms[(name, "run %d alone, expected" % r)]) for r in (1, 2)]
+                  for name in ("heating", "cooling")}
+        a, b_ = min(single["heating"]), min(single["cooling"])
+        pooled = [np.mean(held_rms[(name, "pooled, expected")]) for name in ("heating", "cooling")]
+        if args.optimise_for != "steady":
+            cond = [np.mean(held_rms[(name, "pooled --optimise-for, expected")]) for name in ("heating", "cooling")]
+            print("expected residuals (5.), pooled --optimise-for %s: %.4f / %.4f (x%.3f / x%.3f the better single run)"
+                  % (args.optimise_for, cond[0], cond[1], cond[0] / a, cond[1] / b_))
+        mean_front = np.mean(front_points, axis=0)
+        print("expected residuals (5.), each run alone (gyrocomp calibrate -i RUN), held-out heating / cooling, deg/s: run 1 %.4f / %.4f, "
+              "run 2 %.4f / %.4f; better single a = %.4f, b = %.4f; pooled %.4f / %.4f (x%.3f / x%.3f)"
+              % (single["heating"][0], single["cooling"][0], single["heating"][1], single["cooling"][1], a, b_,
+                 pooled[0], pooled[1], pooled[0] / a, pooled[1] / b_))
+        print("best cubic knowing the true drift, w = weight on cooling: heating / cooling (x a / x b)")
+        for w in (0.0, 0.25, 0.4, 0.45, 0.5, 0.75, 1.0):
+            i = int(round(w * (len(weights) - 1)))
+            h, c = mean_front[i]
+            print("  w %.2f: %.4f / %.4f (x%.3f / x%.3f)" % (w, h, c, h / a, c / b_))
+        for e in sorted({0.0, args.estimation_excess}):
+            pts = [np.sqrt(p ** 2 + e * e) for p in front_points]
+            gap, u = separation(pts, a, b_, np.linspace(0.0, 1.0, 201))
+            print("separation (5.), estimation excess %.5f deg/s: %+.5f deg/s at u = %.3f: %s" % (
+                e, gap, u, "no such cubic is never worse than the better single run in both directions" if gap > 0
+                else "not proven: some cubic may be never worse in both directions"))
 
 
 if __name__ == "__main__":

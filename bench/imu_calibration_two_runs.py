@@ -315,6 +315,13 @@ def main():
                   for name in ("heating", "cooling")}
         a, b_ = min(single["heating"]), min(single["cooling"])
         pooled = [np.mean(held_rms[(name, "pooled, expected")]) for name in ("heating", "cooling")]
+        for key in ["pooled, expected"] + (["pooled --optimise-for, expected"] if args.optimise_for != "steady" else []):
+            parts = []
+            for name in ("heating", "cooling"):
+                best = np.argmin(single[name]) + 1
+                d = np.array(held_rms[(name, key)]) - np.array(held_rms[(name, "run %d alone, expected" % best)])
+                parts.append("%s %+.5f +- %.5f" % (name, d.mean(), d.std(ddof=1) / np.sqrt(len(d))))
+            print("paired over seeds, %s - the better single run (deg/s, mean +- SE): %s" % (key, "; ".join(parts)))
         if args.optimise_for != "steady":
             cond = [np.mean(held_rms[(name, "pooled --optimise-for, expected")]) for name in ("heating", "cooling")]
             print("expected residuals (5.), pooled --optimise-for %s: %.4f / %.4f (x%.3f / x%.3f the better single run)"

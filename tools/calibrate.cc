@@ -94,6 +94,35 @@ bool StillThroughout(const CalibrateResult& r) {
 // Logs in which the vehicle moves, or several logs: a line on the still time, and per sensor
 // what the logs identify (pooled fit) and which log would help.
 // --verbose prints the full table (projection cost, static weighting, validation per axis).
+// The pooled sensors that kept a dT/dt term or a lag, which a firmware cubic cannot carry: what
+// the exported cubic leaves in the condition it was not made for (Sensor::warm_up_rms for the
+// steady cubic, steady_rms otherwise, RMS over the axes), one line for all; "" when none. A
+// sensor is named only where that is above both the curve's own 1 sigma and 5 % of the drift its
+// first log shows uncompensated: a smaller trade is below what the fit can tell or the file removes.
+// Two runs of different directions cannot both be matched by one cubic
+// (docs/explanation/accuracy-calibration.md, "Could any cubic be never worse in both directions?").
+std::string TradeLine(const CalibrateArgs& a, const CalibrateResult& r) {
+  const bool steady = a.optimise_for == "steady";
+  std::string names, figures;
+  int lags = 0, terms = 0;
+  for (const Sensor& s : r.sensors) {
+    if (!s.calibrated() || s.fit != "pooled" || s.heating_state_kind.empty()) continue;
+    const double left = AxisRms(steady ? s.warm_up_rms : s.steady_rms);
+    if (!(left > AxisRms(s.curve_sd) && left > 0.05 * UncompensatedRms(s))) continue;
+    names += (names.empty() ? "" : ", ") + s.type + " " + std::to_string(s.instance);
+    figures += (figures.empty() ? "" : ", ") + Readable(s, left);
+    ++terms;
+    lags += s.temp_lag_s > 0.0;
+  }
+  if (terms == 0) return "";
+  const std::string kept = names + " kept " + (lags == terms ? "a lag" : lags == 0 ? "a dT/dt term" : "a dT/dt term or a lag");
+  if (steady)
+    return kept + " a firmware cubic cannot carry: the steady cubic leaves " + figures +
+           " while heating at the logs' rate (--optimise-for warm-up trades that against cooling)";
+  return kept + ": the cubic optimised for " + a.optimise_for + " leaves " + figures +
+         " when the temperature is steady, more while cooling";
+}
+
 void PrintSummary(const CalibrateArgs& a, const CalibrateResult& r) {
   int calibrated = 0;
   double lo = INFINITY, hi = -INFINITY;
@@ -149,6 +178,7 @@ void PrintSummary(const CalibrateArgs& a, const CalibrateResult& r) {
     }
     Line(line.str());
   }
+  if (const std::string trade = TradeLine(a, r); !trade.empty()) Line(trade);
   for (const std::string& h : help) Line("would help: " + h);
   if (skipped) {
     Line("next: a skipped sensor needs a run whose temperature spans at least --min-span (" + Figure(a.min_span_c) +

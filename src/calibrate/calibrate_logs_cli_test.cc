@@ -6,6 +6,8 @@
 #include <filesystem>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include <gtest/gtest.h>
 
 #include "fixtures.h"
@@ -102,6 +104,52 @@ TEST_F(CalibrateLogsCli, VerbosePooledTableShowsThePooledFitNotTheSingleRunColum
   ASSERT_EQ(Run("calibrate -i " + a + " --format px4 -v -o " + dir_ + "/one.params", &out), 0) << out;
   EXPECT_NE(out.find("expected next-run error of the cubic"), std::string::npos) << out;
   EXPECT_EQ(out.find("dT/dt gain"), std::string::npos) << out;
+}
+
+// A pooled sensor that kept a dT/dt term (or a lag), which the firmware's cubic cannot carry: the
+// console says on one line what the exported cubic leaves in the condition it was not made for,
+// naming only sensors that kept such a term (the JSON's heating_state) and where it matters. Two
+// heating runs, 10 -> 60 C at 1 and 3 C/min, of the simulator's default drift (1.5 deg/s per C/s)
+// identify the gyro's gain: its trade is most of its drift, so it is named, first; the baro, which
+// keeps no term, is not.
+TEST_F(CalibrateLogsCli, AKeptRateTermIsSaidWithWhatTheCubicLeaves) {
+  const std::string a = Simulate("a.ulg", "--seed 3 --room-temp 10 --thermal-lag 120"),
+                    b = Simulate("b.ulg", "--seed 4 --room-temp 10 --thermal-lag 120 --ramp-rate 3");
+  for (const std::string condition : {"steady", "warm-up"}) {
+    std::string out;
+    const std::string json = dir_ + "/tc_" + condition + ".json";
+    ASSERT_EQ(Run("calibrate -i " + a + " -i " + b + " --format px4 --optimise-for " + condition + " --json " + json + " -o " +
+                      dir_ + "/tc.params",
+                  &out),
+              0)
+        << out;
+    const std::string tail = condition == "steady"
+                                 ? " a firmware cubic cannot carry: the steady cubic leaves "
+                                 : ": the cubic optimised for warm-up leaves ";
+    const std::size_t at = out.find(tail);
+    ASSERT_NE(at, std::string::npos) << out;
+    const std::size_t start = out.rfind("\n  ", at) + 3;
+    const std::string names = out.substr(start, out.rfind(" kept a", at) - start);
+    ASSERT_EQ(names.rfind("gyro 0", 0), 0u) << out;  // the case this test is about, first
+    const nlohmann::json doc = testing::ReadJsonFile(json);
+    int without = 0;
+    for (const nlohmann::json& s : doc["sensors"]) {
+      const std::string name = s["type"].get<std::string>() + " " + std::to_string(s["instance"].get<int>());
+      const bool term = s.contains("heating_state") && !s["heating_state"].is_null();
+      if (!term) {
+        ++without;
+        EXPECT_EQ(names.find(name), std::string::npos) << name << " named without a term\n" << out;
+      }
+      if (name == "gyro 0") {
+        EXPECT_EQ(s["heating_state"]["kind"], "dtemp_c_per_s") << out;
+      }
+    }
+    EXPECT_GE(without, 1) << out;  // the baro: a sensor the line must not name
+    EXPECT_NE(out.find(condition == "steady" ? " mdps while heating at the logs' rate (--optimise-for warm-up trades that against cooling)"
+                                             : " when the temperature is steady, more while cooling"),
+              std::string::npos)
+        << out;
+  }
 }
 
 TEST_F(CalibrateLogsCli, ALogOfAnotherBoardIsRefusedOnOneLineAndNoFile) {

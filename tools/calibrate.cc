@@ -91,9 +91,6 @@ bool StillThroughout(const CalibrateResult& r) {
 
 // The default summary: a header (what was read), one line per sensor (uncompensated drift against
 // the expected next-run error of its exported cubic), the next step when a sensor was skipped.
-// Logs in which the vehicle moves, or several logs: a line on the still time, and per sensor
-// what the logs identify (pooled fit) and which log would help.
-// --verbose prints the full table (projection cost, static weighting, validation per axis).
 // The pooled sensors that kept a dT/dt term or a lag, which a firmware cubic cannot carry: what
 // the exported cubic leaves in the condition it was not made for (Sensor::warm_up_rms for the
 // steady cubic, steady_rms otherwise, RMS over the axes), one line for all; "" when none. A
@@ -123,6 +120,9 @@ std::string TradeLine(const CalibrateArgs& a, const CalibrateResult& r) {
          " when the temperature is steady, more while cooling";
 }
 
+// Logs in which the vehicle moves, or several logs: a line on the still time, and per sensor
+// what the logs identify (pooled fit) and which log would help.
+// --verbose prints the full table (projection cost, static weighting, validation per axis).
 void PrintSummary(const CalibrateArgs& a, const CalibrateResult& r) {
   int calibrated = 0;
   double lo = INFINITY, hi = -INFINITY;

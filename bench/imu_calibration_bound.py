@@ -26,8 +26,16 @@ With --second-profile P (a profile of the bench's --second-profile), also the po
 every row, no dT/dt term) on the calibration run and a second run of profile P, and P alone:
 excess from the slope block of Cov over the stacked design [run indicators, cubic columns] with
 the two runs' noise independent (OLS: (D'D)^-1 D' S D (D'D)^-1; GLS-exact: (D' S^-1 D)^-1).
+With --second-profile P --rate-term, also the pooled design with a shared dT/dt column (what
+`calibrate` fits when the two runs' rates identify a dT/dt gain; dT/dt over +-30 s as
+calibrate_runs.cc's HeatingRate): the excess of each `--optimise-for` export on each held-out run,
+the cubic's slopes plus w g times the held-out run's own dT/dt (steady w = 0, both 1/2, warm-up 1;
+the export takes the state the calibration runs had while heating, which for held-out heating at
+the calibration run's rate is the same), OLS and GLS-exact. The steady export is the curve at
+dT/dt = 0, so it has to estimate g to remove it: its least excess is that of this design, not of
+the static one.
 Only numpy and `gyrocomp simulate` (for the temperature profiles: the bench's arguments).
-Usage: /usr/bin/python3 bench/imu_calibration_bound.py [--build build] [--second-profile P]
+Usage: /usr/bin/python3 bench/imu_calibration_bound.py [--build build] [--second-profile P [--rate-term]]
 """
 import argparse
 import math
@@ -103,24 +111,39 @@ def second_args(profile):
         [x for kv in base.items() for x in kv] + prof
 
 
-def pooled_excess(cal, xh, p, nh):
+def pooled_excess(cal, xh, p, nh, rates=None, rate_h=None, w=0.0):
     """Excess of the pooled fit (a constant per run, the cubic's slopes shared) on held-out design
     xh, for OLS and GLS-exact: {"ols": e, "gls": e}. cal: list of calibration-run designs (cubic
-    columns with the constant first, as design() gives)."""
+    columns with the constant first, as design() gives). With rates (each calibration run's dT/dt
+    per block, C/min) a shared dT/dt column too, and the export scored is the cubic plus w g
+    rate_h (the held-out run's dT/dt per block, C/min)."""
     n = [len(x) for x in cal]
     rows = sum(n)
-    d = np.zeros((rows, len(cal) + 3))
+    k = len(cal) + 3 + (1 if rates is not None else 0)
+    d = np.zeros((rows, k))
     s = np.zeros((rows, rows))
     at = 0
     for r, x in enumerate(cal):
         d[at:at + n[r], r] = 1.0
-        d[at:at + n[r], len(cal):] = x[:, 1:]
+        d[at:at + n[r], len(cal):len(cal) + 3] = x[:, 1:]
+        if rates is not None:
+            d[at:at + n[r], -1] = rates[r]
         s[at:at + n[r], at:at + n[r]] = toeplitz(block_cov(n[r], BLOCK_S, **p))
         at += n[r]
     pinv = np.linalg.pinv(d)
     cov = {"ols": pinv @ s @ pinv.T, "gls": np.linalg.inv(d.T @ np.linalg.solve(s, d))}
     xc = xh[:, 1:] - xh[:, 1:].mean(axis=0)
+    if rates is not None:
+        xc = np.hstack([xc, (w * (rate_h - rate_h.mean()))[:, None]])
     return {k: math.sqrt(np.trace(xc @ v[len(cal):, len(cal):] @ xc.T) / nh) for k, v in cov.items()}
+
+
+def block_rate(t):
+    """dT/dt per block over +-30 s (calibrate_runs.cc's HeatingRate, shortened at the ends), C/min."""
+    h = 30 // BLOCK_S
+    i = np.arange(len(t))
+    lo, hi = np.maximum(i - h, 0), np.minimum(i + h, len(t) - 1)
+    return (t[hi] - t[lo]) / ((hi - lo) * BLOCK_S) * 60.0
 
 
 def design(t, ref):
@@ -132,7 +155,11 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--build", default="build")
     ap.add_argument("--second-profile", choices=sorted(bench.SECOND_PROFILES))
+    ap.add_argument("--rate-term", action="store_true", help="with --second-profile: also the pooled design with a "
+                    "shared dT/dt column, the excess of each --optimise-for export")
     a = ap.parse_args()
+    if a.rate_term and not a.second_profile:
+        ap.error("--rate-term needs --second-profile")
     gc = os.path.join(a.build, "gyrocomp")
     with tempfile.TemporaryDirectory() as tmp:
         temps = {k: temperature(gc, v, tmp) for k, v in RUNS.items()}
@@ -183,6 +210,20 @@ def main():
             print("| %s | %s | %.4g | %.3f | %.3f | %.3f | %.3f |" % (
                 sensor, run, true, math.hypot(true, e1["ols"]) / true, math.hypot(true, e2["ols"]) / true,
                 math.hypot(true, e12["ols"]) / true, math.hypot(true, e12["gls"]) / true))
+    if not a.rate_term:
+        return
+    rates = [block_rate(temps["calibration"]), block_rate(temps["second"])]
+    print()
+    print("Pooled with a shared dT/dt column: excess of each --optimise-for export (deg/s or m/s^2), OLS / GLS-exact; "
+          "without the column (the static design) for comparison")
+    print("| sensor | held-out run | static design | steady | both | warm-up |")
+    print("|---|---|---|---|---|---|")
+    for sensor, p in NOISE.items():
+        for run in ("heating", "cooling"):
+            xh = design(temps[run], ref)
+            cells = [pooled_excess([x, x2], xh, p, len(xh))]
+            cells += [pooled_excess([x, x2], xh, p, len(xh), rates, block_rate(temps[run]), w) for w in (0.0, 0.5, 1.0)]
+            print("| %s | %s | %s |" % (sensor, run, " | ".join("%.5f / %.5f" % (e["ols"], e["gls"]) for e in cells)))
 
 
 if __name__ == "__main__":

@@ -4,7 +4,7 @@
 
     /usr/bin/python3 bench/imu_calibration_two_runs.py --pyulog DIR [--build build] [--seeds 5]
         [--second-profile heating|fast-heating|slow-heating|cooling] [--structure static|dtemp]
-        [--optimise-for steady|warm-up|both] [--front [--estimation-excess E]]
+        [--optimise-for steady|warm-up|both] [--front [--estimation-excess E] [--steady-excess E]]
 
 Per seed: run 1 is the bench's calibration run (heating 10 -> 60 C at 1 C/min, seed 100 s), run 2
 another seed (100 s + 1000) of the same profile (`heating`, the default) or of the bench's second
@@ -48,6 +48,11 @@ profile (bench/imu_calibration_side_by_side.py --second-profile, seed 100 s + 50
    any target cubic: with the dT/dt and hysteresis terms known it is the static design's GLS-exact
    excess, sqrt(ratio^2 - 1) RMS_true from `bench/imu_calibration_bound.py --second-profile P`, and
    not knowing them cannot lower it).
+   --steady-excess E (deg/s): the same for the steady export (the default), whose target is the true
+   static curve (dT/dt = 0): that curve scored so, and with E in quadrature, the least excess of a
+   steady export, which must estimate the dT/dt gain to remove it (`bench/imu_calibration_bound.py
+   --second-profile P --rate-term`, steady GLS-exact): above a or b, no estimator of the steady curve
+   linear in the two runs' data is never worse than the better single run in that direction.
 """
 import argparse
 import json
@@ -173,6 +178,8 @@ def main():
                     help="score each run's own file and test whether any cubic is never worse than both (5.)")
     ap.add_argument("--estimation-excess", type=float, default=0.0,
                     help="with --front: also the test with this least estimation excess, deg/s (5.)")
+    ap.add_argument("--steady-excess", type=float, default=0.0,
+                    help="with --front: the least estimation excess of the steady export, deg/s (5.)")
     args = ap.parse_args()
     sys.path.insert(0, args.pyulog)
     gc = os.path.join(args.build, "gyrocomp")
@@ -268,6 +275,8 @@ def main():
                     tn, vn = b.read_imu(fnf)[0]
                     noise2 = b.score(v - vn, np.zeros_like(v), fs) ** 2
                     held.append(score_blocks(tn, vn, fs, ref) + (noise2,))
+                    held_rms.setdefault((name, "true curve, expected"), []).append(
+                        np.sqrt(b.score(vn, b.truth_offsets(tn, "gyro"), fs) ** 2 + noise2).mean())
                     for r, sl in enumerate(own):
                         corr = np.array([sum(sl[a][1][j] * (tn - sl[a][0]) ** (j + 1) for j in range(3))
                                          for a in range(3)])
@@ -331,6 +340,10 @@ def main():
               "run 2 %.4f / %.4f; better single a = %.4f, b = %.4f; pooled %.4f / %.4f (x%.3f / x%.3f)"
               % (single["heating"][0], single["cooling"][0], single["heating"][1], single["cooling"][1], a, b_,
                  pooled[0], pooled[1], pooled[0] / a, pooled[1] / b_))
+        for e in sorted({0.0, args.steady_excess}):
+            h, c = (np.sqrt(np.mean(held_rms[(name, "true curve, expected")]) ** 2 + e * e) for name in ("heating", "cooling"))
+            print("the steady export's target, the true static curve, with estimation excess %.5f deg/s: %.4f / %.4f "
+                  "(x%.3f / x%.3f the better single run)" % (e, h, c, h / a, c / b_))
         print("best cubic knowing the true drift, w = weight on cooling: heating / cooling (x a / x b)")
         for w in (0.0, 0.25, 0.4, 0.45, 0.5, 0.75, 1.0):
             i = int(round(w * (len(weights) - 1)))

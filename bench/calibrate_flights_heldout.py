@@ -198,6 +198,9 @@ def one_case(args, gen, board, seed):
         ch = calibrate(args.gyrocomp, [os.path.join(d, "chamber_cal.ulg")], d, "chamber_" + h["name"], path)
         if h["name"] == HELDOUT[0]:
             out["still"] = still_scores(truth, fl, truth["rate_hz"])
+            out["lags"] = [{"sensor": f"{x['type']} {x.get('device_id')}", "lag_s": x.get("temp_lag_s", 0.0),
+                            "gain": x.get("lag_term", {}).get("gain"), "se": x.get("lag_term", {}).get("gain_se")}
+                           for x in fl["sensors"] if x["type"] in ("gyro", "accel")]
         per = {}
         for kind in ("gyro", "accel"):
             scores = {"raw": [], "chamber": [], "flights": [], "lsq": [], "missing": []}
@@ -301,6 +304,16 @@ def print_tables(results, rate):
                 cs = [c for c in results if c["generator"] == gen]
                 r = {tag: rms([v for c in cs for v in c["heldout"][h][kind][tag]]) * k for tag in ("raw", "chamber", "flights", "lsq")}
                 print(f"| {gen} | {h} | {r['raw']:.3g} | {r['chamber']:.3g} | {r['flights']:.3g} | {r['lsq']:.3g} |")
+        print()
+    if all("lags" in c for c in results):
+        print("### The lag of the temperature the ten flights' pooled cubic is fitted on (gyro; accel)\n")
+        print("| gen | board | seed | gyro lags kept (s) | accel lags kept (s) | gyro paired gain +- SE (%) |")
+        print("|---|---|---|---|---|---|")
+        for c in results:
+            cell = {k: ", ".join(f"{x['lag_s']:g}" for x in c["lags"] if x["sensor"].startswith(k)) for k in ("gyro", "accel")}
+            gains = ", ".join("-" if x["gain"] is None else f"{100 * x['gain']:+.1f} +- {100 * x['se']:.1f}"
+                              for x in c["lags"] if x["sensor"].startswith("gyro"))
+            print(f"| {c['generator']} | {c['board']} | {c['seed']} | {cell['gyro']} | {cell['accel']} | {gains} |")
         print()
     print("### (b) still detection over the ten flights\n")
     print("| gen | board | seed | motion rows used | true still time used | lowest log | (b) |")

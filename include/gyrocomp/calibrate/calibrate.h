@@ -78,9 +78,11 @@ struct CalibrateOptions {
   // Pooled fit: the temperature the curve is a function of may lag the logged one (the MEMS
   // structure behind the die thermometer, a board's stress relaxing behind its heating). Each
   // log's temperature is low-passed (first order, the whole log, flight included) with each lag
-  // of pooled_lags_s; the lag whose pooled cubic predicts each held-out group best is kept when
+  // of pooled_lags_s; the lag whose pooled cubic predicts the held-out groups best is kept when
   // its paired held-out gain over no lag beats its standard error (term_admission.h, Eq. A-4),
-  // one lag per sensor (every axis); then no dT/dt term. Empty: no lag searched.
+  // the lag scored on each group being the one the other groups choose (so the best of the
+  // candidates is not tested on the scores that chose it); one lag per sensor (every axis); then
+  // no dT/dt term. Empty: no lag searched.
   std::vector<double> pooled_lags_s = {10.0, 20.0, 40.0, 60.0, 90.0, 120.0, 180.0, 240.0};
   // What the exported cubic is optimised for (CubicCondition): "steady" (dT/dt = 0, the static
   // curve), "warm-up" (the state the run had while heating) or "both" (their mean). A single
@@ -163,9 +165,10 @@ struct CalibratedSensor {
   // Pooled: the lag of the temperature the cubic was fitted on behind the logged one, s (0: the
   // logged temperature; CalibrateOptions::pooled_lags_s).
   double temp_lag_s = 0.0;
-  // Pooled: the paired held-out gain of the lag chosen over none (relative: each axis's
-  // per-group held-out RMS divided by its mean without the lag, averaged over the axes; pairs 0
-  // when no lag was searched).
+  // Pooled: the paired held-out gain of the lag over none (relative: each axis's per-group
+  // held-out RMS divided by its mean without the lag, averaged over the axes), each group scored
+  // with the lag the other groups choose (CalibrateOptions::pooled_lags_s); pairs 0 when no lag
+  // was searched or none predicts better than the logged temperature.
   TermGain lag_term;
   // Pooled: per axis, the shared dT/dt gain fitted with the cubic (PooledCubic::rate_gain),
   // firmware unit per (C/s); 0: no dT/dt term (a lag kept, not identified, or not admitted).

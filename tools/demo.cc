@@ -13,6 +13,7 @@
 #include <string>
 
 #include "commands.h"
+#include "console.h"
 #include "demo_table.h"
 #include "gyrocomp/drift/drift_validate.h"
 #include "gyrocomp/io/io.h"
@@ -46,6 +47,7 @@ struct DemoArgs {
   bool compare = true;
   bool quiet = false;
   bool full_budget = false;
+  bool verbose = false;  // the drift models' whole explanations instead of one line each
   PipelineCliOptions pipeline;
   const CLI::App* app = nullptr;
 };
@@ -172,8 +174,29 @@ SideBySideTable MakeDemoTable(const SimulatedRun& run, const PipelineResult& pap
                    HeldOutLabel(h.options));
 }
 
+// One line of a drift model for the console: what was chosen, its CV error beside the drift
+// span, the terms auto tested (gain +- SE, Eq. A-4) and those the run does not identify.
+std::string DriftModelLine(const DriftFitSummary& d) {
+  std::string s = std::string(DriftModelKindName(d.model)) + "(" + DriftInputSetName(d.inputs) + "), CV error " +
+                  RateDps(d.cv_rmse) + " against a drift span of " + RateDps(d.drift_span);
+  if (d.C && d.sigma) s += ", C = " + Figure(*d.C) + ", sigma = " + Figure(*d.sigma);
+  for (const TermAdmission& t : d.term_admissions) {
+    if (!t.note.empty() || t.gain.pairs == 0) continue;
+    // A kernel is held to its block SD (Eq. H-1), every other term to its SE (Eq. A-4).
+    const bool kernel = t.term == "kernel";
+    s += "; +" + t.term + " " + (t.admitted ? "admitted" : "rejected") + " (gain " + RateDps(t.gain.gain) +
+         (kernel ? ", block SD " + RateDps(t.gain.Sd()) : " +- " + RateDps(t.gain.se)) + ")";
+  }
+  std::string left_out;
+  for (const ExcludedTerm& e : d.excluded_terms) left_out += (left_out.empty() ? "" : ", ") + e.term;
+  if (!left_out.empty()) s += "; not identified by this run: " + left_out;
+  return s;
+}
+
+// The table, its notes, then the modes and one line per drift model (--verbose: their whole
+// explanations, as `fit` prints them).
 void PrintConsole(const PipelineResult& ours, const PipelineResult& paper, const SideBySideTable& table,
-                  const std::string& budget) {
+                  const std::string& budget, bool verbose) {
   std::printf("\n%s", FormatSideBySide(table).c_str());
   for (const std::string& note : HonestyNotes(ours)) std::printf("  note: %s\n", note.c_str());
   for (const std::string& w : ours.warnings) std::printf("  warning: %s\n", w.c_str());
@@ -182,8 +205,11 @@ void PrintConsole(const PipelineResult& ours, const PipelineResult& paper, const
     std::printf(" %d:%s(SE %.3g, %.3g Hz)", m.index, FeatureClassName(m.feature), m.sample_entropy,
                 m.center_frequency_hz);
   }
-  std::printf("\n  default drift model: %s", ours.drift_model->summary.BriefReport().c_str());
-  std::printf("\n  paper's drift model: %s\n", paper.drift_model->summary.BriefReport().c_str());
+  const DriftFitSummary& mine = ours.drift_model->summary;
+  const DriftFitSummary& theirs = paper.drift_model->summary;
+  std::printf("\n  default drift model: %s", (verbose ? mine.BriefReport() : DriftModelLine(mine)).c_str());
+  std::printf("\n  paper's drift model: %s\n", (verbose ? theirs.BriefReport() : DriftModelLine(theirs)).c_str());
+  if (!verbose) std::printf("  (--verbose: why each term was admitted or left out)\n");
   std::printf("  %s\n", budget.c_str());
 }
 
@@ -360,7 +386,7 @@ int Run(const DemoArgs& a) {
   }
 
   const SideBySideTable table = MakeDemoTable(*run, *paper, *r, *held_out, pipe.options.drift.model);
-  PrintConsole(*r, *paper, table, budget);
+  PrintConsole(*r, *paper, table, budget, a.verbose);
 
   const int code = WriteDemoFiles(a, *run, *r, *paper, *held_out, table, comparison ? &*comparison : nullptr,
                                   PipelineOptionsJson(pipe.options), budget, &clock);
@@ -382,6 +408,9 @@ Command MakeDemo(CLI::App& app) {
                 "Budgets of process (default here: 6 nests, auto's searched candidates 1 generation, the paper's "
                 "CS-SVR 2 generations, sample entropy on 100,000 samples per mode)");
   sub->add_flag("-q,--quiet", a->quiet, "No progress on stderr");
+  sub->add_flag("-v,--verbose", a->verbose,
+                "Each drift model's whole explanation (candidates, term tests, what the run identifies) "
+                "instead of one line");
   AddPipelineOptions(sub, &a->pipeline);
   a->app = sub;
   return {sub, [a] { return Run(*a); }};

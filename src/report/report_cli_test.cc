@@ -169,6 +169,12 @@ TEST_F(ReportCli, DemoTableRowsPresentAndFinite) {
   }
   EXPECT_NE(out.find("reduced budgets for the demo"), std::string::npos) << out;
   EXPECT_NE(out.find("not applicable"), std::string::npos) << out;
+  // One line per drift model: the chosen model, its CV error and each tested term's gain +- SE;
+  // the candidates' whole explanation only with --verbose.
+  EXPECT_NE(out.find("default drift model: poly(temp,dtemp), CV error "), std::string::npos) << out;
+  EXPECT_NE(out.find("+dT/dt admitted (gain "), std::string::npos) << out;
+  EXPECT_NE(out.find("paper's drift model: cs-svr(temp), CV error "), std::string::npos) << out;
+  EXPECT_EQ(out.find("auto chose"), std::string::npos) << out;
   const nlohmann::json j = testing::ReadJsonFile(dir_ + "/demo/summary.json");
   EXPECT_EQ(j["budget"]["auto_generations"], 1);
   EXPECT_EQ(j["budget"]["paper_cs_svr_generations"], 2);

@@ -306,9 +306,10 @@ void KeepPooledRows(Sensor* s, const Pool& p) {
 // or its low-passed copy whose lag predicts the held-out groups best when that lag's paired
 // held-out gain over none beats its standard error. Per group, each axis's held-out RMS is
 // divided by the axis's mean without a lag and the axes averaged, so one lag serves the sensor.
-// The choice is nested in the pairs: the lag scored on group g is the one (or none) with the
-// lowest mean over the other groups, so the best of the candidates is never tested on the scores
-// that chose it (the gain of the best of nine, read on its own scores, is biased upwards).
+// The choice is nested in the pairs (Eq. A-5, term_admission.h): the lag scored on group g is
+// the one (or none) with the lowest mean over the other groups, so the best of the candidates is
+// never tested on the scores that chose it (the gain of the best of nine, read on its own scores,
+// is biased upwards).
 // Sets s->temp_lag_s, s->lag_term and adds the lag to the identification's statement.
 const std::vector<double>& LagOfCurve(Sensor* s, const Pool& p, double ref, const Args& a) {
   s->temp_lag_s = 0.0, s->lag_term = TermGain{};
@@ -329,28 +330,14 @@ const std::vector<double>& LagOfCurve(Sensor* s, const Pool& p, double ref, cons
     }
     return score;
   };
-  // Mean of the finite scores, group `except` left out (num_groups: none left out).
-  auto mean = [&](const std::vector<double>& v, std::size_t except) {
-    double sum = 0.0, count = 0.0;
-    for (std::size_t g = 0; g < v.size(); ++g)
-      if (g != except && std::isfinite(v[g])) sum += v[g], count += 1.0;
-    return count > 0.0 ? sum / count : INFINITY;
-  };
   // scores[0]: no lag; scores[l + 1]: pooled_lags_s[l].
   std::vector<std::vector<double>> scores{per_group(p.temp_c, true)};
   for (double n : norm)
     if (!(n > 0.0)) return p.temp_c;
   for (const std::vector<double>& lagged : p.lagged_c) scores.push_back(per_group(lagged, false));
-  auto lowest = [&](std::size_t except) {
-    std::size_t best = 0;
-    for (std::size_t c = 1; c < scores.size(); ++c)
-      if (mean(scores[c], except) < mean(scores[best], except)) best = c;
-    return best;
-  };
-  const std::size_t best = lowest(p.num_groups);
+  const std::size_t best = LowestMeanSetting(scores, p.num_groups);
   if (best == 0) return p.temp_c;
-  std::vector<double> nested(p.num_groups);
-  for (std::size_t g = 0; g < p.num_groups; ++g) nested[g] = scores[lowest(g)][g];
+  const std::vector<double> nested = NestedChoiceRmse(scores);  // Eq. A-5
   s->lag_term = PairedTermGain(scores[0], nested);
   if (!s->lag_term.Admitted()) return p.temp_c;
   s->temp_lag_s = a.pooled_lags_s[best - 1];

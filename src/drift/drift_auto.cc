@@ -30,7 +30,8 @@ double FoldStandardError(const DriftInputs& inputs, std::span<const double> targ
 // The structured model, term by term, in the nested order poly(T) -> +dT/dt -> +memory / +lag:
 // dT/dt enters when Eq. I-1 identifies its gain; a memory or lag enters only when its paired
 // leave-one-segment-out CV gain over the simpler model exceeds the SE of those paired gains
-// (Eq. A-4, term_admission.h); otherwise the simpler model stands. Of +memory and +lag, the admitted one with the larger gain enters. Lowest CV alone chose
+// (Eq. A-4, term_admission.h; the lag's tau choice nested in the pairs, Eq. A-5); otherwise the
+// simpler model stands. Of +memory and +lag, the admitted one with the larger gain enters. Lowest CV alone chose
 // poly(T, dT/dt, memory) on a 1 % CV gain and was six times worse than poly(T, dT/dt) on held-out
 // runs of a simulator written apart from this code (docs/explanation/drift-models.md).
 std::size_t ChooseStructured(const DriftInputs& inputs, std::span<const double> target, const DriftFitOptions& o,
@@ -50,7 +51,8 @@ std::size_t ChooseStructured(const DriftInputs& inputs, std::span<const double> 
   const std::size_t base = best;
   double best_gain = 0.0;
   for (std::size_t i : {base == 1 ? std::size_t{2} : std::size_t{4}, std::size_t{3}}) {
-    folds = FoldRmse(inputs, target, c[i], o, pairs);
+    // The lag's tau was searched on these segments: its choice is nested in the pairs (Eq. A-5).
+    folds = i == 3 ? NestedLagFoldRmse(inputs, target, c[i], o, pairs) : FoldRmse(inputs, target, c[i], o, pairs);
     tests->push_back(TestTerm(i == 3 ? "lag" : "memory", c[base], incumbent, c[i], folds));
     if (tests->back().admitted && tests->back().gain.gain > best_gain) best = i, best_gain = tests->back().gain.gain;
   }

@@ -67,6 +67,9 @@ CvPlan SegmentPairPlan(const CvPlan& plan, int pieces = 1);
 // Per-fold RMSEs of a structured candidate's polynomial (OLS, refitted per fold) on `plan`.
 std::vector<double> FoldRmse(const DriftInputs& inputs, std::span<const double> target, const Candidate& c,
                              const DriftFitOptions& o, const CvPlan& plan);
+// The lag candidate's fold RMSEs on `pairs` with its tau choice nested in them (Eq. A-5).
+std::vector<double> NestedLagFoldRmse(const DriftInputs& inputs, std::span<const double> target, const Candidate& lag,
+                                      const DriftFitOptions& o, const CvPlan& pairs);
 // Eq. A-4 for one term: candidate `richer` against the incumbent's fold RMSEs `simpler_folds`.
 TermAdmission TestTerm(const char* term, const Candidate& simpler, const std::vector<double>& simpler_folds,
                        const Candidate& richer, const std::vector<double>& richer_folds);

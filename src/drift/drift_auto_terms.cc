@@ -152,12 +152,11 @@ CvPlan SegmentPairPlan(const CvPlan& plan, int pieces) {
   return p;
 }
 
-// Per-fold RMSEs of a structured candidate's polynomial (OLS, refitted per fold) on `plan`.
-std::vector<double> FoldRmse(const DriftInputs& inputs, std::span<const double> target, const Candidate& c,
-                             const DriftFitOptions& o, const CvPlan& plan) {
+// Per-fold RMSEs of a polynomial with options `f` (inputs, state, gain degree), refitted by OLS
+// per fold of `plan`; empty when it cannot be scored there.
+std::vector<double> PolyFoldRmse(const DriftInputs& inputs, std::span<const double> target, const DriftFitOptions& f,
+                                 const CvPlan& plan) {
   std::vector<double> folds;
-  if (!c.model) return folds;
-  const DriftFitOptions f = OptionsOf(c, o);
   auto d = PrepareFitData(inputs, target, f);
   if (!d.ok() || d->yd.size() != plan.fold_of.size()) return folds;
   auto cv = CrossValidate(
@@ -170,6 +169,33 @@ std::vector<double> FoldRmse(const DriftInputs& inputs, std::span<const double> 
       &folds);
   if (!cv.ok()) folds.clear();
   return folds;
+}
+
+// Per-fold RMSEs of a structured candidate's polynomial (OLS, refitted per fold) on `plan`.
+std::vector<double> FoldRmse(const DriftInputs& inputs, std::span<const double> target, const Candidate& c,
+                             const DriftFitOptions& o, const CvPlan& plan) {
+  if (!c.model) return {};
+  return PolyFoldRmse(inputs, target, OptionsOf(c, o), plan);
+}
+
+// The lag candidate's fold RMSEs with its tau choice nested in the pairs (Eq. A-5): its tau was
+// searched on the segments Eq. A-4 then pairs on, so each segment is scored with the tau, of
+// the searched one and lag_tau_evaluations log-spaced over [lag_tau_min_s, lag_tau_max_s], that
+// has the lowest mean RMSE over the other segments.
+std::vector<double> NestedLagFoldRmse(const DriftInputs& inputs, std::span<const double> target, const Candidate& lag,
+                                      const DriftFitOptions& o, const CvPlan& pairs) {
+  if (!lag.model) return {};
+  const DriftFitOptions f = OptionsOf(lag, o);
+  std::vector<std::vector<double>> scores{PolyFoldRmse(inputs, target, f, pairs)};
+  const DriftAutoOptions& a = o.auto_select;
+  const int n = std::max(2, a.lag_tau_evaluations);
+  for (int k = 0; k < n; ++k) {
+    ThrowIfCancelled(o.cancel);
+    DriftFitOptions g = f;
+    g.state.lag_tau_s = a.lag_tau_min_s * std::pow(a.lag_tau_max_s / a.lag_tau_min_s, k / static_cast<double>(n - 1));
+    scores.push_back(PolyFoldRmse(inputs, target, g, pairs));
+  }
+  return NestedChoiceRmse(scores);
 }
 
 // Eq. A-4 for one term: candidate `richer` against the incumbent's fold RMSEs `simpler_folds`.

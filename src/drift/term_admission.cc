@@ -45,4 +45,27 @@ TermGain PairedTermGain(std::span<const double> simpler_fold_rmse, std::span<con
   return t;
 }
 
+std::size_t LowestMeanSetting(const std::vector<std::vector<double>>& scores, std::size_t except) {
+  auto mean = [&](const std::vector<double>& v) {
+    double sum = 0.0, count = 0.0;
+    for (std::size_t k = 0; k < v.size(); ++k)
+      if (k != except && std::isfinite(v[k])) sum += v[k], count += 1.0;
+    return count > 0.0 ? sum / count : std::numeric_limits<double>::infinity();
+  };
+  std::size_t best = 0;
+  double lowest = scores.empty() ? 0.0 : mean(scores[0]);
+  for (std::size_t c = 1; c < scores.size(); ++c) {
+    if (scores[c].size() != scores[0].size()) continue;
+    if (const double m = mean(scores[c]); m < lowest) best = c, lowest = m;
+  }
+  return best;
+}
+
+std::vector<double> NestedChoiceRmse(const std::vector<std::vector<double>>& scores) {
+  if (scores.empty()) return {};
+  std::vector<double> nested(scores[0].size());
+  for (std::size_t k = 0; k < nested.size(); ++k) nested[k] = scores[LowestMeanSetting(scores, k)][k];  // Eq. A-5
+  return nested;
+}
+
 }  // namespace gyrocomp

@@ -1,4 +1,4 @@
-// Eqs. A-1..A-4 (term_admission.h) in closed form.
+// Eqs. A-1..A-5 (term_admission.h) in closed form.
 #include "gyrocomp/drift/term_admission.h"
 
 #include <cmath>
@@ -64,6 +64,38 @@ TEST(TermAdmission, NeedsTwoFinitePairs) {
 TEST(TermAdmission, BriefReport) {
   const TermGain g{0.00012, 0.00005, 7};
   EXPECT_EQ(g.BriefReport(1000.0, "mdps", "segments"), "gain 0.12 +- 0.05 mdps (7 segments)");
+}
+
+// A setting that wins on one fold only: lowest overall (mean 2.575 < 3), yet on each fold the
+// choice made on the other three is the one that fold then scores (Eq. A-5): fold 0 gets
+// setting 0 (others' means 3 < 3.1), folds 1-3 get setting 1 (others' means 2.4 < 3).
+TEST(TermAdmission, NestedChoiceScoresEachFoldWithTheOthersChoice) {
+  const std::vector<std::vector<double>> scores{{3.0, 3.0, 3.0, 3.0}, {1.0, 3.1, 3.1, 3.1}};
+  EXPECT_EQ(LowestMeanSetting(scores, scores[0].size()), 1u);
+  EXPECT_EQ(LowestMeanSetting(scores, 0), 0u);
+  EXPECT_EQ(LowestMeanSetting(scores, 2), 1u);
+  EXPECT_EQ(NestedChoiceRmse(scores), (std::vector<double>{3.0, 3.1, 3.1, 3.1}));
+  // Read on its own scores the fluke gains 0.425 over the simpler model; nested it loses 0.075.
+  EXPECT_NEAR(PairedTermGain(kSimpler, scores[1]).gain, 0.425, 1e-15);
+  EXPECT_NEAR(PairedTermGain(kSimpler, NestedChoiceRmse(scores)).gain, -0.075, 1e-15);
+}
+
+// A setting better on every fold is chosen on every fold: nesting leaves its scores as they are.
+TEST(TermAdmission, NestedChoiceKeepsAConsistentWinner) {
+  const std::vector<std::vector<double>> scores{{3.0, 3.0, 3.0}, {2.9, 2.8, 2.95}, {3.2, 2.6, 3.3}};
+  EXPECT_EQ(NestedChoiceRmse(scores), scores[1]);
+}
+
+// Ties go to the lower setting; non-finite RMSEs are left out of a mean; a row of another size
+// is never chosen; nothing in, nothing out.
+TEST(TermAdmission, NestedChoiceEdges) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(LowestMeanSetting({{1.0, 2.0}, {2.0, 1.0}}, 5), 0u);
+  EXPECT_EQ(LowestMeanSetting({{2.0, 2.0, 2.0}, {nan, 1.0, 1.0}}, 3), 1u);
+  EXPECT_EQ(LowestMeanSetting({{nan, nan}, {5.0, 5.0}}, 2), 1u);
+  EXPECT_EQ(LowestMeanSetting({{2.0, 2.0}, {1.0}}, 2), 0u);
+  EXPECT_EQ(LowestMeanSetting({}, 0), 0u);
+  EXPECT_TRUE(NestedChoiceRmse({}).empty());
 }
 
 }  // namespace

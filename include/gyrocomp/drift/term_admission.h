@@ -14,11 +14,18 @@
 // --model auto admits its memory and lag terms by Eq. A-4 (and reports dT/dt's paired gain, which
 // Eq. I-1 decides); the hybrid's kernel test asks the stricter gain > Sd() (Eq. H-1). Units: those
 // of the fold RMSEs given (deg/s for a gyro).
+//
+// A richer model with a setting chosen on the same folds (a lag's tau, the best of several lags)
+// is scored on them with the choice nested in the pairs (Eq. A-5): fold k gets the RMSE of the
+// setting with the lowest mean RMSE over the other folds, so the chosen setting is never scored
+// on the fold that chose it (the best of several, read on its own scores, looks better than it
+// will on the next run).
 #pragma once
 
 #include <cstddef>
 #include <span>
 #include <string>
+#include <vector>
 
 namespace gyrocomp {
 
@@ -39,5 +46,15 @@ struct TermGain {
 // Eqs. A-1..A-3 over the first min(size) folds of the two models' per-fold RMSEs (the same
 // plan, fold k in both). Non-finite pairs are skipped.
 TermGain PairedTermGain(std::span<const double> simpler_fold_rmse, std::span<const double> richer_fold_rmse);
+
+// The setting with the lowest mean fold RMSE, fold `except` left out (except >= K: none left
+// out): scores[c][k] is setting c's RMSE on fold k; non-finite RMSEs are left out of a mean, a
+// setting with none finite scores +inf, a tie goes to the lower c, a row whose size differs from
+// scores[0]'s is never chosen. 0 when `scores` is empty.
+std::size_t LowestMeanSetting(const std::vector<std::vector<double>>& scores, std::size_t except);
+
+// Eq. A-5: the nested fold RMSEs, fold k from the setting LowestMeanSetting(scores, k); the size
+// of scores[0] (empty when `scores` is).
+std::vector<double> NestedChoiceRmse(const std::vector<std::vector<double>>& scores);
 
 }  // namespace gyrocomp

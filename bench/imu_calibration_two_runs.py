@@ -159,6 +159,13 @@ def separation(points, a, b_, us):
     return best
 
 
+def cubic_correction(t, ref, slopes):
+    """Per axis a, the cubic sum_j slopes[a][j] (t - ref_a)^(j + 1), j = 0..2 (unclamped, as the
+    bound scores it); ref: one temperature for every axis or one per axis."""
+    refs = ref if np.ndim(ref) else [ref] * len(slopes)
+    return np.array([sum(s[j] * (t - r) ** (j + 1) for j in range(3)) for s, r in zip(slopes, refs)])
+
+
 def centred(slopes, ref, grid):
     d = grid - ref
     c = slopes[0] * d + slopes[1] * d * d + slopes[2] * d ** 3
@@ -264,9 +271,7 @@ def main():
                         [gyro["axes"][a]["cubic"]["coeff"][1:] for a in range(3)],
                         "pooled LS without dT/dt": mine[False], "pooled LS with dT/dt": mine[True]}
                 for sname, sl in sets.items():
-                    corr = np.array([sl[a][0] * (t - ref) + sl[a][1] * (t - ref) ** 2 + sl[a][2] * (t - ref) ** 3
-                                     for a in range(3)])
-                    held_rms.setdefault((name, sname), []).append(b.score(v, corr, fs).mean())
+                    held_rms.setdefault((name, sname), []).append(b.score(v, cubic_correction(t, ref, sl), fs).mean())
                 held_rms.setdefault((name, "true curve"), []).append(b.score(v, b.truth_offsets(t, "gyro"), fs).mean())
                 if args.front:
                     fnf = os.path.join(tmp, "held_nf.ulg")
@@ -275,22 +280,18 @@ def main():
                     tn, vn = b.read_imu(fnf)[0]
                     noise2 = b.score(v - vn, np.zeros_like(v), fs) ** 2
                     held.append(score_blocks(tn, vn, fs, ref) + (noise2,))
-                    held_rms.setdefault((name, "true curve, expected"), []).append(
-                        np.sqrt(b.score(vn, b.truth_offsets(tn, "gyro"), fs) ** 2 + noise2).mean())
+
+                    def expected(key, corr):  # the residual expected over the held-out noise
+                        held_rms.setdefault((name, key), []).append(np.sqrt(b.score(vn, corr, fs) ** 2 + noise2).mean())
+                    expected("true curve, expected", b.truth_offsets(tn, "gyro"))
                     for r, sl in enumerate(own):
-                        corr = np.array([sum(sl[a][1][j] * (tn - sl[a][0]) ** (j + 1) for j in range(3))
-                                         for a in range(3)])
-                        held_rms.setdefault((name, "run %d alone, expected" % (r + 1)), []).append(
-                            np.sqrt(b.score(vn, corr, fs) ** 2 + noise2).mean())
-                    corr = np.array([np.polyval(list(gyro["axes"][a]["cubic"]["coeff"][:0:-1]) + [0.0], tn - ref)
-                                     for a in range(3)])
-                    held_rms.setdefault((name, "pooled, expected"), []).append(
-                        np.sqrt(b.score(vn, corr, fs) ** 2 + noise2).mean())
+                        expected("run %d alone, expected" % (r + 1),
+                                 cubic_correction(tn, [x[0] for x in sl], [x[1] for x in sl]))
+                    files = {"pooled, expected": gyro}
                     if args.optimise_for != "steady":
-                        corr = np.array([np.polyval(list(cg["axes"][a]["cubic"]["coeff"][:0:-1]) + [0.0], tn - ref)
-                                         for a in range(3)])
-                        held_rms.setdefault((name, "pooled --optimise-for, expected"), []).append(
-                            np.sqrt(b.score(vn, corr, fs) ** 2 + noise2).mean())
+                        files["pooled --optimise-for, expected"] = cg
+                    for key, g in files.items():
+                        expected(key, cubic_correction(tn, ref, [g["axes"][a]["cubic"]["coeff"][1:] for a in range(3)]))
             if args.front:
                 front_points.extend(front(held, weights))
             print("done: seed %d" % seed, file=sys.stderr)

@@ -160,10 +160,8 @@ void PrintSummary(const CalibrateArgs& a, const CalibrateResult& r) {
       if (pooled && !s.identification.would_help.empty()) help.insert(s.identification.would_help);
     } else if (s.fit == "pooled") {
       // The curve's own 1 sigma beside the drift; what the logs identify is in --verbose.
-      double sd = 0.0;
-      for (double v : s.curve_sd) sd += v * v / static_cast<double>(s.curve_sd.size());
       line << "drift " << Readable(s, UncompensatedRms(s)) << " uncompensated (first log's still rows), curve 1 sigma "
-           << Readable(s, std::sqrt(sd)) << ", pooled over " << s.runs_combined << " log(s)";
+           << Readable(s, AxisRms(s.curve_sd)) << ", pooled over " << s.runs_combined << " log(s)";
       if (!s.identification.would_help.empty()) help.insert(s.identification.would_help);
     } else {
       const double before = UncompensatedRms(s), after = ExpectedRms(s, warm_up);

@@ -302,6 +302,8 @@ int Run(const AllanArgs& a) {
     }
   }
   j["input"] = log.source;
+  // The ARW's bandwidth: at most fs/2; a filter upstream of the file leaves less (pipeline.md).
+  j["bandwidth_max_hz"] = log.fs_hz / 2;
   j["sampling"] = log.sampling.BriefReport();
   j["damage"] = DamageJson(loaded->damage);
   std::vector<std::pair<std::string, std::string>> files;

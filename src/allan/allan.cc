@@ -461,7 +461,11 @@ std::string AllanResult::BriefReport() const {
      << " Hz, " << curve.size() << " taus; ARW ";
   if (!na("arw_deg_per_sqrt_h")) {
     if (terms.arw_deg_per_sqrt_h) {
-      os << *terms.arw_deg_per_sqrt_h << " deg/sqrt(h) (sigma(1 s), " << terms.arw_method << ")";
+      // An ARW is comparable only beside its bandwidth (docs/explanation/pipeline.md, the
+      // not-applicable rule): a sampled record carries at most fs/2; a filter upstream (the
+      // sensor's low-pass, a denoiser) leaves less, which the record itself does not say.
+      os << *terms.arw_deg_per_sqrt_h << " deg/sqrt(h) (sigma(1 s), " << terms.arw_method
+         << "; bandwidth <= fs/2 = " << fs_hz / 2 << " Hz)";
     } else {
       os << "n/a";
     }

@@ -126,6 +126,9 @@ TEST(AllanClosedForm, WhiteNoiseHasSlopeMinusHalfAndTheInjectedArw) {
   EXPECT_NEAR(*r->terms.arw_deg_per_sqrt_h, arw_deg_per_sqrt_h, 0.03 * arw_deg_per_sqrt_h);
   ASSERT_TRUE(r->terms.arw_fit_deg_per_sqrt_h.has_value());
   EXPECT_NEAR(*r->terms.arw_fit_deg_per_sqrt_h, arw_deg_per_sqrt_h, 0.03 * arw_deg_per_sqrt_h);
+  // The line states the bandwidth the ARW was read over: at most fs/2 for a sampled record.
+  EXPECT_NE(r->BriefReport().find("log-log interpolation; bandwidth <= fs/2 = 50 Hz)"), std::string::npos)
+      << r->BriefReport();
   // The EDF of every point assumes white rate noise (lag-1 identification, carried over to the
   // last taus).
   for (PowerLawNoise noise : r->curve.noise) EXPECT_EQ(noise, PowerLawNoise::kWhiteRate);
@@ -481,6 +484,7 @@ TEST_F(AllanCli, GoldenFileJsonKeysAndCurveCsv) {
     EXPECT_TRUE(j.contains(key)) << key;
   }
   EXPECT_EQ(j["n_samples"].get<int>(), 200000);
+  EXPECT_EQ(j["bandwidth_max_hz"].get<double>(), j["fs_hz"].get<double>() / 2);
   const auto golden = testing::ReadJsonFile(testing::GoldenPath("allan/oadev.json"));
   const auto adev = j["adev_dps"].get<std::vector<double>>();
   const auto gold = golden["adev_dps"].get<std::vector<double>>();

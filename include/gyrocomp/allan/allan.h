@@ -176,8 +176,8 @@ struct AllanResult {
   std::string deviation_method;  // "overlapping ADEV (IEEE 1554 / NIST SP 1065 Eq. 11), allantools oadev"
   std::string edf_method;        // see EdfOverlappingAdevSimple
   double seconds = 0.0;          // wall time of the computation
-  // One line for logs: samples, rate, taus, ARW, the ADEV minimums, B, RRW ("n/a (reason)" for a
-  // figure not supported).
+  // One line for logs: samples, rate, taus, ARW with the bandwidth bound fs/2 it was read over,
+  // the ADEV minimums, B, RRW ("n/a (reason)" for a figure not supported).
   std::string BriefReport() const;
 };
 

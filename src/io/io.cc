@@ -12,12 +12,14 @@
 
 #include <algorithm>
 #include <cassert>
+#include <cctype>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <optional>
 #include <string_view>
@@ -119,13 +121,14 @@ std::string_view Trim(std::string_view s) {
   return s;
 }
 
-// True when `s` is valid UTF-8 without control characters other than tab.
-bool IsCleanText(std::string_view s) {
+// Offset of the first byte of `s` that is not clean text (a control character other than tab,
+// DEL, or invalid UTF-8), or npos.
+std::size_t FirstUncleanByte(std::string_view s) {
   std::size_t i = 0;
   while (i < s.size()) {
     const auto c = static_cast<unsigned char>(s[i]);
     if (c < 0x80) {
-      if ((c < 0x20 && c != '\t') || c == 0x7f) return false;
+      if ((c < 0x20 && c != '\t') || c == 0x7f) return i;
       ++i;
       continue;
     }
@@ -133,14 +136,31 @@ bool IsCleanText(std::string_view s) {
     if ((c & 0xe0) == 0xc0 && c >= 0xc2) extra = 1;
     else if ((c & 0xf0) == 0xe0) extra = 2;
     else if ((c & 0xf8) == 0xf0 && c <= 0xf4) extra = 3;
-    else return false;
-    if (i + extra >= s.size()) return false;
+    else return i;
+    if (i + extra >= s.size()) return i;
     for (int k = 1; k <= extra; ++k) {
-      if ((static_cast<unsigned char>(s[i + k]) & 0xc0) != 0x80) return false;
+      if ((static_cast<unsigned char>(s[i + k]) & 0xc0) != 0x80) return i;
     }
     i += extra + 1;
   }
-  return true;
+  return std::string_view::npos;
+}
+
+// True when `s` is valid UTF-8 without control characters other than tab.
+bool IsCleanText(std::string_view s) { return FirstUncleanByte(s) == std::string_view::npos; }
+
+// For a file named like a flight log or bag that reached the CSV reader: its first bytes are not
+// that format's header (DetectLogFormat reads the bytes, not the name), so say so.
+std::string LogNameHint(const std::string& source) {
+  std::string ext = std::filesystem::path(source).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  for (const char* log : {".ulg", ".ulog", ".bin", ".bag", ".mcap", ".db3"}) {
+    if (ext == log) {
+      return "; named like a flight log or bag, but its first bytes are not a ULog, DataFlash or ROS bag "
+             "header (a log cut at its start cannot be read)";
+    }
+  }
+  return "";
 }
 
 bool HasBinaryByte(std::string_view s) {
@@ -347,13 +367,21 @@ std::optional<Error> CsvParser::Line(std::string_view line) {
 
 std::optional<Error> CsvParser::Header(std::string_view line) {
   const std::string_view raw = line;
-  if (std::memchr(raw.data(), '\0', raw.size()) != nullptr || !IsCleanText(raw)) {
-    const bool cr = raw.find('\r') != std::string_view::npos;
+  if (const std::size_t bad = FirstUncleanByte(raw); bad != std::string_view::npos) {
+    // Old Mac line ends only when the CRs are all that is wrong: random bytes hold 0x0d too.
+    std::string without_cr(raw);
+    without_cr.erase(std::remove(without_cr.begin(), without_cr.end(), '\r'), without_cr.end());
+    if (raw[bad] == '\r' && IsCleanText(without_cr)) {
+      return InvalidInput(Where(source_, line_no_, 1) +
+                          "carriage returns inside the header line: old Mac (CR-only) line endings are "
+                          "not supported");
+    }
+    char byte[8];
+    std::snprintf(byte, sizeof byte, "0x%02x", static_cast<unsigned>(static_cast<unsigned char>(raw[bad])));
     return InvalidInput(Where(source_, line_no_, 1) +
-                        (cr ? std::string("carriage returns inside the header line: old Mac (CR-only) "
-                                          "line endings are not supported")
-                            : "binary garbage, not a text CSV header (NUL bytes, control characters "
-                              "or invalid UTF-8 in the first line)"));
+                        "binary garbage, not a text CSV header (NUL bytes, control characters or invalid "
+                        "UTF-8 in the first line; the first is " + byte + " at byte offset " +
+                        std::to_string(bad) + ")" + LogNameHint(source_));
   }
   std::vector<std::string> names;
   std::size_t pos = 0;

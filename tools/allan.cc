@@ -377,6 +377,8 @@ Command MakeAllan(CLI::App& app) {
       "    all: every m (O(N^2), at most 100000 samples); N: N log-spaced taus per decade.\n"
       "    Taus with fewer than 2 terms are dropped.\n"
       "  arw_deg_per_sqrt_h: sigma(1 s) (log-log interpolated between grid points) x 60.\n"
+      "    bandwidth_max_hz = fs/2: the most bandwidth the record carries (a low-pass upstream of\n"
+      "    the file leaves less); compare an ARW only with one of the same bandwidth.\n"
       "  adev_min_deg_per_h: minimum of the whole curve (as allantools users and the paper read it);\n"
       "    bias instability = min / 0.664; adev_min_at_longest_tau: the minimum is the last tau (floor\n"
       "    not reached). adev_min_usable_deg_per_h: minimum over the taus with EDF >= --min-edf.\n"

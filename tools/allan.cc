@@ -302,7 +302,7 @@ int Run(const AllanArgs& a) {
     }
   }
   j["input"] = log.source;
-  // The ARW's bandwidth: at most fs/2; a filter upstream of the file leaves less (pipeline.md).
+  // The ARW's bandwidth bound, as AllanResult::BandwidthMaxHz (every axis shares the log's rate).
   j["bandwidth_max_hz"] = log.fs_hz / 2;
   j["sampling"] = log.sampling.BriefReport();
   j["damage"] = DamageJson(loaded->damage);

@@ -49,6 +49,7 @@ py::dict AllanDict(AllanResult&& r) {
   AllanCurve& c = r.curve;
   d["axis"] = r.axis;
   d["fs_hz"] = r.fs_hz;
+  d["bandwidth_max_hz"] = r.BandwidthMaxHz();
   d["n_samples"] = r.n_samples;
   d["m"] = ToNumpy(std::move(c.m));
   d["tau_s"] = ToNumpy(std::move(c.tau_s));

@@ -45,6 +45,7 @@ def test_python_and_cli_give_identical_numbers(golden_dir, cli, tmp_path):
                 "bias_instability_deg_per_h", "min_edf"):
         assert j[key] == getattr(a.terms, key), key
     assert j["adev_min_at_longest_tau"] == a.terms.min_at_longest_tau
+    assert j["bandwidth_max_hz"] == a.bandwidth_max_hz == golden["fs_hz"] / 2
 
 
 def test_white_noise_arw_and_result_object():

@@ -465,7 +465,7 @@ std::string AllanResult::BriefReport() const {
       // not-applicable rule): a sampled record carries at most fs/2; a filter upstream (the
       // sensor's low-pass, a denoiser) leaves less, which the record itself does not say.
       os << *terms.arw_deg_per_sqrt_h << " deg/sqrt(h) (sigma(1 s), " << terms.arw_method
-         << "; bandwidth <= fs/2 = " << fs_hz / 2 << " Hz)";
+         << "; bandwidth <= fs/2 = " << BandwidthMaxHz() << " Hz)";
     } else {
       os << "n/a";
     }

@@ -176,6 +176,10 @@ struct AllanResult {
   std::string deviation_method;  // "overlapping ADEV (IEEE 1554 / NIST SP 1065 Eq. 11), allantools oadev"
   std::string edf_method;        // see EdfOverlappingAdevSimple
   double seconds = 0.0;          // wall time of the computation
+  // The most bandwidth the record can carry, Hz: fs/2 (Nyquist). A low-pass upstream of the
+  // record (the sensor's own, a denoiser) leaves less, which the samples do not say; an ARW is
+  // comparable only with one of the same bandwidth.
+  double BandwidthMaxHz() const { return fs_hz / 2; }
   // One line for logs: samples, rate, taus, ARW with the bandwidth bound fs/2 it was read over,
   // the ADEV minimums, B, RRW ("n/a (reason)" for a figure not supported).
   std::string BriefReport() const;

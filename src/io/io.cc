@@ -380,8 +380,8 @@ std::optional<Error> CsvParser::Header(std::string_view line) {
     std::snprintf(byte, sizeof byte, "0x%02x", static_cast<unsigned>(static_cast<unsigned char>(raw[bad])));
     return InvalidInput(Where(source_, line_no_, 1) +
                         "binary garbage, not a text CSV header (NUL bytes, control characters or invalid "
-                        "UTF-8 in the first line; the first is " + byte + " at byte offset " +
-                        std::to_string(bad) + ")" + LogNameHint(source_));
+                        "UTF-8 in the first line; the first is " + byte + " at byte " +
+                        std::to_string(bad) + " of the line)" + LogNameHint(source_));
   }
   std::vector<std::string> names;
   std::size_t pos = 0;

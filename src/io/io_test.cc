@@ -145,11 +145,11 @@ TEST_F(IoTest, BinaryGarbage) {
   // Random bytes hold 0x0d too: still binary garbage (with the first bad byte), not old Mac line
   // ends; a file named like a log says its first bytes are not that log's header.
   ExpectBad(Put("cr_noise.ulg", std::string("\x9c\r\x00\x17\xfe", 5)), 1, 1,
-            {"binary garbage", "0x9c at byte offset 0", "not a ULog, DataFlash or ROS bag header"});
+            {"binary garbage", "0x9c at byte 0 of the line", "not a ULog, DataFlash or ROS bag header"});
   ExpectBad(Put("mac.csv", "a,b\r1,2\r3,4\r"), 1, 1, {"carriage returns", "CR-only"});
   const auto plain = ReadCsv(Put("latin1b.csv", "temp\xb0" "C,b\n1,2\n"));
   ASSERT_FALSE(plain.ok());
-  EXPECT_NE(plain.error().message.find("0xb0 at byte offset 4"), std::string::npos) << plain.error().message;
+  EXPECT_NE(plain.error().message.find("0xb0 at byte 4 of the line"), std::string::npos) << plain.error().message;
   EXPECT_EQ(plain.error().message.find("named like a flight log"), std::string::npos) << plain.error().message;
 }
 

@@ -69,6 +69,20 @@ TEST(DriftModelFileV2, SeveralAxesRoundTrip) {
   EXPECT_EQ(one.error().message, "m.json: holds models for 3 axes (gx, gy, gz); read it as a model set");
 }
 
+// A file that is not JSON is refused with the line and column the parser stopped at, and why.
+TEST(DriftModelFileV2, NotJsonSaysWhereAndWhy) {
+  const auto nan = DriftModelSetFromJson("{\n \"axes\": [\n  NaN\n ]\n}\n", "m.json");
+  ASSERT_FALSE(nan.ok());
+  EXPECT_EQ(nan.error().kind, ErrorKind::kInvalidInput);
+  EXPECT_EQ(nan.error().message.rfind("m.json:3:3: not valid JSON (", 0), 0u) << nan.error().message;
+  EXPECT_NE(nan.error().message.find("invalid literal"), std::string::npos) << nan.error().message;
+  const auto cut = DriftModelSetFromJson("{\n \"axes\": [", "m.json");
+  ASSERT_FALSE(cut.ok());
+  EXPECT_EQ(cut.error().message.rfind("m.json:2:", 0), 0u) << cut.error().message;
+  EXPECT_NE(cut.error().message.find("end of input"), std::string::npos) << cut.error().message;
+  EXPECT_EQ(cut.error().message.find('\n'), std::string::npos) << "one line";
+}
+
 // Two fits of the same data with the same seed give byte-identical files, whatever the thread
 // count (no timings in the file; the cuckoo search depends on the seed only).
 TEST(DriftModelFileV2, ReproducibleBytes) {

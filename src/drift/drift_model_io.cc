@@ -1,5 +1,6 @@
 // The drift model file: JSON with a format name and a schema version (see drift_model.h).
 // Writes version 2 (a list of per-axis models); reads versions 1 (drift_model_io_v1.cc) and 2.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -404,9 +405,37 @@ std::string DriftModelSetToJson(const DriftModelSet& models) {
 
 std::string DriftModelToJson(const DriftModel& model) { return DriftModelSetToJson(DriftModelSet{{model}, std::nullopt, std::nullopt}); }
 
+namespace {
+
+// "file:line:column: not valid JSON (why)" from nlohmann's parse error: its byte (1-based, the
+// byte the parser stopped at) gives the place, its text after "parse error at ...: " the reason.
+Error NotJson(std::string_view text, const std::string& source, const json::parse_error& e) {
+  const std::size_t at = std::min<std::size_t>(e.byte > 0 ? e.byte - 1 : 0, text.size());
+  std::size_t line = 1;
+  std::size_t line_start = 0;
+  for (std::size_t i = 0; i < at; ++i) {
+    if (text[i] == '\n') {
+      ++line;
+      line_start = i + 1;
+    }
+  }
+  std::string why = e.what();
+  const std::size_t p = why.find("parse error");
+  const std::size_t colon = p == std::string::npos ? std::string::npos : why.find(": ", p);
+  if (colon != std::string::npos) why = why.substr(colon + 2);
+  return InvalidInput(source + ":" + std::to_string(line) + ":" + std::to_string(at - line_start + 1) +
+                      ": not valid JSON (" + why + ")");
+}
+
+}  // namespace
+
 Result<DriftModelSet> DriftModelSetFromJson(std::string_view text, const std::string& source) {
-  json j = json::parse(text.begin(), text.end(), nullptr, /*allow_exceptions=*/false);
-  if (j.is_discarded()) return InvalidInput(source + ": not valid JSON");
+  json j;
+  try {
+    j = json::parse(text.begin(), text.end());
+  } catch (const json::parse_error& e) {
+    return NotJson(text, source, e);
+  }
   auto version = CheckFormatAndVersion(j, source);
   if (!version.ok()) return version.error();
   DriftModelSet set;

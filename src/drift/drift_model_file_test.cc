@@ -81,6 +81,11 @@ TEST(DriftModelFileV2, NotJsonSaysWhereAndWhy) {
   EXPECT_EQ(cut.error().message.rfind("m.json:2:", 0), 0u) << cut.error().message;
   EXPECT_NE(cut.error().message.find("end of input"), std::string::npos) << cut.error().message;
   EXPECT_EQ(cut.error().message.find('\n'), std::string::npos) << "one line";
+  // A number beyond the double range stops the parser too (nlohmann's out_of_range, not a throw),
+  // at the last byte of the number it read (column 15 of 1e400's 11-15).
+  const auto big = DriftModelSetFromJson("{\"axes\": [1e400]}", "m.json");
+  ASSERT_FALSE(big.ok());
+  EXPECT_EQ(big.error().message, "m.json:1:15: not valid JSON (number overflow parsing '1e400')");
 }
 
 // Two fits of the same data with the same seed give byte-identical files, whatever the thread

@@ -407,10 +407,36 @@ std::string DriftModelToJson(const DriftModel& model) { return DriftModelSetToJs
 
 namespace {
 
-// "file:line:column: not valid JSON (why)" from nlohmann's parse error: its byte (1-based, the
-// byte the parser stopped at) gives the place, its text after "parse error at ...: " the reason.
-Error NotJson(std::string_view text, const std::string& source, const json::parse_error& e) {
-  const std::size_t at = std::min<std::size_t>(e.byte > 0 ? e.byte - 1 : 0, text.size());
+// Records the first error of a SAX parse (nlohmann's public json_sax interface): where the parser
+// stopped (chars read, 1-based) and why, number overflows (out_of_range.406) included.
+struct FirstJsonError : nlohmann::json_sax<json> {
+  std::size_t position = 0;
+  std::string what;
+  bool null() override { return true; }
+  bool boolean(bool) override { return true; }
+  bool number_integer(number_integer_t) override { return true; }
+  bool number_unsigned(number_unsigned_t) override { return true; }
+  bool number_float(number_float_t, const string_t&) override { return true; }
+  bool string(string_t&) override { return true; }
+  bool binary(binary_t&) override { return true; }
+  bool start_object(std::size_t) override { return true; }
+  bool key(string_t&) override { return true; }
+  bool end_object() override { return true; }
+  bool start_array(std::size_t) override { return true; }
+  bool end_array() override { return true; }
+  bool parse_error(std::size_t pos, const std::string&, const nlohmann::detail::exception& e) override {
+    position = pos;
+    what = e.what();
+    return false;
+  }
+};
+
+// "file:line:column: not valid JSON (why)", the place the parser stopped at and its reason
+// without nlohmann's "[json.exception...] parse error at ...: " prefix. Only on the error path.
+Error NotJson(std::string_view text, const std::string& source) {
+  FirstJsonError sax;
+  json::sax_parse(text.begin(), text.end(), &sax);
+  const std::size_t at = std::min<std::size_t>(sax.position > 0 ? sax.position - 1 : 0, text.size());
   std::size_t line = 1;
   std::size_t line_start = 0;
   for (std::size_t i = 0; i < at; ++i) {
@@ -419,10 +445,13 @@ Error NotJson(std::string_view text, const std::string& source, const json::pars
       line_start = i + 1;
     }
   }
-  std::string why = e.what();
-  const std::size_t p = why.find("parse error");
-  const std::size_t colon = p == std::string::npos ? std::string::npos : why.find(": ", p);
-  if (colon != std::string::npos) why = why.substr(colon + 2);
+  std::string why = sax.what;  // "[json.exception.<id>] " then "parse error at line L, column C: " or not
+  if (const std::size_t tag = why.find("] "); !why.empty() && why.front() == '[' && tag != std::string::npos) {
+    why.erase(0, tag + 2);
+  }
+  if (const std::size_t colon = why.find(": "); why.rfind("parse error", 0) == 0 && colon != std::string::npos) {
+    why.erase(0, colon + 2);
+  }
   return InvalidInput(source + ":" + std::to_string(line) + ":" + std::to_string(at - line_start + 1) +
                       ": not valid JSON (" + why + ")");
 }
@@ -430,12 +459,8 @@ Error NotJson(std::string_view text, const std::string& source, const json::pars
 }  // namespace
 
 Result<DriftModelSet> DriftModelSetFromJson(std::string_view text, const std::string& source) {
-  json j;
-  try {
-    j = json::parse(text.begin(), text.end());
-  } catch (const json::parse_error& e) {
-    return NotJson(text, source, e);
-  }
+  json j = json::parse(text.begin(), text.end(), nullptr, /*allow_exceptions=*/false);
+  if (j.is_discarded()) return NotJson(text, source);
   auto version = CheckFormatAndVersion(j, source);
   if (!version.ok()) return version.error();
   DriftModelSet set;

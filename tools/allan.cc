@@ -302,8 +302,8 @@ int Run(const AllanArgs& a) {
     }
   }
   j["input"] = log.source;
-  // The ARW's bandwidth bound, as AllanResult::BandwidthMaxHz (every axis shares the log's rate).
-  j["bandwidth_max_hz"] = log.fs_hz / 2;
+  // The ARW's bandwidth bound (every axis shares the log's rate; Analyse gives at least one).
+  j["bandwidth_max_hz"] = results.front().BandwidthMaxHz();
   j["sampling"] = log.sampling.BriefReport();
   j["damage"] = DamageJson(loaded->damage);
   std::vector<std::pair<std::string, std::string>> files;
